@@ -1,0 +1,43 @@
+// Affine 3x4 transforms p' = M p + t, column-vector convention (as glTF).
+// Linear part in Q8.24 (rotation times scale, |entry| < 128), translation in
+// Q12.20 rig units. Rot3 is a pure rotation in Q2.30 for unit quantities.
+#pragma once
+
+#include "quat.hpp"
+
+namespace sinew::fx {
+
+struct Mat34 {
+  Lin m[3][3];  // row-major
+  Len t[3];
+  friend constexpr bool operator==(const Mat34&, const Mat34&) = default;
+};
+
+struct Rot3 {
+  Unit m[3][3];  // row-major, Q2.30
+};
+
+Mat34 mat34_identity();
+
+// Rotation matrix of a unit quaternion, each entry correctly rounded from the
+// exact Q4.60 expression (e.g. m00 = 1 - 2(y^2 + z^2)).
+Rot3 rot3_from_quat(const Quat& q);
+
+// T * R * S: translation (Len), rotation, per-axis scale (Q8.24).
+Mat34 mat34_from_trs(Vec3 translation, const Quat& rotation, Vec3 scale_lin);
+inline Mat34 mat34_from_quat(const Quat& q, Vec3 translation) {
+  return mat34_from_trs(translation, q, {kLinOne, kLinOne, kLinOne});
+}
+
+// a * b. Each entry is the correctly rounded sum of exact products
+// (saturating, never overflowing, outside the documented ranges).
+Mat34 mul(const Mat34& a, const Mat34& b);
+
+// M p + t for a Len point.
+Vec3 transform_point(const Mat34& a, Vec3 p);
+// M v for a vector of any format (normals, directions).
+Vec3 transform_vector(const Mat34& a, Vec3 v);
+// R v for a vector of any format.
+Vec3 rotate(const Rot3& r, Vec3 v);
+
+}  // namespace sinew::fx

@@ -1,0 +1,88 @@
+// Scalar fixed-point operations: rounding, saturation, products, division.
+// All functions are total (defined for every input) and free of UB.
+#pragma once
+
+#include <cstdint>
+
+#include "q_formats.hpp"
+
+namespace sinew::fx {
+
+// Counts values clamped by saturating narrowings. Owned by whoever runs a step.
+struct Saturation {
+  uint32_t events = 0;
+};
+
+inline constexpr int32_t sat_i32(int64_t v) {
+  return v > INT32_MAX ? INT32_MAX : (v < INT32_MIN ? INT32_MIN : static_cast<int32_t>(v));
+}
+
+inline constexpr int32_t sat_i32(int64_t v, Saturation& sat) {
+  const int32_t r = sat_i32(v);
+  sat.events += static_cast<uint32_t>(r != v);
+  return r;
+}
+
+inline constexpr int64_t clamp_i64(int64_t v, int64_t lo, int64_t hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
+
+// Saturating 64-bit addition (used where operands come from unchecked data).
+inline constexpr int64_t add_sat_i64(int64_t a, int64_t b) {
+  if (b > 0 && a > INT64_MAX - b) return INT64_MAX;
+  if (b < 0 && a < INT64_MIN - b) return INT64_MIN;
+  return a + b;
+}
+
+// Round half up: (v + 2^(s-1)) >> s, for 1 <= s <= 62. Precondition: |v| < 2^62
+// + 2^(s-1) cannot overflow, which holds for any product of two int32.
+inline constexpr int64_t round_shift(int64_t v, int s) {
+  return (v + (int64_t{1} << (s - 1))) >> s;
+}
+
+// Q2.30 x Q2.30 -> Q2.30. Only (-2)*(-2) saturates.
+inline constexpr Unit mul_unit(Unit a, Unit b) {
+  return sat_i32(round_shift(int64_t{a} * b, kUnitFracBits));
+}
+
+// Any Q(m.n) x Q2.30 -> Q(m.n): scales a value by a unit quantity.
+inline constexpr int32_t mul_by_unit(int32_t v, Unit u) {
+  return sat_i32(round_shift(int64_t{v} * u, kUnitFracBits));
+}
+
+// Any Q(m.n) x Q8.24 -> Q(m.n).
+inline constexpr int32_t mul_by_lin(int32_t v, Lin l) {
+  return sat_i32(round_shift(int64_t{v} * l, kLinFracBits));
+}
+
+// -v, with -INT32_MIN saturating to INT32_MAX.
+inline constexpr int32_t neg_sat(int32_t v) { return v == INT32_MIN ? INT32_MAX : -v; }
+
+inline constexpr int32_t add_sat(int32_t a, int32_t b) { return sat_i32(int64_t{a} + b); }
+inline constexpr int32_t sub_sat(int32_t a, int32_t b) { return sat_i32(int64_t{a} - b); }
+
+// Floor division for d > 0 (C++ truncates toward zero).
+inline constexpr int64_t floor_div(int64_t n, int64_t d) {
+  const int64_t q = n / d;
+  return (n % d != 0 && n < 0) ? q - 1 : q;
+}
+
+// n / d rounded half up, for d != 0. Precondition: |n| < 2^62, |d| < 2^62.
+// d == 0 returns 0 (documented; callers check denominators they can't prove).
+inline constexpr int64_t div_round(int64_t n, int64_t d) {
+  if (d == 0) return 0;
+  if (d < 0) {
+    n = -n;
+    d = -d;
+  }
+  return floor_div(2 * n + d, 2 * d);
+}
+
+// Converts between fractional-bit counts with rounding (right) or saturation (left).
+inline constexpr int32_t requantize(int32_t v, int from_frac, int to_frac) {
+  if (from_frac == to_frac) return v;
+  if (from_frac > to_frac) return sat_i32(round_shift(v, from_frac - to_frac));
+  return sat_i32(int64_t{v} * (int64_t{1} << (to_frac - from_frac)));
+}
+
+}  // namespace sinew::fx

@@ -1,0 +1,18 @@
+// Integer square roots. Exact (floor) and total.
+#pragma once
+
+#include <cstdint>
+
+#include "q_formats.hpp"
+
+namespace sinew::fx {
+
+// floor(sqrt(v)), exact for every uint64 value.
+uint32_t isqrt_u64(uint64_t v);
+
+// 1/sqrt(x) for x a squared norm in Q4.60 (e.g. a sum of squares of Q2.30
+// components), returned in Q2.30: round(2^90 / sqrt(x)) / 2^60 scaled.
+// x < 2^58 (result >= 2) saturates to INT32_MAX; x == 0 returns INT32_MAX.
+Unit rsqrt_q60(uint64_t x_q60);
+
+}  // namespace sinew::fx

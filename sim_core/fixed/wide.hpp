@@ -1,0 +1,41 @@
+// Portable 64x64 -> 128-bit products (no __int128: armhf has none), used by
+// the high-precision kernels of trig and by range-safe accumulations.
+#pragma once
+
+#include <cstdint>
+
+namespace sinew::fx {
+
+struct U128 {
+  uint64_t hi;
+  uint64_t lo;
+};
+
+inline constexpr U128 mul_u64(uint64_t a, uint64_t b) {
+  const uint64_t a_lo = a & 0xFFFFFFFFu, a_hi = a >> 32;
+  const uint64_t b_lo = b & 0xFFFFFFFFu, b_hi = b >> 32;
+  const uint64_t p0 = a_lo * b_lo, p1 = a_lo * b_hi, p2 = a_hi * b_lo, p3 = a_hi * b_hi;
+  const uint64_t mid = (p0 >> 32) + (p1 & 0xFFFFFFFFu) + (p2 & 0xFFFFFFFFu);
+  return U128{p3 + (p1 >> 32) + (p2 >> 32) + (mid >> 32), (mid << 32) | (p0 & 0xFFFFFFFFu)};
+}
+
+inline constexpr uint64_t magnitude(int64_t v) {
+  return v < 0 ? uint64_t{0} - static_cast<uint64_t>(v) : static_cast<uint64_t>(v);
+}
+
+// round_half_up(a * b / 2^s) for 1 <= s <= 63. Precondition: the result fits
+// in int64 (callers keep |a*b| < 2^(62+s)).
+inline constexpr int64_t mul_shift_round(int64_t a, int64_t b, int s) {
+  const bool negative = (a < 0) != (b < 0);
+  U128 p = mul_u64(magnitude(a), magnitude(b));
+  // Half up on the signed value: +half on magnitudes of positive results,
+  // +half-1 on magnitudes of negative ones (so -x.5 rounds to -x).
+  const uint64_t half = (uint64_t{1} << (s - 1)) - (negative ? 1u : 0u);
+  const uint64_t lo = p.lo + half;
+  p.hi += static_cast<uint64_t>(lo < p.lo);
+  p.lo = lo;
+  const uint64_t m = (p.hi << (64 - s)) | (p.lo >> s);
+  return static_cast<int64_t>(negative ? uint64_t{0} - m : m);  // modular, defined in C++20
+}
+
+}  // namespace sinew::fx
