@@ -14,8 +14,11 @@ NormDivisor norm_divisor(const int32_t* components, int count) {
   }
   if (m == 0) return {0, 0};
   int shift = 0;
-  while ((m << (shift + 1)) < (uint64_t{1} << 30)) ++shift;
-  while (shift > -2 && (m >> -shift) >= (uint64_t{1} << 30)) --shift;
+  if (m >= (uint64_t{1} << 30)) {
+    while (shift > -2 && (m >> -shift) >= (uint64_t{1} << 30)) --shift;
+  } else {
+    while ((m << (shift + 1)) < (uint64_t{1} << 30)) ++shift;
+  }
   uint64_t n2 = 0;  // < 4 * 2^60
   for (int i = 0; i < count; ++i) {
     int64_t c = shift >= 0 ? int64_t{components[i]} * (int64_t{1} << shift)

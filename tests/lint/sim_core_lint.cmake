@@ -17,7 +17,11 @@ set(forbidden
 )
 set(violations 0)
 foreach(src IN LISTS sources)
-  file(STRINGS "${src}" lines)
+  # Read raw text (file(STRINGS) splits at non-ASCII bytes) and protect ';'
+  # so a line stays one list element.
+  file(READ "${src}" text)
+  string(REPLACE ";" "<semicolon>" text "${text}")
+  string(REPLACE "\n" ";" lines "${text}")
   set(n 0)
   foreach(line IN LISTS lines)
     math(EXPR n "${n} + 1")

@@ -1,0 +1,97 @@
+#include "engine.hpp"
+
+namespace sinew::engine {
+namespace {
+
+constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
+
+// Bump allocator over the caller's arena; used only inside engine_init.
+class Carver {
+ public:
+  Carver(uint8_t* base, size_t size) : base_(base), size_(size) {}
+  template <typename T>
+  std::span<T> take(size_t count) {
+    const size_t bytes = align8(count * sizeof(T));
+    if (count == 0) return {};
+    needed_ += bytes;
+    if (base_ == nullptr || used_ + bytes > size_) {
+      failed_ = true;
+      return {};
+    }
+    T* p = reinterpret_cast<T*>(base_ + used_);
+    for (size_t i = 0; i < count; ++i) p[i] = T{};
+    used_ += bytes;
+    return {p, count};
+  }
+  size_t needed() const { return needed_; }
+  bool failed() const { return failed_; }
+
+ private:
+  uint8_t* base_;
+  size_t size_;
+  size_t used_ = 0;
+  size_t needed_ = 0;
+  bool failed_ = false;
+};
+
+Carver layout(const rig::Rig& rig, uint8_t* base, size_t size, Engine* e) {
+  Carver c(base, size);
+  const size_t joints = rig.joint_count(), pal = rig.palette.size(), n = rig.vertex_count();
+  e->locals = c.take<skeleton::LocalPose>(joints);
+  e->joint_flags = c.take<uint8_t>(joints);
+  e->model = c.take<fx::Mat34>(joints);
+  e->palette = c.take<fx::Mat34>(pal);
+  e->dual = rig.any_dual_quaternion ? c.take<fx::DualQuat>(pal) : std::span<fx::DualQuat>{};
+  for (int i = 0; i < 3; ++i) e->vertices.position[i] = c.take<fx::Len>(n);
+  for (int i = 0; i < 3; ++i) e->vertices.normal[i] = rig.normal[0].empty() ? std::span<fx::Unit>{} : c.take<fx::Unit>(n);
+  return c;
+}
+
+void finish_step(Engine* e) {
+  const rig::Rig& rig = *e->rig;
+  skeleton::locals_to_model(rig, e->locals, e->model);
+  skeleton::skinning_palette(rig, e->model, e->palette, e->dual);
+  e->stats.saturated = skin::skin_vertices(rig, e->palette, e->dual, 0, rig.vertex_count(), e->vertices);
+  ++e->stats.steps;
+}
+
+}  // namespace
+
+size_t engine_arena_bytes(const rig::Rig& rig) {
+  // The same layout as engine_init, carved over no memory: only counts bytes.
+  Engine probe;
+  return layout(rig, nullptr, 0, &probe).needed();
+}
+
+bool engine_init(const rig::Rig& rig, void* arena, size_t arena_bytes, Engine* out) {
+  if (arena == nullptr || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0) return false;
+  Engine e;
+  e.rig = &rig;
+  const Carver c = layout(rig, static_cast<uint8_t*>(arena), arena_bytes, &e);
+  if (c.failed()) return false;
+  skeleton::rest_locals(rig, e.locals);
+  finish_step(&e);
+  e.stats = {};
+  *out = e;
+  return true;
+}
+
+bool engine_step(Engine* e, std::span<const int32_t> inputs) {
+  if (e == nullptr || e->rig == nullptr || inputs.size() < e->rig->input_count) return false;
+  e->stats.clamped_dofs = skeleton::dofs_to_locals(*e->rig, inputs, e->locals, e->joint_flags);
+  finish_step(e);
+  return true;
+}
+
+bool engine_step_locals(Engine* e, std::span<const skeleton::LocalPose> locals) {
+  if (e == nullptr || e->rig == nullptr || locals.size() != e->rig->joint_count()) return false;
+  for (size_t j = 0; j < locals.size(); ++j) {
+    e->locals[j] = locals[j];
+    e->joint_flags[j] = 0;
+  }
+  e->stats.clamped_dofs = 0;
+  finish_step(e);
+  return true;
+}
+
+}  // namespace sinew::engine

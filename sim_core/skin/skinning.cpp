@@ -1,0 +1,111 @@
+#include "skinning.hpp"
+
+namespace sinew::skin {
+namespace {
+
+constexpr int64_t kLinearLimit = int64_t{1} << 30;  // +-64 in Q8.24
+
+struct Blend {
+  int64_t m[9];
+  int64_t t[3];
+};
+
+inline void skin_linear(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v, const SkinnedVertices& out,
+                        uint32_t index, uint32_t* saturated) {
+  const uint32_t k_count = rig.influences_per_vertex;
+  const uint16_t* joints = rig.influence_palette.data() + size_t{v} * k_count;
+  const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * k_count;
+  Blend b{};
+  for (uint32_t k = 0; k < k_count; ++k) {
+    const fx::Mat34& m = palette[joints[k]];
+    const int64_t w = weights[k];
+    for (int i = 0; i < 3; ++i) {
+      b.m[3 * i + 0] += w * m.m[i][0];
+      b.m[3 * i + 1] += w * m.m[i][1];
+      b.m[3 * i + 2] += w * m.m[i][2];
+      b.t[i] += w * m.t[i];
+    }
+  }
+  int64_t lin[9];
+  for (int i = 0; i < 9; ++i) {
+    const int64_t e = fx::round_shift(b.m[i], fx::kUnitFracBits);  // Q8.24
+    lin[i] = fx::clamp_i64(e, -kLinearLimit, kLinearLimit);
+    *saturated += static_cast<uint32_t>(lin[i] != e);
+  }
+  const int64_t p[3] = {rig.position[0][v], rig.position[1][v], rig.position[2][v]};
+  for (int i = 0; i < 3; ++i) {
+    // |lin| <= 2^30, |p| < 2^31: three products < 3 * 2^61, plus t << 24 < 2^55.
+    const int64_t t = fx::round_shift(b.t[i], fx::kUnitFracBits);  // Q12.20, convex: fits
+    const int64_t acc = lin[3 * i] * p[0] + lin[3 * i + 1] * p[1] + lin[3 * i + 2] * p[2] + t * (1 << 24);
+    out.position[i][index] = fx::sat_i32(fx::round_shift(acc, fx::kLinFracBits));
+  }
+  if (!out.normal[0].empty() && !rig.normal[0].empty()) {
+    const int64_t n[3] = {rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]};
+    int32_t r[3];
+    for (int i = 0; i < 3; ++i)
+      r[i] = fx::sat_i32(fx::round_shift(lin[3 * i] * n[0] + lin[3 * i + 1] * n[1] + lin[3 * i + 2] * n[2],
+                                         fx::kLinFracBits));
+    fx::Vec3 unit;
+    fx::normalize_to_unit({r[0], r[1], r[2]}, &unit);
+    out.normal[0][index] = unit.x;
+    out.normal[1][index] = unit.y;
+    out.normal[2][index] = unit.z;
+  }
+}
+
+inline void skin_dual(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v, const SkinnedVertices& out,
+                      uint32_t index) {
+  const uint32_t k_count = rig.influences_per_vertex;
+  const uint16_t* joints = rig.influence_palette.data() + size_t{v} * k_count;
+  const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * k_count;
+  const fx::Quat& pivot = dual[joints[0]].real;
+  int64_t real[4] = {0, 0, 0, 0}, du[4] = {0, 0, 0, 0};
+  for (uint32_t k = 0; k < k_count; ++k) {
+    const fx::DualQuat& d = dual[joints[k]];
+    // Antipodality: blend every quaternion on the pivot's hemisphere.
+    const int64_t w = fx::dot_wide(pivot, d.real) < 0 ? -int64_t{weights[k]} : int64_t{weights[k]};
+    real[0] += w * d.real.w;
+    real[1] += w * d.real.x;
+    real[2] += w * d.real.y;
+    real[3] += w * d.real.z;
+    du[0] += w * d.dual.w;
+    du[1] += w * d.dual.x;
+    du[2] += w * d.dual.y;
+    du[3] += w * d.dual.z;
+  }
+  const auto n30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
+  fx::DualQuat b{{n30(real[0]), n30(real[1]), n30(real[2]), n30(real[3])},
+                 {n30(du[0]), n30(du[1]), n30(du[2]), n30(du[3])}};
+  fx::normalize(&b);
+  const fx::Vec3 p{rig.position[0][v], rig.position[1][v], rig.position[2][v]};
+  const fx::Vec3 q = fx::transform_point(b, p);
+  out.position[0][index] = q.x;
+  out.position[1][index] = q.y;
+  out.position[2][index] = q.z;
+  if (!out.normal[0].empty() && !rig.normal[0].empty()) {
+    const fx::Vec3 n = fx::rotate(b.real, fx::Vec3{rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]});
+    out.normal[0][index] = n.x;
+    out.normal[1][index] = n.y;
+    out.normal[2][index] = n.z;
+  }
+}
+
+}  // namespace
+
+uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
+                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                       const SkinnedVertices& out) {
+  uint32_t saturated = 0;
+  const bool dual_ready = !dual_palette.empty();
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t v = first + i;
+    if (dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
+      skin_dual(rig, dual_palette, v, out, i);
+    } else {
+      skin_linear(rig, palette, v, out, i, &saturated);
+    }
+  }
+  return saturated;
+}
+
+}  // namespace sinew::skin

@@ -1,0 +1,31 @@
+// Skinning job: rest vertices + skinning palette -> deformed positions and
+// normals, per vertex by linear blend skinning (LBS) or dual-quaternion
+// skinning (DQS, Kavan et al. 2008), as the rig's per-vertex method says.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "sim_core/fixed/dual_quat.hpp"
+#include "sim_core/rig/rig.hpp"
+
+namespace sinew::skin {
+
+// Output arrays, SoA, one entry per vertex of the processed range.
+struct SkinnedVertices {
+  std::span<fx::Len> position[3];
+  std::span<fx::Unit> normal[3];  // may be empty (then normals are skipped)
+};
+
+// Skins vertices [first, first + count). LBS blends the palette matrices with
+// the Q2.30 weights (a convex combination: no overflow), then transforms once
+// ("blend then transform"); blended linear entries are clamped to +-64.
+// Normals use the blended linear part (rigid joints) and are renormalised.
+// DQS blends dual quaternions on the hemisphere of the vertex's first
+// influence (antipodal handling), normalises, then transforms.
+// Returns the number of saturated (clamped) values.
+uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
+                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                       const SkinnedVertices& out);
+
+}  // namespace sinew::skin
