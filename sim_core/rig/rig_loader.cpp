@@ -60,18 +60,19 @@ SectionSpan* slot_for(Sections& s, uint32_t id) {
   }
 }
 
+constexpr uint64_t align8(uint64_t v) { return (v + 7u) & ~uint64_t{7}; }
+
 LoadStatus check_size(const SectionSpan& s, const char* name, uint64_t expected, bool required) {
   if (!s.present) {
     if (required && expected > 0) return fail(LoadError::kMissingSection, name, "", "required section is missing");
     return {};
   }
-  if (s.size != expected)
+  // Every section is padded with zeros to a multiple of 8 bytes.
+  if (s.size != align8(expected))
     return fail(LoadError::kSectionSize, name, "size", "does not match the header counts", -1,
                 static_cast<int64_t>(s.size), true);
   return {};
 }
-
-constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
 LoadStatus check_header(const uint8_t* blob, size_t size, FileHeader* h) {
   if (blob == nullptr || size < sizeof(FileHeader))
@@ -150,10 +151,10 @@ LoadStatus read_sections(const uint8_t* blob, const FileHeader& h, Sections* s) 
     return st;
   if (!(st = check_size(s->positions, "VPOS", n * 3 * 4, true)).ok()) return st;
   if (!(st = check_size(s->normals, "VNRM", n * 3 * 4, false)).ok()) return st;
-  if (!(st = check_size(s->inf_joints, "INFJ", align8(n * k * 2), true)).ok()) return st;
+  if (!(st = check_size(s->inf_joints, "INFJ", n * k * 2, true)).ok()) return st;
   if (!(st = check_size(s->inf_weights, "INFW", n * k * 4, true)).ok()) return st;
-  if (!(st = check_size(s->method, "METH", align8(n), true)).ok()) return st;
-  if (!(st = check_size(s->triangles, "TRIS", align8(uint64_t{h.triangle_count} * 12), true)).ok()) return st;
+  if (!(st = check_size(s->method, "METH", n, true)).ok()) return st;
+  if (!(st = check_size(s->triangles, "TRIS", uint64_t{h.triangle_count} * 12, true)).ok()) return st;
   if (!(st = check_size(s->primitives, "PRIM", uint64_t{h.primitive_count} * sizeof(PrimitiveRecord), true)).ok())
     return st;
   return {};

@@ -1,0 +1,176 @@
+#include "gltf_import.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "gltf_accessor.hpp"
+
+namespace sinew::rigc {
+namespace {
+
+Quatd normalized(Quatd q) {
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!(n > 0)) return {1, 0, 0, 0};
+  return {q[0] / n, q[1] / n, q[2] / n, q[3] / n};
+}
+
+// Decomposes a column-major TRS matrix (glTF forbids shear in node matrices).
+NodeTrs decompose(const std::vector<double>& m) {
+  NodeTrs t;
+  t.translation = {m[12], m[13], m[14]};
+  double col[3][3];
+  for (int c = 0; c < 3; ++c) {
+    const double sx = std::sqrt(m[static_cast<size_t>(c * 4)] * m[static_cast<size_t>(c * 4)] + m[static_cast<size_t>(c * 4 + 1)] * m[static_cast<size_t>(c * 4 + 1)] +
+                                m[static_cast<size_t>(c * 4 + 2)] * m[static_cast<size_t>(c * 4 + 2)]);
+    t.scale[static_cast<size_t>(c)] = sx;
+    for (int r = 0; r < 3; ++r) col[c][r] = sx > 0 ? m[static_cast<size_t>(c * 4 + r)] / sx : (r == c ? 1 : 0);
+  }
+  const double det = col[0][0] * (col[1][1] * col[2][2] - col[2][1] * col[1][2]) -
+                     col[1][0] * (col[0][1] * col[2][2] - col[2][1] * col[0][2]) +
+                     col[2][0] * (col[0][1] * col[1][2] - col[1][1] * col[0][2]);
+  if (det < 0) {  // a mirror: carry it in the scale
+    t.scale[0] = -t.scale[0];
+    for (int r = 0; r < 3; ++r) col[0][r] = -col[0][r];
+  }
+  // Rotation matrix R[r][c] = col[c][r] -> quaternion (Shepperd).
+  const double r00 = col[0][0], r11 = col[1][1], r22 = col[2][2];
+  const double r01 = col[1][0], r10 = col[0][1], r02 = col[2][0], r20 = col[0][2], r12 = col[2][1], r21 = col[1][2];
+  const double tr = r00 + r11 + r22;
+  Quatd q;
+  if (tr > 0) {
+    const double s = std::sqrt(tr + 1.0) * 2;
+    q = {0.25 * s, (r21 - r12) / s, (r02 - r20) / s, (r10 - r01) / s};
+  } else if (r00 > r11 && r00 > r22) {
+    const double s = std::sqrt(1.0 + r00 - r11 - r22) * 2;
+    q = {(r21 - r12) / s, 0.25 * s, (r01 + r10) / s, (r02 + r20) / s};
+  } else if (r11 > r22) {
+    const double s = std::sqrt(1.0 + r11 - r00 - r22) * 2;
+    q = {(r02 - r20) / s, (r01 + r10) / s, 0.25 * s, (r12 + r21) / s};
+  } else {
+    const double s = std::sqrt(1.0 + r22 - r00 - r11) * 2;
+    q = {(r10 - r01) / s, (r02 + r20) / s, (r12 + r21) / s, 0.25 * s};
+  }
+  t.rotation = normalized(q);
+  return t;
+}
+
+Quatd slerp(Quatd a, Quatd b, double u) {
+  double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  if (d < 0) {
+    d = -d;
+    for (double& c : b) c = -c;
+  }
+  double wa = 1 - u, wb = u;
+  if (d < 0.9995) {
+    const double theta = std::acos(d), s = std::sin(theta);
+    wa = std::sin((1 - u) * theta) / s;
+    wb = std::sin(u * theta) / s;
+  }
+  return normalized({wa * a[0] + wb * b[0], wa * a[1] + wb * b[1], wa * a[2] + wb * b[2], wa * a[3] + wb * b[3]});
+}
+
+}  // namespace
+
+bool load_gltf_model(const std::string& path, tinygltf::Model* model, std::string* error) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return *error = path + ": cannot open", false;
+  char magic[4] = {0, 0, 0, 0};
+  f.read(magic, 4);
+  const bool binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  const bool ok = binary ? loader.LoadBinaryFromFile(model, &err, &warn, path)
+                         : loader.LoadASCIIFromFile(model, &err, &warn, path);
+  if (!ok) return *error = path + ": " + (err.empty() ? "not a valid glTF file" : err), false;
+  return true;
+}
+
+std::vector<NodeTrs> rest_node_trs(const tinygltf::Model& model) {
+  std::vector<NodeTrs> out(model.nodes.size());
+  for (size_t i = 0; i < model.nodes.size(); ++i) {
+    const tinygltf::Node& n = model.nodes[i];
+    if (n.matrix.size() == 16) {
+      out[i] = decompose(n.matrix);
+      continue;
+    }
+    if (n.translation.size() == 3) out[i].translation = {n.translation[0], n.translation[1], n.translation[2]};
+    if (n.rotation.size() == 4) out[i].rotation = normalized({n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]});
+    if (n.scale.size() == 3) out[i].scale = {n.scale[0], n.scale[1], n.scale[2]};
+  }
+  return out;
+}
+
+bool animation_range(const tinygltf::Model& model, int index, double* start, double* end, std::string* error) {
+  if (index < 0 || static_cast<size_t>(index) >= model.animations.size())
+    return *error = "animation " + std::to_string(index) + ": no such animation (the file has " +
+                    std::to_string(model.animations.size()) + ")", false;
+  *start = 1e300;
+  *end = -1e300;
+  for (const tinygltf::AnimationSampler& s : model.animations[static_cast<size_t>(index)].samplers) {
+    std::vector<double> in;
+    int comps = 0;
+    if (!read_accessor(model, s.input, &in, &comps, error)) return false;
+    if (in.empty()) continue;
+    *start = std::min(*start, in.front());
+    *end = std::max(*end, in.back());
+  }
+  if (*start > *end) *start = *end = 0;
+  return true;
+}
+
+bool sample_animation(const tinygltf::Model& model, int index, double time, std::vector<NodeTrs>* trs,
+                      std::string* error) {
+  if (index < 0 || static_cast<size_t>(index) >= model.animations.size())
+    return *error = "animation " + std::to_string(index) + ": no such animation (the file has " +
+                    std::to_string(model.animations.size()) + ")", false;
+  const tinygltf::Animation& anim = model.animations[static_cast<size_t>(index)];
+  for (const tinygltf::AnimationChannel& ch : anim.channels) {
+    if (ch.target_node < 0 || static_cast<size_t>(ch.target_node) >= trs->size()) continue;
+    const bool is_t = ch.target_path == "translation", is_r = ch.target_path == "rotation", is_s = ch.target_path == "scale";
+    if (!is_t && !is_r && !is_s) continue;  // morph weights do not move joints
+    if (ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= anim.samplers.size())
+      return *error = "animation " + std::to_string(index) + ": channel sampler out of range", false;
+    const tinygltf::AnimationSampler& s = anim.samplers[static_cast<size_t>(ch.sampler)];
+    std::vector<double> in, out;
+    int ci = 0, co = 0;
+    if (!read_accessor(model, s.input, &in, &ci, error) || !read_accessor(model, s.output, &out, &co, error)) return false;
+    const size_t width = is_r ? 4 : 3;
+    const bool cubic = s.interpolation == "CUBICSPLINE";
+    const size_t per_key = cubic ? 3 : 1;
+    if (in.empty() || static_cast<size_t>(co) != width || out.size() < in.size() * per_key * width)
+      return *error = "animation " + std::to_string(index) + ": sampler output does not match its input", false;
+    // Key interval containing the (clamped) time.
+    const double t = std::clamp(time, in.front(), in.back());
+    size_t k = 0;
+    while (k + 1 < in.size() && in[k + 1] <= t) ++k;
+    const size_t k1 = std::min(k + 1, in.size() - 1);
+    const double dt = in[k1] - in[k];
+    const double u = dt > 0 ? (t - in[k]) / dt : 0.0;
+    const auto value = [&](size_t key, size_t part, size_t c) { return out[(key * per_key + part) * width + c]; };
+    std::array<double, 4> v{};
+    if (s.interpolation == "STEP" || k == k1) {
+      for (size_t c = 0; c < width; ++c) v[c] = value(k, cubic ? 1 : 0, c);
+    } else if (cubic) {
+      const double u2 = u * u, u3 = u2 * u;
+      const double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+      for (size_t c = 0; c < width; ++c)
+        v[c] = h00 * value(k, 1, c) + h10 * dt * value(k, 2, c) + h01 * value(k1, 1, c) + h11 * dt * value(k1, 0, c);
+    } else if (is_r) {
+      const Quatd a{value(k, 0, 3), value(k, 0, 0), value(k, 0, 1), value(k, 0, 2)};
+      const Quatd b{value(k1, 0, 3), value(k1, 0, 0), value(k1, 0, 1), value(k1, 0, 2)};
+      const Quatd q = slerp(a, b, u);
+      v = {q[1], q[2], q[3], q[0]};
+    } else {
+      for (size_t c = 0; c < width; ++c) v[c] = (1 - u) * value(k, 0, c) + u * value(k1, 0, c);
+    }
+    NodeTrs& node = (*trs)[static_cast<size_t>(ch.target_node)];
+    if (is_t) node.translation = {v[0], v[1], v[2]};
+    if (is_s) node.scale = {v[0], v[1], v[2]};
+    if (is_r) node.rotation = normalized({v[3], v[0], v[1], v[2]});  // glTF stores x, y, z, w
+  }
+  return true;
+}
+
+}  // namespace sinew::rigc
