@@ -57,8 +57,11 @@ int32_t choose_length_exponent(const RigSpec& spec) {
   for (const PaletteSpec& p : spec.palette)
     extent = std::max({extent, std::fabs(p.inverse_bind[12]), std::fabs(p.inverse_bind[13]), std::fabs(p.inverse_bind[14])});
   if (!(extent > 0)) return 0;
-  // Largest magnitude at most 256 rig units (1/8 of Q12.20's range).
-  const int32_t e = static_cast<int32_t>(std::ceil(std::log2(extent / 256.0)));
+  // Largest magnitude at most 256 rig units (1/8 of Q12.20's range):
+  // e = ceil(log2(extent / 256)), exactly, via frexp (no libm rounding).
+  int k = 0;
+  const double m = std::frexp(extent / 256.0, &k);  // extent / 256 = m * 2^k, m in [0.5, 1)
+  const int32_t e = m == 0.5 ? k - 1 : k;
   return std::clamp(e, fmt::kMinLengthExponent, fmt::kMaxLengthExponent);
 }
 

@@ -18,7 +18,8 @@ class Carver {
       failed_ = true;
       return {};
     }
-    T* p = reinterpret_cast<T*>(base_ + used_);
+    static_assert(alignof(T) <= 8, "the arena and every carve are 8-byte aligned");
+    T* p = static_cast<T*>(static_cast<void*>(base_ + used_));
     for (size_t i = 0; i < count; ++i) p[i] = T{};
     used_ += bytes;
     return {p, count};

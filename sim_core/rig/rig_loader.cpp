@@ -261,7 +261,7 @@ LoadStatus validate(const uint8_t* blob, size_t size, FileHeader* h, Sections* s
                               &s->inf_joints, &s->inf_weights, &s->method, &s->triangles, &s->primitives};
   size_t bytes = 0;
   for (const SectionSpan* p : all)
-    if (p->present) bytes += align8(p->size);
+    if (p->present) bytes += static_cast<size_t>(align8(p->size));  // <= total_size: fits
   *arena_bytes = bytes;
   return {};
 }
@@ -271,14 +271,16 @@ const uint8_t* place(const uint8_t* blob, const SectionSpan& s, uint8_t* arena, 
   if (!s.present || s.size == 0) return nullptr;
   uint8_t* dst = arena + *used;
   std::memcpy(dst, blob + s.offset, s.size);
-  *used += align8(s.size);
+  *used += static_cast<size_t>(align8(s.size));
   return dst;
 }
 
 template <typename T>
 std::span<const T> typed(const uint8_t* p, size_t count) {
   if (p == nullptr || count == 0) return {};
-  return {reinterpret_cast<const T*>(p), count};  // arena bytes were written by memcpy: implicit objects
+  static_assert(alignof(T) <= 8, "sections are 8-byte aligned in the arena");
+  // The arena bytes were written by memcpy, which creates implicit objects.
+  return {static_cast<const T*>(static_cast<const void*>(p)), count};
 }
 
 }  // namespace

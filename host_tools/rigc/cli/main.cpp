@@ -1,0 +1,57 @@
+// rigc: compiles a rig into sinew's binary format and prints its summary.
+//   rigc SPEC.toml -o arm.rig
+//   rigc builtin:arm -o arm.rig
+//   rigc model.glb -o model.rig
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <fstream>
+
+#include "host_tools/rigc/builtin_rigs.hpp"
+#include "host_tools/rigc/gltf_import.hpp"
+#include "host_tools/rigc/toml_spec.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rigc: compile a rig (TOML spec, glTF 2.0 skin or built-in) into a sinew rig blob"};
+  std::string input, output, skinning = "dqs";
+  app.add_option("input", input, "SPEC.toml, MODEL.gltf/.glb, builtin:arm or builtin:hand")->required();
+  app.add_option("-o,--out", output, "output rig blob");
+  app.add_option("--skinning", skinning, "lbs or dqs for built-in rigs")->check(CLI::IsMember({"lbs", "dqs"}));
+  CLI11_PARSE(app, argc, argv);
+
+  using namespace sinew::rigc;
+  RigSpec spec;
+  std::string error;
+  const SkinChoice method = skinning == "dqs" ? SkinChoice::kDualQuaternion : SkinChoice::kLinear;
+  bool ok = false;
+  if (input.rfind("builtin:", 0) == 0) {
+    ok = builtin_rig(input.substr(8), method, &spec);
+    if (!ok) error = input + ": unknown built-in rig (arm, hand)";
+  } else if (input.size() > 5 && input.substr(input.size() - 5) == ".toml") {
+    ok = load_toml_spec(input, &spec, &error);
+  } else {
+    GltfRig gltf;
+    ok = import_gltf(input, &gltf, &error);
+    spec = gltf.spec;
+  }
+  std::vector<uint8_t> blob;
+  CompileReport report;
+  if (ok) ok = compile_rig(spec, &blob, &report, &error);
+  if (!ok) {
+    std::fprintf(stderr, "rigc: %s\n", error.c_str());
+    return 1;
+  }
+  std::printf("rigc: %s\n", format_report(report).c_str());
+  if (report.renormalized_vertices > 0)
+    std::printf("rigc: %u vertices had weights not summing to 1; renormalised\n", report.renormalized_vertices);
+  if (!output.empty()) {
+    std::ofstream f(output, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(blob.data()), static_cast<std::streamsize>(blob.size()));
+    if (!f) {
+      std::fprintf(stderr, "rigc: cannot write %s\n", output.c_str());
+      return 1;
+    }
+    std::printf("rigc: wrote %s\n", output.c_str());
+  }
+  return 0;
+}
