@@ -19,6 +19,9 @@ DualQuat dual_quat_from_rt(const Quat& rotation, Vec3 translation);
 // (and identity) for a zero real part.
 bool normalize(DualQuat* dq);
 
+// The same, division-free (rsqrt_fast): for per-vertex blends in skinning.
+bool normalize_fast(DualQuat* dq);
+
 // Translation encoded by a unit dual quaternion: 2 * dual * conj(real).
 Vec3 translation_of(const DualQuat& dq);
 

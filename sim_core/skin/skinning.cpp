@@ -1,5 +1,7 @@
 #include "skinning.hpp"
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
+
 namespace sinew::skin {
 namespace {
 
@@ -46,7 +48,7 @@ inline void skin_linear(const rig::Rig& rig, std::span<const fx::Mat34> palette,
       r[i] = fx::sat_i32(fx::round_shift(lin[3 * i] * n[0] + lin[3 * i + 1] * n[1] + lin[3 * i + 2] * n[2],
                                          fx::kLinFracBits));
     fx::Vec3 unit;
-    fx::normalize_to_unit({r[0], r[1], r[2]}, &unit);
+    fx::normalize_fast({r[0], r[1], r[2]}, &unit);
     out.normal[0][index] = unit.x;
     out.normal[1][index] = unit.y;
     out.normal[2][index] = unit.z;
@@ -76,7 +78,7 @@ inline void skin_dual(const rig::Rig& rig, std::span<const fx::DualQuat> dual, u
   const auto n30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
   fx::DualQuat b{{n30(real[0]), n30(real[1]), n30(real[2]), n30(real[3])},
                  {n30(du[0]), n30(du[1]), n30(du[2]), n30(du[3])}};
-  fx::normalize(&b);
+  fx::normalize_fast(&b);
   const fx::Vec3 p{rig.position[0][v], rig.position[1][v], rig.position[2][v]};
   const fx::Vec3 q = fx::transform_point(b, p);
   out.position[0][index] = q.x;

@@ -180,3 +180,23 @@ TEST(FixedAccuracy, NormalizationWithinBounds) {
   EXPECT_LE(worst_q, 1.5);
   EXPECT_LE(worst_v, 2.5);  // inputs >= 2^30 lose up to two bits in the pre-scale
 }
+
+#include "sim_core/fixed/rsqrt_fast.hpp"
+
+TEST(FixedAccuracy, DivisionFreeNormalizationWithinFourLsb) {
+  SplitMix64 rng(9);
+  double worst = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const fx::Vec3 v{rng.next_i32() >> (rng.next() % 31), rng.next_i32() >> (rng.next() % 31), rng.next_i32() >> (rng.next() % 31)};
+    fx::Vec3 u;
+    if (!fx::normalize_fast(v, &u)) continue;
+    const long double n = std::sqrt(static_cast<long double>(v.x) * v.x + static_cast<long double>(v.y) * v.y +
+                                    static_cast<long double>(v.z) * v.z);
+    const int32_t got[3] = {u.x, u.y, u.z};
+    const int32_t in[3] = {v.x, v.y, v.z};
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, static_cast<double>(std::fabs(got[c] - in[c] / n * 1073741824.0L)));
+  }
+  report("normalize_fast (vec3)", worst, "LSB of Q2.30");
+  EXPECT_LE(worst, 4.0);
+}
