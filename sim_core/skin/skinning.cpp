@@ -7,6 +7,32 @@ namespace {
 
 constexpr int64_t kLinearLimit = int64_t{1} << 30;  // +-64 in Q8.24
 
+// Rotation matrix of a quaternion normalised by normalize_fast (|c| <= 2^30
+// + a few LSB): products < 2^61 and the sums below stay far inside int64, so
+// the saturating forms of fx::rot3_from_quat are not needed on this path.
+// Same formula, same single rounding: identical results for unit inputs.
+inline fx::Rot3 rot3_of_unit(const fx::Quat& q) {
+  const int64_t w = q.w, x = q.x, y = q.y, z = q.z;
+  const int64_t one = int64_t{1} << 60;
+  const auto e = [](int64_t v) { return fx::sat_i32(fx::round_shift(v, fx::kUnitFracBits)); };
+  fx::Rot3 r;
+  r.m[0][0] = e(one - 2 * (y * y + z * z));
+  r.m[0][1] = e(2 * (x * y - w * z));
+  r.m[0][2] = e(2 * (x * z + w * y));
+  r.m[1][0] = e(2 * (x * y + w * z));
+  r.m[1][1] = e(one - 2 * (x * x + z * z));
+  r.m[1][2] = e(2 * (y * z - w * x));
+  r.m[2][0] = e(2 * (x * z - w * y));
+  r.m[2][1] = e(2 * (y * z + w * x));
+  r.m[2][2] = e(one - 2 * (x * x + y * y));
+  return r;
+}
+
+// R v for |R| <= 1 (+ rounding) and any int32 v: three products < 2^62 each.
+inline void rotate_into(const fx::Rot3& r, const int64_t v[3], int64_t out[3]) {
+  for (int i = 0; i < 3; ++i) out[i] = r.m[i][0] * v[0] + r.m[i][1] * v[1] + r.m[i][2] * v[2];
+}
+
 struct Blend {
   int64_t m[9];
   int64_t t[3];
@@ -79,16 +105,24 @@ inline void skin_dual(const rig::Rig& rig, std::span<const fx::DualQuat> dual, u
   fx::DualQuat b{{n30(real[0]), n30(real[1]), n30(real[2]), n30(real[3])},
                  {n30(du[0]), n30(du[1]), n30(du[2]), n30(du[3])}};
   fx::normalize_fast(&b);
-  const fx::Vec3 p{rig.position[0][v], rig.position[1][v], rig.position[2][v]};
-  const fx::Vec3 q = fx::transform_point(b, p);
-  out.position[0][index] = q.x;
-  out.position[1][index] = q.y;
-  out.position[2][index] = q.z;
+  // One rotation matrix for point and normal; the translation in closed form,
+  // t = 2 (w d_v - d_w r_v + r_v x d_v), from exact Q50 products rounded once.
+  const fx::Rot3 rot = rot3_of_unit(b.real);
+  const int64_t rw = b.real.w, rx = b.real.x, ry = b.real.y, rz = b.real.z;
+  const int64_t dw = b.dual.w, dx = b.dual.x, dy = b.dual.y, dz = b.dual.z;
+  const int64_t t[3] = {rw * dx - dw * rx + (ry * dz - rz * dy), rw * dy - dw * ry + (rz * dx - rx * dz),
+                        rw * dz - dw * rz + (rx * dy - ry * dx)};
+  // R p (Q20+30) and 2 t (Q50, halved into the shift) rounded together once.
+  const int64_t p[3] = {rig.position[0][v], rig.position[1][v], rig.position[2][v]};
+  int64_t rp[3];
+  rotate_into(rot, p, rp);
+  for (int c = 0; c < 3; ++c)
+    out.position[c][index] = fx::sat_i32(fx::round_shift(fx::add_sat_i64(rp[c], 2 * t[c]), fx::kUnitFracBits));
   if (!out.normal[0].empty() && !rig.normal[0].empty()) {
-    const fx::Vec3 n = fx::rotate(b.real, fx::Vec3{rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]});
-    out.normal[0][index] = n.x;
-    out.normal[1][index] = n.y;
-    out.normal[2][index] = n.z;
+    const int64_t n[3] = {rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]};
+    int64_t rn[3];
+    rotate_into(rot, n, rn);
+    for (int c = 0; c < 3; ++c) out.normal[c][index] = fx::sat_i32(fx::round_shift(rn[c], fx::kUnitFracBits));
   }
 }
 
