@@ -1,0 +1,54 @@
+// One tick of the daemon: latch every source up to the tick time, update
+// input health (hold / stale / reject), step the engine, hand the pose frame
+// to every sink. Sized once at init; a tick never allocates.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "io.hpp"
+#include "sim_core/engine/engine.hpp"
+#include "step_timing.hpp"
+
+namespace sinew::firmware {
+
+class Runtime {
+ public:
+  // rig must outlive the runtime. limits: one per rig input.
+  bool init(const rig::Rig& rig, std::span<const InputLimits> limits, uint64_t start_ns, std::string* error);
+  void add_source(std::unique_ptr<InputSource> s) { sources_.push_back(std::move(s)); }
+  void add_sink(std::unique_ptr<OutputSink> s) { sinks_.push_back(std::move(s)); }
+
+  // Runs the tick whose nominal time is tick_ns. Returns the frame written.
+  const hal::PoseFrame& step(uint64_t tick_ns);
+  void flush();
+
+  const InputHealth& health() const { return health_; }
+  const engine::Engine& engine() const { return engine_; }
+  StepTiming& timing() { return timing_; }
+  uint64_t ticks() const { return tick_; }
+  uint64_t dropped_frames() const { return dropped_frames_; }
+  std::span<const std::unique_ptr<InputSource>> sources() const { return sources_; }
+  std::span<const std::unique_ptr<OutputSink>> sinks() const { return sinks_; }
+
+ private:
+  const rig::Rig* rig_ = nullptr;
+  std::vector<uint64_t> engine_arena_;
+  engine::Engine engine_;
+  InputHealth health_;
+  std::vector<hal::JointSample> samples_;
+  std::vector<uint8_t> input_status_;
+  std::vector<std::unique_ptr<InputSource>> sources_;
+  std::vector<std::unique_ptr<OutputSink>> sinks_;
+  hal::PoseFrame frame_;
+  StepTiming timing_;
+  uint64_t tick_ = 0;
+  uint64_t dropped_frames_ = 0;
+};
+
+// Samples latched per source per tick at most; more wait for the next tick.
+inline constexpr size_t kMaxSamplesPerTick = 4096;
+
+}  // namespace sinew::firmware

@@ -1,0 +1,141 @@
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+
+#include "firmware/runtime/runtime.hpp"
+#include "host_tools/rigc/builtin_rigs.hpp"
+#include "tests/support/alloc_guard.hpp"
+
+namespace fw = sinew::firmware;
+namespace hal = sinew::hal;
+
+namespace {
+
+constexpr uint64_t kMs = 1000000;
+
+// Delivers a fixed script of samples by timestamp; can be told to reject.
+class ScriptedSource : public fw::InputSource {
+ public:
+  explicit ScriptedSource(std::vector<hal::JointSample> script) : script_(std::move(script)) {}
+  const char* name() const override { return "scripted"; }
+  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, fw::InputHealth& health) override {
+    size_t n = 0;
+    while (next_ < script_.size() && script_[next_].timestamp_ns <= until_ns && n < out.size()) {
+      if (script_[next_].status == 0xEE) {
+        health.reject(script_[next_].input, hal::RejectReason::kBadCrc);
+      } else {
+        out[n++] = script_[next_];
+      }
+      ++next_;
+    }
+    return n;
+  }
+  fw::SourceState state() const override { return fw::SourceState::kOk; }
+  std::string status_line() const override { return "scripted"; }
+
+ private:
+  std::vector<hal::JointSample> script_;
+  size_t next_ = 0;
+};
+
+// Keeps a hash-like fingerprint of every frame, allocation-free.
+class FingerprintSink : public fw::OutputSink {
+ public:
+  const char* name() const override { return "fingerprint"; }
+  bool write(const hal::PoseFrame& f) override {
+    for (uint32_t v = 0; v < f.vertex_count; ++v)
+      for (int c = 0; c < 3; ++c) fold(static_cast<uint32_t>(f.position[c][v]));
+    for (uint32_t i = 0; i < f.input_count; ++i) fold(f.input_status[i]);
+    for (uint32_t i = 0; i < f.input_count && i < last_status_.size(); ++i) last_status_[i] = f.input_status[i];
+    return true;
+  }
+  void flush() override {}
+  std::string status_line() const override { return ""; }
+  uint64_t value = 1469598103934665603u;
+  std::array<uint8_t, 64> last_status_{};  // fixed: the sink must not allocate either
+
+ private:
+  void fold(uint32_t x) { value = (value ^ x) * 1099511628211u; }
+};
+
+struct Arm {
+  Arm() {
+    std::vector<uint8_t> bytes;
+    sinew::rigc::CompileReport report;
+    std::string error;
+    sinew::rigc::compile_rig(sinew::rigc::builtin_arm(), &bytes, &report, &error);
+    blob.assign(bytes.size() / 8 + 1, 0);
+    std::memcpy(blob.data(), bytes.data(), bytes.size());
+    size_t n = 0;
+    const auto* data = reinterpret_cast<const uint8_t*>(blob.data());
+    sinew::rig::rig_validate(data, bytes.size(), &n);
+    arena.assign(n / 8 + 1, 0);
+    ok = sinew::rig::rig_init(data, bytes.size(), arena.data(), arena.size() * 8, &rig).ok();
+  }
+  std::vector<uint64_t> blob, arena;
+  sinew::rig::Rig rig;
+  bool ok = false;
+};
+
+int32_t deg(double d) { return static_cast<int32_t>(d / 360.0 * 4294967296.0); }
+
+std::vector<hal::JointSample> script() {
+  std::vector<hal::JointSample> s;
+  for (uint64_t t = 1; t <= 100; ++t) {
+    s.push_back({3, deg(static_cast<double>(t)), t * kMs, 0});          // elbow flexes, every ms
+    if (t <= 20) s.push_back({4, deg(static_cast<double>(t)), t * kMs, 0});  // twist stops at 20 ms
+  }
+  s.push_back({3, deg(30), 50 * kMs, 0xEE});  // a corrupted frame
+  std::stable_sort(s.begin(), s.end(), [](auto& a, auto& b) { return a.timestamp_ns < b.timestamp_ns; });
+  return s;
+}
+
+uint64_t run(const sinew::rig::Rig& rig, FingerprintSink** sink_out, fw::Runtime* rt) {
+  std::vector<fw::InputLimits> limits(rig.input_count, fw::InputLimits{deg(-170), deg(170), 15 * kMs});
+  std::string error;
+  EXPECT_TRUE(rt->init(rig, limits, 0, &error)) << error;
+  rt->add_source(std::make_unique<ScriptedSource>(script()));
+  auto sink = std::make_unique<FingerprintSink>();
+  *sink_out = sink.get();
+  rt->add_sink(std::move(sink));
+  sinew::test::AllocationCounter allocations;
+  for (uint64_t t = 1; t <= 100; ++t) rt->step(t * kMs);
+  EXPECT_EQ(allocations.allocations(), 0u);
+  return (*sink_out)->value;
+}
+
+}  // namespace
+
+TEST(Runtime, StaleInputsHoldAndIdenticalInputsGiveIdenticalFrames) {
+  Arm arm;
+  ASSERT_TRUE(arm.ok);
+  fw::Runtime a, b;
+  FingerprintSink *sa = nullptr, *sb = nullptr;
+  const uint64_t fa = run(arm.rig, &sa, &a);
+  const uint64_t fb = run(arm.rig, &sb, &b);
+  EXPECT_EQ(fa, fb);
+  // Twist (input 4) stopped at 20 ms with a 15 ms timeout: stale, holding 20 degrees.
+  EXPECT_TRUE(sa->last_status_[4] & hal::kJointStale);
+  EXPECT_EQ(a.health().values()[4], deg(20));
+  // Elbow kept streaming: fresh, last value 100 degrees; the corrupt frame was counted.
+  EXPECT_FALSE(sa->last_status_[3] & hal::kJointStale);
+  EXPECT_EQ(a.health().values()[3], deg(100));
+  EXPECT_EQ(a.health().counters(3).rejected[static_cast<int>(hal::RejectReason::kBadCrc)], 1u);
+  // Inputs that never sent are stale from the first timeout on and hold rest.
+  EXPECT_TRUE(sa->last_status_[0] & hal::kJointStale);
+  EXPECT_EQ(a.ticks(), 100u);
+}
+
+TEST(Runtime, ClampedJointsAreFlaggedInTheFrame) {
+  Arm arm;
+  ASSERT_TRUE(arm.ok);
+  fw::Runtime rt;
+  std::vector<fw::InputLimits> limits(arm.rig.input_count, fw::InputLimits{deg(-170), deg(170), 0});
+  std::string error;
+  ASSERT_TRUE(rt.init(arm.rig, limits, 0, &error));
+  rt.add_source(std::make_unique<ScriptedSource>(std::vector<hal::JointSample>{{3, deg(160), 1, 0}}));  // elbow limit 150
+  const hal::PoseFrame& f = rt.step(kMs);
+  EXPECT_TRUE(f.input_status[3] & hal::kJointClampedStatus);
+  EXPECT_FALSE(f.input_status[0] & hal::kJointClampedStatus);
+}
