@@ -57,14 +57,26 @@ NodeTrs decompose(const std::vector<double>& m) {
 }
 
 Quatd slerp(Quatd a, Quatd b, double u) {
+  // glTF requires unit rotation keys; exporters round them (SimpleSkin's are
+  // off by 5e-4), so normalise before interpolating.
+  a = normalized(a);
+  b = normalized(b);
   double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
-  if (d < 0) {
+  if (d < 0) {  // shorter arc (glTF spec)
     d = -d;
     for (double& c : b) c = -c;
   }
+  // Half-angle from atan2(|a - b|, |a + b|): accurate at every angle, unlike
+  // acos(d) near 1. A lerp shortcut for close keys would err by ~1e-5.
+  double diff = 0, sum = 0;
+  for (size_t i = 0; i < 4; ++i) {
+    diff += (a[i] - b[i]) * (a[i] - b[i]);
+    sum += (a[i] + b[i]) * (a[i] + b[i]);
+  }
+  const double theta = 2 * std::atan2(std::sqrt(diff), std::sqrt(sum));
   double wa = 1 - u, wb = u;
-  if (d < 0.9995) {
-    const double theta = std::acos(d), s = std::sin(theta);
+  if (theta > 1e-12) {
+    const double s = std::sin(theta);
     wa = std::sin((1 - u) * theta) / s;
     wb = std::sin(u * theta) / s;
   }
