@@ -1,0 +1,79 @@
+#include "source_factory.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "firmware/sources/trajectory_source.hpp"
+
+namespace sinew::firmware {
+
+std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& config, uint64_t) {
+  std::vector<InputLimits> limits(rig.rig.input_count);
+  const auto timeout = static_cast<uint64_t>(config.timeout_factor * config.default_period_ms * 1e6);
+  const int64_t margin_angle = static_cast<int64_t>(config.range_margin_deg / 360.0 * 4294967296.0);
+  for (const rig::JointRecord& j : rig.rig.joints) {
+    for (uint32_t d = 0; d < j.dof_count; ++d) {
+      InputLimits& l = limits[j.first_input + d];
+      const int64_t span = int64_t{j.dof_max[d]} - j.dof_min[d];
+      const int64_t margin = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation) ? margin_angle : span / 10;
+      l.min = static_cast<int32_t>(std::max<int64_t>(INT32_MIN, j.dof_min[d] - margin));
+      l.max = static_cast<int32_t>(std::min<int64_t>(INT32_MAX, j.dof_max[d] + margin));
+      l.timeout_ns = timeout;
+    }
+  }
+  return limits;
+}
+
+bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uint64_t start_ns, Runtime* runtime,
+                 std::string* error) {
+  for (const SourceConfig& s : config.sources) {
+    if (s.type == "trajectory") {
+      const double period_ms = s.table["period_ms"].value_or(config.default_period_ms);
+      if (!(period_ms > 0)) return *error = "source " + s.name + ": period_ms must be positive", false;
+      std::vector<int32_t> min(rig.rig.input_count, 0), max(rig.rig.input_count, 0);
+      for (const rig::JointRecord& j : rig.rig.joints)
+        for (uint32_t d = 0; d < j.dof_count; ++d) {
+          min[j.first_input + d] = j.dof_min[d];
+          max[j.first_input + d] = j.dof_max[d];
+        }
+      runtime->add_source(std::make_unique<TrajectorySource>(std::move(min), std::move(max),
+                                                             static_cast<uint64_t>(period_ms * 1e6), start_ns));
+    } else {
+      return *error = "source " + s.name + ": unknown type '" + s.type + "'", false;
+    }
+  }
+  return true;
+}
+
+bool add_sinks(const DaemonConfig& config, const LoadedRig&, Runtime*, std::string* error) {
+  for (const SinkConfig& s : config.sinks) return *error = "sink " + s.name + ": unknown type '" + s.type + "'", false;
+  return true;
+}
+
+void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
+  StepTiming& t = runtime.timing();
+  const InputHealth& h = runtime.health();
+  uint64_t rejected = 0, accepted = 0;
+  for (size_t i = 0; i < rig.rig.input_count; ++i) {
+    accepted += h.counters(i).accepted;
+    for (uint64_t r : h.counters(i).rejected) rejected += r;
+  }
+  for (uint64_t r : h.unassigned().rejected) rejected += r;
+  std::printf("%s tick %llu: step p50 %.1f us p99 %.1f us max %.1f us, deadline misses %llu, inputs stale %zu/%u, "
+              "samples accepted %llu rejected %llu, frames dropped %llu\n",
+              final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
+              static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
+              static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()),
+              h.stale_count(), rig.rig.input_count, static_cast<unsigned long long>(accepted),
+              static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(runtime.dropped_frames()));
+  for (const auto& s : runtime.sources())
+    std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
+  for (const auto& s : runtime.sinks()) std::printf("  sink   %-10s %s\n", s->name(), s->status_line().c_str());
+  if (final_report && h.stale_count() > 0) {
+    for (size_t i = 0; i < rig.rig.input_count; ++i)
+      if (h.status()[i] & hal::kJointStale) std::printf("  stale input %s\n", rig.input_names[i].c_str());
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace sinew::firmware
