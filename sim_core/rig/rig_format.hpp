@@ -57,7 +57,7 @@ static_assert(sizeof(FileHeader) == 64);
 enum SectionId : uint32_t {
   kSectionJoints = 0x53544E4Au,      // "JNTS": JointRecord[joint_count]
   kSectionNames = 0x454D414Eu,       // "NAME": char[kNameBytes][joint_count], NUL-terminated
-  kSectionSynergies = 0x52594E53u,   // "SYNR": SynergyRecord[synergy_count]
+  kSectionSynergies = 0x524E5953u,   // "SYNR": SynergyRecord[synergy_count]
   kSectionPalette = 0x544C4150u,     // "PALT": PaletteRecord[palette_count]
   kSectionPositions = 0x534F5056u,   // "VPOS": Len x[n], y[n], z[n]
   kSectionNormals = 0x4D524E56u,     // "VNRM": Unit x[n], y[n], z[n]

@@ -139,6 +139,13 @@ LoadStatus read_sections(const uint8_t* blob, const FileHeader& h, Sections* s) 
     SectionSpan* slot = slot_for(*s, e.id);
     if (slot == nullptr) continue;
     if (slot->present) return fail(LoadError::kSectionTable, "section table", "id", "duplicate section", i);
+    // Known sections must not share bytes: each is copied to its own place.
+    for (uint32_t k = 0; k < i; ++k) {
+      const SectionEntry other = read_at<SectionEntry>(blob, h.section_table_offset, k);
+      if (slot_for(*s, other.id) == nullptr || e.size == 0 || other.size == 0) continue;
+      if (uint64_t{e.offset} < uint64_t{other.offset} + other.size && uint64_t{other.offset} < uint64_t{e.offset} + e.size)
+        return fail(LoadError::kSectionTable, "section table", "offset", "section overlaps another", i, e.offset, true);
+    }
     *slot = {e.offset, e.size, true};
   }
   const uint64_t n = h.vertex_count, k = h.influences_per_vertex;
@@ -160,10 +167,17 @@ LoadStatus read_sections(const uint8_t* blob, const FileHeader& h, Sections* s) 
   return {};
 }
 
-bool is_unit(int64_t n2_q60) {
-  // |n^2 - 1| <= 2^-20: generous for rounding, strict enough to catch garbage.
+// A Q2.30 vector of unit length: |n^2 - 1| <= 2^-20 (generous for rounding,
+// strict enough to catch garbage). Components beyond +-1 (+ rounding) are
+// rejected first, which also keeps the sum of squares far from overflow.
+bool is_unit(const int32_t* c, int count) {
+  int64_t n2 = 0;
+  for (int i = 0; i < count; ++i) {
+    if (c[i] > (1 << 30) + 1024 || c[i] < -(1 << 30) - 1024) return false;
+    n2 += int64_t{c[i]} * c[i];
+  }
   const int64_t one = int64_t{1} << 60;
-  const int64_t d = n2_q60 - one;
+  const int64_t d = n2 - one;
   return d <= (one >> 20) && d >= -(one >> 20);
 }
 
@@ -179,13 +193,9 @@ LoadStatus check_joints(const uint8_t* blob, const FileHeader& h, const Sections
     if (uint32_t{r.first_input} + r.dof_count > h.input_count)
       return fail(LoadError::kBadIndex, "JNTS", "first_input", "DOF inputs beyond input_count", j, r.first_input,
                   true);
-    int64_t q2 = 0;
-    for (int c = 0; c < 4; ++c) q2 += int64_t{r.rest_rotation[c]} * r.rest_rotation[c];
-    if (!is_unit(q2)) return fail(LoadError::kBadValue, "JNTS", "rest_rotation", "not a unit quaternion", j);
+    if (!is_unit(r.rest_rotation, 4)) return fail(LoadError::kBadValue, "JNTS", "rest_rotation", "not a unit quaternion", j);
     for (int d = 0; d < r.dof_count; ++d) {
-      int64_t a2 = 0;
-      for (int c = 0; c < 3; ++c) a2 += int64_t{r.dof_axis[d][c]} * r.dof_axis[d][c];
-      if (!is_unit(a2)) return fail(LoadError::kBadValue, "JNTS", "dof_axis", "not a unit vector", j);
+      if (!is_unit(r.dof_axis[d], 3)) return fail(LoadError::kBadValue, "JNTS", "dof_axis", "not a unit vector", j);
       if (r.dof_min[d] > r.dof_max[d])
         return fail(LoadError::kBadValue, "JNTS", "dof_min", "greater than dof_max", j, r.dof_min[d], true);
     }
