@@ -1,0 +1,62 @@
+#include "frame_log_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "frame_log_format.hpp"
+
+namespace sinew::hal::output {
+
+bool FrameLogReader::open(const std::string& path, std::string* error) {
+  close();
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) return *error = "cannot open " + path + ": " + std::strerror(errno), false;
+  struct stat st {};
+  uint8_t header[kLogHeaderBytes];
+  const bool read_ok = ::fstat(fd_, &st) == 0 && st.st_size >= static_cast<off_t>(kLogHeaderBytes) &&
+                       ::pread(fd_, header, sizeof(header), 0) == static_cast<ssize_t>(sizeof(header));
+  std::string why = "shorter than a frame log header";
+  if (!read_ok || !parse_log_header(header, &shape_, &why)) {
+    *error = path + ": " + why;
+    close();
+    return false;
+  }
+  scan_.start(fd_, static_cast<uint64_t>(st.st_size), shape_);
+  return true;
+}
+
+void FrameLogReader::close() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+bool FrameLogReader::next(DecodedPose* out) {
+  std::span<const uint8_t> payload;
+  if (fd_ < 0 || !scan_.next(&payload)) return false;
+  std::string why;
+  if (!decode_pose(payload, out, &why)) {
+    scan_.reject_last(LogStop::kBadPayload, why);
+    return false;
+  }
+  FrameShape got;
+  got.vertex_count = out->vertex_count;
+  got.input_count = out->input_count;
+  got.length_exponent = out->length_exponent;
+  got.normals = shape_.normals;
+  if (got != shape_ || (out->has_normals && !shape_.normals)) {
+    scan_.reject_last(LogStop::kBadPayload, "record does not match the log header's shape");
+    return false;
+  }
+  return true;
+}
+
+std::string FrameLogReader::stop_message() const {
+  return std::string(log_stop_name(scan_.stop())) + " " + scan_.stop_detail() + "; " +
+         std::to_string(scan_.discarded_bytes()) + " bytes discarded";
+}
+
+}  // namespace sinew::hal::output

@@ -1,0 +1,185 @@
+#include "frame_log_writer.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "frame_log_format.hpp"
+#include "frame_log_scan.hpp"
+#include "pose_codec.hpp"
+
+namespace sinew::hal::output {
+
+namespace {
+
+std::string os_error(const std::string& what, const std::string& path) {
+  return what + " " + path + ": " + std::strerror(errno);
+}
+
+bool pwrite_all(int fd, const uint8_t* src, size_t n, uint64_t offset) {
+  while (n > 0) {
+    const ssize_t put = ::pwrite(fd, src, n, static_cast<off_t>(offset));
+    if (put < 0 && errno == EINTR) continue;
+    if (put <= 0) {
+      if (put == 0) errno = EIO;
+      return false;
+    }
+    src += put;
+    n -= static_cast<size_t>(put);
+    offset += static_cast<uint64_t>(put);
+  }
+  return true;
+}
+
+// The directory entry of a renamed file is durable only once its directory is synced.
+void sync_parent_directory(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd < 0) return;
+  ::fsync(dfd);
+  ::close(dfd);
+}
+
+// A new log appears complete or not at all: header into a temporary file, synced, renamed.
+bool create_log(const std::string& path, const FrameShape& shape, std::string* error) {
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return *error = os_error("cannot create", tmp), false;
+  uint8_t header[kLogHeaderBytes];
+  encode_log_header(shape, header);
+  const bool ok = pwrite_all(fd, header, sizeof(header), 0) && ::fdatasync(fd) == 0;
+  if (!ok) *error = os_error("cannot write", tmp);
+  ::close(fd);
+  if (!ok) {
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) return *error = os_error("cannot rename to", path), false;
+  sync_parent_directory(path);
+  return true;
+}
+
+}  // namespace
+
+bool FrameLogWriter::open(const std::string& path, const FrameShape& shape, const FrameLogOptions& options,
+                          std::string* error) {
+  close();
+  stats_ = {};
+  shape_ = shape;
+  options_ = options;
+  if (max_pose_payload_bytes(shape) == 0) return *error = "frame too large for a frame log", false;
+
+  fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  if (fd_ < 0 && errno == ENOENT) {
+    if (!create_log(path, shape, error)) return false;
+    fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  } else if (fd_ >= 0) {
+    stats_.appended = true;
+  }
+  if (fd_ < 0) return *error = os_error("cannot open", path), false;
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    *error = errno == EWOULDBLOCK ? path + " is open in another writer" : os_error("cannot lock", path);
+    return close(), false;
+  }
+  if (!open_existing(path, error)) return close(), false;
+  record_.assign(static_cast<size_t>(max_record_bytes(shape)), 0);
+  return true;
+}
+
+bool FrameLogWriter::open_existing(const std::string& path, std::string* error) {
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0) return *error = os_error("cannot stat", path), false;
+  const auto size = static_cast<uint64_t>(st.st_size);
+  uint8_t header[kLogHeaderBytes];
+  if (size == 0) {  // an empty file (e.g. made by the caller): give it a header
+    encode_log_header(shape_, header);
+    if (!pwrite_all(fd_, header, sizeof(header), 0) || ::fdatasync(fd_) != 0)
+      return *error = os_error("cannot write", path), false;
+    end_ = kLogHeaderBytes;
+    return true;
+  }
+  FrameShape in_log;
+  std::string why;
+  if (size < kLogHeaderBytes) return *error = path + ": not a frame log (shorter than a header)", false;
+  if (::pread(fd_, header, sizeof(header), 0) != static_cast<ssize_t>(sizeof(header)))
+    return *error = os_error("cannot read", path), false;
+  if (!parse_log_header(header, &in_log, &why)) return *error = path + ": " + why, false;
+  if (in_log != shape_)
+    return *error = path + ": incompatible frame log (" + describe_shape_mismatch(in_log, shape_) + ")", false;
+
+  RecordScanner scan;
+  scan.start(fd_, size, shape_);
+  std::span<const uint8_t> payload;
+  while (scan.next(&payload)) {
+  }
+  if (scan.stop() == LogStop::kIoError) return *error = path + ": read error " + scan.stop_detail(), false;
+  if (scan.discarded_bytes() > max_record_bytes(shape_))
+    return *error = path + ": damaged " + scan.stop_detail() + "; appending would cut " +
+                    std::to_string(scan.discarded_bytes()) + " bytes, more than one record: refusing",
+           false;
+  if (scan.discarded_bytes() > 0) {
+    if (::ftruncate(fd_, static_cast<off_t>(scan.offset())) != 0 || ::fdatasync(fd_) != 0)
+      return *error = os_error("cannot cut the torn tail of", path), false;
+    stats_.tail_bytes_cut = scan.discarded_bytes();
+  }
+  end_ = scan.offset();
+  return true;
+}
+
+bool FrameLogWriter::write(const PoseFrame& frame) {
+  if (fd_ < 0) return ++stats_.frames_dropped, false;
+  const std::span<uint8_t> body(record_.data() + kRecordHeaderBytes, record_.size() - kRecordHeaderBytes);
+  const size_t n = encode_pose(frame, shape_, body);
+  if (n == 0) return ++stats_.frames_rejected, false;
+  encode_record_header(body.first(n), record_.data());
+  const size_t total = kRecordHeaderBytes + n;
+  if (!pwrite_all(fd_, record_.data(), total, end_)) {
+    stats_.last_errno = errno;
+    ++stats_.frames_dropped;
+    // Cut any partial record, so the next one follows an intact log.
+    if (::ftruncate(fd_, static_cast<off_t>(end_)) != 0) stats_.last_errno = errno;
+    return false;
+  }
+  end_ += total;
+  ++stats_.frames_written;
+  stats_.record_bytes_written += total;
+  ++unsynced_;
+  if (options_.sync_every_frames != 0 && unsynced_ >= options_.sync_every_frames) sync();
+  return true;
+}
+
+void FrameLogWriter::sync() {
+  unsynced_ = 0;
+  ++stats_.syncs;
+  if (::fdatasync(fd_) != 0) {
+    ++stats_.sync_errors;
+    stats_.last_errno = errno;
+  }
+}
+
+void FrameLogWriter::flush() {
+  if (fd_ >= 0) sync();
+}
+
+void FrameLogWriter::close() {
+  if (fd_ < 0) return;
+  if (unsynced_ > 0) sync();
+  ::close(fd_);  // also releases the lock
+  fd_ = -1;
+}
+
+std::string FrameLogWriter::status_line() const {
+  std::string s = std::string(name()) + ": " + std::to_string(stats_.frames_written) + " written, " +
+                  std::to_string(stats_.frames_dropped) + " dropped, " + std::to_string(stats_.frames_rejected) +
+                  " rejected, " + std::to_string(end_) + " bytes, " + std::to_string(stats_.syncs) + " syncs";
+  if (stats_.sync_errors > 0) s += ", " + std::to_string(stats_.sync_errors) + " sync errors";
+  if (stats_.last_errno != 0) s += ", last error: " + std::string(std::strerror(stats_.last_errno));
+  return s;
+}
+
+}  // namespace sinew::hal::output

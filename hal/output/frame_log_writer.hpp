@@ -1,0 +1,77 @@
+// Append-only frame log: one self-checking record per tick (format in
+// docs/frame-formats.md). A process crash loses at most the record being
+// written; a power cut loses what the fsync policy has not yet synced.
+//
+// Fsync policy: each write() is one pwrite() into the page cache (durable
+// against a process crash as soon as it returns). fdatasync() runs every
+// `sync_every_frames` records (0: only in flush() and close()); it blocks the
+// calling thread for the storage's write latency, so a real-time tick keeps
+// it at 0 and calls flush() from a non-real-time thread, or accepts the stall.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "frame_shape.hpp"
+#include "hal/common/pose_frame.hpp"
+
+namespace sinew::hal::output {
+
+struct FrameLogOptions {
+  uint32_t sync_every_frames = 0;  // fdatasync after this many records; 0 = only on flush()/close()
+};
+
+struct FrameLogStats {
+  uint64_t frames_written = 0;
+  uint64_t frames_dropped = 0;    // write failed (e.g. disk full); the partial record was cut off
+  uint64_t frames_rejected = 0;   // frame does not match the log's shape
+  uint64_t record_bytes_written = 0;
+  uint64_t syncs = 0;
+  uint64_t sync_errors = 0;
+  int last_errno = 0;
+  bool appended = false;          // opened an existing log
+  uint64_t tail_bytes_cut = 0;    // torn tail removed from an existing log at open
+};
+
+class FrameLogWriter {
+ public:
+  FrameLogWriter() = default;
+  ~FrameLogWriter() { close(); }
+  FrameLogWriter(const FrameLogWriter&) = delete;
+  FrameLogWriter& operator=(const FrameLogWriter&) = delete;
+
+  // Creates the log (atomically: header written to a temporary file, synced,
+  // renamed), or opens an existing one to append. An existing log must have
+  // the same shape; a torn last record (at most one record long) is cut off;
+  // larger damage is refused, so appending never buries intact records behind
+  // a corrupt one. Takes an exclusive lock: one writer per file.
+  bool open(const std::string& path, const FrameShape& shape, const FrameLogOptions& options, std::string* error);
+
+  // Appends one record. False if the frame was rejected or dropped (counted).
+  // No allocation; one pwrite(), plus fdatasync() when the policy says so.
+  bool write(const PoseFrame& frame);
+
+  void flush();  // fdatasync now
+  void close();  // syncs what is unsynced, then closes
+
+  bool is_open() const { return fd_ >= 0; }
+  uint64_t file_bytes() const { return end_; }
+  const FrameLogStats& stats() const { return stats_; }
+  static const char* name() { return "frame-log"; }
+  std::string status_line() const;  // allocates: for periodic reports only
+
+ private:
+  bool open_existing(const std::string& path, std::string* error);
+  void sync();
+
+  int fd_ = -1;
+  FrameShape shape_;
+  FrameLogOptions options_;
+  std::vector<uint8_t> record_;  // one record: header + largest payload
+  uint64_t end_ = 0;             // end of the last complete record
+  uint32_t unsynced_ = 0;
+  FrameLogStats stats_;
+};
+
+}  // namespace sinew::hal::output

@@ -1,0 +1,166 @@
+// Frame log: round trip, append, refusal of incompatible or damaged logs,
+// fsync policy, locking, and an allocation-free write path.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "frame_log_fixture.hpp"
+#include "hal/output/frame_log_format.hpp"
+#include "tests/support/alloc_guard.hpp"
+
+namespace sinew::test {
+namespace {
+
+using hal::output::FrameLogOptions;
+using hal::output::FrameLogWriter;
+using hal::output::LogStop;
+
+TEST_F(FrameLogTest, RoundTripsEveryFrame) {
+  const std::string path = dir_.file("a.log");
+  const std::vector<uint64_t> ends = write_frames(path, 0, kFrames);
+  EXPECT_EQ(std::filesystem::file_size(path), ends.back());
+  const ReadBack r = read_log(path);
+  ASSERT_TRUE(r.opened) << r.error;
+  expect_frames(r.poses, kFrames);
+  EXPECT_EQ(r.stop, LogStop::kEnd);
+  EXPECT_EQ(r.discarded, 0u);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+}
+
+TEST_F(FrameLogTest, AppendsToAnExistingLog) {
+  const std::string path = dir_.file("a.log");
+  write_frames(path, 0, 3);
+  FrameLogWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(path, shape_, {}, &error)) << error;
+  EXPECT_TRUE(writer.stats().appended);
+  EXPECT_EQ(writer.stats().tail_bytes_cut, 0u);
+  for (uint64_t t = 3; t < kFrames; ++t) EXPECT_TRUE(writer.write(poses_[t]->frame()));
+  writer.close();
+  const ReadBack r = read_log(path);
+  expect_frames(r.poses, kFrames);
+  EXPECT_EQ(r.stop, LogStop::kEnd);
+}
+
+TEST_F(FrameLogTest, RefusesAnIncompatibleLog) {
+  const std::string path = dir_.file("a.log");
+  write_frames(path, 0, 2);
+  hal::output::FrameShape other = shape_;
+  other.vertex_count += 1;
+  FrameLogWriter writer;
+  std::string error;
+  EXPECT_FALSE(writer.open(path, other, {}, &error));
+  EXPECT_NE(error.find("incompatible"), std::string::npos) << error;
+  EXPECT_NE(error.find("vertex count 10 in the log, 11 now"), std::string::npos) << error;
+  EXPECT_EQ(read_log(path).poses.size(), 2u);  // untouched
+}
+
+TEST_F(FrameLogTest, RefusesAFileThatIsNotALog) {
+  const std::string path = dir_.file("other.bin");
+  const std::string text = "this is not a frame log, just some text that is long enough";
+  write_bytes(path, reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  FrameLogWriter writer;
+  std::string error;
+  EXPECT_FALSE(writer.open(path, shape_, {}, &error));
+  EXPECT_NE(error.find("not a frame log"), std::string::npos) << error;
+  const ReadBack r = read_log(path);
+  EXPECT_FALSE(r.opened);
+  EXPECT_EQ(read_bytes(path).size(), text.size());
+}
+
+TEST_F(FrameLogTest, RefusesANewerVersion) {
+  const std::string path = dir_.file("a.log");
+  write_frames(path, 0, 1);
+  std::vector<uint8_t> bytes = read_bytes(path);
+  bytes[8] = 2;  // version field; the header checksum is not even reached
+  write_bytes(path, bytes.data(), bytes.size());
+  const ReadBack r = read_log(path);
+  EXPECT_FALSE(r.opened);
+  EXPECT_NE(r.error.find("version 2"), std::string::npos) << r.error;
+}
+
+TEST_F(FrameLogTest, CutsATornTailBeforeAppending) {
+  const std::string path = dir_.file("a.log");
+  const std::vector<uint64_t> ends = write_frames(path, 0, 4);
+  // A power cut in the middle of the fourth record.
+  ASSERT_EQ(::truncate(path.c_str(), static_cast<off_t>(ends[2] + 20)), 0);
+  FrameLogWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(path, shape_, {}, &error)) << error;
+  EXPECT_EQ(writer.stats().tail_bytes_cut, 20u);
+  EXPECT_TRUE(writer.write(poses_[3]->frame()));
+  EXPECT_TRUE(writer.write(poses_[4]->frame()));
+  writer.close();
+  const ReadBack r = read_log(path);
+  expect_frames(r.poses, kFrames);
+  EXPECT_EQ(r.stop, LogStop::kEnd);
+}
+
+TEST_F(FrameLogTest, RefusesToAppendBehindDamageLargerThanOneRecord) {
+  const std::string path = dir_.file("a.log");
+  const std::vector<uint64_t> ends = write_frames(path, 0, kFrames);
+  std::vector<uint8_t> bytes = read_bytes(path);
+  bytes[ends[0] + 30] ^= 0x40;  // inside the second record: three intact records follow
+  write_bytes(path, bytes.data(), bytes.size());
+  FrameLogWriter writer;
+  std::string error;
+  EXPECT_FALSE(writer.open(path, shape_, {}, &error));
+  EXPECT_NE(error.find("refusing"), std::string::npos) << error;
+  EXPECT_EQ(read_bytes(path), bytes);  // nothing cut
+}
+
+TEST_F(FrameLogTest, OneWriterAtATime) {
+  const std::string path = dir_.file("a.log");
+  FrameLogWriter first, second;
+  std::string error;
+  ASSERT_TRUE(first.open(path, shape_, {}, &error)) << error;
+  EXPECT_FALSE(second.open(path, shape_, {}, &error));
+  EXPECT_NE(error.find("another writer"), std::string::npos) << error;
+  first.close();
+  EXPECT_TRUE(second.open(path, shape_, {}, &error)) << error;
+}
+
+TEST_F(FrameLogTest, RejectsAFrameOfAnotherShape) {
+  FrameLogWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(dir_.file("a.log"), shape_, {}, &error)) << error;
+  TestPose other(kVertices + 1, kInputs, true);
+  EXPECT_FALSE(writer.write(other.frame()));
+  EXPECT_EQ(writer.stats().frames_rejected, 1u);
+  EXPECT_EQ(writer.file_bytes(), hal::output::kLogHeaderBytes);
+}
+
+TEST_F(FrameLogTest, SyncsEveryNFramesAndOnClose) {
+  FrameLogOptions options;
+  options.sync_every_frames = 2;
+  FrameLogWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(dir_.file("a.log"), shape_, options, &error)) << error;
+  for (uint64_t t = 0; t < kFrames; ++t) writer.write(poses_[t]->frame());
+  EXPECT_EQ(writer.stats().syncs, 2u);
+  writer.flush();
+  EXPECT_EQ(writer.stats().syncs, 3u);
+  EXPECT_EQ(writer.stats().sync_errors, 0u);
+  EXPECT_NE(writer.status_line().find("5 written"), std::string::npos) << writer.status_line();
+}
+
+TEST_F(FrameLogTest, WritePathDoesNotAllocate) {
+  FrameLogOptions options;
+  options.sync_every_frames = 50;
+  FrameLogWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(dir_.file("a.log"), shape_, options, &error)) << error;
+  TestPose pose(kVertices, kInputs, true);
+  AllocationCounter counter;
+  for (uint64_t t = 0; t < 200; ++t) {
+    pose.set_tick(t);
+    writer.write(pose.frame());
+  }
+  writer.flush();
+  EXPECT_EQ(counter.allocations(), 0u);
+  EXPECT_EQ(writer.stats().frames_written, 200u);
+}
+
+}  // namespace
+}  // namespace sinew::test
