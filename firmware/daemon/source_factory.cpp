@@ -3,7 +3,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
+#include "hal/output/frame_log_writer.hpp"
+#include "hal/output/udp_sender.hpp"
 
 namespace sinew::firmware {
 
@@ -45,8 +48,36 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
   return true;
 }
 
-bool add_sinks(const DaemonConfig& config, const LoadedRig&, Runtime*, std::string* error) {
-  for (const SinkConfig& s : config.sinks) return *error = "sink " + s.name + ": unknown type '" + s.type + "'", false;
+bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
+  hal::output::FrameShape shape;
+  shape.vertex_count = rig.rig.vertex_count();
+  shape.input_count = rig.rig.input_count;
+  shape.length_exponent = rig.rig.length_exponent;
+  for (const SinkConfig& s : config.sinks) {
+    const bool normals = s.table["normals"].value_or(false);
+    shape.normals = normals && !rig.rig.normal[0].empty();
+    if (s.type == "log") {
+      const auto path = s.table["path"].value<std::string>();
+      if (!path) return *error = "sink " + s.name + ": path is required", false;
+      hal::output::FrameLogOptions options;
+      options.sync_every_frames = s.table["sync_every_frames"].value_or(0u);
+      auto log = std::make_unique<hal::output::FrameLogWriter>();
+      if (!log->open(*path, shape, options, error)) return *error = "sink " + s.name + ": " + *error, false;
+      runtime->add_sink(std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name));
+    } else if (s.type == "udp") {
+      const std::string host = s.table["host"].value_or<std::string>("127.0.0.1");
+      const int64_t port = s.table["port"].value_or(int64_t{0});
+      if (port <= 0 || port > 65535) return *error = "sink " + s.name + ": port must be 1..65535", false;
+      hal::output::UdpSenderOptions options;
+      options.max_datagram_bytes = s.table["max_datagram_bytes"].value_or(options.max_datagram_bytes);
+      auto udp = std::make_unique<hal::output::UdpSender>();
+      if (!udp->open(host, static_cast<uint16_t>(port), shape, options, error))
+        return *error = "sink " + s.name + ": " + *error, false;
+      runtime->add_sink(std::make_unique<HalSink<hal::output::UdpSender>>(std::move(udp), s.name));
+    } else {
+      return *error = "sink " + s.name + ": unknown type '" + s.type + "' (log, udp)", false;
+    }
+  }
   return true;
 }
 
