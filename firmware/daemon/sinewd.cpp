@@ -47,7 +47,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   const uint64_t period = 1000000000u / config.rate_hz;
-  const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() : 0;
+  // Live ticks start 50 ms from now: opening sources and sinks must not make
+  // the first tick late (a late tick is skipped, not burst).
+  const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() + 50000000u : 0;
   Runtime runtime;
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
   if (!runtime.init(rig.rig, limits, start, &error) || !add_sources(config, rig, period, start, &runtime, &error) ||
@@ -82,5 +84,7 @@ int main(int argc, char** argv) {
   }
   runtime.flush();
   print_stats(runtime, rig, true);
+  if (clock.skipped_ticks() > 0)
+    std::printf("skipped ticks (more than a period late): %llu\n", static_cast<unsigned long long>(clock.skipped_ticks()));
   return 0;
 }
