@@ -30,7 +30,7 @@ for preset in "${presets[@]}"; do
       armhf) emu=(qemu-arm-static -L /usr/arm-linux-gnueabihf) ;;
     esac
     "${emu[@]}" "$exe" --gtest_brief=1 | grep '^determinism-hash' | sed "s/^/$preset /" >> "$hash_log"
-  done < <(find "build/$preset/tests/determinism" -maxdepth 1 -type f -name 'determinism_tests')
+  done < <(find "build/$preset/tests" -maxdepth 2 -type f -name '*determinism_tests')
 done
 
 echo "=== determinism across builds"
