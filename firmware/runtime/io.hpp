@@ -1,45 +1,18 @@
-// The runtime's view of inputs and outputs: every backend (SocketCAN,
-// Modbus, GPIO, replay, simulation) is an InputSource; every output (frame
-// log, UDP, CAN) is an OutputSink. Per-tick calls must not allocate or block.
+// The runtime composes hal's input sources and output sinks; their interface
+// and the per-input health live in hal/common so backends need no firmware.
 #pragma once
 
-#include <cstdint>
-#include <span>
-#include <string>
-
-#include "hal/common/pose_frame.hpp"
-#include "input_health.hpp"
+#include "hal/common/input_health.hpp"
+#include "hal/common/input_source.hpp"
 
 namespace sinew::firmware {
 
-enum class SourceState : uint8_t {
-  kOk,        // delivering
-  kDegraded,  // delivering with errors (e.g. CAN error-passive)
-  kDown,      // not delivering; being retried with back-off (bus-off, socket error, disconnect)
-};
-
-const char* source_state_name(SourceState s);
-
-class InputSource {
- public:
-  virtual ~InputSource() = default;
-  virtual const char* name() const = 0;
-  // Latches what arrived with a timestamp <= until_ns: accepted samples into
-  // `out` (returns how many), rejections reported to `health`. Never blocks.
-  virtual size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, InputHealth& health) = 0;
-  virtual SourceState state() const = 0;
-  // One human-readable line for the periodic report (may allocate: not per tick).
-  virtual std::string status_line() const = 0;
-};
-
-class OutputSink {
- public:
-  virtual ~OutputSink() = default;
-  virtual const char* name() const = 0;
-  // Returns false if the frame was dropped (counted by the sink); never blocks the tick.
-  virtual bool write(const hal::PoseFrame& frame) = 0;
-  virtual void flush() = 0;
-  virtual std::string status_line() const = 0;
-};
+using hal::InputCounters;
+using hal::InputHealth;
+using hal::InputLimits;
+using hal::InputSource;
+using hal::OutputSink;
+using hal::source_state_name;
+using hal::SourceState;
 
 }  // namespace sinew::firmware

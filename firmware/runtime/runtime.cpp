@@ -2,15 +2,6 @@
 
 namespace sinew::firmware {
 
-const char* source_state_name(SourceState s) {
-  switch (s) {
-    case SourceState::kOk: return "ok";
-    case SourceState::kDegraded: return "degraded";
-    case SourceState::kDown: return "down";
-  }
-  return "unknown";
-}
-
 bool Runtime::init(const rig::Rig& rig, std::span<const InputLimits> limits, uint64_t start_ns, std::string* error) {
   if (limits.size() != rig.input_count) return *error = "one input limit per rig input is required", false;
   rig_ = &rig;

@@ -5,12 +5,6 @@
 
 namespace sinew::firmware {
 
-uint64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<uint64_t>(ts.tv_sec) * 1000000000u + static_cast<uint64_t>(ts.tv_nsec);
-}
-
 uint64_t TickClock::wait_next() {
   const uint64_t now = monotonic_ns();
   if (now > next_ + period_) {  // over a whole period behind: skip, don't burst

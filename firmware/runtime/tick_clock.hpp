@@ -6,9 +6,11 @@
 
 #include <cstdint>
 
+#include "hal/common/monotonic_clock.hpp"
+
 namespace sinew::firmware {
 
-uint64_t monotonic_ns();
+using hal::monotonic_ns;
 
 class TickClock {
  public:

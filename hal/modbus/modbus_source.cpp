@@ -16,7 +16,7 @@ ModbusSource::ModbusSource(PollerConfig config)
 
 ModbusSource::~ModbusSource() { poller_.stop(); }
 
-size_t ModbusSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, firmware::InputHealth& health) {
+size_t ModbusSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, InputHealth& health) {
   TripleBuffer<PollSnapshot>& exchange = poller_.exchange();
   exchange.refresh();
   const PollSnapshot& snapshot = exchange.front();
@@ -39,7 +39,7 @@ size_t ModbusSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, f
 
 std::string ModbusSource::status_line() const {
   const PollerCounters c = counters();
-  return std::string(firmware::source_state_name(c.state)) + ", " + std::to_string(request_count()) +
+  return std::string(source_state_name(c.state)) + ", " + std::to_string(request_count()) +
          " requests/cycle, " + format_counters(c);
 }
 

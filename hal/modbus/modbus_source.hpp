@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "firmware/runtime/io.hpp"
+#include "hal/common/input_source.hpp"
 #include "poller.hpp"
 
 namespace sinew::hal::modbus {
 
-class ModbusSource : public firmware::InputSource {
+class ModbusSource : public InputSource {
  public:
   // Validates `config`, creates the libmodbus context and starts polling.
   // Null with a message naming the offending key on error.
@@ -26,10 +26,10 @@ class ModbusSource : public firmware::InputSource {
   // New accepted readings (timestamp <= until_ns) become samples; readings
   // rejected for range are reported as kOutOfRange and exception responses
   // as kMalformed, once each, for the channel's input.
-  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, firmware::InputHealth& health) override;
+  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, InputHealth& health) override;
   // ok: every request answered with data in the last cycle; degraded: some
   // were not (exceptions, timeouts); down: not connected or nothing answered.
-  firmware::SourceState state() const override { return poller_.stats().state(); }
+  SourceState state() const override { return poller_.stats().state(); }
   std::string status_line() const override;
 
   // Any thread.

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "firmware/runtime/io.hpp"
+#include "hal/common/input_source.hpp"
 
 namespace sinew::hal::modbus {
 

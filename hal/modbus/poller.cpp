@@ -7,14 +7,13 @@
 #include <chrono>
 #include <utility>
 
-#include "firmware/runtime/tick_clock.hpp"
+#include "hal/common/monotonic_clock.hpp"
 #include "modbus_link.hpp"
 
 namespace sinew::hal::modbus {
 
 namespace {
 
-using firmware::SourceState;
 
 PollSnapshot sized_snapshot(size_t channels) {
   PollSnapshot s;
@@ -73,7 +72,7 @@ void Poller::publish() {
 
 void Poller::run() {
   become_background_thread();
-  uint64_t next_cycle_ns = firmware::monotonic_ns();
+  uint64_t next_cycle_ns = monotonic_ns();
   while (!stopping_.load()) {
     if (!link_->connected()) {
       if (!link_->connect()) {
@@ -104,14 +103,14 @@ void Poller::run() {
       // Nothing usable came back: wait longer each time instead of hammering.
       stats_.backoff_ns.store(backoff_.next());
       if (!sleep_for(backoff_.current())) break;
-      next_cycle_ns = firmware::monotonic_ns();
+      next_cycle_ns = monotonic_ns();
       continue;
     }
     backoff_.reset();
     stats_.backoff_ns.store(0);
     // Fixed-rate cycles; after an overrun start the next one at once, without bursting.
     next_cycle_ns += config_.period_ns;
-    const uint64_t now = firmware::monotonic_ns();
+    const uint64_t now = monotonic_ns();
     if (next_cycle_ns <= now) {
       next_cycle_ns = now;
     } else if (!sleep_for(next_cycle_ns - now)) {
@@ -133,7 +132,7 @@ Poller::CycleResult Poller::poll_cycle() {
     PollerStats::add(stats_.requests);
     const ReadResult read = link_->read(request.table, request.address, std::span(regs.data(), request.count));
     if (read.outcome == ReadOutcome::kOk) {
-      accept_registers(request, std::span<const uint16_t>(regs.data(), request.count), firmware::monotonic_ns());
+      accept_registers(request, std::span<const uint16_t>(regs.data(), request.count), monotonic_ns());
       ++result.with_data;
       ++result.answered;
       continue;

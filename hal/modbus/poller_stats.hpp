@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-#include "firmware/runtime/io.hpp"
+#include "hal/common/input_source.hpp"
 #include "read_outcome.hpp"
 
 namespace sinew::hal::modbus {
@@ -27,15 +27,15 @@ struct PollerCounters {
   uint64_t connect_failures = 0;
   uint64_t out_of_range = 0;      // readings rejected for range
   uint64_t backoff_ns = 0;        // current back-off wait (0 while healthy)
-  firmware::SourceState state = firmware::SourceState::kDown;
+  SourceState state = SourceState::kDown;
 };
 
 class PollerStats {
  public:
   // One writer: a load and a store, no read-modify-write needed.
   static void add(std::atomic<uint64_t>& c, uint64_t n = 1) { c.store(c.load(kRelaxed) + n, kRelaxed); }
-  void set_state(firmware::SourceState s) { state_.store(s, kRelaxed); }
-  firmware::SourceState state() const { return state_.load(kRelaxed); }
+  void set_state(SourceState s) { state_.store(s, kRelaxed); }
+  SourceState state() const { return state_.load(kRelaxed); }
   PollerCounters snapshot() const;
 
   std::atomic<uint64_t> cycles{0}, requests{0}, responses{0}, exceptions{0}, timeouts{0}, bad_responses{0},
@@ -44,7 +44,7 @@ class PollerStats {
 
  private:
   static constexpr std::memory_order kRelaxed = std::memory_order_relaxed;
-  std::atomic<firmware::SourceState> state_{firmware::SourceState::kDown};
+  std::atomic<SourceState> state_{SourceState::kDown};
 };
 
 // "ok, 1234 cycles, 2468/2468 requests answered, exceptions 2 (illegal data address 2), ..."

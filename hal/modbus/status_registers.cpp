@@ -11,11 +11,11 @@ uint16_t saturate16(uint64_t v) { return static_cast<uint16_t>(std::min<uint64_t
 
 }  // namespace
 
-uint16_t source_state_code(firmware::SourceState s) {
+uint16_t source_state_code(SourceState s) {
   switch (s) {
-    case firmware::SourceState::kOk: return 0;
-    case firmware::SourceState::kDegraded: return 1;
-    case firmware::SourceState::kDown: return 2;
+    case SourceState::kOk: return 0;
+    case SourceState::kDegraded: return 1;
+    case SourceState::kDown: return 2;
   }
   return 2;
 }

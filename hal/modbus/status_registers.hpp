@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <span>
 
-#include "firmware/runtime/io.hpp"
+#include "hal/common/input_source.hpp"
 
 namespace sinew::hal::modbus {
 
@@ -36,7 +36,7 @@ struct StatusUpdate {
   uint64_t last_step_ns = 0;
   uint32_t stale_count = 0;
   std::span<const uint8_t> input_status;               // JointStatus bits per rig input
-  std::span<const firmware::SourceState> source_states;
+  std::span<const SourceState> source_states;
 };
 
 // Registers needed for `inputs` rig inputs.
@@ -46,6 +46,6 @@ inline constexpr size_t status_register_count(size_t inputs) { return status_reg
 // inputs or sources beyond the image's room are left out. No allocation.
 void encode_status(const StatusUpdate& update, uint16_t heartbeat, std::span<uint16_t> image);
 
-uint16_t source_state_code(firmware::SourceState s);
+uint16_t source_state_code(SourceState s);
 
 }  // namespace sinew::hal::modbus

@@ -1,11 +1,11 @@
 #include <gtest/gtest.h>
 
-#include "firmware/runtime/input_health.hpp"
+#include "hal/common/input_health.hpp"
 #include "firmware/runtime/step_timing.hpp"
 #include "tests/support/alloc_guard.hpp"
 
-using sinew::firmware::InputHealth;
-using sinew::firmware::InputLimits;
+using sinew::hal::InputHealth;
+using sinew::hal::InputLimits;
 namespace hal = sinew::hal;
 
 namespace {

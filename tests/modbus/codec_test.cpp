@@ -16,7 +16,7 @@
 #include "hal/modbus/triple_buffer.hpp"
 
 namespace mb = sinew::hal::modbus;
-namespace fw = sinew::firmware;
+namespace hal = sinew::hal;
 
 namespace {
 
@@ -232,8 +232,8 @@ TEST(ModbusTripleBuffer, NeverTearsUnderConcurrentUse) {
 
 TEST(ModbusStatusRegisters, EncodesTheDocumentedLayout) {
   const std::array<uint8_t, 3> inputs{0, sinew::hal::kJointStale, sinew::hal::kJointRejected};
-  const std::array<fw::SourceState, 3> sources{fw::SourceState::kOk, fw::SourceState::kDown,
-                                               fw::SourceState::kDegraded};
+  const std::array<hal::SourceState, 3> sources{hal::SourceState::kOk, hal::SourceState::kDown,
+                                               hal::SourceState::kDegraded};
   mb::StatusUpdate u;
   u.tick = 0x0001000200030004u;
   u.last_step_ns = 70'000'123'456u;  // 70000123 us: needs both words

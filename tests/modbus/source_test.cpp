@@ -8,13 +8,13 @@
 #include <thread>
 #include <vector>
 
-#include "firmware/runtime/input_health.hpp"
+#include "hal/common/input_health.hpp"
 #include "hal/modbus/modbus_source.hpp"
 #include "tests/modbus/loopback_server.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace mb = sinew::hal::modbus;
-namespace fw = sinew::firmware;
+namespace hal = sinew::hal;
 namespace hal = sinew::hal;
 using sinew::test::now_ns;
 
@@ -56,7 +56,7 @@ std::unique_ptr<mb::ModbusSource> create(const mb::PollerConfig& config) {
 class Tick {
  public:
   Tick(mb::ModbusSource& source, size_t inputs, uint64_t timeout_ns) : source_(source), last_ts_(inputs, 0) {
-    const std::vector<fw::InputLimits> limits(inputs, fw::InputLimits{INT32_MIN, INT32_MAX, timeout_ns});
+    const std::vector<hal::InputLimits> limits(inputs, hal::InputLimits{INT32_MIN, INT32_MAX, timeout_ns});
     const std::vector<int32_t> initial(inputs, 0);
     health.init(limits, initial, now_ns());
   }
@@ -97,7 +97,7 @@ class Tick {
     return health.counters(input).rejected[static_cast<int>(r)];
   }
 
-  fw::InputHealth health;
+  hal::InputHealth health;
   uint64_t delivered = 0;
   uint64_t not_new = 0;
   bool rejected_this_tick = false;
@@ -148,7 +148,7 @@ TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
   ASSERT_NE(source, nullptr);
   EXPECT_EQ(source->request_count(), 2u);  // holding 10..15 and input 0..3
   Tick tick(*source, 6, 0);
-  ASSERT_TRUE(tick.until([&] { return tick.value(5) != 0 && source->state() == fw::SourceState::kOk; }));
+  ASSERT_TRUE(tick.until([&] { return tick.value(5) != 0 && source->state() == hal::SourceState::kOk; }));
   EXPECT_EQ(tick.value(0), kQuarterTurn);
   EXPECT_EQ(tick.value(1), -kQuarterTurn);
   EXPECT_EQ(tick.value(2), -kQuarterTurn / 2);
@@ -217,7 +217,7 @@ TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
     return tick.value(0) == thirty && source->counters().by_exception[2] >= 3 && tick.stale(1);
   }));
   EXPECT_TRUE(flagged);
-  EXPECT_EQ(source->state(), fw::SourceState::kDegraded);
+  EXPECT_EQ(source->state(), hal::SourceState::kDegraded);
   EXPECT_EQ(source->channel(1).status, mb::ChannelStatus::kException);
   EXPECT_EQ(source->channel(1).last_exception, 2);  // illegal data address
   EXPECT_GE(tick.rejected(1, hal::RejectReason::kMalformed), 3u);
@@ -231,7 +231,7 @@ TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
   ASSERT_TRUE(tick.until([&] { return source->counters().by_exception[4] >= 3 && tick.stale(0); }));
   EXPECT_EQ(tick.value(0), thirty);
   EXPECT_EQ(source->channel(0).last_exception, 4);
-  EXPECT_EQ(source->state(), fw::SourceState::kDegraded);  // answered, but with exceptions only
+  EXPECT_EQ(source->state(), hal::SourceState::kDegraded);  // answered, but with exceptions only
   const std::string line = source->status_line();
   EXPECT_NE(line.find("server device failure"), std::string::npos) << line;
   EXPECT_NE(line.find("illegal data address"), std::string::npos) << line;
@@ -250,10 +250,10 @@ TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
   auto source = create(tcp_config(port, {channel(0, 0)}));
   ASSERT_NE(source, nullptr);
   Tick tick(*source, 1, 50 * kMs);
-  ASSERT_TRUE(tick.until([&] { return tick.value(0) != 0 && source->state() == fw::SourceState::kOk; }));
+  ASSERT_TRUE(tick.until([&] { return tick.value(0) != 0 && source->state() == hal::SourceState::kOk; }));
 
   server.stop();
-  ASSERT_TRUE(tick.until([&] { return source->state() == fw::SourceState::kDown && tick.stale(0); }));
+  ASSERT_TRUE(tick.until([&] { return source->state() == hal::SourceState::kDown && tick.stale(0); }));
   const uint64_t failures_before = source->counters().connect_failures;
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));
   tick.step();
@@ -271,7 +271,7 @@ TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
   ASSERT_TRUE(server.start(port));
   const int32_t twenty = mb::to_engine(mb::Quantity::kAngle, 20.0);
   ASSERT_TRUE(tick.until([&] {
-    return source->state() == fw::SourceState::kOk && tick.value(0) == twenty && !tick.stale(0);
+    return source->state() == hal::SourceState::kOk && tick.value(0) == twenty && !tick.stale(0);
   }));
   EXPECT_EQ(source->counters().backoff_ns, 0u);
   EXPECT_GE(source->counters().connects, 2u);
@@ -317,7 +317,7 @@ TEST(ModbusSource, SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits) {
     EXPECT_GE(silence, 195 * kMs);
     EXPECT_LE(silence, 350 * kMs);
   }
-  EXPECT_EQ(source->state(), fw::SourceState::kDown);
+  EXPECT_EQ(source->state(), hal::SourceState::kDown);
   EXPECT_GE(source->counters().timeouts, 2u);
   EXPECT_EQ(source->channel(0).status, mb::ChannelStatus::kNoResponse);
   EXPECT_TRUE(tick.stale(0));
@@ -362,7 +362,7 @@ TEST(ModbusSource, MissingSerialDeviceIsDownAndRetried) {
   ASSERT_NE(source, nullptr);
   Tick tick(*source, 1, 0);
   ASSERT_TRUE(tick.until([&] { return source->counters().connect_failures >= 3; }));
-  EXPECT_EQ(source->state(), fw::SourceState::kDown);
+  EXPECT_EQ(source->state(), hal::SourceState::kDown);
   EXPECT_EQ(source->channel(0).status, mb::ChannelStatus::kNoResponse);
 }
 

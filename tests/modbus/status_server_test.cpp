@@ -11,7 +11,7 @@
 #include "tests/support/alloc_guard.hpp"
 
 namespace mb = sinew::hal::modbus;
-namespace fw = sinew::firmware;
+namespace hal = sinew::hal;
 namespace hal = sinew::hal;
 namespace r = mb::status_reg;
 
@@ -65,7 +65,7 @@ TEST(ModbusStatusServer, ServesCurrentValuesAndRefusesWrites) {
   ASSERT_NE(server->port(), 0);
 
   const std::array<uint8_t, kInputs> inputs{0, hal::kJointStale, hal::kJointRejected, hal::kJointClampedStatus, 0};
-  const std::array<fw::SourceState, 2> sources{fw::SourceState::kOk, fw::SourceState::kDown};
+  const std::array<hal::SourceState, 2> sources{hal::SourceState::kOk, hal::SourceState::kDown};
   mb::StatusUpdate update;
   update.tick = 123456789012u;
   update.last_step_ns = 87'654;

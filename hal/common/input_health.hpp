@@ -9,10 +9,10 @@
 #include <span>
 #include <vector>
 
-#include "hal/common/joint_sample.hpp"
-#include "hal/common/pose_frame.hpp"
+#include "joint_sample.hpp"
+#include "pose_frame.hpp"
 
-namespace sinew::firmware {
+namespace sinew::hal {
 
 struct InputLimits {
   int32_t min = INT32_MIN;       // accepted range in engine units (binary angle / Len)
@@ -22,7 +22,7 @@ struct InputLimits {
 
 struct InputCounters {
   uint64_t accepted = 0;
-  uint64_t rejected[static_cast<int>(hal::RejectReason::kCount)] = {};
+  uint64_t rejected[static_cast<int>(RejectReason::kCount)] = {};
   uint64_t stale_events = 0;  // transitions into stale
 };
 
@@ -33,9 +33,9 @@ class InputHealth {
 
   // Applies this tick's accepted samples (already CRC/counter-checked by the
   // backend; range-checked here). Samples for unknown inputs are counted.
-  void apply(std::span<const hal::JointSample> samples);
+  void apply(std::span<const JointSample> samples);
   // Records a rejection reported by a backend for `input` (or for no input).
-  void reject(int input, hal::RejectReason reason);
+  void reject(int input, RejectReason reason);
   // Ends the tick at `now_ns`: updates stale flags. Call once per tick, after apply.
   void end_tick(uint64_t now_ns);
   // Starts the next tick: clears the per-tick flags (rejected).
@@ -56,4 +56,4 @@ class InputHealth {
   InputCounters unassigned_;
 };
 
-}  // namespace sinew::firmware
+}  // namespace sinew::hal
