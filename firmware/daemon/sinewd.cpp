@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   for (uint64_t tick = 0; tick < total_ticks && !g_stop.load(std::memory_order_relaxed); ++tick) {
     const uint64_t tick_ns = config.mode == RunMode::kLive ? clock.wait_next() : start + (tick + 1) * period;
     const uint64_t t0 = monotonic_ns();
-    runtime.step(tick_ns);
+    runtime.step(tick_ns, (tick_ns - start) / period - 1);
     const uint64_t t1 = monotonic_ns();
     runtime.timing().record(t1 - t0, config.mode == RunMode::kLive && clock.finished_late(t1));
     if ((tick + 1) % stats_every == 0) print_stats(runtime, rig, false);

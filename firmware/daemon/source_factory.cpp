@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bus_sources.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 #include "hal/output/frame_log_writer.hpp"
@@ -42,7 +43,9 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
       runtime->add_source(std::make_unique<TrajectorySource>(std::move(min), std::move(max),
                                                              static_cast<uint64_t>(period_ms * 1e6), start_ns));
     } else {
-      return *error = "source " + s.name + ": unknown type '" + s.type + "'", false;
+      std::unique_ptr<hal::InputSource> source = make_bus_source(s, rig, config, start_ns, error);
+      if (!source) return false;
+      runtime->add_source(std::move(source));
     }
   }
   return true;
@@ -100,6 +103,20 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
   for (const auto& s : runtime.sources())
     std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
   for (const auto& s : runtime.sinks()) std::printf("  sink   %-10s %s\n", s->name(), s->status_line().c_str());
+  if (final_report) {
+    // Per-reason totals, one line the tests (and log scrapers) can parse.
+    uint64_t by_reason[static_cast<int>(hal::RejectReason::kCount)] = {};
+    uint64_t stale_events = 0;
+    for (size_t i = 0; i < rig.rig.input_count; ++i) {
+      for (int r = 0; r < static_cast<int>(hal::RejectReason::kCount); ++r) by_reason[r] += h.counters(i).rejected[r];
+      stale_events += h.counters(i).stale_events;
+    }
+    std::printf("  rejected by reason:");
+    for (int r = 0; r < static_cast<int>(hal::RejectReason::kCount); ++r)
+      std::printf(" %s %llu", hal::reject_reason_name(static_cast<hal::RejectReason>(r)),
+                  static_cast<unsigned long long>(by_reason[r] + h.unassigned().rejected[r]));
+    std::printf("; stale events %llu\n", static_cast<unsigned long long>(stale_events));
+  }
   if (final_report && h.stale_count() > 0) {
     for (size_t i = 0; i < rig.rig.input_count; ++i)
       if (h.status()[i] & hal::kJointStale) std::printf("  stale input %s\n", rig.input_names[i].c_str());

@@ -25,7 +25,7 @@ bool Runtime::init(const rig::Rig& rig, std::span<const InputLimits> limits, uin
   return true;
 }
 
-const hal::PoseFrame& Runtime::step(uint64_t tick_ns) {
+const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
   health_.begin_tick();
   for (const auto& source : sources_) {
     const size_t n = source->latch(tick_ns, samples_, health_);
@@ -41,7 +41,8 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns) {
     const rig::JointRecord& r = rig_->joints[j];
     for (uint32_t d = 0; d < r.dof_count; ++d) input_status_[r.first_input + d] |= hal::kJointClampedStatus;
   }
-  frame_.tick = tick_++;
+  frame_.tick = tick_index;
+  ++tick_;
   frame_.timestamp_ns = tick_ns;
   for (const auto& sink : sinks_)
     if (!sink->write(frame_)) ++dropped_frames_;

@@ -22,7 +22,12 @@ class Runtime {
   void add_sink(std::unique_ptr<OutputSink> s) { sinks_.push_back(std::move(s)); }
 
   // Runs the tick whose nominal time is tick_ns. Returns the frame written.
-  const hal::PoseFrame& step(uint64_t tick_ns);
+  // tick_index: the tick's slot on the schedule (start + (index + 1) x period),
+  // written into the frame so that a skipped live tick shows as a gap and the
+  // same slot carries the same number live, in replay and offline; by default
+  // the count of steps taken.
+  const hal::PoseFrame& step(uint64_t tick_ns, uint64_t tick_index);
+  const hal::PoseFrame& step(uint64_t tick_ns) { return step(tick_ns, tick_); }
   void flush();
 
   const InputHealth& health() const { return health_; }

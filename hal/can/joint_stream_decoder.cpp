@@ -80,12 +80,15 @@ void JointStreamDecoder::check_record(JointState& joint, std::span<const uint8_t
     case RecordCheck::kReservedNotZero: out.add_rejection(input, RejectReason::kMalformed); return;
   }
   // A joint silent for longer than its timeout restarts its counter check:
-  // after 15 or more lost frames the counter distance means nothing.
+  // after 15 or more lost frames the counter distance means nothing. Silence
+  // is measured from the last intact record, accepted or not, so a sender
+  // whose counter is stuck keeps being rejected (it is not silent).
   const bool silent_too_long = joint.timeout_ns != 0 && timestamp_ns > joint.last_seen_ns &&
                                timestamp_ns - joint.last_seen_ns > joint.timeout_ns;
   if (joint.synced && !silent_too_long) {
     const uint8_t delta = alive_counter_delta(joint.last_counter, record.counter);
     if (delta == 0) {
+      joint.last_seen_ns = timestamp_ns;
       out.add_rejection(input, RejectReason::kRepeatedCounter);
       return;
     }

@@ -29,7 +29,7 @@ class JointStreamDecoder final : public FrameDecoder {
     uint64_t timeout_ns = 0;
     bool synced = false;         // a counter reference exists
     uint8_t last_counter = 0;    // alive counter of the last authentic record
-    uint64_t last_seen_ns = 0;   // when that record arrived
+    uint64_t last_seen_ns = 0;   // when the last intact record (CRC good, counter set) arrived
   };
   struct FrameEntry {
     uint64_t key = 0;            // extended flag << 32 | identifier, sorted

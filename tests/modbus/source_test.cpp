@@ -10,13 +10,13 @@
 
 #include "hal/common/input_health.hpp"
 #include "hal/modbus/modbus_source.hpp"
-#include "tests/modbus/loopback_server.hpp"
+#include "host_tools/rigsim/modbus_server.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace mb = sinew::hal::modbus;
 namespace hal = sinew::hal;
 namespace hal = sinew::hal;
-using sinew::test::now_ns;
+using sinew::rigsim::now_ns;
 
 namespace {
 
@@ -111,7 +111,7 @@ class Tick {
 }  // namespace
 
 TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
-  sinew::test::LoopbackServer server;
+  sinew::rigsim::ModbusServer server;
   server.set_holding(10, 900);                                         // u16 x 0.1 = 90 deg
   server.set_holding(11, static_cast<uint16_t>(-200));                 // s16 x 0.5 + 10 = -90 deg
   server.set_holding32(12, static_cast<uint32_t>(-450000), true);      // s32 ABCD x 1e-4 = -45 deg
@@ -168,7 +168,7 @@ TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
 }
 
 TEST(ModbusSource, RejectsOutOfRangeValuesAndReportsThem) {
-  sinew::test::LoopbackServer server;
+  sinew::rigsim::ModbusServer server;
   server.set_holding(0, 1000);  // 100 deg: outside [-90, 90]
   ASSERT_TRUE(server.start());
   std::vector<mb::ChannelConfig> channels{channel(0, 0)};
@@ -199,11 +199,11 @@ TEST(ModbusSource, RejectsOutOfRangeValuesAndReportsThem) {
 }
 
 TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
-  sinew::test::LoopbackServer server;
+  sinew::rigsim::ModbusServer server;
   server.set_holding(10, 300);  // 30 deg
   ASSERT_TRUE(server.start());
   // Input 1 reads an address the server does not map: "illegal data address".
-  const uint16_t unmapped = sinew::test::LoopbackServer::kRegisters + 44;
+  const uint16_t unmapped = sinew::rigsim::ModbusServer::kRegisters + 44;
   std::vector<mb::ChannelConfig> channels{channel(0, 10), channel(1, unmapped)};
   channels[0].scale = 0.1;
   auto source = create(tcp_config(server.port(), channels));
@@ -243,7 +243,7 @@ TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
 }
 
 TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
-  sinew::test::LoopbackServer server;
+  sinew::rigsim::ModbusServer server;
   server.set_holding(0, 100);
   ASSERT_TRUE(server.start());
   const uint16_t port = server.port();
@@ -278,7 +278,7 @@ TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
 }
 
 TEST(ModbusSource, SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits) {
-  sinew::test::LoopbackServer server;
+  sinew::rigsim::ModbusServer server;
   server.set_mute(true);
   ASSERT_TRUE(server.start());
   auto config = tcp_config(server.port(), {channel(0, 0)});
@@ -324,13 +324,13 @@ TEST(ModbusSource, SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits) {
 }
 
 TEST(ModbusSource, LatchDoesNotAllocate) {
-  sinew::test::LoopbackServer server;
+  sinew::rigsim::ModbusServer server;
   for (uint16_t a = 0; a < 8; ++a) server.set_holding(a, static_cast<uint16_t>(10 * a));
   server.set_holding(8, 5000);  // out of range below
   ASSERT_TRUE(server.start());
   std::vector<mb::ChannelConfig> channels;
   for (uint16_t i = 0; i < 9; ++i) channels.push_back(channel(i, i));
-  channels.push_back(channel(9, sinew::test::LoopbackServer::kRegisters + 1));  // exception every cycle
+  channels.push_back(channel(9, sinew::rigsim::ModbusServer::kRegisters + 1));  // exception every cycle
   auto source = create(tcp_config(server.port(), channels));
   ASSERT_NE(source, nullptr);
   Tick tick(*source, 10, 0);

@@ -1,7 +1,7 @@
-// A real libmodbus TCP server for the tests, on 127.0.0.1 and its own thread:
-// serves holding and input registers the test sets, answers an exception for a
-// chosen request address, or goes mute (accepts and reads requests but never
-// answers). Every wait is bounded; stop() (or the destructor) ends it.
+// The simulated rig's Modbus side: a real libmodbus TCP server on 127.0.0.1,
+// on its own thread. Serves the holding and input registers it is given,
+// answers an exception for a chosen request address, or goes mute (accepts
+// and reads requests but never answers: a response timeout at the client). Every wait is bounded; stop() (or the destructor) ends it.
 #pragma once
 
 #include <atomic>
@@ -13,16 +13,16 @@
 struct _modbus;
 struct _modbus_mapping_t;
 
-namespace sinew::test {
+namespace sinew::rigsim {
 
-class LoopbackServer {
+class ModbusServer {
  public:
   static constexpr int kRegisters = 256;  // holding and input registers 0..255
 
-  LoopbackServer();
-  ~LoopbackServer();
-  LoopbackServer(const LoopbackServer&) = delete;
-  LoopbackServer& operator=(const LoopbackServer&) = delete;
+  ModbusServer();
+  ~ModbusServer();
+  ModbusServer(const ModbusServer&) = delete;
+  ModbusServer& operator=(const ModbusServer&) = delete;
 
   // Listens on 127.0.0.1:port (0: any free port). False if it cannot bind.
   bool start(uint16_t port = 0);
@@ -75,4 +75,4 @@ class LoopbackServer {
 
 uint64_t now_ns();  // CLOCK_MONOTONIC
 
-}  // namespace sinew::test
+}  // namespace sinew::rigsim

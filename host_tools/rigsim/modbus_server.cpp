@@ -1,4 +1,4 @@
-#include "loopback_server.hpp"
+#include "modbus_server.hpp"
 
 #include <modbus.h>
 #include <netinet/in.h>
@@ -10,7 +10,7 @@
 #include <cerrno>
 #include <ctime>
 
-namespace sinew::test {
+namespace sinew::rigsim {
 
 namespace {
 
@@ -25,7 +25,7 @@ uint64_t now_ns() {
   return static_cast<uint64_t>(ts.tv_sec) * 1'000'000'000u + static_cast<uint64_t>(ts.tv_nsec);
 }
 
-LoopbackServer::LoopbackServer() {
+ModbusServer::ModbusServer() {
   mapping_ = modbus_mapping_new(0, 0, kRegisters, kRegisters);
   // Reserved up front so the server thread does not allocate while a test
   // counts allocations.
@@ -33,12 +33,12 @@ LoopbackServer::LoopbackServer() {
   silences_.reserve(256);
 }
 
-LoopbackServer::~LoopbackServer() {
+ModbusServer::~ModbusServer() {
   stop();
   modbus_mapping_free(mapping_);
 }
 
-bool LoopbackServer::start(uint16_t port) {
+bool ModbusServer::start(uint16_t port) {
   if (thread_.joinable()) return true;
   ctx_ = modbus_new_tcp("127.0.0.1", port);
   if (ctx_ == nullptr) return false;
@@ -59,7 +59,7 @@ bool LoopbackServer::start(uint16_t port) {
   return true;
 }
 
-void LoopbackServer::stop() {
+void ModbusServer::stop() {
   if (!thread_.joinable()) return;
   stopping_.store(true);
   thread_.join();
@@ -70,17 +70,17 @@ void LoopbackServer::stop() {
   ctx_ = nullptr;
 }
 
-void LoopbackServer::set_holding(uint16_t address, uint16_t value) {
+void ModbusServer::set_holding(uint16_t address, uint16_t value) {
   std::lock_guard<std::mutex> lock(mutex_);
   mapping_->tab_registers[address] = value;
 }
 
-void LoopbackServer::set_input(uint16_t address, uint16_t value) {
+void ModbusServer::set_input(uint16_t address, uint16_t value) {
   std::lock_guard<std::mutex> lock(mutex_);
   mapping_->tab_input_registers[address] = value;
 }
 
-void LoopbackServer::set_holding32(uint16_t address, uint32_t value, bool high_word_first) {
+void ModbusServer::set_holding32(uint16_t address, uint32_t value, bool high_word_first) {
   const auto high = static_cast<uint16_t>(value >> 16);
   const auto low = static_cast<uint16_t>(value & 0xFFFFu);
   std::lock_guard<std::mutex> lock(mutex_);
@@ -88,7 +88,7 @@ void LoopbackServer::set_holding32(uint16_t address, uint32_t value, bool high_w
   mapping_->tab_registers[address + 1] = high_word_first ? low : high;
 }
 
-void LoopbackServer::set_input32(uint16_t address, uint32_t value, bool high_word_first) {
+void ModbusServer::set_input32(uint16_t address, uint32_t value, bool high_word_first) {
   const auto high = static_cast<uint16_t>(value >> 16);
   const auto low = static_cast<uint16_t>(value & 0xFFFFu);
   std::lock_guard<std::mutex> lock(mutex_);
@@ -96,18 +96,18 @@ void LoopbackServer::set_input32(uint16_t address, uint32_t value, bool high_wor
   mapping_->tab_input_registers[address + 1] = high_word_first ? low : high;
 }
 
-void LoopbackServer::fail_reads_at(int address, uint8_t code) {
+void ModbusServer::fail_reads_at(int address, uint8_t code) {
   std::lock_guard<std::mutex> lock(mutex_);
   fail_address_ = address;
   fail_code_ = code;
 }
 
-std::vector<uint64_t> LoopbackServer::silences_ns() const {
+std::vector<uint64_t> ModbusServer::silences_ns() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return silences_;
 }
 
-void LoopbackServer::run() {
+void ModbusServer::run() {
   std::array<pollfd, kMaxClients + 1> fds{};
   while (!stopping_.load()) {
     fds[0] = pollfd{listen_fd_, POLLIN, 0};
@@ -135,7 +135,7 @@ void LoopbackServer::run() {
   }
 }
 
-void LoopbackServer::serve(int fd, size_t client) {
+void ModbusServer::serve(int fd, size_t client) {
   std::array<uint8_t, MODBUS_TCP_MAX_ADU_LENGTH> request{};
   modbus_set_socket(ctx_, fd);
   const int length = modbus_receive(ctx_, request.data());
@@ -152,7 +152,7 @@ void LoopbackServer::serve(int fd, size_t client) {
   }
 }
 
-void LoopbackServer::listen_for_mute(int fd, size_t client) {
+void ModbusServer::listen_for_mute(int fd, size_t client) {
   std::array<uint8_t, 512> bytes{};
   const ssize_t n = recv(fd, bytes.data(), bytes.size(), MSG_DONTWAIT);
   if (n > 0) {
@@ -168,9 +168,9 @@ void LoopbackServer::listen_for_mute(int fd, size_t client) {
   drop(client);
 }
 
-void LoopbackServer::drop(size_t client) {
+void ModbusServer::drop(size_t client) {
   ::close(clients_[client].fd);
   clients_.erase(clients_.begin() + static_cast<std::ptrdiff_t>(client));
 }
 
-}  // namespace sinew::test
+}  // namespace sinew::rigsim

@@ -1,0 +1,266 @@
+#include "bus_sources.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "hal/can/can_input_source.hpp"
+#include "hal/can/candump_replay_source.hpp"
+#include "hal/can/joint_stream_decoder.hpp"
+#include "hal/can/recording_frame_source.hpp"
+#include "hal/can/socketcan_source.hpp"
+#include "hal/modbus/modbus_source.hpp"
+#include "host_tools/rigsim/modbus_feeder.hpp"
+#include "host_tools/rigsim/simulated_rig_bus.hpp"
+
+namespace sinew::firmware {
+
+namespace {
+
+using hal::can::FrameSource;
+
+// Frames decoded per tick at most: with up to 32 samples per frame this stays
+// within the runtime's per-tick sample buffer.
+constexpr size_t kFramesPerTick = 128;
+
+std::string where(const SourceConfig& s, const std::string& key) { return "source " + s.name + ": " + key; }
+
+bool read_ms(const SourceConfig& s, const char* key, double fallback, double lo, double hi, uint64_t* ns,
+             std::string* error) {
+  const double ms = s.table[key].value_or(fallback);
+  if (!(ms >= lo && ms <= hi))
+    return *error = where(s, key) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] ms", false;
+  *ns = static_cast<uint64_t>(std::llround(ms * 1e6));
+  return true;
+}
+
+// Per-input range and kind from the rig (the simulator's motion and layout).
+void rig_inputs(const LoadedRig& rig, std::vector<rigsim::InputRange>* ranges, std::vector<bool>* rotation) {
+  ranges->assign(rig.rig.input_count, {});
+  rotation->assign(rig.rig.input_count, true);
+  for (const rig::JointRecord& j : rig.rig.joints)
+    for (uint32_t d = 0; d < j.dof_count; ++d) {
+      (*ranges)[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
+      (*rotation)[j.first_input + d] = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
+    }
+}
+
+bool read_faults(const SourceConfig& s, const LoadedRig& rig, rigsim::FaultPlan* plan, std::string* error) {
+  const toml::array* faults = s.table["fault"].as_array();
+  if (faults == nullptr) return true;
+  for (const toml::node& node : *faults) {
+    const toml::table* t = node.as_table();
+    if (t == nullptr) return *error = where(s, "fault") + " entries must be tables", false;
+    rigsim::Fault f;
+    const std::string kind = (*t)["kind"].value_or<std::string>("");
+    if (!rigsim::parse_fault_kind(kind, &f.kind))
+      return *error = where(s, "fault.kind") + " '" + kind +
+                      "' unknown (drop, delay, duplicate, corrupt, stuck-counter, out-of-range, bus-off, "
+                      "modbus-timeout, modbus-exception)",
+             false;
+    const double from = (*t)["from_s"].value_or(-1.0), to = (*t)["to_s"].value_or(-1.0);
+    if (!(from >= 0 && to > from && to < 1e6)) return *error = where(s, "fault") + " needs 0 <= from_s < to_s", false;
+    f.from_ns = static_cast<uint64_t>(std::llround(from * 1e9));
+    f.to_ns = static_cast<uint64_t>(std::llround(to * 1e9));
+    f.amount = static_cast<uint64_t>(std::llround((*t)["delay_ms"].value_or(0.0) * 1e6));
+    if (const auto name = (*t)["input"].value<std::string>()) {
+      const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), *name);
+      if (it == rig.input_names.end()) return *error = where(s, "fault.input") + " '" + *name + "' is no rig input", false;
+      f.input = static_cast<int32_t>(it - rig.input_names.begin());
+    }
+    plan->faults.push_back(f);
+  }
+  return true;
+}
+
+std::unique_ptr<hal::InputSource> can_source(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
+                                             std::unique_ptr<FrameSource> frames, uint64_t start_ns,
+                                             std::string* error) {
+  uint64_t period = 0;
+  if (!read_ms(s, "period_ms", config.default_period_ms, 0.01, 60000, &period, error)) return nullptr;
+  hal::can::JointStreamConfig stream =
+      hal::can::default_joint_stream_config(rig.rig.input_count, s.table["fd"].value_or(false), period);
+  auto decoder = std::make_unique<hal::can::JointStreamDecoder>();
+  if (!decoder->configure(stream, error)) return *error = where(s, "protocol") + ": " + *error, nullptr;
+  if (const auto path = s.table["record"].value<std::string>()) {
+    auto recording = hal::can::RecordingFrameSource::create(std::move(frames), *path,
+                                                            s.table["interface"].value_or<std::string>("can0"),
+                                                            start_ns, error);
+    if (!recording) return *error = where(s, "record") + ": " + *error, nullptr;
+    frames = std::move(recording);
+  }
+  auto source = hal::can::CanInputSource::create(s.name, std::move(frames), std::move(decoder), kFramesPerTick,
+                                                 start_ns, error);
+  if (!source) *error = "source " + s.name + ": " + *error;
+  return source;
+}
+
+// A source that also keeps a helper alive (the simulated Modbus device).
+class KeepAlive final : public hal::InputSource {
+ public:
+  KeepAlive(std::unique_ptr<hal::InputSource> inner, std::shared_ptr<void> extra)
+      : inner_(std::move(inner)), extra_(std::move(extra)) {}
+  const char* name() const override { return inner_->name(); }
+  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, hal::InputHealth& health) override {
+    return inner_->latch(until_ns, out, health);
+  }
+  hal::SourceState state() const override { return inner_->state(); }
+  std::string status_line() const override { return inner_->status_line(); }
+
+ private:
+  std::unique_ptr<hal::InputSource> inner_;
+  std::shared_ptr<void> extra_;
+};
+
+std::unique_ptr<hal::InputSource> simulated_rig(const SourceConfig& s, const LoadedRig& rig,
+                                                const DaemonConfig& config, uint64_t start_ns, std::string* error) {
+  rigsim::SimulatedRigOptions options;
+  if (!read_ms(s, "period_ms", config.default_period_ms, 0.01, 60000, &options.period_ns, error) ||
+      !read_ms(s, "offset_ms", options.period_ns / 2e6, 0, 60000, &options.offset_ns, error) ||
+      !read_faults(s, rig, &options.faults, error))
+    return nullptr;
+  options.period_ns = options.period_ns / 1000 * 1000;
+  options.offset_ns = options.offset_ns / 1000 * 1000;
+  std::vector<rigsim::InputRange> ranges;
+  std::vector<bool> rotation;
+  rig_inputs(rig, &ranges, &rotation);
+  if (!rigsim::SimulatedRigBus::validate(options, ranges.size(), error)) return nullptr;
+  const rigsim::FaultPlan faults = options.faults;
+  auto bus = std::make_unique<rigsim::SimulatedRigBus>(rigsim::RigMotion(ranges), std::move(options), start_ns);
+  auto source = can_source(s, rig, config, std::move(bus), start_ns, error);
+  if (!source) return nullptr;
+  const int64_t port = s.table["modbus_port"].value_or(int64_t{-1});
+  if (port < 0) return source;
+  if (port > 65535) return *error = where(s, "modbus_port") + " must be 0..65535", nullptr;
+  auto feeder = std::make_shared<rigsim::ModbusFeeder>();
+  // The device refreshes its registers at 1 kHz on its own clock (not the ticks).
+  if (!feeder->start(rigsim::RigMotion(ranges), rotation, faults, start_ns, 1000000, static_cast<uint16_t>(port),
+                     error))
+    return *error = "source " + s.name + ": " + *error, nullptr;
+  return std::make_unique<KeepAlive>(std::move(source), std::move(feeder));
+}
+
+std::unique_ptr<hal::InputSource> candump(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
+                                          uint64_t start_ns, std::string* error) {
+  hal::can::CandumpReplayOptions options;
+  const auto path = s.table["path"].value<std::string>();
+  if (!path) return *error = where(s, "path") + " is required", nullptr;
+  options.path = *path;
+  options.interface = s.table["interface"].value_or<std::string>("");
+  if (const auto origin = s.table["origin_s"].value<double>()) {
+    if (!(*origin >= 0 && *origin < 1e10)) return *error = where(s, "origin_s") + " must be >= 0", nullptr;
+    options.has_origin = true;
+    options.origin_ns = static_cast<uint64_t>(std::llround(*origin * 1e9));
+  }
+  auto replay = std::make_unique<hal::can::CandumpReplaySource>();
+  if (!replay->load(options, start_ns, error)) return *error = "source " + s.name + ": " + *error, nullptr;
+  if (!replay->parse_errors().empty())
+    std::printf("source %s: %zu unreadable lines in %s (first at line %zu: %s)\n", s.name.c_str(),
+                replay->parse_errors().size(), options.path.c_str(), replay->parse_errors()[0].line,
+                replay->parse_errors()[0].message.c_str());
+  return can_source(s, rig, config, std::move(replay), start_ns, error);
+}
+
+std::unique_ptr<hal::InputSource> socketcan(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
+                                            uint64_t start_ns, std::string* error) {
+  hal::can::SocketCanOptions options;
+  options.interface = s.table["interface"].value_or<std::string>("can0");
+  options.fd = s.table["fd"].value_or(false);
+  auto socket = std::make_unique<hal::can::SocketCanSource>(options);
+  std::string open_error;
+  // A missing interface is not fatal: the source reports down and reopens with back-off.
+  if (!socket->open(start_ns, &open_error))
+    std::printf("source %s: %s (retrying with back-off)\n", s.name.c_str(), open_error.c_str());
+  return can_source(s, rig, config, std::move(socket), start_ns, error);
+}
+
+std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig& rig, std::string* error) {
+  hal::modbus::PollerConfig c;
+  c.name = s.name;
+  c.link.tcp.host = s.table["host"].value_or<std::string>("127.0.0.1");
+  const int64_t port = s.table["port"].value_or(int64_t{502});
+  if (port <= 0 || port > 65535) return *error = where(s, "port") + " must be 1..65535", nullptr;
+  c.link.tcp.port = static_cast<uint16_t>(port);
+  if (const auto device = s.table["device"].value<std::string>()) {
+    c.link.transport = hal::modbus::Transport::kRtu;
+    c.link.rtu.device = *device;
+    c.link.rtu.baud = static_cast<uint32_t>(s.table["baud"].value_or(int64_t{19200}));
+  }
+  c.link.unit_id = static_cast<uint8_t>(s.table["unit_id"].value_or(int64_t{1}) & 0xFF);
+  if (!read_ms(s, "period_ms", 10, 0, 60000, &c.period_ns, error) ||
+      !read_ms(s, "timeout_ms", 100, 1, 10000, &c.response_timeout_ns, error) ||
+      !read_ms(s, "backoff_ms", 50, 1, 60000, &c.backoff_initial_ns, error) ||
+      !read_ms(s, "backoff_max_ms", 2000, 1, 600000, &c.backoff_max_ns, error))
+    return nullptr;
+  const std::string layout = s.table["layout"].value_or<std::string>("");
+  if (layout == "simulated-rig") {
+    // The simulated rig's device: input i at holding 2i..2i+1, 0.01 degree or 1 um.
+    std::vector<rigsim::InputRange> ranges;
+    std::vector<bool> rotation;
+    rig_inputs(rig, &ranges, &rotation);
+    for (size_t i = 0; i < ranges.size(); ++i) {
+      hal::modbus::ChannelConfig ch;
+      ch.name = rig.input_names[i];
+      ch.input = static_cast<uint16_t>(i);
+      ch.address = static_cast<uint16_t>(2 * i);
+      ch.width = hal::modbus::RegisterWidth::k32;
+      ch.scale = rotation[i] ? 0.01 : 1e-6;
+      ch.quantity = rotation[i] ? hal::modbus::Quantity::kAngle : hal::modbus::Quantity::kTranslation;
+      ch.min = rotation[i] ? -180.0 : -2000.0;
+      ch.max = rotation[i] ? 180.0 : 2000.0;
+      c.channels.push_back(ch);
+    }
+  } else if (!layout.empty()) {
+    return *error = where(s, "layout") + " '" + layout + "' unknown (simulated-rig, or [[source.channel]] tables)",
+           nullptr;
+  }
+  if (const toml::array* channels = s.table["channel"].as_array()) {
+    for (const toml::node& node : *channels) {
+      const toml::table* t = node.as_table();
+      if (t == nullptr) return *error = where(s, "channel") + " entries must be tables", nullptr;
+      hal::modbus::ChannelConfig ch;
+      const std::string input = (*t)["input"].value_or<std::string>("");
+      ch.name = input;
+      const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), input);
+      if (it == rig.input_names.end()) return *error = where(s, "channel.input") + " '" + input + "' is no rig input", nullptr;
+      ch.input = static_cast<uint16_t>(it - rig.input_names.begin());
+      ch.table = (*t)["table"].value_or<std::string>("holding") == "input" ? hal::modbus::RegisterTable::kInput
+                                                                          : hal::modbus::RegisterTable::kHolding;
+      const int64_t address = (*t)["address"].value_or(int64_t{-1});
+      if (address < 0 || address > 65535) return *error = where(s, "channel.address") + " must be 0..65535", nullptr;
+      ch.address = static_cast<uint16_t>(address);
+      ch.width = (*t)["width"].value_or(int64_t{16}) == 32 ? hal::modbus::RegisterWidth::k32
+                                                            : hal::modbus::RegisterWidth::k16;
+      ch.word_order = (*t)["word_order"].value_or<std::string>("high-first") == "low-first"
+                          ? hal::modbus::WordOrder::kLowWordFirst
+                          : hal::modbus::WordOrder::kHighWordFirst;
+      ch.is_signed = (*t)["signed"].value_or(true);
+      ch.scale = (*t)["scale"].value_or(1.0);
+      ch.offset = (*t)["offset"].value_or(0.0);
+      const std::string quantity = (*t)["quantity"].value_or<std::string>("angle");
+      ch.quantity = quantity == "force"         ? hal::modbus::Quantity::kForce
+                    : quantity == "translation" ? hal::modbus::Quantity::kTranslation
+                                                : hal::modbus::Quantity::kAngle;
+      ch.min = (*t)["min"].value_or(-180.0);
+      ch.max = (*t)["max"].value_or(180.0);
+      c.channels.push_back(ch);
+    }
+  }
+  auto source = hal::modbus::ModbusSource::create(std::move(c), error);
+  if (!source) *error = "source " + s.name + ": " + *error;
+  return source;
+}
+
+}  // namespace
+
+std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const LoadedRig& rig,
+                                                  const DaemonConfig& config, uint64_t start_ns, std::string* error) {
+  if (s.type == "can") return socketcan(s, rig, config, start_ns, error);
+  if (s.type == "candump") return candump(s, rig, config, start_ns, error);
+  if (s.type == "simulated-rig") return simulated_rig(s, rig, config, start_ns, error);
+  if (s.type == "modbus") return modbus(s, rig, error);
+  *error = "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus)";
+  return nullptr;
+}
+
+}  // namespace sinew::firmware
