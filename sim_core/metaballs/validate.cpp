@@ -42,6 +42,10 @@ class Checker {
     if (v >= lo && v <= hi) return true;
     return fail(Error::kValue, field, static_cast<int64_t>(i), "value out of range", v);
   }
+  bool scalar(const char* field, int64_t v, int64_t lo, int64_t hi) {
+    if (v >= lo && v <= hi) return true;
+    return fail(Error::kValue, field, -1, "value out of range", v);
+  }
   bool coords(const char* field, size_t i, fx::Vec3 v) {
     return range(field, i, v.x, -kCoordLimit, kCoordLimit) && range(field, i, v.y, -kCoordLimit, kCoordLimit) &&
            range(field, i, v.z, -kCoordLimit, kCoordLimit);
@@ -98,8 +102,8 @@ void check_balls(const MetaballModel& m, Checker& c) {
     c.index("bulges.bone_b", i, r.bone_b, static_cast<int64_t>(nj));
     c.range("bulges.gain", i, r.gain, 0, kOne - 1);
   }
-  c.range("pbd_iterations", 0, m.pbd_iterations, 0, kMaxPbdIterations);
-  c.range("jiggle_damping", 0, m.jiggle_damping, 0, kOne - 1);
+  c.scalar("pbd_iterations", m.pbd_iterations, 0, kMaxPbdIterations);
+  c.scalar("jiggle_damping", m.jiggle_damping, 0, kOne - 1);
 }
 
 void check_vertices(const MetaballModel& m, Checker& c) {
@@ -159,8 +163,8 @@ void check_joint_region(const MetaballModel& m, Checker& c) {
       c.fail(Error::kValue, "jv_inv_count", static_cast<int64_t>(i), "is not 2^30 / neighbour count", m.jv_inv_count[i]);
     for (uint32_t k = b; k < e && !c.failed(); ++k) c.index("jv_neighbours", k, m.jv_neighbours[k], static_cast<int64_t>(nv));
   }
-  c.range("smoothing_passes", 0, m.smoothing_passes, 0, kMaxSmoothingPasses);
-  c.range("smoothing_rate", 0, m.smoothing_rate, 0, kOne);
+  c.scalar("smoothing_passes", m.smoothing_passes, 0, kMaxSmoothingPasses);
+  c.scalar("smoothing_rate", m.smoothing_rate, 0, kOne);
 }
 
 void check_overlaps(const MetaballModel& m, Checker& c) {
