@@ -19,15 +19,20 @@ TEST(MetaballsAllocation, ZeroAllocationsAcrossThousandsOfSteps) {
   sinew::test::AllocationCounter allocations;
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < steps; ++i) {
-    const double phase = (i % 400) / 400.0;  // a triangle wave through bend and twist
+    const double phase =
+        (i % 400) / 400.0; // a triangle wave through bend and twist
     const double tri = phase < 0.5 ? 2 * phase : 2 - 2 * phase;
     ASSERT_TRUE(s.pose(60 * tri, 150 * tri, 180 * tri - 90));
   }
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("metaballs: %d steps (engine + metaballs, %u vertices, %u balls): %llu heap allocations, %.3f ms/step "
+  const double ms = std::chrono::duration<double, std::milli>(
+                        std::chrono::steady_clock::now() - t0)
+                        .count();
+  std::printf("metaballs: %d steps (engine + metaballs, %u vertices, %u "
+              "balls): %llu heap allocations, %.3f ms/step "
               "(this build)\n",
               steps, s.rig().vertex_count(), s.model().ball_count(),
-              static_cast<unsigned long long>(allocations.allocations()), ms / steps);
+              static_cast<unsigned long long>(allocations.allocations()),
+              ms / steps);
   EXPECT_EQ(allocations.allocations(), 0u);
   EXPECT_EQ(s.state().stats.steps, static_cast<uint64_t>(steps));
 }

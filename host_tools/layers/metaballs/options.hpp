@@ -20,7 +20,8 @@ struct JiggleRegion {
 };
 
 // Balls of `bone` in [from, to] grow with the angle between bones
-// `angle_a` and `angle_b`: r = r0 (1 + gain (1 - cos theta) / 2), gain in [0, 1).
+// `angle_a` and `angle_b`: r = r0 (1 + gain (1 - cos theta) / 2), gain in [0,
+// 1).
 struct BulgeRegion {
   std::string bone;
   double from = 0, to = 1;
@@ -33,7 +34,8 @@ struct Options {
   // target_ball_count > 0 the spacing is chosen to give about that many.
   double ball_spacing = 0.01;
   int target_ball_count = 0;
-  // w^gamma of a vertex's kVertexBalls nearest balls ~ (|v - c| / r)^-weight_power.
+  // w^gamma of a vertex's kVertexBalls nearest balls ~ (|v - c| /
+  // r)^-weight_power.
   int weight_power = 16;
   // Stretch pairs: balls of rest distance < pair_reach * (r_a + r_b).
   double pair_reach = 0.6;
@@ -53,11 +55,12 @@ struct Options {
   double joint_outer = 1.6;
   int smoothing_passes = 2;
   double smoothing_rate = 0.5;
-  // Overlap candidates: vertices and balls within overlap_reach surface radii of the joint.
+  // Overlap candidates: vertices and balls within overlap_reach surface radii
+  // of the joint.
   double overlap_reach = 2.5;
 };
 
 // Empty if the options are usable, else a message naming the field.
-std::string check_options(const Options& o);
+std::string check_options(const Options &o);
 
-}  // namespace sinew::metaballs_build
+} // namespace sinew::metaballs_build
