@@ -235,8 +235,8 @@ TEST(MetaballsOverlap, DeepBendLeavesNoVertexInsideTheOtherBonesBalls) {
 // Roughness of the joint region: mean | |L(v)| - |L_rest(v)| | over the
 // joint-region vertices, L(v) = mean(neighbours) - v (|L| is rotation
 // invariant, so a rigidly moved region scores 0).
-double roughness(ArmScene& s) {
-  const auto& m = s.model();
+double roughness(ArmScene &s) {
+  const auto &m = s.model();
   double sum = 0;
   for (uint32_t i = 0; i < m.jv_count(); ++i) {
     const uint32_t v = m.jv_vertex[i];
@@ -247,7 +247,8 @@ double roughness(ArmScene& s) {
         l[a] += (s.mb(a, m.jv_neighbours[k]) - s.mb(a, v)) / (e - b);
         r[a] += (s.rest(a, m.jv_neighbours[k]) - s.rest(a, v)) / (e - b);
       }
-    sum += std::fabs(std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) - std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
+    sum += std::fabs(std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) -
+                     std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]));
   }
   return sum / m.jv_count();
 }
@@ -260,11 +261,13 @@ TEST(MetaballsSmoothing, ShapePreservingSmoothingReducesJointRoughness) {
     ASSERT_TRUE(with.pose(0, elbow, 45));
     ASSERT_TRUE(without.pose(0, elbow, 45));
     const double r_with = roughness(with), r_without = roughness(without);
-    std::printf("smoothing: elbow %.0f deg, twist 45 deg: joint-region roughness %.3g m without smoothing, %.3g m with "
+    std::printf("smoothing: elbow %.0f deg, twist 45 deg: joint-region "
+                "roughness %.3g m without smoothing, %.3g m with "
                 "2 passes\n",
                 elbow, r_without, r_with);
     EXPECT_LT(r_with, r_without);
   }
   ASSERT_TRUE(with.pose(0, 0, 0));
-  EXPECT_LT(roughness(with), 1e-6) << "smoothing must leave the rest shape alone";
+  EXPECT_LT(roughness(with), 1e-6)
+      << "smoothing must leave the rest shape alone";
 }
