@@ -8,38 +8,29 @@
 
 namespace sinew::metaballs::detail {
 
-void smooth_joint_region(const MetaballModel &m, MetaballState *s,
-                         const skin::SkinnedVertices &out) {
-  if (!s->features.smoothing || !s->features.joint_balls)
-    return;
+void smooth_joint_region(const MetaballModel& m, MetaballState* s, const skin::SkinnedVertices& out) {
+  if (!s->features.smoothing || !s->features.joint_balls) return;
   const uint32_t n = m.jv_count();
   for (uint32_t pass = 0; pass < m.smoothing_passes; ++pass) {
     for (uint32_t i = 0; i < n; ++i) {
       const uint32_t v = m.jv_vertex[i];
-      const uint32_t begin = m.jv_neighbour_begin[i],
-                     end = m.jv_neighbour_begin[i + 1];
-      const int64_t p[3] = {out.position[0][v], out.position[1][v],
-                            out.position[2][v]};
-      fx::Vec3 next{static_cast<int32_t>(p[0]), static_cast<int32_t>(p[1]),
-                    static_cast<int32_t>(p[2])};
+      const uint32_t begin = m.jv_neighbour_begin[i], end = m.jv_neighbour_begin[i + 1];
+      const int64_t p[3] = {out.position[0][v], out.position[1][v], out.position[2][v]};
+      fx::Vec3 next{static_cast<int32_t>(p[0]), static_cast<int32_t>(p[1]), static_cast<int32_t>(p[2])};
       if (begin != end) {
-        int64_t sum[3] = {0, 0, 0}; // <= 16 differences of int32: < 2^37
+        int64_t sum[3] = {0, 0, 0};  // <= 16 differences of int32: < 2^37
         for (uint32_t k = begin; k < end; ++k)
-          for (int a = 0; a < 3; ++a)
-            sum[a] += out.position[a][m.jv_neighbours[k]] - p[a];
+          for (int a = 0; a < 3; ++a) sum[a] += out.position[a][m.jv_neighbours[k]] - p[a];
         const int64_t gain = fx::mul_unit(m.smoothing_rate, m.jv_alpha[i]);
         const fx::Vec3 rest = s->jv_posed_laplacian[i];
         const int64_t lap_rest[3] = {rest.x, rest.y, rest.z};
-        int32_t *out_c[3] = {&next.x, &next.y, &next.z};
+        int32_t* out_c[3] = {&next.x, &next.y, &next.z};
         for (int a = 0; a < 3; ++a) {
           // mean offset: sum * (2^30 / count) stays < 2^62 since count *
           // inv_count ~ 2^30.
-          const int64_t mean =
-              fx::round_shift(sum[a] * m.jv_inv_count[i], fx::kUnitFracBits);
-          const int64_t delta = fx::clamp_i64(
-              mean - lap_rest[a], -(int64_t{1} << 32), int64_t{1} << 32);
-          *out_c[a] = fx::sat_i32(
-              p[a] + fx::round_shift(delta * gain, fx::kUnitFracBits));
+          const int64_t mean = fx::round_shift(sum[a] * m.jv_inv_count[i], fx::kUnitFracBits);
+          const int64_t delta = fx::clamp_i64(mean - lap_rest[a], -(int64_t{1} << 32), int64_t{1} << 32);
+          *out_c[a] = fx::sat_i32(p[a] + fx::round_shift(delta * gain, fx::kUnitFracBits));
         }
       }
       s->jv_scratch[i] = next;
@@ -53,4 +44,4 @@ void smooth_joint_region(const MetaballModel &m, MetaballState *s,
   }
 }
 
-} // namespace sinew::metaballs::detail
+}  // namespace sinew::metaballs::detail

@@ -8,12 +8,12 @@ namespace sinew::metaballs {
 
 enum class Error : uint8_t {
   kNone = 0,
-  kSize,     // a span's length disagrees with the counts
-  kLimit,    // a count beyond the documented maxima
-  kIndex,    // an index out of range
-  kValue,    // a value out of its documented range
-  kArena,    // state memory missing, misaligned or too small
-  kNotReady, // state not initialised for this model
+  kSize,      // a span's length disagrees with the counts
+  kLimit,     // a count beyond the documented maxima
+  kIndex,     // an index out of range
+  kValue,     // a value out of its documented range
+  kArena,     // state memory missing, misaligned or too small
+  kNotReady,  // state not initialised for this model
 };
 
 struct Status {
@@ -22,6 +22,6 @@ struct Status {
   bool ok() const { return error == Error::kNone; }
 };
 
-const char *error_name(Error e);
+const char* error_name(Error e);
 
-} // namespace sinew::metaballs
+}  // namespace sinew::metaballs

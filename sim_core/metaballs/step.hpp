@@ -31,7 +31,6 @@ namespace sinew::metaballs {
 
 // Returns an error (and changes nothing) if the state is not initialised or a
 // span's size disagrees with the model.
-Status step(MetaballState *state, std::span<const fx::Mat34> joint_model,
-            const skin::SkinnedVertices &out);
+Status step(MetaballState* state, std::span<const fx::Mat34> joint_model, const skin::SkinnedVertices& out);
 
-} // namespace sinew::metaballs
+}  // namespace sinew::metaballs

@@ -8,6 +8,6 @@
 
 namespace sinew::metaballs {
 
-Status validate(const MetaballModel &model);
+Status validate(const MetaballModel& model);
 
-} // namespace sinew::metaballs
+}  // namespace sinew::metaballs

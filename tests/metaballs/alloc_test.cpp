@@ -34,18 +34,14 @@ TEST(MetaballsAllocation, ZeroAllocationsAcrossThousandsOfSteps) {
   sinew::test::AllocationCounter allocations;
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < steps; ++i)
-    ASSERT_TRUE(sinew::metaballs::step(
-                    &s.state(), poses[static_cast<size_t>(i % kPeriod)], out)
-                    .ok());
-  const double ms = std::chrono::duration<double, std::milli>(
-                        std::chrono::steady_clock::now() - t0)
-                        .count();
-  std::printf("metaballs: %d steps (%u vertices, %u balls, jiggle, bulge, "
-              "smoothing, overlap): %llu heap allocations, "
-              "%.3f ms/step (this build)\n",
-              steps, s.rig().vertex_count(), s.model().ball_count(),
-              static_cast<unsigned long long>(allocations.allocations()),
-              ms / steps);
+    ASSERT_TRUE(sinew::metaballs::step(&s.state(), poses[static_cast<size_t>(i % kPeriod)], out).ok());
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::printf(
+      "metaballs: %d steps (%u vertices, %u balls, jiggle, bulge, "
+      "smoothing, overlap): %llu heap allocations, "
+      "%.3f ms/step (this build)\n",
+      steps, s.rig().vertex_count(), s.model().ball_count(), static_cast<unsigned long long>(allocations.allocations()),
+      ms / steps);
   EXPECT_EQ(allocations.allocations(), 0u);
   EXPECT_EQ(s.state().stats.steps - before, static_cast<uint64_t>(steps));
 }

@@ -26,7 +26,7 @@ namespace sinew::metaballs_build {
 
 // Owns every array of a model; model() returns spans into it.
 struct Build {
-  int32_t length_exponent = 0; // the rig's (rigc::choose_length_exponent)
+  int32_t length_exponent = 0;  // the rig's (rigc::choose_length_exponent)
   uint32_t joint_count = 0, vertex_count = 0;
   std::vector<fx::Mat34> inverse_bind;
   std::vector<fx::Vec3> ball_rest;
@@ -54,16 +54,15 @@ struct Build {
   std::vector<uint16_t> overlap_balls;
 
   // Builder-side facts for tests and reports (not part of the model).
-  std::vector<double> ball_along; // position along its bone, [0, 1]
-  std::vector<int> vertex_bone;   // dominant bone of each vertex
+  std::vector<double> ball_along;  // position along its bone, [0, 1]
+  std::vector<int> vertex_bone;    // dominant bone of each vertex
 
   metaballs::MetaballModel model() const;
 };
 
 // Returns false with a message naming the problem (option field, bone name).
-bool build(const rigc::RigSpec &spec, const Options &options, Build *out,
-           std::string *error);
+bool build(const rigc::RigSpec& spec, const Options& options, Build* out, std::string* error);
 
-std::string summary(const Build &b);
+std::string summary(const Build& b);
 
-} // namespace sinew::metaballs_build
+}  // namespace sinew::metaballs_build

@@ -61,6 +61,6 @@ struct Options {
 };
 
 // Empty if the options are usable, else a message naming the field.
-std::string check_options(const Options &o);
+std::string check_options(const Options& o);
 
-} // namespace sinew::metaballs_build
+}  // namespace sinew::metaballs_build
