@@ -1,0 +1,66 @@
+// Builder options of the metaballs layer: how balls are placed and weighted,
+// the PBD parameters, and the jiggle and bulge regions. docs/metaballs.md
+// lists the TOML keys these are meant to be read from ([metaballs] table of a
+// rig spec). Lengths are in model units (the rig spec's), fractions in [0, 1].
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace sinew::metaballs_build {
+
+// Balls of `bone` whose position along the bone (0 at its joint, 1 at its
+// end) lies in [from, to] jiggle on a spring of `stiffness` in (0, 1]
+// (fraction of the gap to the kinematic centre closed per step; softer
+// springs swing farther).
+struct JiggleRegion {
+  std::string bone;
+  double from = 0, to = 1;
+  double stiffness = 0.2;
+};
+
+// Balls of `bone` in [from, to] grow with the angle between bones
+// `angle_a` and `angle_b`: r = r0 (1 + gain (1 - cos theta) / 2), gain in [0,
+// 1).
+struct BulgeRegion {
+  std::string bone;
+  double from = 0, to = 1;
+  std::string angle_a, angle_b;
+  double gain = 0.3;
+};
+
+struct Options {
+  // Placement: balls along each bone, `ball_spacing` apart; if
+  // target_ball_count > 0 the spacing is chosen to give about that many.
+  double ball_spacing = 0.01;
+  int target_ball_count = 0;
+  // w^gamma of a vertex's kVertexBalls nearest balls ~ (|v - c| /
+  // r)^-weight_power.
+  int weight_power = 16;
+  // Stretch pairs: balls of rest distance < pair_reach * (r_a + r_b).
+  double pair_reach = 0.6;
+  double stretch_stiffness = 1.0;
+  int pbd_iterations = 4;
+  // Jiggle: damping is the velocity kept per step, in [0, 1).
+  double jiggle_damping = 0.9;
+  double jiggle_stretch_stiffness = 0.5;
+  std::vector<JiggleRegion> jiggle;
+  std::vector<BulgeRegion> bulge;
+  // Joint balls at every joint with a parent and a degree of freedom (or the
+  // named ones). Region: full weight up to joint_inner, none beyond
+  // joint_outer, both in multiples of the joint's surface radius (the
+  // distance from the joint to the nearest vertex of its two bones).
+  std::vector<std::string> joint_balls;
+  double joint_inner = 1.0;
+  double joint_outer = 1.6;
+  int smoothing_passes = 2;
+  double smoothing_rate = 0.5;
+  // Overlap candidates: vertices and balls within overlap_reach surface radii
+  // of the joint.
+  double overlap_reach = 2.5;
+};
+
+// Empty if the options are usable, else a message naming the field.
+std::string check_options(const Options& o);
+
+}  // namespace sinew::metaballs_build

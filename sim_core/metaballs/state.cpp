@@ -1,0 +1,85 @@
+#include "state.hpp"
+
+#include "sim_core/rig/message.hpp"
+#include "validate.hpp"
+
+namespace sinew::metaballs {
+namespace {
+
+constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
+
+// Bump carving over the caller's memory, only during init (as the engine's).
+class Carver {
+ public:
+  Carver(uint8_t* base, size_t size) : base_(base), size_(size) {}
+  template <typename T>
+  std::span<T> take(size_t count) {
+    static_assert(alignof(T) <= 8, "every carve is 8-byte aligned");
+    if (count == 0) return {};
+    const size_t bytes = align8(count * sizeof(T));
+    needed_ += bytes;
+    if (base_ == nullptr || used_ + bytes > size_) {
+      failed_ = true;
+      return {};
+    }
+    T* p = static_cast<T*>(static_cast<void*>(base_ + used_));
+    for (size_t i = 0; i < count; ++i) p[i] = T{};
+    used_ += bytes;
+    return {p, count};
+  }
+  size_t needed() const { return needed_; }
+  bool failed() const { return failed_; }
+
+ private:
+  uint8_t* base_;
+  size_t size_;
+  size_t used_ = 0, needed_ = 0;
+  bool failed_ = false;
+};
+
+Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState* s) {
+  Carver c(base, size);
+  const size_t nb = m.ball_count();
+  s->bone = c.take<fx::Mat34>(m.joint_count);
+  s->bone_rotation = c.take<fx::Quat>(m.joint_count);
+  s->ball_center = c.take<fx::Vec3>(nb);
+  s->ball_previous = c.take<fx::Vec3>(nb);
+  s->ball_target = c.take<fx::Vec3>(nb);
+  s->ball_rotation = c.take<fx::Rot3>(nb);
+  s->ball_scale = c.take<fx::Unit>(nb);
+  s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
+  s->jv_scratch = c.take<fx::Vec3>(m.jv_count());
+  return c;
+}
+
+}  // namespace
+
+size_t state_bytes(const MetaballModel& model) {
+  MetaballState probe;
+  return layout(model, nullptr, 0, &probe).needed();
+}
+
+Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out) {
+  Status s = validate(model);
+  if (!s.ok()) return s;
+  const auto arena_error = [&](const char* problem) {
+    s.error = Error::kArena;
+    rig::MessageBuilder(s.message, sizeof(s.message)).text("state memory: ").text(problem);
+    return s;
+  };
+  if (out == nullptr) return arena_error("no state given");
+  if (memory == nullptr || (reinterpret_cast<uintptr_t>(memory) & 7u) != 0)
+    return arena_error("null or not 8-byte aligned");
+  MetaballState st;
+  st.model = &model;
+  if (layout(model, static_cast<uint8_t*>(memory), bytes, &st).failed())
+    return arena_error("smaller than state_bytes(model)");
+  for (uint32_t b = 0; b < model.ball_count(); ++b) {
+    st.ball_center[b] = st.ball_previous[b] = st.ball_target[b] = model.ball_rest[b];
+    st.ball_scale[b] = fx::kUnitOne;
+  }
+  *out = st;
+  return s;
+}
+
+}  // namespace sinew::metaballs

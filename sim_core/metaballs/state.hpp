@@ -1,0 +1,60 @@
+// Runtime state of the metaballs layer: scratch and the jiggle history, carved
+// from caller memory at init (state_bytes tells how much); a step never
+// allocates.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "model.hpp"
+#include "status.hpp"
+
+namespace sinew::metaballs {
+
+// Stages a caller may switch off (tests compare with and without them).
+struct Features {
+  bool pbd = true;  // stretch constraints and jiggle springs
+  bool bulge = true;
+  bool joint_balls = true;  // eq. (5) and the blend of eq. (1)
+  bool smoothing = true;
+  bool overlap = true;
+};
+
+struct StepStats {
+  uint64_t steps = 0;
+  uint32_t projected_vertices = 0;  // overlap projections in the last step
+  uint32_t skipped_pairs = 0;       // coincident ball pairs left alone in the last step
+};
+
+struct MetaballState {
+  const MetaballModel* model = nullptr;
+  Features features;
+  bool primed = false;  // jiggle history valid (false: the next step starts at
+                        // rest velocity)
+  StepStats stats;
+  // Per bone: deformation T_j = model_j * inverse_bind_j and its rotation.
+  std::span<fx::Mat34> bone;
+  std::span<fx::Quat> bone_rotation;
+  // Per normal ball.
+  std::span<fx::Vec3> ball_center;    // after PBD, Len
+  std::span<fx::Vec3> ball_previous;  // jiggle balls: centre one step earlier
+  std::span<fx::Vec3> ball_target;    // kinematic centre of eq. (2), Len
+  std::span<fx::Rot3> ball_rotation;  // R^lambda
+  std::span<fx::Unit> ball_scale;     // r / r0 in [1, 2), Q2.30
+  // Per joint-region vertex.
+  std::span<fx::Vec3> jv_posed_laplacian;  // rest Laplacian rotated with the vertex
+  std::span<fx::Vec3> jv_scratch;          // Jacobi smoothing buffer
+};
+
+// Bytes of state memory init needs for a (validated) model.
+size_t state_bytes(const MetaballModel& model);
+
+// Validates the model, carves `memory` (8-byte aligned, >= state_bytes) and
+// sets the rest state. The model must outlive the state.
+Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out);
+
+// Forgets the jiggle history: the next step starts from the kinematic pose.
+inline void reset(MetaballState* s) { s->primed = false; }
+
+}  // namespace sinew::metaballs

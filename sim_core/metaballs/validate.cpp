@@ -1,0 +1,237 @@
+#include "validate.hpp"
+
+#include "sim_core/rig/message.hpp"
+
+namespace sinew::metaballs {
+namespace {
+
+constexpr int64_t kOne = fx::kUnitOne;
+// Positions and displacements keep one bit of headroom, so c + s R d (s < 3)
+// and every blended sum stay far inside int64 before their single rounding.
+constexpr int64_t kCoordLimit = int64_t{1} << 30;
+
+class Checker {
+ public:
+  explicit Checker(Status* s) : s_(s) {}
+  bool failed() const { return !s_->ok(); }
+  // Records the first failure: "<field>[<index>]: <problem>".
+  bool fail(Error e, const char* field, int64_t index, const char* problem, int64_t value = INT64_MIN) {
+    if (failed()) return false;
+    s_->error = e;
+    rig::MessageBuilder m(s_->message, sizeof(s_->message));
+    m.text(field);
+    if (index >= 0) m.text("[").number(index).text("]");
+    m.text(": ").text(problem);
+    if (value != INT64_MIN) m.text(" (").number(value).text(")");
+    return false;
+  }
+  bool size(const char* field, size_t got, size_t want) {
+    if (got == want) return true;
+    return fail(Error::kSize, field, -1, "length disagrees with the counts", static_cast<int64_t>(got));
+  }
+  bool limit(const char* field, size_t got, size_t max, size_t min = 0) {
+    if (got >= min && got <= max) return true;
+    return fail(Error::kLimit, field, -1, got < min ? "count below the minimum" : "count beyond the maximum",
+                static_cast<int64_t>(got));
+  }
+  bool index(const char* field, size_t i, int64_t v, int64_t end) {
+    if (v >= 0 && v < end) return true;
+    return fail(Error::kIndex, field, static_cast<int64_t>(i), "index out of range", v);
+  }
+  bool range(const char* field, size_t i, int64_t v, int64_t lo, int64_t hi) {
+    if (v >= lo && v <= hi) return true;
+    return fail(Error::kValue, field, static_cast<int64_t>(i), "value out of range", v);
+  }
+  bool scalar(const char* field, int64_t v, int64_t lo, int64_t hi) {
+    if (v >= lo && v <= hi) return true;
+    return fail(Error::kValue, field, -1, "value out of range", v);
+  }
+  bool coords(const char* field, size_t i, fx::Vec3 v) {
+    return range(field, i, v.x, -kCoordLimit, kCoordLimit) && range(field, i, v.y, -kCoordLimit, kCoordLimit) &&
+           range(field, i, v.z, -kCoordLimit, kCoordLimit);
+  }
+  bool unit_dir(const char* field, size_t i, fx::Vec3 v) {
+    const int64_t n2 = fx::dot_wide(v, v);  // Q60; unit within ~2^-18
+    if (n2 > (kOne * kOne) - (int64_t{1} << 43) && n2 < (kOne * kOne) + (int64_t{1} << 43)) return true;
+    return fail(Error::kValue, field, static_cast<int64_t>(i), "not a unit direction");
+  }
+
+ private:
+  Status* s_;
+};
+
+void check_balls(const MetaballModel& m, Checker& c) {
+  const size_t nb = m.ball_count(), nj = m.joint_count;
+  if (!c.limit("ball_rest", nb, kMaxBalls, 1) || !c.size("ball_radius", m.ball_radius.size(), nb) ||
+      !c.size("ball_bone", m.ball_bone.size(), nb) || !c.size("ball_jiggle", m.ball_jiggle.size(), nb) ||
+      !c.size("ball_joint", m.ball_joint.size(), nb * kBallInfluences) ||
+      !c.size("ball_weight", m.ball_weight.size(), nb * kBallInfluences))
+    return;
+  for (size_t b = 0; b < nb && !c.failed(); ++b) {
+    c.coords("ball_rest", b, m.ball_rest[b]);
+    c.range("ball_radius", b, m.ball_radius[b], 1, kCoordLimit);
+    c.index("ball_bone", b, m.ball_bone[b], static_cast<int64_t>(nj));
+    c.range("ball_jiggle", b, m.ball_jiggle[b], 0, kOne);
+    int64_t sum = 0;
+    for (size_t k = 0; k < kBallInfluences; ++k) {
+      const size_t i = b * kBallInfluences + k;
+      c.index("ball_joint", i, m.ball_joint[i], static_cast<int64_t>(nj));
+      c.range("ball_weight", i, m.ball_weight[i], 0, kOne);
+      sum += m.ball_weight[i];
+    }
+    if (sum != kOne) c.fail(Error::kValue, "ball_weight", static_cast<int64_t>(b), "weights do not sum to 2^30", sum);
+  }
+  if (!c.limit("pairs", m.pairs.size(), kMaxPairs)) return;
+  for (size_t p = 0; p < m.pairs.size() && !c.failed(); ++p) {
+    const BallPair& q = m.pairs[p];
+    c.index("pairs.a", p, q.a, static_cast<int64_t>(nb));
+    c.index("pairs.b", p, q.b, static_cast<int64_t>(nb));
+    if (q.a == q.b) c.fail(Error::kIndex, "pairs.b", static_cast<int64_t>(p), "a ball paired with itself", q.b);
+    c.range("pairs.rest", p, q.rest, 1, kCoordLimit);
+    c.range("pairs.share_a", p, q.share_a, 0, kOne);
+    c.range("pairs.share_b", p, q.share_b, 0, kOne);
+    if (int64_t{q.share_a} + q.share_b != kOne)
+      c.fail(Error::kValue, "pairs.share_b", static_cast<int64_t>(p), "shares do not sum to 2^30");
+    c.range("pairs.stiffness", p, q.stiffness, 0, kOne);
+  }
+  if (!c.limit("bulges", m.bulges.size(), nb)) return;
+  for (size_t i = 0; i < m.bulges.size() && !c.failed(); ++i) {
+    const BulgeRecord& r = m.bulges[i];
+    c.index("bulges.ball", i, r.ball, static_cast<int64_t>(nb));
+    c.index("bulges.bone_a", i, r.bone_a, static_cast<int64_t>(nj));
+    c.index("bulges.bone_b", i, r.bone_b, static_cast<int64_t>(nj));
+    c.range("bulges.gain", i, r.gain, 0, kOne - 1);
+  }
+  c.scalar("pbd_iterations", m.pbd_iterations, 0, kMaxPbdIterations);
+  c.scalar("jiggle_damping", m.jiggle_damping, 0, kOne - 1);
+}
+
+void check_vertices(const MetaballModel& m, Checker& c) {
+  const size_t nv = m.vertex_count, nb = m.ball_count();
+  if (!c.size("vertex_ball", m.vertex_ball.size(), nv * kVertexBalls) ||
+      !c.size("vertex_weight", m.vertex_weight.size(), nv * kVertexBalls) ||
+      !c.size("vertex_disp", m.vertex_disp.size(), nv * kVertexBalls))
+    return;
+  for (size_t v = 0; v < nv && !c.failed(); ++v) {
+    int64_t sum = 0;
+    for (size_t k = 0; k < kVertexBalls; ++k) {
+      const size_t i = v * kVertexBalls + k;
+      const fx::Unit w = m.vertex_weight[i];
+      c.range("vertex_weight", i, w, 0, kOne);
+      if (w != 0) c.index("vertex_ball", i, m.vertex_ball[i], static_cast<int64_t>(nb));
+      c.coords("vertex_disp", i, m.vertex_disp[i]);
+      sum += w;
+    }
+    if (sum != kOne) c.fail(Error::kValue, "vertex_weight", static_cast<int64_t>(v), "weights do not sum to 2^30", sum);
+  }
+}
+
+void check_joint_region(const MetaballModel& m, Checker& c) {
+  const size_t nj = m.joint_count, nv = m.vertex_count, n = m.jv_count();
+  if (!c.limit("joint_balls", m.joint_balls.size(), kMaxJointBalls)) return;
+  for (size_t i = 0; i < m.joint_balls.size() && !c.failed(); ++i) {
+    const JointBall& j = m.joint_balls[i];
+    c.index("joint_balls.joint", i, j.joint, static_cast<int64_t>(nj));
+    c.index("joint_balls.bone_a", i, j.bone_a, static_cast<int64_t>(nj));
+    c.index("joint_balls.bone_b", i, j.bone_b, static_cast<int64_t>(nj));
+    c.coords("joint_balls.rest_center", i, j.rest_center);
+  }
+  if (!c.limit("jv_vertex", n, nv) || !c.size("jv_ball", m.jv_ball.size(), n) ||
+      !c.size("jv_alpha", m.jv_alpha.size(), n) || !c.size("jv_blend", m.jv_blend.size(), n) ||
+      !c.size("jv_disp", m.jv_disp.size(), n) || !c.size("jv_laplacian", m.jv_laplacian.size(), n) ||
+      !c.size("jv_inv_count", m.jv_inv_count.size(), n) ||
+      !c.size("jv_neighbour_begin", m.jv_neighbour_begin.size(), n + 1))
+    return;
+  if (m.jv_neighbour_begin[0] != 0 || m.jv_neighbour_begin[n] != m.jv_neighbours.size())
+    return void(c.fail(Error::kIndex, "jv_neighbour_begin", 0, "does not span jv_neighbours"));
+  for (size_t i = 0; i < n && !c.failed(); ++i) {
+    c.index("jv_vertex", i, m.jv_vertex[i], static_cast<int64_t>(nv));
+    if (i > 0 && m.jv_vertex[i] <= m.jv_vertex[i - 1])
+      c.fail(Error::kIndex, "jv_vertex", static_cast<int64_t>(i), "not strictly ascending", m.jv_vertex[i]);
+    c.index("jv_ball", i, m.jv_ball[i], static_cast<int64_t>(m.joint_balls.size()));
+    c.range("jv_alpha", i, m.jv_alpha[i], 1, kOne);
+    c.range("jv_blend", i, m.jv_blend[i], 0, kOne);
+    c.coords("jv_disp", i, m.jv_disp[i]);
+    c.coords("jv_laplacian", i, m.jv_laplacian[i]);
+    const uint32_t b = m.jv_neighbour_begin[i], e = m.jv_neighbour_begin[i + 1];
+    if (e < b || e - b > kMaxNeighbours)
+      return void(c.fail(Error::kLimit, "jv_neighbour_begin", static_cast<int64_t>(i),
+                         "neighbour count negative or beyond the maximum"));
+    const int64_t cnt = e - b;  // round half up of 2^30 / cnt
+    const int64_t want = cnt == 0 ? 0 : (2 * kOne + cnt) / (2 * cnt);
+    if (m.jv_inv_count[i] != want)
+      c.fail(Error::kValue, "jv_inv_count", static_cast<int64_t>(i), "is not 2^30 / neighbour count",
+             m.jv_inv_count[i]);
+    for (uint32_t k = b; k < e && !c.failed(); ++k)
+      c.index("jv_neighbours", k, m.jv_neighbours[k], static_cast<int64_t>(nv));
+  }
+  c.scalar("smoothing_passes", m.smoothing_passes, 0, kMaxSmoothingPasses);
+  c.scalar("smoothing_rate", m.smoothing_rate, 0, kOne);
+}
+
+void check_overlaps(const MetaballModel& m, Checker& c) {
+  const size_t nj = m.joint_count, nv = m.vertex_count, nb = m.ball_count();
+  const size_t ov = m.overlap_vertices.size(), ob = m.overlap_balls.size();
+  if (!c.limit("overlaps", m.overlaps.size(), kMaxJoints)) return;
+  for (size_t i = 0; i < ov && !c.failed(); ++i)
+    c.index("overlap_vertices", i, m.overlap_vertices[i], static_cast<int64_t>(nv));
+  for (size_t i = 0; i < ob && !c.failed(); ++i)
+    c.index("overlap_balls", i, m.overlap_balls[i], static_cast<int64_t>(nb));
+  uint64_t work = 0;
+  for (size_t i = 0; i < m.overlaps.size() && !c.failed(); ++i) {
+    const OverlapRecord& r = m.overlaps[i];
+    c.index("overlaps.joint", i, r.joint, static_cast<int64_t>(nj));
+    c.index("overlaps.bone_a", i, r.bone_a, static_cast<int64_t>(nj));
+    c.index("overlaps.bone_b", i, r.bone_b, static_cast<int64_t>(nj));
+    c.unit_dir("overlaps.dir_a", i, r.dir_a);
+    c.unit_dir("overlaps.dir_b", i, r.dir_b);
+    if (r.vertices_a_begin > r.vertices_a_end || r.vertices_a_end > ov || r.vertices_b_begin > r.vertices_b_end ||
+        r.vertices_b_end > ov)
+      c.fail(Error::kIndex, "overlaps.vertices", static_cast<int64_t>(i), "range outside overlap_vertices");
+    if (r.balls_a_begin > r.balls_a_end || r.balls_a_end > ob || r.balls_b_begin > r.balls_b_end || r.balls_b_end > ob)
+      c.fail(Error::kIndex, "overlaps.balls", static_cast<int64_t>(i), "range outside overlap_balls");
+    if (c.failed()) return;
+    work += uint64_t{r.vertices_a_end - r.vertices_a_begin} * (r.balls_b_end - r.balls_b_begin) +
+            uint64_t{r.vertices_b_end - r.vertices_b_begin} * (r.balls_a_end - r.balls_a_begin);
+  }
+  if (!c.failed() && work > kMaxOverlapWork)
+    c.fail(Error::kLimit, "overlaps", -1, "vertex-ball tests per step beyond the maximum", static_cast<int64_t>(work));
+}
+
+}  // namespace
+
+const char* error_name(Error e) {
+  switch (e) {
+    case Error::kNone:
+      return "none";
+    case Error::kSize:
+      return "size";
+    case Error::kLimit:
+      return "limit";
+    case Error::kIndex:
+      return "index";
+    case Error::kValue:
+      return "value";
+    case Error::kArena:
+      return "arena";
+    case Error::kNotReady:
+      return "not-ready";
+  }
+  return "unknown";
+}
+
+Status validate(const MetaballModel& m) {
+  Status s;
+  Checker c(&s);
+  if (!c.limit("joint_count", m.joint_count, kMaxJoints, 1) ||
+      !c.limit("vertex_count", m.vertex_count, kMaxVertices, 1) ||
+      !c.size("inverse_bind", m.inverse_bind.size(), m.joint_count))
+    return s;
+  check_balls(m, c);
+  if (!c.failed()) check_vertices(m, c);
+  if (!c.failed()) check_joint_region(m, c);
+  if (!c.failed()) check_overlaps(m, c);
+  return s;
+}
+
+}  // namespace sinew::metaballs

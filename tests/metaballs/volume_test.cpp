@@ -1,0 +1,77 @@
+// Candy wrapper and joint collapse (metaballs-pbd-skinning, "Results and
+// comparisons"): the volume near the elbow and the twist joint, and the
+// smallest cross-section there, for LBS, DQS and metaballs.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "arm_scene.hpp"
+#include "measure.hpp"
+
+namespace {
+
+using sinew::test::ArmScene;
+namespace rigc = sinew::rigc;
+
+struct Region {
+  const char* name;
+  double x0, x1;
+};
+constexpr Region kElbow{"elbow", 0.22, 0.38};
+constexpr Region kTwist{"twist", 0.36, 0.50};
+
+struct Figures {
+  double volume;    // posed / rest
+  double min_ring;  // smallest ring area, posed / rest
+};
+
+Figures measure(ArmScene& s, const Region& r, bool metaballs) {
+  sinew::test::Position posed = [&](uint32_t v) {
+    return metaballs ? std::array<double, 3>{s.mb(0, v), s.mb(1, v), s.mb(2, v)}
+                     : std::array<double, 3>{s.skinned(0, v), s.skinned(1, v), s.skinned(2, v)};
+  };
+  sinew::test::Position rest = [&](uint32_t v) {
+    return std::array<double, 3>{s.rest(0, v), s.rest(1, v), s.rest(2, v)};
+  };
+  uint32_t first = 0, last = 0;
+  EXPECT_TRUE(sinew::test::ring_range(s.spec(), r.x0, r.x1, &first, &last));
+  Figures f{sinew::test::tube_volume(posed, first, last) / sinew::test::tube_volume(rest, first, last), 1e9};
+  for (uint32_t ring = first; ring <= last; ++ring)
+    f.min_ring = std::min(f.min_ring, sinew::test::ring_area(posed, ring) / sinew::test::ring_area(rest, ring));
+  return f;
+}
+
+void compare(double shoulder, double elbow, double twist, const char* label) {
+  ArmScene dqs(rigc::SkinChoice::kDualQuaternion), lbs(rigc::SkinChoice::kLinear);
+  ASSERT_TRUE(dqs.ok()) << dqs.error();
+  ASSERT_TRUE(lbs.ok()) << lbs.error();
+  ASSERT_TRUE(dqs.pose(shoulder, elbow, twist));
+  ASSERT_TRUE(lbs.pose(shoulder, elbow, twist));
+  for (const Region& r : {kElbow, kTwist}) {
+    const Figures fl = measure(lbs, r, false), fd = measure(dqs, r, false), fm = measure(dqs, r, true);
+    std::printf(
+        "%s, %s region (x %.2f-%.2f m): volume/rest LBS %.4f DQS %.4f "
+        "metaballs %.4f; "
+        "smallest ring area/rest LBS %.4f DQS %.4f metaballs %.4f\n",
+        label, r.name, r.x0, r.x1, fl.volume, fd.volume, fm.volume, fl.min_ring, fd.min_ring, fm.min_ring);
+    EXPECT_NEAR(fm.volume, 1.0, 0.05) << label << " " << r.name;
+  }
+}
+
+}  // namespace
+
+TEST(MetaballsVolume, RestPoseReproducesTheRestMesh) {
+  ArmScene s;
+  ASSERT_TRUE(s.ok()) << s.error();
+  ASSERT_TRUE(s.pose(0, 0, 0));
+  double worst = 0;
+  for (uint32_t v = 0; v < s.rig().vertex_count(); ++v)
+    for (int a = 0; a < 3; ++a) worst = std::max(worst, std::fabs(s.mb(a, v) - s.rest(a, v)));
+  std::printf("%s\nmetaballs: rest pose max deviation %.3g m\n", sinew::metaballs_build::summary(s.build()).c_str(),
+              worst);
+  EXPECT_LT(worst, 2e-6);
+}
+
+TEST(MetaballsVolume, ElbowBend90) { compare(0, 90, 0, "elbow 90 deg"); }
+TEST(MetaballsVolume, ForearmTwist180) { compare(0, 0, 180, "twist 180 deg"); }
+TEST(MetaballsVolume, ElbowBend90AndTwist180) { compare(0, 90, 180, "elbow 90 + twist 180 deg"); }
