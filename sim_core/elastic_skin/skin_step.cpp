@@ -1,0 +1,65 @@
+#include "skin_step.hpp"
+
+#include "reaction.hpp"
+#include "relaxation.hpp"
+#include "skin_validate.hpp"
+#include "virtual_anchors.hpp"
+
+namespace sinew::elastic_skin {
+namespace {
+
+// Penetration the final check tolerates: 2^-10 on the inside/outside function.
+constexpr fx::Unit kInsideTolerance = fx::kUnitOne >> 10;
+
+LayerStatus bad_input(const char* field, const char* problem) {
+  return muscle::layer_fail(LayerError::kBadInput, "skin step", -1, field, problem);
+}
+
+}  // namespace
+
+LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles, const muscle::MuscleState& mstate,
+                      std::span<const fx::Mat34> bones, SkinState* state) {
+  if (state == nullptr) return bad_input("state", "null");
+  if (bones.size() < model.joint_count) return bad_input("bones", "fewer transforms than the model's joints");
+  if (state->vertex_count != model.vertex_count || state->weight.size() != model.vertex_count)
+    return bad_input("state", "not initialised for this skin model");
+  if (mstate.ring_vertices != muscles.ring_vertices || mstate.frames.size() != muscles.muscles.size() * muscle::kSlices ||
+      mstate.primitives.size() != muscles.primitives.size())
+    return bad_input("muscle state", "not initialised for this muscle model");
+  const LayerStatus checked = skin_check_indices(model, muscles, static_cast<uint32_t>(bones.size()));
+  if (!checked.ok()) return checked;
+
+  SkinState& s = *state;
+  s.stats = SkinStats{s.stats.steps, 0, 0, 0, 0, 0, 0, 0};
+  const bool warm = model.params.warm_start != 0 && s.started != 0;
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
+    s.anchor[0][v] = a.position.x;
+    s.anchor[1][v] = a.position.y;
+    s.anchor[2][v] = a.position.z;
+    s.normal[0][v] = a.normal.x;
+    s.normal[1][v] = a.normal.y;
+    s.normal[2][v] = a.normal.z;
+    if (!warm) {
+      s.position[0][v] = a.position.x;
+      s.position[1][v] = a.position.y;
+      s.position[2][v] = a.position.z;
+    }
+  }
+  const uint32_t iterations = model.params.iterations;
+  for (uint32_t i = 0; i < iterations; ++i) {
+    s.max_relax[i] = relax_once(model, mstate, &s);
+    s.stats.collisions += collide_with_anchor_spheres(model, &s);
+    const fx::Unit gain = i + 1 == iterations ? fx::kUnitOne : model.params.reaction_gain;
+    s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s);
+  }
+  s.stats.iterations = iterations;
+  s.stats.max_relax_first = s.max_relax[0];
+  s.stats.max_relax_last = s.max_relax[iterations - 1];
+  s.stats.inside_after = count_inside(model, mstate, kInsideTolerance, s);
+  s.started = 1;
+  ++s.stats.steps;
+  return {};
+}
+
+}  // namespace sinew::elastic_skin
