@@ -87,7 +87,8 @@ uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s) {
     // Sphere tangent to the skin's tangent plane at the virtual anchor.
     const fx::Vec3 centre = fx::sub(anchor, muscle::along(normal, radius));
     const fx::Vec3 d = fx::sub(at(s->position, v), centre);
-    if (fx::length(d) >= static_cast<uint32_t>(radius)) continue;
+    // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
+    if (int64_t{fx::length(d)} + 2 >= radius) continue;
     fx::Vec3 dir{};
     const fx::Vec3 out = fx::normalize_to_unit(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
     s->position[0][v] = out.x;

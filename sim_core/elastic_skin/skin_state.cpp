@@ -10,6 +10,7 @@ muscle::ArenaCarver layout(const SkinModel& model, void* base, size_t size, Skin
   const size_t n = model.vertex_count;
   for (int a = 0; a < 3; ++a) s->position[a] = c.take<fx::Len>(n);
   for (int a = 0; a < 3; ++a) s->anchor[a] = c.take<fx::Len>(n);
+  for (int a = 0; a < 3; ++a) s->previous[a] = c.take<fx::Len>(n);
   for (int a = 0; a < 3; ++a) s->normal[a] = c.take<fx::Unit>(n);
   for (int a = 0; a < 3; ++a) s->force[a] = c.take<int64_t>(n);
   s->weight = c.take<int64_t>(n);

@@ -11,6 +11,18 @@ namespace {
 // Penetration the final check tolerates: 2^-10 on the inside/outside function.
 constexpr fx::Unit kInsideTolerance = fx::kUnitOne >> 10;
 
+// Largest move of a vertex since the start of the iteration.
+fx::Len largest_move(const SkinState& s, uint32_t n) {
+  uint32_t worst = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    const fx::Vec3 d{fx::sub_sat(s.position[0][v], s.previous[0][v]), fx::sub_sat(s.position[1][v], s.previous[1][v]),
+                     fx::sub_sat(s.position[2][v], s.previous[2][v])};
+    const uint32_t l = fx::length(d);
+    if (l > worst) worst = l;
+  }
+  return fx::sat_i32(int64_t{worst});
+}
+
 LayerStatus bad_input(const char* field, const char* problem) {
   return muscle::layer_fail(LayerError::kBadInput, "skin step", -1, field, problem);
 }
@@ -48,10 +60,13 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   }
   const uint32_t iterations = model.params.iterations;
   for (uint32_t i = 0; i < iterations; ++i) {
-    s.max_relax[i] = relax_once(model, mstate, &s);
+    for (int c = 0; c < 3; ++c)
+      for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
+    relax_once(model, mstate, &s);
     s.stats.collisions += collide_with_anchor_spheres(model, &s);
     const fx::Unit gain = i + 1 == iterations ? fx::kUnitOne : model.params.reaction_gain;
     s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s);
+    s.max_relax[i] = largest_move(s, model.vertex_count);
   }
   s.stats.iterations = iterations;
   s.stats.max_relax_first = s.max_relax[0];

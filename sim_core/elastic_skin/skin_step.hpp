@@ -5,10 +5,11 @@
 //   1. virtual anchors mapped forward (§5.1) -> SkinState::anchor, ::normal
 //   2. start from the anchors (or the last skin when params.warm_start)
 //   3. params.iterations times, in this order:
-//        relaxation round (§5.2, eqs. 1-2)          -> max_relax[i]
+//        relaxation round (§5.2, eqs. 1-2)
 //        collision spheres under the anchors (§5.2)
 //        reaction constraints with the fat layer (LEMAN §3, §5.6);
 //        the last iteration removes all remaining penetration
+//        -> max_relax[i]: the largest net move of a vertex in the round
 //   4. count fat points still inside a primitive (stats.inside_after)
 // Worst-case work: iterations * (edges + bands + vertices * (1 + primitives
 // * newton_steps)); no allocation.

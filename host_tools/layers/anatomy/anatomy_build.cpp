@@ -183,6 +183,7 @@ class Builder {
     uint32_t muscle = 0, segment = 0;
     P3 stu{};
     double distance = std::numeric_limits<double>::infinity();
+    double residual = 0;
   };
 
   MuscleHit nearest_muscle(const P3& p) {
@@ -196,15 +197,12 @@ class Builder {
         for (int c = 0; c < 8; ++c) corners[c] = from_vec(cf[c]);
         P3 stu;
         double residual = 0;
-        if (!trilinear_inverse(corners, p, &stu, &residual)) continue;
+        if (!trilinear_inverse(corners, p, &stu, &residual) || !(residual < 1e-9)) continue;
         if (!(stu[2] >= 0 && stu[2] <= 1 && std::fabs(stu[0]) <= 15 && std::fabs(stu[1]) <= 15)) continue;
         double d = std::numeric_limits<double>::infinity();
         for (uint32_t side = 0; side < 2; ++side)
           for (uint32_t j = 0; j < ring; ++j) d = std::min(d, norm(sub(p, muscle_vertex(m, k + side, j))));
-        if (d < best.distance) {
-          best = {true, m, k, stu, d};
-          out_.report.max_newton_residual = std::max(out_.report.max_newton_residual, residual);
-        }
+        if (d < best.distance) best = {true, m, k, stu, d, residual};
       }
     return best;
   }
@@ -281,6 +279,7 @@ class Builder {
       es::Anchor& a = out_.anchors[v];
       if (hit.found && hit.distance < bone) {
         a.kind = static_cast<uint8_t>(es::AnchorKind::kMuscle);
+        out_.report.max_newton_residual = std::max(out_.report.max_newton_residual, hit.residual);
         a.component = hit.muscle;
         a.segment = hit.segment;
         for (size_t c = 0; c < 3; ++c) a.param[c] = rigc::to_fixed(hit.stu[c], 24);

@@ -84,8 +84,9 @@ struct AnatomySpec {
   SkinSpec skin;
 };
 
-// The built-in arm's anatomy: a biceps (upper arm -> forearm, front) and a
-// triceps (upper arm -> olecranon, back, with a pivot behind the elbow),
+// The built-in arm's anatomy: a biceps (upper arm -> forearm, front, with a
+// pivot in front of the elbow) and a triceps (upper arm -> olecranon, back,
+// with a pivot behind the elbow),
 // one superellipsoid primitive each, rubber bands at their bellies.
 AnatomySpec arm_anatomy(const rigc::RigSpec& arm);
 

@@ -21,8 +21,14 @@ AnatomySpec arm_anatomy(const rigc::RigSpec& arm) {
   biceps.name = "biceps";
   biceps.origin[0] = {shoulder, {0.1, 2.0, -0.8}};
   biceps.origin[1] = {shoulder, {0.1, 2.0, 0.8}};
-  biceps.insertion[0] = {elbow, {0.5, 0.8, -0.6}};
-  biceps.insertion[1] = {elbow, {0.5, 0.8, 0.6}};
+  biceps.insertion[0] = {elbow, {0.35, 1.2, -0.6}};
+  biceps.insertion[1] = {elbow, {0.35, 1.2, 0.6}};
+  // The belly runs along the humerus to a pivot in front of its distal end,
+  // then bends over the elbow: flexion shortens the path and thickens the
+  // belly without lifting it off the bone.
+  biceps.has_pivot = true;
+  biceps.pivot = {shoulder, {0.85, 1.8, 0}};
+  biceps.pivot_slice = 6;
   biceps.half_width = {0.008, 0.016, 0.020, 0.022, 0.022, 0.018, 0.012, 0.006};
   biceps.half_thickness = {0.004, 0.010, 0.014, 0.016, 0.016, 0.013, 0.008, 0.004};
   biceps.bulge = {0, 0.003, 0.005, 0.006, 0.006, 0.005, 0.003, 0};
@@ -50,7 +56,7 @@ AnatomySpec arm_anatomy(const rigc::RigSpec& arm) {
   bp.exponent = 4;
   bp.index = 0;
   bp.segment = 3;
-  bp.extent = {0.016, 0.015, 0.09};
+  bp.extent = {0.016, 0.013, 0.09};
   a.primitives.push_back(bp);
   PrimitiveSpec tp;  // triceps belly: an ellipsoid (p = 2)
   tp.kind = 2;
