@@ -40,9 +40,17 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
     const int64_t excess = len - e.rest;
     const int64_t k = effective_stiffness(model.params, e.k, excess, e.rest);
     // Elastic force on a: excess along w / |w| (towards b when stretched).
-    fx::Vec3 dir{};
-    if (k == 0 || !fx::normalize_to_unit(w, &dir)) continue;
-    const fx::Vec3 f = muscle::along(dir, fx::sat_i32(excess));
+    if (k == 0 || len == 0) continue;
+    fx::Vec3 f;
+    if (len < (int64_t{1} << 30)) {
+      // |w_c| <= len < 2^30 and |excess| < 2^31: exact products, one rounding.
+      f = {fx::sat_i32(fx::div_round(w.x * excess, len)), fx::sat_i32(fx::div_round(w.y * excess, len)),
+           fx::sat_i32(fx::div_round(w.z * excess, len))};
+    } else {  // edges longer than half the Len range: via the unit direction
+      fx::Vec3 dir{};
+      fx::normalize_to_unit(w, &dir);
+      f = muscle::along(dir, fx::sat_i32(excess));
+    }
     accumulate(s, e.a, k, f);
     accumulate(s, e.b, k, {fx::neg_sat(f.x), fx::neg_sat(f.y), fx::neg_sat(f.z)});
   }

@@ -54,7 +54,7 @@ struct MuscleRecord {
 enum class PrimitiveKind : uint8_t {
   kSphere = 0,          // extent[0] is the radius (extent[1..2] must equal it)
   kCylinder = 1,        // elliptic cross-section extent[0..1] about Z, half height extent[2]
-  kSuperellipsoid = 2,  // |x/a|^p + |y/b|^p + |z/c|^p < 1, p = exponent in {2, 4, 6, 8}
+  kSuperellipsoid = 2,  // |x/a|^p + |y/b|^p + |z/c|^p < 1, p = exponent in {2, 4, 8}
 };
 
 enum class PrimitiveAttach : uint8_t {
@@ -66,7 +66,7 @@ enum class PrimitiveAttach : uint8_t {
 struct PrimitiveRecord {
   uint8_t kind = 0;      // PrimitiveKind
   uint8_t attach = 0;    // PrimitiveAttach
-  uint8_t exponent = 2;  // superellipsoid exponent p: 2, 4, 6 or 8 (sphere, cylinder: 2)
+  uint8_t exponent = 2;  // superellipsoid exponent p: 2, 4 or 8 (sphere, cylinder: 2)
   uint8_t active = 1;    // inactive primitives are carried but never push the skin
   uint32_t index = 0;    // bone (joint) index or muscle index
   uint32_t segment = 0;  // muscle attach: centre between slices segment and segment + 1 (0..6)

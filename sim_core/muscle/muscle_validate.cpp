@@ -58,8 +58,8 @@ LayerStatus check_primitive(const rig::Rig& rig, const MuscleModel& model, const
     return bad("primitive", i, "attach", "unknown attachment", p.attach, true);
   }
   const bool super = p.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid);
-  if (super ? (p.exponent < 2 || p.exponent > 8 || p.exponent % 2 != 0) : p.exponent != 2)
-    return bad("primitive", i, "exponent", "must be 2, 4, 6 or 8 (2 for spheres and cylinders)", p.exponent, true);
+  if (super ? (p.exponent != 2 && p.exponent != 4 && p.exponent != 8) : p.exponent != 2)
+    return bad("primitive", i, "exponent", "must be 2, 4 or 8 (2 for spheres and cylinders)", p.exponent, true);
   fx::Len lo = p.extent[0], hi = p.extent[0];
   for (int c = 0; c < 3; ++c) {
     if (p.extent[c] <= 0) return bad("primitive", i, "extent", "must be > 0", p.extent[c], true);

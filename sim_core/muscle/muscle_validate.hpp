@@ -14,7 +14,7 @@ namespace sinew::muscle {
 //  - a muscle whose origin is not proximal to its insertion: every origin
 //    bone must be the insertion bone or one of its ancestors (§4.1);
 //  - pivot_slice outside 1..6, rest_length <= 0, negative slice radii;
-//  - primitives of unknown kind/attach, exponent not in {2, 4, 6, 8},
+//  - primitives of unknown kind/attach, exponent not in {2, 4, 8},
 //    non-positive extents, an aspect ratio above kMaxPrimitiveAspect,
 //    a sphere with unequal extents, a muscle segment outside 0..6.
 LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model);

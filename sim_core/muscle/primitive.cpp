@@ -1,5 +1,7 @@
 #include "primitive.hpp"
 
+#include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
 #include "vec_ops.hpp"
 
 namespace sinew::muscle {
@@ -20,7 +22,6 @@ Powers powers(fx::Unit q, int exponent) {
   if (exponent == 2) return {q2, q};
   const fx::Unit q4 = fx::mul_unit(q2, q2);
   if (exponent == 4) return {q4, fx::mul_unit(q2, q)};
-  if (exponent == 6) return {fx::mul_unit(q4, q2), fx::mul_unit(q4, q)};
   return {fx::mul_unit(q4, q4), fx::mul_unit(fx::mul_unit(q4, q2), q)};
 }
 
@@ -43,19 +44,28 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
   }
   const int terms = cylinder ? 2 : 3;
   int64_t value = 0;
-  int32_t g[3] = {0, 0, 0};
+  int64_t g[3] = {0, 0, 0};  // dF/dx_i * emax = p q^(p-1) (emax / a_i), Q2.30 x Q16 -> Q46
+  uint64_t largest = 0;
   for (int i = 0; i < terms; ++i) {
     const fx::Unit q = fx::sat_i32(fx::div_round(local[i] * kOne, f.extent[i]));  // |q| < 1
     const Powers pw = powers(q, exponent);
     value += pw.p;
-    // dF/dx_i * emax = p q^(p-1) * (emax / a_i): Q2.30 x Q16 ratio -> Q20.
-    const int64_t ratio = fx::div_round(int64_t{emax} << 16, f.extent[i]);  // <= 2^16 * aspect
-    g[i] = fx::sat_i32(fx::round_shift(int64_t{exponent} * pw.p_minus1 * ratio, 26));
+    const int64_t ratio = fx::div_round(int64_t{emax} << 16, f.extent[i]);  // <= 2^16 * aspect (2^22)
+    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;                          // < 2^3 * 2^30 * 2^22
+    const uint64_t m = fx::magnitude(g[i]);
+    if (m > largest) largest = m;
   }
   s.value = value;
   s.inside = value < kOne;
-  const fx::Vec3 g_local{g[0], g[1], g[2]};
-  s.gradient_length = fx::sat_i32(fx::length(g_local));
+  // Keep the gradient's direction exact whatever its size: shift it so the
+  // largest component has 30 significant bits, normalise, remember the shift.
+  int shift = 0;
+  while ((largest >> shift) >= (uint64_t{1} << 30)) ++shift;
+  const auto narrow = [&](int64_t v) { return fx::sat_i32(shift > 0 ? fx::round_shift(v, shift) : v); };
+  const fx::Vec3 g_local{narrow(g[0]), narrow(g[1]), narrow(g[2])};
+  // |grad F| * emax in Q20: |g| (Q46 >> shift) shifted to 20 fractional bits.
+  const int64_t glen = fx::length(g_local);
+  s.gradient_length = fx::sat_i32(shift >= 26 ? glen << (shift - 26) : fx::round_shift(glen, 26 - shift));
   fx::Vec3 n{};
   if (fx::normalize_to_unit(g_local, &n)) {
     const auto world = [&](int c) {
@@ -72,16 +82,23 @@ fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallba
   fx::Len emax = 0;
   for (int i = 0; i < 3; ++i)
     if (f.extent[i] > emax) emax = f.extent[i];
+  const int exponent = f.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid) ? f.exponent : 2;
   for (int step = 0; step < newton_steps; ++step) {
     const PrimitiveSample s = primitive_sample(f, p);
     if (!s.inside) break;
+    // Newton along the gradient on G = F^(1/p), which grows linearly along
+    // rays from the centre (F is homogeneous of degree p): a step lands on
+    // the surface for radial gradients and close to it otherwise, where
+    // Newton on F itself would overshoot. delta = (1 - G) / |grad G|
+    // = p (1 - r) F / (r |grad F|), r = F^(1/p) by repeated square roots.
+    uint64_t r = static_cast<uint64_t>(s.value);
+    for (int e = exponent; e > 1; e /= 2) r = fx::isqrt_u64(r << fx::kUnitFracBits);
     fx::Vec3 dir = s.normal;
     int64_t delta = emax / 2;
-    if (s.gradient_length > 0 && !(dir == fx::Vec3{0, 0, 0})) {
-      // Newton on F along the gradient: delta = (1 - F) / |grad F|; F is
-      // convex, so the step lands on or just past the surface. +1 LSB makes
-      // a point on the surface leave it.
-      delta = fx::div_round((kOne - s.value) * emax, int64_t{s.gradient_length} << 10) + 1;
+    const int64_t den = fx::round_shift(static_cast<int64_t>(r) * s.gradient_length, fx::kUnitFracBits);
+    if (den > 0 && !(dir == fx::Vec3{0, 0, 0})) {
+      const int64_t num = fx::round_shift(int64_t{exponent} * (kOne - static_cast<int64_t>(r)) * s.value, 30);
+      delta = fx::div_round(fx::mul_shift_round(num, emax, 10), den) + 1;  // +1 LSB: leave the surface
     } else {
       dir = fallback;
     }

@@ -29,8 +29,8 @@ struct PrimitiveSample {
 PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p);
 
 // Moves p out of the primitive along the gradient: `newton_steps` Newton
-// steps on F along the gradient (delta = (1 - F) / |grad F|, never more than
-// the largest extent). `fallback` (a unit vector) is used at the centre,
+// steps on G = F^(1/p) along the gradient (never more than the largest
+// extent per step). `fallback` (a unit vector) is used at the centre,
 // where the gradient vanishes. Returns the moved point (p if outside).
 fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps);
 

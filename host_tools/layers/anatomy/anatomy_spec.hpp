@@ -44,7 +44,7 @@ struct MuscleSpec {
 struct PrimitiveSpec {
   int kind = 2;      // muscle::PrimitiveKind: 0 sphere, 1 cylinder, 2 superellipsoid
   int attach = 1;    // muscle::PrimitiveAttach: 0 bone, 1 muscle
-  int exponent = 2;  // 2, 4, 6, 8
+  int exponent = 2;  // 2, 4, 8
   bool active = true;
   int index = 0;     // bone or muscle
   int segment = 3;   // muscle attach: between slices segment and segment + 1
