@@ -1,5 +1,7 @@
 #include "relaxation.hpp"
 
+#include "hinted_sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
 
 namespace sinew::elastic_skin {
@@ -36,16 +38,20 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
 
   for (const Edge& e : model.edges) {
     const fx::Vec3 w = fx::sub(at(s->position, e.b), at(s->position, e.a));
-    const int64_t len = fx::length(w);
+    const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
+    const int64_t len = isqrt_hinted(wx * wx + wy * wy + wz * wz, static_cast<uint64_t>(e.rest));  // < 3 * 2^62
     const int64_t excess = len - e.rest;
     const int64_t k = effective_stiffness(model.params, e.k, excess, e.rest);
     // Elastic force on a: excess along w / |w| (towards b when stretched).
     if (k == 0 || len == 0) continue;
     fx::Vec3 f;
     if (len < (int64_t{1} << 30)) {
-      // |w_c| <= len < 2^30 and |excess| < 2^31: exact products, one rounding.
-      f = {fx::sat_i32(fx::div_round(w.x * excess, len)), fx::sat_i32(fx::div_round(w.y * excess, len)),
-           fx::sat_i32(fx::div_round(w.z * excess, len))};
+      // One division per edge: ratio = excess / len in Q2.30, then w * ratio.
+      // |w_c| <= len bounds each product by |excess| * 2^30 < 2^62.
+      const int64_t ratio = fx::div_round(excess * (int64_t{1} << fx::kUnitFracBits), len);
+      f = {fx::sat_i32(fx::round_shift(w.x * ratio, fx::kUnitFracBits)),
+           fx::sat_i32(fx::round_shift(w.y * ratio, fx::kUnitFracBits)),
+           fx::sat_i32(fx::round_shift(w.z * ratio, fx::kUnitFracBits))};
     } else {  // edges longer than half the Len range: via the unit direction
       fx::Vec3 dir{};
       fx::normalize_to_unit(w, &dir);
@@ -96,7 +102,9 @@ uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s) {
     const fx::Vec3 centre = fx::sub(anchor, muscle::along(normal, radius));
     const fx::Vec3 d = fx::sub(at(s->position, v), centre);
     // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
-    if (int64_t{fx::length(d)} + 2 >= radius) continue;
+    // Squared distances first: most vertices are outside, no root needed.
+    const int64_t r2 = int64_t{radius - 2} * (radius - 2);
+    if (fx::dot_wide(d, d) >= r2) continue;
     fx::Vec3 dir{};
     const fx::Vec3 out = fx::normalize_to_unit(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
     s->position[0][v] = out.x;

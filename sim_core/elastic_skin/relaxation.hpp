@@ -9,8 +9,8 @@
 // Work: O(edges + bands + vertices).
 #pragma once
 
-#include "skin_state.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
+#include "skin_state.hpp"
 
 namespace sinew::elastic_skin {
 

@@ -38,12 +38,12 @@ enum class AnchorKind : uint8_t {
 struct Anchor {
   uint8_t kind = 0;  // AnchorKind
   uint8_t reserved[3] = {};
-  uint32_t component = 0;  // kBone: first bone (joint); kMuscle: muscle index
-  uint32_t bone_b = 0;     // kBone: second bone (== component for one bone)
-  uint32_t segment = 0;    // kMuscle: the cell between slices segment and segment + 1 (0..6)
-  fx::Unit weight_b = 0;   // kBone: weight of bone_b, [0, 1] in Q2.30
+  uint32_t component = 0;                       // kBone: first bone (joint); kMuscle: muscle index
+  uint32_t bone_b = 0;                          // kBone: second bone (== component for one bone)
+  uint32_t segment = 0;                         // kMuscle: the cell between slices segment and segment + 1 (0..6)
+  fx::Unit weight_b = 0;                        // kBone: weight of bone_b, [0, 1] in Q2.30
   fx::Vec3 local_a{0, 0, 0}, local_b{0, 0, 0};  // kBone: rest position in each bone's frame (Len)
-  fx::Lin param[3] = {};  // kMuscle: (s, t, u), Q8.24
+  fx::Lin param[3] = {};                        // kMuscle: (s, t, u), Q8.24
   // Rest outward skin normal, Q2.30: kBone in each bone's frame (normal_a,
   // normal_b); kMuscle in the slice frame (X, Y, Z) of `segment` (normal_a).
   fx::Vec3 normal_a{0, 0, 0}, normal_b{0, 0, 0};
@@ -86,9 +86,9 @@ struct SkinParams {
 struct SkinModel {
   uint32_t joint_count = 0;  // joints of the rig the model was built for
   uint32_t vertex_count = 0;
-  std::span<const Anchor> anchors;               // one per vertex
-  std::span<const Stiffness> anchor_stiffness;   // k_a = C_a * sum(a_i) / 3 (eq. 2), one per vertex
-  std::span<const fx::Len> fat;                  // fat thickness below the skin (LEMAN §5.6), >= 0, one per vertex
+  std::span<const Anchor> anchors;              // one per vertex
+  std::span<const Stiffness> anchor_stiffness;  // k_a = C_a * sum(a_i) / 3 (eq. 2), one per vertex
+  std::span<const fx::Len> fat;                 // fat thickness below the skin (LEMAN §5.6), >= 0, one per vertex
   std::span<const Edge> edges;
   std::span<const RubberBand> bands;
   SkinParams params;

@@ -28,8 +28,8 @@ size_t skin_state_bytes(const SkinModel& model) {
 LayerStatus skin_state_init(const SkinModel& model, void* memory, size_t bytes, SkinState* out) {
   if (out == nullptr) return muscle::layer_fail(LayerError::kMemory, "skin state", -1, "", "null output");
   if (model.vertex_count > kMaxVertices)
-    return muscle::layer_fail(LayerError::kBadModel, "skin model", -1, "vertex_count", "above 2^20",
-                              model.vertex_count, true);
+    return muscle::layer_fail(LayerError::kBadModel, "skin model", -1, "vertex_count", "above 2^20", model.vertex_count,
+                              true);
   if (!muscle::aligned8(memory))
     return muscle::layer_fail(LayerError::kMemory, "skin state", -1, "memory", "null or not 8-byte aligned");
   SkinState s;

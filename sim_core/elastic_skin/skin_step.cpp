@@ -2,6 +2,8 @@
 
 #include "reaction.hpp"
 #include "relaxation.hpp"
+#include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
 #include "skin_validate.hpp"
 #include "virtual_anchors.hpp"
 
@@ -13,14 +15,18 @@ constexpr fx::Unit kInsideTolerance = fx::kUnitOne >> 10;
 
 // Largest move of a vertex since the start of the iteration.
 fx::Len largest_move(const SkinState& s, uint32_t n) {
-  uint32_t worst = 0;
+  uint64_t worst = 0;  // squared: one root at the end
   for (uint32_t v = 0; v < n; ++v) {
-    const fx::Vec3 d{fx::sub_sat(s.position[0][v], s.previous[0][v]), fx::sub_sat(s.position[1][v], s.previous[1][v]),
-                     fx::sub_sat(s.position[2][v], s.previous[2][v])};
-    const uint32_t l = fx::length(d);
-    if (l > worst) worst = l;
+    const uint64_t dx = fx::magnitude(int64_t{s.position[0][v]} - s.previous[0][v]);
+    const uint64_t dy = fx::magnitude(int64_t{s.position[1][v]} - s.previous[1][v]);
+    const uint64_t dz = fx::magnitude(int64_t{s.position[2][v]} - s.previous[2][v]);
+    // Each difference < 2^32; clamp the sum of squares instead of wrapping.
+    const uint64_t lim = uint64_t{1} << 62;
+    const uint64_t d2 =
+        (dx >= lim >> 31 || dy >= lim >> 31 || dz >= lim >> 31) ? UINT64_MAX : dx * dx + dy * dy + dz * dz;
+    if (d2 > worst) worst = d2;
   }
-  return fx::sat_i32(int64_t{worst});
+  return fx::sat_i32(int64_t{fx::isqrt_u64(worst)});
 }
 
 LayerStatus bad_input(const char* field, const char* problem) {
@@ -35,7 +41,8 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   if (bones.size() < model.joint_count) return bad_input("bones", "fewer transforms than the model's joints");
   if (state->vertex_count != model.vertex_count || state->weight.size() != model.vertex_count)
     return bad_input("state", "not initialised for this skin model");
-  if (mstate.ring_vertices != muscles.ring_vertices || mstate.frames.size() != muscles.muscles.size() * muscle::kSlices ||
+  if (mstate.ring_vertices != muscles.ring_vertices ||
+      mstate.frames.size() != muscles.muscles.size() * muscle::kSlices ||
       mstate.primitives.size() != muscles.primitives.size())
     return bad_input("muscle state", "not initialised for this muscle model");
   const LayerStatus checked = skin_check_indices(model, muscles, static_cast<uint32_t>(bones.size()));

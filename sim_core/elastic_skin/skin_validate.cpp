@@ -17,7 +17,8 @@ LayerStatus check_anchor(const Anchor& a, uint32_t v, const muscle::MuscleModel&
       return bad("skin anchor", v, "weight_b", "outside [0, 1]", a.weight_b, true);
     return {};
   }
-  if (a.kind != static_cast<uint8_t>(AnchorKind::kMuscle)) return bad("skin anchor", v, "kind", "unknown", a.kind, true);
+  if (a.kind != static_cast<uint8_t>(AnchorKind::kMuscle))
+    return bad("skin anchor", v, "kind", "unknown", a.kind, true);
   if (a.component >= muscles.muscles.size())
     return bad("skin anchor", v, "component", "no such muscle (anchor outside every component)", a.component, true);
   if (a.segment + 1 >= muscle::kSlices) return bad("skin anchor", v, "segment", "must be 0..6", a.segment, true);

@@ -11,9 +11,9 @@ namespace sinew::muscle {
 
 enum class LayerError : uint8_t {
   kNone = 0,
-  kBadModel,   // a model record is out of its documented range
-  kBadInput,   // a step input (span size, bone transform count) disagrees with the model
-  kMemory,     // caller memory missing, misaligned or too small
+  kBadModel,  // a model record is out of its documented range
+  kBadInput,  // a step input (span size, bone transform count) disagrees with the model
+  kMemory,    // caller memory missing, misaligned or too small
 };
 
 struct LayerStatus {

@@ -64,12 +64,12 @@ enum class PrimitiveAttach : uint8_t {
 
 // An implicit primitive the skin may not enter (LEMAN §5.2, §6.11).
 struct PrimitiveRecord {
-  uint8_t kind = 0;      // PrimitiveKind
-  uint8_t attach = 0;    // PrimitiveAttach
-  uint8_t exponent = 2;  // superellipsoid exponent p: 2, 4 or 8 (sphere, cylinder: 2)
-  uint8_t active = 1;    // inactive primitives are carried but never push the skin
-  uint32_t index = 0;    // bone (joint) index or muscle index
-  uint32_t segment = 0;  // muscle attach: centre between slices segment and segment + 1 (0..6)
+  uint8_t kind = 0;          // PrimitiveKind
+  uint8_t attach = 0;        // PrimitiveAttach
+  uint8_t exponent = 2;      // superellipsoid exponent p: 2, 4 or 8 (sphere, cylinder: 2)
+  uint8_t active = 1;        // inactive primitives are carried but never push the skin
+  uint32_t index = 0;        // bone (joint) index or muscle index
+  uint32_t segment = 0;      // muscle attach: centre between slices segment and segment + 1 (0..6)
   fx::Vec3 centre{0, 0, 0};  // Len: bone-frame centre, or offset in the slice frame for muscles
   fx::Len extent[3] = {};    // rest half-extents along the frame's X, Y, Z, > 0
 };

@@ -36,7 +36,8 @@ LayerStatus muscle_state_init(const MuscleModel& model, void* memory, size_t byt
                       ring, true);
   if (model.muscles.size() > kMaxMuscles || model.primitives.size() > kMaxPrimitives)
     return layer_fail(LayerError::kBadModel, "muscle model", -1, "muscles", "more records than the documented maxima");
-  if (!aligned8(memory)) return layer_fail(LayerError::kMemory, "muscle state", -1, "memory", "null or not 8-byte aligned");
+  if (!aligned8(memory))
+    return layer_fail(LayerError::kMemory, "muscle state", -1, "memory", "null or not 8-byte aligned");
   MuscleState s;
   const ArenaCarver c = layout(model, memory, bytes, &s);
   if (c.failed())

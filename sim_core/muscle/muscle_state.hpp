@@ -15,7 +15,7 @@ namespace sinew::muscle {
 // axis towards the insertions, X across (width), Y = Z x X (thickness; -Y
 // points outward from the bone). Radii are the present ellipse half-axes.
 struct SliceFrame {
-  fx::Vec3 centre{0, 0, 0};  // Len
+  fx::Vec3 centre{0, 0, 0};                     // Len
   fx::Vec3 x{0, 0, 0}, y{0, 0, 0}, z{0, 0, 0};  // Q2.30 unit
   fx::Len radius_x = 0, radius_y = 0;
 };

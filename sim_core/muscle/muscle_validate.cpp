@@ -21,7 +21,8 @@ bool is_ancestor_or_self(const rig::Rig& rig, uint32_t ancestor, uint32_t joint)
 LayerStatus check_muscle(const rig::Rig& rig, const MuscleRecord& r, uint32_t i) {
   const uint32_t joints = rig.joint_count();
   for (int k = 0; k < 2; ++k) {
-    if (r.origin[k].bone >= joints) return bad("muscle", i, "origin.bone", "not a joint of the rig", r.origin[k].bone, true);
+    if (r.origin[k].bone >= joints)
+      return bad("muscle", i, "origin.bone", "not a joint of the rig", r.origin[k].bone, true);
     if (r.insertion[k].bone >= joints)
       return bad("muscle", i, "insertion.bone", "not a joint of the rig", r.insertion[k].bone, true);
   }

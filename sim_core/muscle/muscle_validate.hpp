@@ -2,8 +2,8 @@
 // after loading; the step then only re-checks the indices it dereferences.
 #pragma once
 
-#include "muscle_model.hpp"
 #include "layer_status.hpp"
+#include "muscle_model.hpp"
 #include "sim_core/rig/rig.hpp"
 
 namespace sinew::muscle {

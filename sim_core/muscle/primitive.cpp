@@ -51,7 +51,7 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
     const Powers pw = powers(q, exponent);
     value += pw.p;
     const int64_t ratio = fx::div_round(int64_t{emax} << 16, f.extent[i]);  // <= 2^16 * aspect (2^22)
-    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;                          // < 2^3 * 2^30 * 2^22
+    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;                         // < 2^3 * 2^30 * 2^22
     const uint64_t m = fx::magnitude(g[i]);
     if (m > largest) largest = m;
   }

@@ -16,9 +16,7 @@ inline fx::Vec3 midpoint(fx::Vec3 a, fx::Vec3 b) {
 
 // a + (b - a) * num / den, den > 0, 0 <= num <= den; one rounding per component.
 inline fx::Vec3 lerp_ratio(fx::Vec3 a, fx::Vec3 b, int64_t num, int64_t den) {
-  const auto one = [&](int32_t p, int32_t q) {
-    return fx::sat_i32(p + fx::div_round((int64_t{q} - p) * num, den));
-  };
+  const auto one = [&](int32_t p, int32_t q) { return fx::sat_i32(p + fx::div_round((int64_t{q} - p) * num, den)); };
   return {one(a.x, b.x), one(a.y, b.y), one(a.z, b.z)};
 }
 
@@ -47,8 +45,8 @@ inline fx::Vec3 cross_unit(fx::Vec3 a, fx::Vec3 b) { return fx::cross(a, b, fx::
 
 // A unit vector perpendicular to the unit vector z (deterministic choice).
 inline fx::Vec3 any_perpendicular(fx::Vec3 z) {
-  const fx::Vec3 pick = (z.x > fx::kUnitOne / 2 || z.x < -fx::kUnitOne / 2) ? fx::Vec3{0, fx::kUnitOne, 0}
-                                                                             : fx::Vec3{fx::kUnitOne, 0, 0};
+  const fx::Vec3 pick =
+      (z.x > fx::kUnitOne / 2 || z.x < -fx::kUnitOne / 2) ? fx::Vec3{0, fx::kUnitOne, 0} : fx::Vec3{fx::kUnitOne, 0, 0};
   fx::Vec3 u{};
   if (!fx::normalize_to_unit(cross_unit(z, pick), &u)) return fx::Vec3{0, 0, fx::kUnitOne};
   return u;

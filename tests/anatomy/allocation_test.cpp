@@ -17,7 +17,8 @@ TEST(AnatomyAllocation, StepsNeverTouchTheHeap) {
   });
   ASSERT_TRUE(arm.ok()) << arm.error();
   const int steps = sinew::test::soak_enabled() ? 100000 : 1000;
-  const size_t elbow = static_cast<size_t>(arm.input("elbow.0")), shoulder = static_cast<size_t>(arm.input("shoulder.0"));
+  const size_t elbow = static_cast<size_t>(arm.input("elbow.0")),
+               shoulder = static_cast<size_t>(arm.input("shoulder.0"));
   sinew::test::AllocationCounter counter;
   uint32_t failures = 0, reactions = 0;
   for (int s = 0; s < steps; ++s) {
@@ -26,8 +27,8 @@ TEST(AnatomyAllocation, StepsNeverTouchTheHeap) {
     failures += !arm.step().ok();
     reactions += arm.skin().stats.reactions;
   }
-  std::printf("%d steps (engine + muscles + skin, 2 warm relaxations each): %llu heap allocations, %u reactions\n", steps,
-              static_cast<unsigned long long>(counter.allocations()), reactions);
+  std::printf("%d steps (engine + muscles + skin, 2 warm relaxations each): %llu heap allocations, %u reactions\n",
+              steps, static_cast<unsigned long long>(counter.allocations()), reactions);
   EXPECT_EQ(failures, 0u);
   EXPECT_EQ(counter.allocations(), 0u);
 }

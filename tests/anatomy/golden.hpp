@@ -5,5 +5,5 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kAnatomyArm = 0x91fc850e7f5e059au;
+inline constexpr uint64_t kAnatomyArm = 0xdcc79fea7d1b0bdeu;
 }  // namespace sinew::test::golden

@@ -60,7 +60,8 @@ TEST(Primitive, InsideValueAndGradientMatchADoubleOracle) {
     double worst_value = 0, worst_angle = 0;
     int inside = 0, mismatched = 0;
     for (int i = 0; i < 20000; ++i) {
-      const double p[3] = {f.centre.x * kLsb + u(rng) * f.extent[1] * kLsb, f.centre.y * kLsb + u(rng) * f.extent[0] * kLsb,
+      const double p[3] = {f.centre.x * kLsb + u(rng) * f.extent[1] * kLsb,
+                           f.centre.y * kLsb + u(rng) * f.extent[0] * kLsb,
                            f.centre.z * kLsb + u(rng) * f.extent[2] * kLsb};
       // The oracle sees the quantised point the kernel sees.
       const fx::Vec3 pq = to_len(p);
@@ -119,9 +120,10 @@ TEST(Primitive, PushOutLandsJustOutsideAlongTheGradient) {
       worst_deep = std::max(worst_deep, value - 1);
     }
   }
-  std::printf("push-out (3 Newton steps): %d points inside, %d still inside beyond 2^-10; overshoot F-1: shallow "
-              "(F >= 0.5, %d points) %.3g, deep %.3g\n",
-              tried, still_inside, shallow, worst_shallow, worst_deep);
+  std::printf(
+      "push-out (3 Newton steps): %d points inside, %d still inside beyond 2^-10; overshoot F-1: shallow "
+      "(F >= 0.5, %d points) %.3g, deep %.3g\n",
+      tried, still_inside, shallow, worst_shallow, worst_deep);
   EXPECT_GT(tried, 500);
   EXPECT_EQ(still_inside, 0);
   EXPECT_LT(worst_shallow, 0.2) << "shallow points land near the surface (F^(1/4) within 5 %)";

@@ -51,17 +51,19 @@ TEST(ElasticSkin, VirtualAnchorsMapBackToTheRestSkinAtRest) {
   ArmAnatomy arm;
   ASSERT_TRUE(arm.ok()) << arm.error();
   const ab::BuildReport& r = arm.model().report;
-  std::printf("anchoring: %u muscle anchors, %u bone anchors, %u edges, %u rubber bands, mean edge %.2f mm, "
-              "worst Newton residual %.3g m\n",
-              r.muscle_anchors, r.bone_anchors, r.edges, r.bands, r.mean_edge_length * 1e3, r.max_newton_residual);
+  std::printf(
+      "anchoring: %u muscle anchors, %u bone anchors, %u edges, %u rubber bands, mean edge %.2f mm, "
+      "worst Newton residual %.3g m\n",
+      r.muscle_anchors, r.bone_anchors, r.edges, r.bands, r.mean_edge_length * 1e3, r.max_newton_residual);
   ASSERT_TRUE(arm.step().ok());
   double worst = 0;
   for (uint32_t v = 0; v < arm.rig().vertex_count(); ++v)
     for (int c = 0; c < 3; ++c)
       worst = std::max(worst, std::fabs(arm.metres(arm.skin().anchor[c][v]) -
                                         arm.spec().vertices[v].position[static_cast<size_t>(c)]));
-  std::printf("rest pose: virtual anchors vs rest skin, worst %.3g m (builder's check %.3g m; stated tolerance 1e-6 m)\n",
-              worst, r.max_rest_anchor_error);
+  std::printf(
+      "rest pose: virtual anchors vs rest skin, worst %.3g m (builder's check %.3g m; stated tolerance 1e-6 m)\n",
+      worst, r.max_rest_anchor_error);
   EXPECT_GT(r.muscle_anchors, 200u);
   EXPECT_GT(r.bone_anchors, 200u);
   EXPECT_LT(worst, 1e-6);
@@ -102,8 +104,8 @@ TEST(ElasticSkin, NoSkinPointInsideAnActivePrimitiveAfterAStep) {
       for (const muscle::PrimitiveFrame& f : arm.muscles().primitives)
         if (f.active) deepest = std::min(deepest, inside_function(arm, f, p));
     }
-    std::printf("elbow %3d deg: reactions %u, collisions %u, fat points inside after the step %u, smallest F %.6f\n",
-                a, arm.skin().stats.reactions, arm.skin().stats.collisions, arm.skin().stats.inside_after, deepest);
+    std::printf("elbow %3d deg: reactions %u, collisions %u, fat points inside after the step %u, smallest F %.6f\n", a,
+                arm.skin().stats.reactions, arm.skin().stats.collisions, arm.skin().stats.inside_after, deepest);
     EXPECT_EQ(arm.skin().stats.inside_after, 0u);
     EXPECT_GT(deepest, 1.0 - 1.0 / 512) << "inside/outside function below 1 beyond the tolerance";
   }
@@ -117,8 +119,7 @@ TEST(ElasticSkin, BicepsBulgeRaisesTheSkinWithFlexion) {
     arm.set("elbow.0", a);
     ASSERT_TRUE(arm.step().ok());
     const double h = belly_height(arm, true), lbs = belly_height(arm, false);
-    std::printf("elbow %3d deg: skin height over the biceps %.2f mm (skinning alone %.2f mm)\n", a, h * 1e3,
-                lbs * 1e3);
+    std::printf("elbow %3d deg: skin height over the biceps %.2f mm (skinning alone %.2f mm)\n", a, h * 1e3, lbs * 1e3);
     EXPECT_GE(h, previous - 1e-5);
     if (a == 0) first = h;
     previous = last = h;

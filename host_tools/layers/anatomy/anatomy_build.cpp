@@ -233,7 +233,8 @@ class Builder {
     const uint32_t n = rig_.vertex_count();
     face_normals_.assign(n, P3{0, 0, 0});
     rest_.resize(n);
-    for (uint32_t v = 0; v < n; ++v) rest_[v] = from_vec({rig_.position[0][v], rig_.position[1][v], rig_.position[2][v]});
+    for (uint32_t v = 0; v < n; ++v)
+      rest_[v] = from_vec({rig_.position[0][v], rig_.position[1][v], rig_.position[2][v]});
     for (size_t t = 0; t + 2 < rig_.triangles.size(); t += 3) {
       const uint32_t a = rig_.triangles[t], b = rig_.triangles[t + 1], c = rig_.triangles[t + 2];
       const P3 e1 = sub(rest_[b], rest_[a]), e2 = sub(rest_[c], rest_[a]);
@@ -284,8 +285,8 @@ class Builder {
         a.segment = hit.segment;
         for (size_t c = 0; c < 3; ++c) a.param[c] = rigc::to_fixed(hit.stu[c], 24);
         const muscle::SliceFrame& f = mstate_.frames[hit.muscle * muscle::kSlices + hit.segment];
-        a.normal_a = to_unit(normalized({dot(normal, from_unit(f.x)), dot(normal, from_unit(f.y)),
-                                         dot(normal, from_unit(f.z))}));
+        a.normal_a = to_unit(
+            normalized({dot(normal, from_unit(f.x)), dot(normal, from_unit(f.y)), dot(normal, from_unit(f.z))}));
         ++out_.report.muscle_anchors;
       } else {
         uint32_t ja = 0, jb = 0;
@@ -324,9 +325,8 @@ class Builder {
         vertex_area[a] += area / 3;  // eq. (2): each triangle's area shared by its three vertices
       }
     }
-    std::sort(list.begin(), list.end(), [](const HalfEdge& x, const HalfEdge& y) {
-      return x.a != y.a ? x.a < y.a : x.b < y.b;
-    });
+    std::sort(list.begin(), list.end(),
+              [](const HalfEdge& x, const HalfEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
     double length_sum = 0;
     size_t i = 0;
     while (i < list.size()) {
@@ -357,7 +357,8 @@ class Builder {
       out_.anchor_stiffness.push_back(stiffness(spec_.skin.anchor_coefficient * vertex_area[v] / (mean * mean)));
     out_.fat.assign(n, len(spec_.skin.fat));
     for (const auto& [v, t] : spec_.skin.fat_overrides) {
-      if (v < 0 || static_cast<uint32_t>(v) >= n) return fail("fat override: vertex " + std::to_string(v) + " out of range");
+      if (v < 0 || static_cast<uint32_t>(v) >= n)
+        return fail("fat override: vertex " + std::to_string(v) + " out of range");
       out_.fat[static_cast<size_t>(v)] = len(t);
     }
     return true;

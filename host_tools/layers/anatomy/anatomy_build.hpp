@@ -41,9 +41,7 @@ struct AnatomyModel {
   elastic_skin::SkinParams params;
   BuildReport report;
 
-  muscle::MuscleModel muscle_model() const {
-    return {joint_count, ring_vertices, muscles, primitives};
-  }
+  muscle::MuscleModel muscle_model() const { return {joint_count, ring_vertices, muscles, primitives}; }
   elastic_skin::SkinModel skin_model() const {
     return {joint_count, static_cast<uint32_t>(anchors.size()), anchors, anchor_stiffness, fat, edges, bands, params};
   }

@@ -25,8 +25,8 @@ struct BoneSize {
 };
 
 struct BoneAttachment {
-  int bone = 0;              // joint index
-  Vec3d param{0, 0, 0};      // bone-size units
+  int bone = 0;          // joint index
+  Vec3d param{0, 0, 0};  // bone-size units
 };
 
 struct MuscleSpec {
@@ -35,7 +35,7 @@ struct MuscleSpec {
   BoneAttachment insertion[2];  // ... of the last slice insertion[0] -> insertion[1]
   bool has_pivot = false;
   BoneAttachment pivot;
-  int pivot_slice = 6;  // 1..6
+  int pivot_slice = 6;                     // 1..6
   std::array<double, 8> half_width{};      // rest ellipse half-axes across (X), model units
   std::array<double, 8> half_thickness{};  // ... and in thickness (Y)
   std::array<double, 8> bulge{};           // slice centre displacement outward (-Y)
@@ -46,9 +46,9 @@ struct PrimitiveSpec {
   int attach = 1;    // muscle::PrimitiveAttach: 0 bone, 1 muscle
   int exponent = 2;  // 2, 4, 8
   bool active = true;
-  int index = 0;     // bone or muscle
-  int segment = 3;   // muscle attach: between slices segment and segment + 1
-  Vec3d centre{0, 0, 0};      // bone frame, or offset in the slice frame (model units)
+  int index = 0;                   // bone or muscle
+  int segment = 3;                 // muscle attach: between slices segment and segment + 1
+  Vec3d centre{0, 0, 0};           // bone frame, or offset in the slice frame (model units)
   Vec3d extent{0.01, 0.01, 0.01};  // half-extents (model units)
 };
 
@@ -64,8 +64,8 @@ struct SkinSpec {
   double rest_length_ratio = 1.0;   // rest = ratio * extracted length (§5.2)
   double push_back = 0.1;
   double compression_band = 0.1;
-  double collision_radius = 0.02;   // model units; 0 disables
-  double fat = 0.006;               // uniform fat thickness (model units)
+  double collision_radius = 0.02;                     // model units; 0 disables
+  double fat = 0.006;                                 // uniform fat thickness (model units)
   std::vector<std::pair<int, double>> fat_overrides;  // (vertex, thickness)
   double reaction_gain = 0.5;
   int newton_steps = 3;

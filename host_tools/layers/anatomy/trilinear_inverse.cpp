@@ -19,7 +19,9 @@ Slice slice_of(const P3* q) {
   s.c00 = q[0];
   s.e1 = sub(q[1], q[0]);
   s.e2 = sub(q[3], q[0]);
-  for (int c = 0; c < 3; ++c) s.e3[static_cast<size_t>(c)] = q[2][static_cast<size_t>(c)] - q[1][static_cast<size_t>(c)] - q[3][static_cast<size_t>(c)] + q[0][static_cast<size_t>(c)];
+  for (int c = 0; c < 3; ++c)
+    s.e3[static_cast<size_t>(c)] = q[2][static_cast<size_t>(c)] - q[1][static_cast<size_t>(c)] -
+                                   q[3][static_cast<size_t>(c)] + q[0][static_cast<size_t>(c)];
   return s;
 }
 
