@@ -46,8 +46,7 @@ TEST(AnatomyValidation, MuscleWithOriginAfterInsertionInTheHierarchy) {
 }
 
 TEST(AnatomyValidation, AnchorOutsideEveryComponent) {
-  // Builder: a skin vertex a metre away from the arm.
-  sinew::rigc::RigSpec spec = sinew::rigc::builtin_arm();
+  // Builder: components' reach shrunk below the skin's distance to them.
   ArmAnatomy far([](ab::AnatomySpec& s) { s.skin.max_anchor_distance = 0.005; });
   std::printf("builder: %s\n", far.error().c_str());
   EXPECT_FALSE(far.ok());
