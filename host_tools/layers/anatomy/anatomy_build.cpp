@@ -1,0 +1,448 @@
+#include "anatomy_build.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "host_tools/rigc/quantize.hpp"
+#include "sim_core/elastic_skin/skin_validate.hpp"
+#include "sim_core/elastic_skin/virtual_anchors.hpp"
+#include "sim_core/muscle/muscle_step.hpp"
+#include "sim_core/muscle/muscle_validate.hpp"
+#include "sim_core/skeleton/pose.hpp"
+#include "trilinear_inverse.hpp"
+
+namespace sinew::anatomy_build {
+namespace {
+
+namespace es = elastic_skin;
+
+struct Frame {  // a rest joint transform in double (model units)
+  double m[3][3];
+  double inv[3][3];
+  P3 t;
+};
+
+double dot(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+P3 sub(const P3& a, const P3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double norm(const P3& a) { return std::sqrt(dot(a, a)); }
+P3 normalized(const P3& a) {
+  const double n = norm(a);
+  return n > 0 ? P3{a[0] / n, a[1] / n, a[2] / n} : P3{0, 0, 0};
+}
+P3 apply(const double m[3][3], const P3& v) {
+  P3 r;
+  for (size_t i = 0; i < 3; ++i) r[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
+  return r;
+}
+
+void invert3(const double a[3][3], double out[3][3]) {
+  const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1], c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2],
+               c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+  const double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
+  const double k = det != 0 ? 1 / det : 0;
+  out[0][0] = c00 * k;
+  out[1][0] = c01 * k;
+  out[2][0] = c02 * k;
+  out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) * k;
+  out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) * k;
+  out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) * k;
+  out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) * k;
+  out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) * k;
+  out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * k;
+}
+
+class Builder {
+ public:
+  Builder(const rig::Rig& rig, const AnatomySpec& spec, AnatomyModel* out, std::string* error)
+      : rig_(rig), spec_(spec), out_(*out), error_(*error), e_(rig.length_exponent) {}
+
+  bool run() {
+    const uint32_t joints = rig_.joint_count();
+    if (spec_.bones.size() != joints) return fail("anatomy: bones: need one bone size per joint");
+    out_ = AnatomyModel{};
+    out_.joint_count = joints;
+    out_.ring_vertices = static_cast<uint32_t>(spec_.ring_vertices);
+    rest_pose();
+    return muscles() && primitives() && rest_muscle_state() && anchors() && springs() && bands() && params() &&
+           validate_skin() && rest_error();
+  }
+
+ private:
+  bool fail(const std::string& m) {
+    error_ = m;
+    return false;
+  }
+  fx::Len len(double v) const { return rigc::to_len(v, e_); }
+  double from_len(int64_t v) const { return std::ldexp(static_cast<double>(v), e_ - 20); }
+  P3 from_vec(fx::Vec3 v) const { return {from_len(v.x), from_len(v.y), from_len(v.z)}; }
+  static P3 from_unit(fx::Vec3 v) {
+    return {std::ldexp(static_cast<double>(v.x), -30), std::ldexp(static_cast<double>(v.y), -30),
+            std::ldexp(static_cast<double>(v.z), -30)};
+  }
+  static fx::Vec3 to_unit(const P3& n) {
+    return {rigc::to_fixed(n[0], 30), rigc::to_fixed(n[1], 30), rigc::to_fixed(n[2], 30)};
+  }
+  fx::Vec3 to_vec(const P3& p) const { return {len(p[0]), len(p[1]), len(p[2])}; }
+
+  void rest_pose() {
+    const uint32_t joints = rig_.joint_count();
+    std::vector<skeleton::LocalPose> locals(joints);
+    rest_model_.assign(joints, fx::Mat34{});
+    skeleton::rest_locals(rig_, locals);
+    skeleton::locals_to_model(rig_, locals, rest_model_);
+    frames_.resize(joints);
+    for (uint32_t j = 0; j < joints; ++j) {
+      Frame& f = frames_[j];
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) f.m[r][c] = std::ldexp(static_cast<double>(rest_model_[j].m[r][c]), -24);
+        f.t[static_cast<size_t>(r)] = from_len(rest_model_[j].t[r]);
+      }
+      invert3(f.m, f.inv);
+    }
+  }
+
+  fx::Vec3 bone_point(const BoneAttachment& a) const {
+    const BoneSize& b = spec_.bones[static_cast<size_t>(a.bone)];
+    return to_vec({a.param[0] * b.length, a.param[1] * b.radius, a.param[2] * b.radius});
+  }
+  bool bone_ok(int bone) const { return bone >= 0 && static_cast<uint32_t>(bone) < rig_.joint_count(); }
+
+  bool muscles() {
+    for (size_t i = 0; i < spec_.muscles.size(); ++i) {
+      const MuscleSpec& s = spec_.muscles[i];
+      const std::string where = "muscle " + std::to_string(i) + " (" + s.name + "): ";
+      muscle::MuscleRecord r;
+      for (int k = 0; k < 2; ++k) {
+        if (!bone_ok(s.origin[k].bone) || !bone_ok(s.insertion[k].bone))
+          return fail(where + "origin/insertion bone is not a joint of the rig");
+        r.origin[k] = {static_cast<uint32_t>(s.origin[k].bone), bone_point(s.origin[k])};
+        r.insertion[k] = {static_cast<uint32_t>(s.insertion[k].bone), bone_point(s.insertion[k])};
+      }
+      if (s.has_pivot) {
+        if (!bone_ok(s.pivot.bone)) return fail(where + "pivot bone is not a joint of the rig");
+        r.pivot_bone = s.pivot.bone;
+        r.pivot_slice = static_cast<uint32_t>(s.pivot_slice);
+        r.pivot_local = bone_point(s.pivot);
+      }
+      for (size_t k = 0; k < muscle::kSlices; ++k) {
+        r.half_width[k] = len(s.half_width[k]);
+        r.half_thickness[k] = len(s.half_thickness[k]);
+        r.bulge[k] = len(s.bulge[k]);
+      }
+      r.rest_length = 1;  // measured below with the runtime's own arithmetic
+      out_.muscles.push_back(r);
+    }
+    return true;
+  }
+
+  bool primitives() {
+    for (const PrimitiveSpec& p : spec_.primitives) {
+      muscle::PrimitiveRecord r;
+      r.kind = static_cast<uint8_t>(p.kind);
+      r.attach = static_cast<uint8_t>(p.attach);
+      r.exponent = static_cast<uint8_t>(p.exponent);
+      r.active = p.active ? 1 : 0;
+      r.index = static_cast<uint32_t>(p.index);
+      r.segment = static_cast<uint32_t>(p.segment);
+      r.centre = to_vec(p.centre);
+      for (size_t c = 0; c < 3; ++c) r.extent[c] = len(p.extent[c]);
+      out_.primitives.push_back(r);
+    }
+    return true;
+  }
+
+  bool step_rest() {
+    const muscle::MuscleModel mm = out_.muscle_model();
+    muscle_memory_.assign(muscle::muscle_state_bytes(mm) / 8 + 1, 0);
+    muscle::LayerStatus st = muscle::muscle_state_init(mm, muscle_memory_.data(), muscle_memory_.size() * 8, &mstate_);
+    if (st.ok()) st = muscle::muscle_step(mm, rest_model_, &mstate_);
+    if (!st.ok()) return fail(std::string("anatomy: ") + st.message);
+    return true;
+  }
+
+  bool rest_muscle_state() {
+    const muscle::LayerStatus v = muscle::muscle_validate(rig_, out_.muscle_model());
+    if (!v.ok()) return fail(std::string("anatomy: ") + v.message);
+    if (!step_rest()) return false;
+    for (size_t i = 0; i < out_.muscles.size(); ++i) {
+      if (mstate_.length[i] <= 0) return fail("muscle " + std::to_string(i) + ": zero rest length");
+      out_.muscles[i].rest_length = mstate_.length[i];
+    }
+    return step_rest();  // scale is exactly 1 at rest now
+  }
+
+  P3 muscle_vertex(uint32_t m, uint32_t slice, uint32_t j) const {
+    const uint32_t at = muscle::muscle_vertex_index(mstate_.ring_vertices, m, slice, j);
+    return {from_len(mstate_.vertex[0][at]), from_len(mstate_.vertex[1][at]), from_len(mstate_.vertex[2][at])};
+  }
+
+  struct MuscleHit {
+    bool found = false;
+    uint32_t muscle = 0, segment = 0;
+    P3 stu{};
+    double distance = std::numeric_limits<double>::infinity();
+    double residual = 0;
+  };
+
+  MuscleHit nearest_muscle(const P3& p) {
+    MuscleHit best;
+    const uint32_t ring = mstate_.ring_vertices;
+    for (uint32_t m = 0; m < out_.muscles.size(); ++m)
+      for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k) {
+        fx::Vec3 cf[8];
+        es::muscle_cell(mstate_, m, k, cf);
+        P3 corners[8];
+        for (int c = 0; c < 8; ++c) corners[c] = from_vec(cf[c]);
+        P3 stu;
+        double residual = 0;
+        if (!trilinear_inverse(corners, p, &stu, &residual) || !(residual < 1e-9)) continue;
+        if (!(stu[2] >= 0 && stu[2] <= 1 && std::fabs(stu[0]) <= 15 && std::fabs(stu[1]) <= 15)) continue;
+        double d = std::numeric_limits<double>::infinity();
+        for (uint32_t side = 0; side < 2; ++side)
+          for (uint32_t j = 0; j < ring; ++j) d = std::min(d, norm(sub(p, muscle_vertex(m, k + side, j))));
+        if (d < best.distance) best = {true, m, k, stu, d, residual};
+      }
+    return best;
+  }
+
+  double bone_distance(const P3& p) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (uint32_t j = 0; j < rig_.joint_count(); ++j) {
+      const Frame& f = frames_[j];
+      const BoneSize& b = spec_.bones[j];
+      const P3 dir = {f.m[0][0] * b.length, f.m[1][0] * b.length, f.m[2][0] * b.length};
+      const P3 rel = sub(p, f.t);
+      const double dd = dot(dir, dir);
+      double t = dd > 0 ? dot(rel, dir) / dd : 0;
+      t = std::clamp(t, 0.0, 1.0);
+      const P3 q{rel[0] - t * dir[0], rel[1] - t * dir[1], rel[2] - t * dir[2]};
+      best = std::min(best, std::max(0.0, norm(q) - b.radius));
+    }
+    return best;
+  }
+
+  P3 rest_normal(uint32_t v) const {
+    if (!rig_.normal[0].empty())
+      return normalized(from_unit({rig_.normal[0][v], rig_.normal[1][v], rig_.normal[2][v]}));
+    return normalized(face_normals_[v]);
+  }
+
+  void face_normals() {
+    const uint32_t n = rig_.vertex_count();
+    face_normals_.assign(n, P3{0, 0, 0});
+    rest_.resize(n);
+    for (uint32_t v = 0; v < n; ++v)
+      rest_[v] = from_vec({rig_.position[0][v], rig_.position[1][v], rig_.position[2][v]});
+    for (size_t t = 0; t + 2 < rig_.triangles.size(); t += 3) {
+      const uint32_t a = rig_.triangles[t], b = rig_.triangles[t + 1], c = rig_.triangles[t + 2];
+      const P3 e1 = sub(rest_[b], rest_[a]), e2 = sub(rest_[c], rest_[a]);
+      const P3 cr{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      for (uint32_t i : {a, b, c})
+        for (size_t k = 0; k < 3; ++k) face_normals_[i][k] += cr[k];
+    }
+  }
+
+  // The vertex's two strongest rig influences (weights renormalised).
+  void bone_pair(uint32_t v, uint32_t* a, uint32_t* b, double* wb) const {
+    const uint32_t k = rig_.influences_per_vertex;
+    double w1 = -1, w2 = -1;
+    uint32_t j1 = 0, j2 = 0;
+    for (uint32_t i = 0; i < k; ++i) {
+      const double w = std::ldexp(static_cast<double>(rig_.influence_weight[v * k + i]), -30);
+      const uint32_t j = rig_.palette[rig_.influence_palette[v * k + i]].joint;
+      if (w > w1) {
+        w2 = w1, j2 = j1;
+        w1 = w, j1 = j;
+      } else if (w > w2) {
+        w2 = w, j2 = j;
+      }
+    }
+    *a = j1;
+    *b = w2 > 0 ? j2 : j1;
+    *wb = w2 > 0 ? w2 / (w1 + w2) : 0;
+  }
+
+  bool anchors() {
+    face_normals();
+    const uint32_t n = rig_.vertex_count();
+    out_.anchors.resize(n);
+    for (uint32_t v = 0; v < n; ++v) {
+      const P3& p = rest_[v];
+      const P3 normal = rest_normal(v);
+      const MuscleHit hit = nearest_muscle(p);
+      const double bone = bone_distance(p);
+      const double nearest = std::min(bone, hit.distance);
+      if (!(nearest <= spec_.skin.max_anchor_distance))
+        return fail("skin vertex " + std::to_string(v) + ": anchor outside every component (nearest surface " +
+                    std::to_string(nearest) + " away, limit " + std::to_string(spec_.skin.max_anchor_distance) + ")");
+      es::Anchor& a = out_.anchors[v];
+      if (hit.found && hit.distance < bone) {
+        a.kind = static_cast<uint8_t>(es::AnchorKind::kMuscle);
+        out_.report.max_newton_residual = std::max(out_.report.max_newton_residual, hit.residual);
+        a.component = hit.muscle;
+        a.segment = hit.segment;
+        for (size_t c = 0; c < 3; ++c) a.param[c] = rigc::to_fixed(hit.stu[c], 24);
+        const muscle::SliceFrame& f = mstate_.frames[hit.muscle * muscle::kSlices + hit.segment];
+        a.normal_a = to_unit(
+            normalized({dot(normal, from_unit(f.x)), dot(normal, from_unit(f.y)), dot(normal, from_unit(f.z))}));
+        ++out_.report.muscle_anchors;
+      } else {
+        uint32_t ja = 0, jb = 0;
+        double wb = 0;
+        bone_pair(v, &ja, &jb, &wb);
+        a.kind = static_cast<uint8_t>(es::AnchorKind::kBone);
+        a.component = ja;
+        a.bone_b = jb;
+        a.weight_b = rigc::to_fixed(wb, 30);
+        a.local_a = to_vec(apply(frames_[ja].inv, sub(p, frames_[ja].t)));
+        a.local_b = to_vec(apply(frames_[jb].inv, sub(p, frames_[jb].t)));
+        a.normal_a = to_unit(normalized(apply(frames_[ja].inv, normal)));
+        a.normal_b = to_unit(normalized(apply(frames_[jb].inv, normal)));
+        ++out_.report.bone_anchors;
+      }
+    }
+    return true;
+  }
+
+  bool springs() {
+    struct HalfEdge {
+      uint32_t a, b;
+      double area;
+    };
+    std::vector<HalfEdge> list;
+    const uint32_t n = rig_.vertex_count();
+    std::vector<double> vertex_area(n, 0);
+    for (size_t t = 0; t + 2 < rig_.triangles.size(); t += 3) {
+      const uint32_t v[3] = {rig_.triangles[t], rig_.triangles[t + 1], rig_.triangles[t + 2]};
+      const P3 e1 = sub(rest_[v[1]], rest_[v[0]]), e2 = sub(rest_[v[2]], rest_[v[0]]);
+      const P3 cr{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      const double area = norm(cr) / 2;
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t a = v[i], b = v[(i + 1) % 3];
+        list.push_back({std::min(a, b), std::max(a, b), area});
+        vertex_area[a] += area / 3;  // eq. (2): each triangle's area shared by its three vertices
+      }
+    }
+    std::sort(list.begin(), list.end(),
+              [](const HalfEdge& x, const HalfEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    double length_sum = 0;
+    size_t i = 0;
+    while (i < list.size()) {
+      size_t j = i;
+      double areas = 0;
+      while (j < list.size() && list[j].a == list[i].a && list[j].b == list[i].b) areas += list[j++].area;
+      const uint32_t a = list[i].a, b = list[i].b;
+      const fx::Vec3 d{rig_.position[0][b] - rig_.position[0][a], rig_.position[1][b] - rig_.position[1][a],
+                       rig_.position[2][b] - rig_.position[2][a]};
+      const uint32_t fixed_len = fx::length(d);
+      const double l = from_len(fixed_len);
+      length_sum += l;
+      if (!(l > 0)) return fail("skin edge " + std::to_string(a) + "-" + std::to_string(b) + ": zero length");
+      es::Edge e;
+      e.a = a;
+      e.b = b;
+      e.rest = static_cast<fx::Len>(std::floor(spec_.skin.rest_length_ratio * fixed_len + 0.5));
+      e.k = stiffness(areas / (l * l));  // eq. (1): k_e = (a1 + a2) / len^2
+      out_.edges.push_back(e);
+      i = j;
+    }
+    const double mean = out_.edges.empty() ? 1 : length_sum / static_cast<double>(out_.edges.size());
+    out_.report.mean_edge_length = mean;
+    out_.report.edges = static_cast<uint32_t>(out_.edges.size());
+    // eq. (2), with areas in units of the mean edge length squared so k_a
+    // is dimensionless like k_e.
+    for (uint32_t v = 0; v < n; ++v)
+      out_.anchor_stiffness.push_back(stiffness(spec_.skin.anchor_coefficient * vertex_area[v] / (mean * mean)));
+    out_.fat.assign(n, len(spec_.skin.fat));
+    for (const auto& [v, t] : spec_.skin.fat_overrides) {
+      if (v < 0 || static_cast<uint32_t>(v) >= n)
+        return fail("fat override: vertex " + std::to_string(v) + " out of range");
+      out_.fat[static_cast<size_t>(v)] = len(t);
+    }
+    return true;
+  }
+
+  static es::Stiffness stiffness(double k) {
+    const double q = std::floor(k * 65536.0 + 0.5);
+    if (!(q > 0)) return 0;
+    return q >= static_cast<double>(es::kMaxStiffness) ? es::kMaxStiffness : static_cast<es::Stiffness>(q);
+  }
+
+  bool bands() {
+    for (size_t i = 0; i < spec_.skin.bands.size(); ++i) {
+      const RubberBandSpec& b = spec_.skin.bands[i];
+      if (b.muscle < 0 || static_cast<size_t>(b.muscle) >= out_.muscles.size() || b.slice < 0 ||
+          b.slice >= static_cast<int>(muscle::kSlices) || b.ring_vertex < 0 || b.ring_vertex >= spec_.ring_vertices)
+        return fail("rubber band " + std::to_string(i) + ": muscle, slice or ring vertex out of range");
+      es::RubberBand r;
+      r.muscle = static_cast<uint32_t>(b.muscle);
+      r.slice = static_cast<uint32_t>(b.slice);
+      r.ring_vertex = static_cast<uint32_t>(b.ring_vertex);
+      r.k = stiffness(b.stiffness);
+      if (b.vertex >= 0) {
+        r.vertex = static_cast<uint32_t>(b.vertex);
+      } else {  // nearest skin vertex to the muscle point at rest
+        const P3 target = muscle_vertex(r.muscle, r.slice, r.ring_vertex);
+        double best = std::numeric_limits<double>::infinity();
+        for (uint32_t v = 0; v < rest_.size(); ++v) {
+          const double d = norm(sub(rest_[v], target));
+          if (d < best) best = d, r.vertex = v;
+        }
+      }
+      out_.bands.push_back(r);
+    }
+    out_.report.bands = static_cast<uint32_t>(out_.bands.size());
+    return true;
+  }
+
+  bool params() {
+    const SkinSpec& s = spec_.skin;
+    es::SkinParams& p = out_.params;
+    p.iterations = static_cast<uint32_t>(std::max(0, s.iterations));
+    p.push_back = rigc::to_fixed(s.push_back, 30);
+    p.compression_band = rigc::to_fixed(s.compression_band, 30);
+    p.collision_radius = len(s.collision_radius);
+    p.reaction_gain = rigc::to_fixed(s.reaction_gain, 30);
+    p.newton_steps = static_cast<uint32_t>(std::max(0, s.newton_steps));
+    p.warm_start = s.warm_start ? 1 : 0;
+    return true;
+  }
+
+  bool validate_skin() {
+    const es::LayerStatus st = es::skin_validate(rig_, out_.muscle_model(), out_.skin_model());
+    if (!st.ok()) return fail(std::string("anatomy: ") + st.message);
+    return true;
+  }
+
+  // Forward map at rest, with the runtime's arithmetic, against the rest skin.
+  bool rest_error() {
+    double worst = 0;
+    for (uint32_t v = 0; v < out_.anchors.size(); ++v) {
+      const es::AnchorPoint a = es::map_anchor(out_.anchors[v], rest_model_, mstate_);
+      worst = std::max(worst, norm(sub(from_vec(a.position), rest_[v])));
+    }
+    out_.report.max_rest_anchor_error = worst;
+    return true;
+  }
+
+  const rig::Rig& rig_;
+  const AnatomySpec& spec_;
+  AnatomyModel& out_;
+  std::string& error_;
+  int32_t e_;
+  std::vector<fx::Mat34> rest_model_;
+  std::vector<Frame> frames_;
+  std::vector<uint64_t> muscle_memory_;
+  muscle::MuscleState mstate_;
+  std::vector<P3> rest_, face_normals_;
+};
+
+}  // namespace
+
+bool build_anatomy(const rig::Rig& rig, const AnatomySpec& spec, AnatomyModel* out, std::string* error) {
+  return Builder(rig, spec, out, error).run();
+}
+
+}  // namespace sinew::anatomy_build

@@ -1,0 +1,93 @@
+// Offline description of the anatomy layers (muscles, primitives, elastic
+// skin), in double precision and model units (metres for the built-in
+// rigs). build_anatomy() turns it into the fixed-point models of
+// sim_core/muscle and sim_core/elastic_skin. docs/anatomy.md lists the
+// intended TOML keys, one per field.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "host_tools/rigc/rig_spec.hpp"
+
+namespace sinew::anatomy_build {
+
+using rigc::Vec3d;
+
+// The "bounding box" of a bone (anatomically-based-modeling §4.1): muscle
+// attachments are given in units of it, so one muscle description fits
+// bones of any size: a point (px, py, pz) is (px * length, py * radius,
+// pz * radius) in the joint's frame.
+struct BoneSize {
+  double length = 0.1;
+  double radius = 0.01;
+};
+
+struct BoneAttachment {
+  int bone = 0;          // joint index
+  Vec3d param{0, 0, 0};  // bone-size units
+};
+
+struct MuscleSpec {
+  std::string name;
+  BoneAttachment origin[2];     // the X axis of the first slice runs origin[0] -> origin[1]
+  BoneAttachment insertion[2];  // ... of the last slice insertion[0] -> insertion[1]
+  bool has_pivot = false;
+  BoneAttachment pivot;
+  int pivot_slice = 6;                     // 1..6
+  std::array<double, 8> half_width{};      // rest ellipse half-axes across (X), model units
+  std::array<double, 8> half_thickness{};  // ... and in thickness (Y)
+  std::array<double, 8> bulge{};           // slice centre displacement outward (-Y)
+};
+
+struct PrimitiveSpec {
+  int kind = 2;      // muscle::PrimitiveKind: 0 sphere, 1 cylinder, 2 superellipsoid
+  int attach = 1;    // muscle::PrimitiveAttach: 0 bone, 1 muscle
+  int exponent = 2;  // 2, 4, 8
+  bool active = true;
+  int index = 0;                   // bone or muscle
+  int segment = 3;                 // muscle attach: between slices segment and segment + 1
+  Vec3d centre{0, 0, 0};           // bone frame, or offset in the slice frame (model units)
+  Vec3d extent{0.01, 0.01, 0.01};  // half-extents (model units)
+};
+
+struct RubberBandSpec {
+  int vertex = -1;  // skin vertex; -1: the skin vertex nearest the muscle point at rest
+  int muscle = 0, slice = 4, ring_vertex = 0;
+  double stiffness = 0.5;
+};
+
+struct SkinSpec {
+  int iterations = 30;
+  double anchor_coefficient = 0.1;  // C_a of eq. (2)
+  double rest_length_ratio = 1.0;   // rest = ratio * extracted length (§5.2)
+  double push_back = 0.1;
+  double compression_band = 0.1;
+  double collision_radius = 0.02;                     // model units; 0 disables
+  double fat = 0.006;                                 // uniform fat thickness (model units)
+  std::vector<std::pair<int, double>> fat_overrides;  // (vertex, thickness)
+  double reaction_gain = 0.5;
+  int newton_steps = 3;
+  bool warm_start = false;
+  // Anchoring (§5.1): a vertex farther than this from every component's
+  // surface is rejected ("anchor outside every component").
+  double max_anchor_distance = 0.06;
+  std::vector<RubberBandSpec> bands;
+};
+
+struct AnatomySpec {
+  std::vector<BoneSize> bones;  // one per joint
+  std::vector<MuscleSpec> muscles;
+  std::vector<PrimitiveSpec> primitives;
+  int ring_vertices = 8;
+  SkinSpec skin;
+};
+
+// The built-in arm's anatomy: a biceps (upper arm -> forearm, front, with a
+// pivot in front of the elbow) and a triceps (upper arm -> olecranon, back,
+// with a pivot behind the elbow),
+// one superellipsoid primitive each, rubber bands at their bellies.
+AnatomySpec arm_anatomy(const rigc::RigSpec& arm);
+
+}  // namespace sinew::anatomy_build

@@ -1,0 +1,60 @@
+#include "reaction.hpp"
+
+#include "sim_core/muscle/primitive.hpp"
+#include "sim_core/muscle/vec_ops.hpp"
+
+namespace sinew::elastic_skin {
+namespace {
+
+fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::Vec3* normal) {
+  *normal = {s.normal[0][v], s.normal[1][v], s.normal[2][v]};
+  const fx::Vec3 p{s.position[0][v], s.position[1][v], s.position[2][v]};
+  return fx::sub(p, muscle::along(*normal, model.fat[v]));
+}
+
+}  // namespace
+
+uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
+                                    SkinState* s) {
+  uint32_t moved = 0;
+  const int steps = static_cast<int>(model.params.newton_steps);
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    fx::Vec3 n{};
+    const fx::Vec3 start = fat_point(model, *s, v, &n);
+    fx::Vec3 p = start;
+    for (const muscle::PrimitiveFrame& f : muscles.primitives) {
+      if (f.active == 0) continue;
+      const fx::Vec3 out = muscle::primitive_push_out(f, p, n, steps);
+      if (out == p) continue;
+      // Partial correction between iterations, full one on the last.
+      p = gain >= fx::kUnitOne ? out : fx::add(p, fx::scale(fx::sub(out, p), gain));
+    }
+    if (p == start) continue;
+    const fx::Vec3 d = fx::sub(p, start);
+    s->position[0][v] = fx::add_sat(s->position[0][v], d.x);
+    s->position[1][v] = fx::add_sat(s->position[1][v], d.y);
+    s->position[2][v] = fx::add_sat(s->position[2][v], d.z);
+    ++moved;
+  }
+  return moved;
+}
+
+uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
+                      const SkinState& s) {
+  uint32_t inside = 0;
+  const int64_t limit = fx::kUnitOne - int64_t{tolerance};
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    fx::Vec3 n{};
+    const fx::Vec3 p = fat_point(model, s, v, &n);
+    for (const muscle::PrimitiveFrame& f : muscles.primitives) {
+      if (f.active == 0) continue;
+      if (muscle::primitive_sample(f, p).value < limit) {
+        ++inside;
+        break;
+      }
+    }
+  }
+  return inside;
+}
+
+}  // namespace sinew::elastic_skin

@@ -1,0 +1,27 @@
+// One elastic relaxation round (anatomically-based-modeling §5.2), Jacobi
+// style: every force is computed from the positions at the start of the
+// round, then every vertex moves by its relaxation vector
+//   r(v) = ( sum_j k'_e (|w_j| - rest_j) w_j / |w_j|  + k_a (anchor - v)
+//            + sum_bands k_r (target - v) ) / ( sum_j k'_e + k_a + sum k_r )
+// with w_j = v_j - v, k_e from eq. (1), k_a from eq. (2) and k'_e the
+// push-back-scaled stiffness for compressed edges. Edges are visited in
+// model order and each vertex sums in a fixed order: deterministic.
+// Work: O(edges + bands + vertices).
+#pragma once
+
+#include "sim_core/muscle/muscle_state.hpp"
+#include "skin_state.hpp"
+
+namespace sinew::elastic_skin {
+
+// Runs one round and returns the largest relaxation vector length (Len).
+fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s);
+
+// Edge stiffness after the push-back rule of §5.2 (Q16.16).
+int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx::Len rest);
+
+// Moves each vertex out of the collision sphere under its virtual anchor
+// (§5.2); returns the number of vertices moved.
+uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s);
+
+}  // namespace sinew::elastic_skin

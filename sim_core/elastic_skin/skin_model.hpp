@@ -1,0 +1,97 @@
+// Elastic skin over bones and muscles (anatomically-based-modeling §5, LEMAN
+// §3, §5.4-5.6): the immutable model a builder produces (host_tools/layers/
+// anatomy) and the runtime reads. Plain records behind spans.
+//
+// Units: positions and lengths Len (Q12.20 rig units); directions Q2.30;
+// trilinear parameters Q8.24; stiffnesses Q16.16 (dimensionless: areas are
+// measured in units of the mesh's mean rest edge length squared).
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "sim_core/fixed/vec3.hpp"
+
+namespace sinew::elastic_skin {
+
+using Stiffness = uint32_t;  // Q16.16, [0, kMaxStiffness]
+inline constexpr int kStiffnessFracBits = 16;
+inline constexpr Stiffness kStiffnessOne = Stiffness{1} << kStiffnessFracBits;
+inline constexpr Stiffness kMaxStiffness = Stiffness{1} << 24;  // 256.0: keeps every sum far from int64 limits
+inline constexpr uint32_t kMaxIterations = 256;
+inline constexpr uint32_t kMaxVertices = 1u << 20;
+inline constexpr uint32_t kMaxNewtonSteps = 8;
+// Trilinear anchor parameters must lie within these bounds (Q8.24), or the
+// anchor is "outside every component": s, t in [-16, 16] (the cell is
+// extrapolated sideways: skin lies outside the muscle), u in [-1, 2].
+inline constexpr int32_t kMaxAnchorST = int32_t{16} << 24;
+inline constexpr int32_t kMinAnchorU = -(int32_t{1} << 24);
+inline constexpr int32_t kMaxAnchorU = int32_t{2} << 24;
+
+enum class AnchorKind : uint8_t {
+  kBone = 0,    // rigid on up to two bones, blended (generalised tissue around a joint)
+  kMuscle = 1,  // parametric trilinear (s, t, u) in a muscle segment (§5.1, Figure 6)
+};
+
+// The virtual anchor of one skin vertex: its rest position relative to its
+// underlying component, mapped forward every step (§5.1).
+struct Anchor {
+  uint8_t kind = 0;  // AnchorKind
+  uint8_t reserved[3] = {};
+  uint32_t component = 0;                       // kBone: first bone (joint); kMuscle: muscle index
+  uint32_t bone_b = 0;                          // kBone: second bone (== component for one bone)
+  uint32_t segment = 0;                         // kMuscle: the cell between slices segment and segment + 1 (0..6)
+  fx::Unit weight_b = 0;                        // kBone: weight of bone_b, [0, 1] in Q2.30
+  fx::Vec3 local_a{0, 0, 0}, local_b{0, 0, 0};  // kBone: rest position in each bone's frame (Len)
+  fx::Lin param[3] = {};                        // kMuscle: (s, t, u), Q8.24
+  // Rest outward skin normal, Q2.30: kBone in each bone's frame (normal_a,
+  // normal_b); kMuscle in the slice frame (X, Y, Z) of `segment` (normal_a).
+  fx::Vec3 normal_a{0, 0, 0}, normal_b{0, 0, 0};
+};
+
+// A skin edge spring: k_e = (a1 + a2) / len^2 (eq. 1), rest length already
+// multiplied by the rest-length ratio (§5.2: "slightly stretched").
+struct Edge {
+  uint32_t a = 0, b = 0;
+  fx::Len rest = 0;
+  Stiffness k = 0;
+};
+
+// LEMAN §5.5 "rubber band": a zero-length spring from a skin vertex to a
+// muscle ring vertex.
+struct RubberBand {
+  uint32_t vertex = 0;
+  uint32_t muscle = 0, slice = 0, ring_vertex = 0;
+  Stiffness k = 0;
+};
+
+struct SkinParams {
+  uint32_t iterations = 30;  // relaxations per step (§5.2; ~30 reach equilibrium), 1..kMaxIterations
+  // Compressed edges push back weaker (§5.2): the stiffness multiplier is 1
+  // for length excess >= 0, push_back below -compression_band * rest, and
+  // linear in between.
+  fx::Unit push_back = fx::kUnitOne / 10;
+  fx::Unit compression_band = fx::kUnitOne / 10;  // (0, 1]
+  // Collision sphere under each anchor (§5.2): radius R, centre R below the
+  // virtual anchor along its normal; 0 disables.
+  fx::Len collision_radius = 0;
+  // Reaction constraints (LEMAN §3): in every iteration but the last a point
+  // inside a primitive removes this fraction of its penetration (first-order,
+  // critically damped: no overshoot); the last iteration removes all of it.
+  fx::Unit reaction_gain = fx::kUnitOne / 2;  // (0, 1]
+  uint32_t newton_steps = 3;                  // per push-out, 1..kMaxNewtonSteps
+  uint8_t warm_start = 0;  // 1: start from the last step's skin (LEMAN); 0: from the virtual anchors (§5.1)
+};
+
+struct SkinModel {
+  uint32_t joint_count = 0;  // joints of the rig the model was built for
+  uint32_t vertex_count = 0;
+  std::span<const Anchor> anchors;              // one per vertex
+  std::span<const Stiffness> anchor_stiffness;  // k_a = C_a * sum(a_i) / 3 (eq. 2), one per vertex
+  std::span<const fx::Len> fat;                 // fat thickness below the skin (LEMAN §5.6), >= 0, one per vertex
+  std::span<const Edge> edges;
+  std::span<const RubberBand> bands;
+  SkinParams params;
+};
+
+}  // namespace sinew::elastic_skin

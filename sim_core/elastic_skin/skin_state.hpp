@@ -1,0 +1,48 @@
+// Runtime state of the elastic skin, carved from caller memory at init.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "sim_core/muscle/layer_status.hpp"
+#include "skin_model.hpp"
+
+namespace sinew::elastic_skin {
+
+using muscle::LayerError;
+using muscle::LayerStatus;
+
+struct SkinStats {
+  uint64_t steps = 0;
+  uint32_t iterations = 0;      // relaxations run in the last step
+  fx::Len max_relax_first = 0;  // largest relaxation vector of the first iteration, last step
+  fx::Len max_relax_last = 0;   // ... of the last iteration
+  uint32_t collisions = 0;      // vertices pushed out of their collision sphere, last step (all iterations)
+  uint32_t reactions = 0;       // vertices pushed out of a primitive, last step (all iterations)
+  uint32_t inside_after = 0;    // fat points still inside an active primitive after the step (F < 1 - 2^-10)
+  uint32_t saturated = 0;       // clamped accumulations, last step
+};
+
+struct SkinState {
+  uint32_t vertex_count = 0;
+  std::span<fx::Len> position[3];  // relaxed skin, SoA (the layer's output)
+  std::span<fx::Len> anchor[3];    // virtual anchors of this step, SoA
+  std::span<fx::Len> previous[3];  // positions at the start of the current iteration
+  std::span<fx::Unit> normal[3];   // anchor normals of this step, Q2.30, SoA
+  std::span<int64_t> force[3];     // per-iteration accumulators: sum k (Q16.16) * force (Len)
+  std::span<int64_t> weight;       // per-iteration accumulators: sum k
+  // Largest relaxation vector per iteration of the last step (kMaxIterations
+  // entries): the largest net move of a vertex in that round, relaxation and
+  // constraints together, so it tends to zero at (constrained) equilibrium.
+  std::span<fx::Len> max_relax;
+  uint8_t started = 0;
+  SkinStats stats;
+};
+
+size_t skin_state_bytes(const SkinModel& model);
+
+// Carves `memory` (8-byte aligned, >= skin_state_bytes). kMemory on failure.
+LayerStatus skin_state_init(const SkinModel& model, void* memory, size_t bytes, SkinState* out);
+
+}  // namespace sinew::elastic_skin

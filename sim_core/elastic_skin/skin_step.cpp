@@ -1,0 +1,87 @@
+#include "skin_step.hpp"
+
+#include "reaction.hpp"
+#include "relaxation.hpp"
+#include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
+#include "skin_validate.hpp"
+#include "virtual_anchors.hpp"
+
+namespace sinew::elastic_skin {
+namespace {
+
+// Penetration the final check tolerates: 2^-10 on the inside/outside function.
+constexpr fx::Unit kInsideTolerance = fx::kUnitOne >> 10;
+
+// Largest move of a vertex since the start of the iteration.
+fx::Len largest_move(const SkinState& s, uint32_t n) {
+  uint64_t worst = 0;  // squared: one root at the end
+  for (uint32_t v = 0; v < n; ++v) {
+    const uint64_t dx = fx::magnitude(int64_t{s.position[0][v]} - s.previous[0][v]);
+    const uint64_t dy = fx::magnitude(int64_t{s.position[1][v]} - s.previous[1][v]);
+    const uint64_t dz = fx::magnitude(int64_t{s.position[2][v]} - s.previous[2][v]);
+    // Each difference < 2^32; clamp the sum of squares instead of wrapping.
+    const uint64_t lim = uint64_t{1} << 62;
+    const uint64_t d2 =
+        (dx >= lim >> 31 || dy >= lim >> 31 || dz >= lim >> 31) ? UINT64_MAX : dx * dx + dy * dy + dz * dz;
+    if (d2 > worst) worst = d2;
+  }
+  return fx::sat_i32(int64_t{fx::isqrt_u64(worst)});
+}
+
+LayerStatus bad_input(const char* field, const char* problem) {
+  return muscle::layer_fail(LayerError::kBadInput, "skin step", -1, field, problem);
+}
+
+}  // namespace
+
+LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles, const muscle::MuscleState& mstate,
+                      std::span<const fx::Mat34> bones, SkinState* state) {
+  if (state == nullptr) return bad_input("state", "null");
+  if (bones.size() < model.joint_count) return bad_input("bones", "fewer transforms than the model's joints");
+  if (state->vertex_count != model.vertex_count || state->weight.size() != model.vertex_count)
+    return bad_input("state", "not initialised for this skin model");
+  if (mstate.ring_vertices != muscles.ring_vertices ||
+      mstate.frames.size() != muscles.muscles.size() * muscle::kSlices ||
+      mstate.primitives.size() != muscles.primitives.size())
+    return bad_input("muscle state", "not initialised for this muscle model");
+  const LayerStatus checked = skin_check_indices(model, muscles, static_cast<uint32_t>(bones.size()));
+  if (!checked.ok()) return checked;
+
+  SkinState& s = *state;
+  s.stats = SkinStats{s.stats.steps, 0, 0, 0, 0, 0, 0, 0};
+  const bool warm = model.params.warm_start != 0 && s.started != 0;
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
+    s.anchor[0][v] = a.position.x;
+    s.anchor[1][v] = a.position.y;
+    s.anchor[2][v] = a.position.z;
+    s.normal[0][v] = a.normal.x;
+    s.normal[1][v] = a.normal.y;
+    s.normal[2][v] = a.normal.z;
+    if (!warm) {
+      s.position[0][v] = a.position.x;
+      s.position[1][v] = a.position.y;
+      s.position[2][v] = a.position.z;
+    }
+  }
+  const uint32_t iterations = model.params.iterations;
+  for (uint32_t i = 0; i < iterations; ++i) {
+    for (int c = 0; c < 3; ++c)
+      for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
+    relax_once(model, mstate, &s);
+    s.stats.collisions += collide_with_anchor_spheres(model, &s);
+    const fx::Unit gain = i + 1 == iterations ? fx::kUnitOne : model.params.reaction_gain;
+    s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s);
+    s.max_relax[i] = largest_move(s, model.vertex_count);
+  }
+  s.stats.iterations = iterations;
+  s.stats.max_relax_first = s.max_relax[0];
+  s.stats.max_relax_last = s.max_relax[iterations - 1];
+  s.stats.inside_after = count_inside(model, mstate, kInsideTolerance, s);
+  s.started = 1;
+  ++s.stats.steps;
+  return {};
+}
+
+}  // namespace sinew::elastic_skin

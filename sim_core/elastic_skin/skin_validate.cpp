@@ -1,0 +1,89 @@
+#include "skin_validate.hpp"
+
+namespace sinew::elastic_skin {
+namespace {
+
+LayerStatus bad(const char* what, int64_t index, const char* field, const char* problem, int64_t value = 0,
+                bool show = false) {
+  return muscle::layer_fail(LayerError::kBadModel, what, index, field, problem, value, show);
+}
+
+LayerStatus check_anchor(const Anchor& a, uint32_t v, const muscle::MuscleModel& muscles, uint32_t joints) {
+  if (a.kind == static_cast<uint8_t>(AnchorKind::kBone)) {
+    if (a.component >= joints || a.bone_b >= joints)
+      return bad("skin anchor", v, "component", "bone is not a joint of the rig (anchor outside every component)",
+                 a.component, true);
+    if (a.weight_b < 0 || a.weight_b > fx::kUnitOne)
+      return bad("skin anchor", v, "weight_b", "outside [0, 1]", a.weight_b, true);
+    return {};
+  }
+  if (a.kind != static_cast<uint8_t>(AnchorKind::kMuscle))
+    return bad("skin anchor", v, "kind", "unknown", a.kind, true);
+  if (a.component >= muscles.muscles.size())
+    return bad("skin anchor", v, "component", "no such muscle (anchor outside every component)", a.component, true);
+  if (a.segment + 1 >= muscle::kSlices) return bad("skin anchor", v, "segment", "must be 0..6", a.segment, true);
+  for (int c = 0; c < 2; ++c)
+    if (a.param[c] > kMaxAnchorST || a.param[c] < -kMaxAnchorST)
+      return bad("skin anchor", v, "param", "(s, t) beyond +-16: anchor outside every component", a.param[c], true);
+  if (a.param[2] < kMinAnchorU || a.param[2] > kMaxAnchorU)
+    return bad("skin anchor", v, "param.u", "outside [-1, 2]: anchor outside every component", a.param[2], true);
+  return {};
+}
+
+LayerStatus check_params(const SkinParams& p) {
+  if (p.iterations < 1 || p.iterations > kMaxIterations)
+    return bad("skin params", -1, "iterations", "must be 1..256", p.iterations, true);
+  if (p.push_back < 0 || p.push_back > fx::kUnitOne)
+    return bad("skin params", -1, "push_back", "outside [0, 1]", p.push_back, true);
+  if (p.compression_band <= 0 || p.compression_band > fx::kUnitOne)
+    return bad("skin params", -1, "compression_band", "outside (0, 1]", p.compression_band, true);
+  if (p.reaction_gain <= 0 || p.reaction_gain > fx::kUnitOne)
+    return bad("skin params", -1, "reaction_gain", "outside (0, 1]", p.reaction_gain, true);
+  if (p.newton_steps < 1 || p.newton_steps > kMaxNewtonSteps)
+    return bad("skin params", -1, "newton_steps", "must be 1..8", p.newton_steps, true);
+  if (p.collision_radius < 0) return bad("skin params", -1, "collision_radius", "negative", p.collision_radius, true);
+  return {};
+}
+
+}  // namespace
+
+LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel& muscles, uint32_t joints) {
+  const uint32_t n = model.vertex_count;
+  if (n > kMaxVertices) return bad("skin model", -1, "vertex_count", "above 2^20", n, true);
+  if (model.anchors.size() != n || model.anchor_stiffness.size() != n || model.fat.size() != n)
+    return bad("skin model", -1, "anchors/anchor_stiffness/fat", "sizes differ from vertex_count", n, true);
+  for (uint32_t v = 0; v < n; ++v) {
+    const LayerStatus s = check_anchor(model.anchors[v], v, muscles, joints);
+    if (!s.ok()) return s;
+  }
+  for (uint32_t e = 0; e < model.edges.size(); ++e) {
+    const Edge& ed = model.edges[e];
+    if (ed.a >= n || ed.b >= n || ed.a == ed.b)
+      return bad("skin edge", e, "a/b", "endpoint out of range or repeated", ed.a, true);
+  }
+  const uint32_t ring = muscles.ring_vertices;
+  for (uint32_t i = 0; i < model.bands.size(); ++i) {
+    const RubberBand& b = model.bands[i];
+    if (b.vertex >= n || b.muscle >= muscles.muscles.size() || b.slice >= muscle::kSlices || b.ring_vertex >= ring)
+      return bad("rubber band", i, "vertex/muscle/slice/ring_vertex", "out of range");
+    if (b.k > kMaxStiffness) return bad("rubber band", i, "k", "above 256", b.k, true);
+  }
+  for (uint32_t e = 0; e < model.edges.size(); ++e) {
+    if (model.edges[e].rest < 0) return bad("skin edge", e, "rest", "negative rest length", model.edges[e].rest, true);
+    if (model.edges[e].k > kMaxStiffness) return bad("skin edge", e, "k", "above 256", model.edges[e].k, true);
+  }
+  for (uint32_t v = 0; v < n; ++v) {
+    if (model.anchor_stiffness[v] > kMaxStiffness)
+      return bad("skin anchor", v, "stiffness", "above 256", model.anchor_stiffness[v], true);
+    if (model.fat[v] < 0) return bad("skin fat", v, "thickness", "negative", model.fat[v], true);
+  }
+  return check_params(model.params);
+}
+
+LayerStatus skin_validate(const rig::Rig& rig, const muscle::MuscleModel& muscles, const SkinModel& model) {
+  if (model.joint_count != rig.joint_count())
+    return bad("skin model", -1, "joint_count", "differs from the rig's joint count", model.joint_count, true);
+  return skin_check_indices(model, muscles, rig.joint_count());
+}
+
+}  // namespace sinew::elastic_skin

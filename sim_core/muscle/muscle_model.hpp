@@ -1,0 +1,84 @@
+// Deformed-cylinder muscles (anatomically-based-modeling §4) and implicit
+// muscle primitives (LEMAN §5.2): the immutable model a builder produces
+// (host_tools/layers/anatomy) and the runtime reads. Plain records behind
+// spans; nothing here allocates.
+//
+// Units: every position and length is a Len (Q12.20 rig units, the rig's
+// own length exponent); directions are Q2.30 unit vectors.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "sim_core/fixed/vec3.hpp"
+
+namespace sinew::muscle {
+
+// 8 elliptical slices per muscle (7 sections), §4.1.
+inline constexpr uint32_t kSlices = 8;
+// Ring vertices per slice: a multiple of 4 (the anchoring cell uses the
+// vertices at 0, 1/4, 1/2 and 3/4 of a turn), 4..kMaxRingVertices.
+inline constexpr uint32_t kMaxRingVertices = 64;
+inline constexpr uint32_t kMaxMuscles = 256;
+inline constexpr uint32_t kMaxPrimitives = 256;
+// Largest ratio between a primitive's extents (keeps gradients in range).
+inline constexpr int32_t kMaxPrimitiveAspect = 64;
+
+// A point fixed on a bone: a joint index and a position in that joint's
+// frame (the builder turns the paper's bone-size parameters into it).
+struct BonePoint {
+  uint32_t bone = 0;
+  fx::Vec3 local{0, 0, 0};  // Len, joint frame
+};
+
+struct MuscleRecord {
+  BonePoint origin[2];     // proximal attachments (origin bones must be ancestors of insertion bones)
+  BonePoint insertion[2];  // distal attachments
+  // Optional pivot frame origin (§4.3): the path runs origin -> pivot ->
+  // insertion and slice pivot_slice (1..6) sits on the pivot.
+  int32_t pivot_bone = -1;  // -1: no pivot
+  uint32_t pivot_slice = 0;
+  fx::Vec3 pivot_local{0, 0, 0};
+  // Rest half-axes of each slice ellipse: X across the muscle (width), Y its
+  // thickness; Len, >= 0. End slices (0 and 7) never scale.
+  fx::Len half_width[kSlices] = {};
+  fx::Len half_thickness[kSlices] = {};
+  // Displacement of each slice centre along -Y (outward from the bone, §4.2),
+  // at rest; scaled with the slice's thickness.
+  fx::Len bulge[kSlices] = {};
+  // Path length at the rest pose (origin midpoint, pivot, insertion
+  // midpoint); > 0. Inner slices scale by sqrt(rest_length / present length).
+  fx::Len rest_length = 0;
+};
+
+enum class PrimitiveKind : uint8_t {
+  kSphere = 0,          // extent[0] is the radius (extent[1..2] must equal it)
+  kCylinder = 1,        // elliptic cross-section extent[0..1] about Z, half height extent[2]
+  kSuperellipsoid = 2,  // |x/a|^p + |y/b|^p + |z/c|^p < 1, p = exponent in {2, 4, 8}
+};
+
+enum class PrimitiveAttach : uint8_t {
+  kBone = 0,    // frame = the bone's frame (rigid bones: the linear part is a rotation)
+  kMuscle = 1,  // frame = the slice frame of a muscle segment; extents follow the muscle's volume scale
+};
+
+// An implicit primitive the skin may not enter (LEMAN §5.2, §6.11).
+struct PrimitiveRecord {
+  uint8_t kind = 0;          // PrimitiveKind
+  uint8_t attach = 0;        // PrimitiveAttach
+  uint8_t exponent = 2;      // superellipsoid exponent p: 2, 4 or 8 (sphere, cylinder: 2)
+  uint8_t active = 1;        // inactive primitives are carried but never push the skin
+  uint32_t index = 0;        // bone (joint) index or muscle index
+  uint32_t segment = 0;      // muscle attach: centre between slices segment and segment + 1 (0..6)
+  fx::Vec3 centre{0, 0, 0};  // Len: bone-frame centre, or offset in the slice frame for muscles
+  fx::Len extent[3] = {};    // rest half-extents along the frame's X, Y, Z, > 0
+};
+
+struct MuscleModel {
+  uint32_t joint_count = 0;    // joints of the rig the model was built for
+  uint32_t ring_vertices = 8;  // per slice, multiple of 4 in [4, kMaxRingVertices]
+  std::span<const MuscleRecord> muscles;
+  std::span<const PrimitiveRecord> primitives;
+};
+
+}  // namespace sinew::muscle

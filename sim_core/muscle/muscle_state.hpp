@@ -1,0 +1,61 @@
+// Runtime state of the muscle layer, carved from caller memory at init
+// (muscle_state_bytes tells how much); the step writes only into it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "layer_status.hpp"
+#include "muscle_model.hpp"
+
+namespace sinew::muscle {
+
+// A slice coordinate frame (§4.2): centre on the muscle axis, Z along the
+// axis towards the insertions, X across (width), Y = Z x X (thickness; -Y
+// points outward from the bone). Radii are the present ellipse half-axes.
+struct SliceFrame {
+  fx::Vec3 centre{0, 0, 0};                     // Len
+  fx::Vec3 x{0, 0, 0}, y{0, 0, 0}, z{0, 0, 0};  // Q2.30 unit
+  fx::Len radius_x = 0, radius_y = 0;
+};
+
+// A primitive placed for this step: world (model-space) centre, unit axes
+// and present half-extents.
+struct PrimitiveFrame {
+  fx::Vec3 centre{0, 0, 0};
+  fx::Vec3 axis[3] = {};
+  fx::Len extent[3] = {};
+  uint8_t kind = 0, exponent = 2, active = 0;
+};
+
+struct MuscleStats {
+  uint64_t steps = 0;
+  uint32_t recomputed = 0;  // muscles whose attachments moved in the last step
+  uint32_t degenerate = 0;  // fallback axes used (coincident attachments), last step
+};
+
+struct MuscleState {
+  uint32_t ring_vertices = 0;
+  std::span<fx::Unit> ring_cos, ring_sin;  // Q2.30, per ring vertex j: angle j / ring turns
+  std::span<SliceFrame> frames;            // [muscle * kSlices + slice]
+  std::span<fx::Len> vertex[3];            // SoA, [(muscle * kSlices + slice) * ring + j]
+  std::span<fx::Len> length;               // present path length per muscle
+  std::span<fx::Unit> scale;               // sqrt(rest / present), Q2.30, per muscle
+  std::span<fx::Vec3> last_points;         // 5 per muscle: attachments of the last recompute
+  std::span<uint8_t> computed;             // per muscle: 1 once computed
+  std::span<PrimitiveFrame> primitives;
+  MuscleStats stats;
+};
+
+inline uint32_t muscle_vertex_index(uint32_t ring, uint32_t muscle, uint32_t slice, uint32_t j) {
+  return (muscle * kSlices + slice) * ring + j;
+}
+
+size_t muscle_state_bytes(const MuscleModel& model);
+
+// Carves `memory` (8-byte aligned, >= muscle_state_bytes) and fills the ring
+// tables. Fails with kMemory or kBadModel (ring_vertices out of range).
+LayerStatus muscle_state_init(const MuscleModel& model, void* memory, size_t bytes, MuscleState* out);
+
+}  // namespace sinew::muscle

@@ -1,0 +1,98 @@
+#include "muscle_validate.hpp"
+
+namespace sinew::muscle {
+namespace {
+
+LayerStatus bad(const char* what, int64_t index, const char* field, const char* problem, int64_t value = 0,
+                bool show = false) {
+  return layer_fail(LayerError::kBadModel, what, index, field, problem, value, show);
+}
+
+// True if `ancestor` is `joint` or one of its parents (parents precede children).
+bool is_ancestor_or_self(const rig::Rig& rig, uint32_t ancestor, uint32_t joint) {
+  int32_t j = static_cast<int32_t>(joint);
+  for (uint32_t guard = 0; j >= 0 && guard <= rig.joint_count(); ++guard) {
+    if (static_cast<uint32_t>(j) == ancestor) return true;
+    j = rig.joints[static_cast<uint32_t>(j)].parent;
+  }
+  return false;
+}
+
+LayerStatus check_muscle(const rig::Rig& rig, const MuscleRecord& r, uint32_t i) {
+  const uint32_t joints = rig.joint_count();
+  for (int k = 0; k < 2; ++k) {
+    if (r.origin[k].bone >= joints)
+      return bad("muscle", i, "origin.bone", "not a joint of the rig", r.origin[k].bone, true);
+    if (r.insertion[k].bone >= joints)
+      return bad("muscle", i, "insertion.bone", "not a joint of the rig", r.insertion[k].bone, true);
+  }
+  for (int o = 0; o < 2; ++o)
+    for (int n = 0; n < 2; ++n)
+      if (!is_ancestor_or_self(rig, r.origin[o].bone, r.insertion[n].bone))
+        return bad("muscle", i, "origin.bone",
+                   "origin is after the insertion in the hierarchy (must be the insertion bone or an ancestor)",
+                   r.origin[o].bone, true);
+  if (r.pivot_bone >= 0) {
+    if (static_cast<uint32_t>(r.pivot_bone) >= joints)
+      return bad("muscle", i, "pivot_bone", "not a joint of the rig", r.pivot_bone, true);
+    if (r.pivot_slice < 1 || r.pivot_slice > kSlices - 2)
+      return bad("muscle", i, "pivot_slice", "must be an inner slice (1..6)", r.pivot_slice, true);
+  } else if (r.pivot_bone != -1) {
+    return bad("muscle", i, "pivot_bone", "must be -1 (no pivot) or a joint", r.pivot_bone, true);
+  }
+  if (r.rest_length <= 0) return bad("muscle", i, "rest_length", "must be > 0", r.rest_length, true);
+  for (uint32_t k = 0; k < kSlices; ++k)
+    if (r.half_width[k] < 0 || r.half_thickness[k] < 0)
+      return bad("muscle", i, "half_width/half_thickness", "negative slice radius", k, true);
+  return {};
+}
+
+LayerStatus check_primitive(const rig::Rig& rig, const MuscleModel& model, const PrimitiveRecord& p, uint32_t i) {
+  if (p.kind > static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid))
+    return bad("primitive", i, "kind", "unknown kind", p.kind, true);
+  if (p.attach == static_cast<uint8_t>(PrimitiveAttach::kBone)) {
+    if (p.index >= rig.joint_count()) return bad("primitive", i, "index", "not a joint of the rig", p.index, true);
+  } else if (p.attach == static_cast<uint8_t>(PrimitiveAttach::kMuscle)) {
+    if (p.index >= model.muscles.size()) return bad("primitive", i, "index", "no such muscle", p.index, true);
+    if (p.segment + 1 >= kSlices) return bad("primitive", i, "segment", "must be 0..6", p.segment, true);
+  } else {
+    return bad("primitive", i, "attach", "unknown attachment", p.attach, true);
+  }
+  const bool super = p.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid);
+  if (super ? (p.exponent != 2 && p.exponent != 4 && p.exponent != 8) : p.exponent != 2)
+    return bad("primitive", i, "exponent", "must be 2, 4 or 8 (2 for spheres and cylinders)", p.exponent, true);
+  fx::Len lo = p.extent[0], hi = p.extent[0];
+  for (int c = 0; c < 3; ++c) {
+    if (p.extent[c] <= 0) return bad("primitive", i, "extent", "must be > 0", p.extent[c], true);
+    if (p.extent[c] < lo) lo = p.extent[c];
+    if (p.extent[c] > hi) hi = p.extent[c];
+  }
+  if (int64_t{hi} > int64_t{lo} * kMaxPrimitiveAspect)
+    return bad("primitive", i, "extent", "aspect ratio above 64", hi / lo, true);
+  if (p.kind == static_cast<uint8_t>(PrimitiveKind::kSphere) && (p.extent[1] != lo || p.extent[2] != lo || hi != lo))
+    return bad("primitive", i, "extent", "a sphere needs three equal extents");
+  return {};
+}
+
+}  // namespace
+
+LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
+  if (model.joint_count != rig.joint_count())
+    return bad("muscle model", -1, "joint_count", "differs from the rig's joint count", model.joint_count, true);
+  const uint32_t ring = model.ring_vertices;
+  if (ring < 4 || ring > kMaxRingVertices || ring % 4 != 0)
+    return bad("muscle model", -1, "ring_vertices", "must be a multiple of 4 in [4, 64]", ring, true);
+  if (model.muscles.size() > kMaxMuscles) return bad("muscle model", -1, "muscles", "more than 256");
+  if (model.primitives.size() > kMaxPrimitives) return bad("muscle model", -1, "primitives", "more than 256");
+  for (uint32_t i = 0; i < model.muscles.size(); ++i) {
+    const LayerStatus s = check_muscle(rig, model.muscles[i], i);
+    if (!s.ok()) return s;
+  }
+  for (uint32_t i = 0; i < model.primitives.size(); ++i) {
+    const LayerStatus s = check_primitive(rig, model, model.primitives[i], i);
+    if (!s.ok()) return s;
+  }
+  return {};
+}
+
+}  // namespace sinew::muscle

@@ -1,0 +1,111 @@
+#include "primitive.hpp"
+
+#include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
+#include "vec_ops.hpp"
+
+namespace sinew::muscle {
+namespace {
+
+constexpr int64_t kOne = int64_t{1} << fx::kUnitFracBits;
+constexpr int64_t kOutsideBox = int64_t{4} << fx::kUnitFracBits;
+
+struct Powers {
+  fx::Unit p;         // q^p
+  fx::Unit p_minus1;  // q^(p-1), carries the sign of q
+};
+
+int32_t comp(fx::Vec3 v, int c) { return c == 0 ? v.x : (c == 1 ? v.y : v.z); }
+
+Powers powers(fx::Unit q, int exponent) {
+  const fx::Unit q2 = fx::mul_unit(q, q);
+  if (exponent == 2) return {q2, q};
+  const fx::Unit q4 = fx::mul_unit(q2, q2);
+  if (exponent == 4) return {q4, fx::mul_unit(q2, q)};
+  return {fx::mul_unit(q4, q4), fx::mul_unit(fx::mul_unit(q4, q2), q)};
+}
+
+}  // namespace
+
+PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
+  PrimitiveSample s;
+  s.value = kOutsideBox;
+  const bool cylinder = f.kind == static_cast<uint8_t>(PrimitiveKind::kCylinder);
+  const int exponent = f.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid) ? f.exponent : 2;
+  const fx::Vec3 d = fx::sub(p, f.centre);
+  int64_t local[3];
+  fx::Len emax = 1;
+  for (int i = 0; i < 3; ++i) {
+    if (f.extent[i] <= 0) return s;
+    local[i] = component(d, f.axis[i]);
+    // Outside the bounding box every term (or the cylinder's cap test) is >= 1.
+    if (local[i] >= f.extent[i] || local[i] <= -int64_t{f.extent[i]}) return s;
+    if (f.extent[i] > emax) emax = f.extent[i];
+  }
+  const int terms = cylinder ? 2 : 3;
+  int64_t value = 0;
+  int64_t g[3] = {0, 0, 0};  // dF/dx_i * emax = p q^(p-1) (emax / a_i), Q2.30 x Q16 -> Q46
+  uint64_t largest = 0;
+  for (int i = 0; i < terms; ++i) {
+    const fx::Unit q = fx::sat_i32(fx::div_round(local[i] * kOne, f.extent[i]));  // |q| < 1
+    const Powers pw = powers(q, exponent);
+    value += pw.p;
+    const int64_t ratio = fx::div_round(int64_t{emax} << 16, f.extent[i]);  // <= 2^16 * aspect (2^22)
+    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;                         // < 2^3 * 2^30 * 2^22
+    const uint64_t m = fx::magnitude(g[i]);
+    if (m > largest) largest = m;
+  }
+  s.value = value;
+  s.inside = value < kOne;
+  // Keep the gradient's direction exact whatever its size: shift it so the
+  // largest component has 30 significant bits, normalise, remember the shift.
+  int shift = 0;
+  while ((largest >> shift) >= (uint64_t{1} << 30)) ++shift;
+  const auto narrow = [&](int64_t v) { return fx::sat_i32(shift > 0 ? fx::round_shift(v, shift) : v); };
+  const fx::Vec3 g_local{narrow(g[0]), narrow(g[1]), narrow(g[2])};
+  // |grad F| * emax in Q20: |g| (Q46 >> shift) shifted to 20 fractional bits.
+  const int64_t glen = fx::length(g_local);
+  s.gradient_length = fx::sat_i32(shift >= 26 ? glen << (shift - 26) : fx::round_shift(glen, 26 - shift));
+  fx::Vec3 n{};
+  if (fx::normalize_to_unit(g_local, &n)) {
+    const auto world = [&](int c) {
+      const int64_t sum =
+          int64_t{comp(f.axis[0], c)} * n.x + int64_t{comp(f.axis[1], c)} * n.y + int64_t{comp(f.axis[2], c)} * n.z;
+      return fx::sat_i32(fx::round_shift(sum, fx::kUnitFracBits));
+    };
+    s.normal = {world(0), world(1), world(2)};
+  }
+  return s;
+}
+
+fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps) {
+  fx::Len emax = 0;
+  for (int i = 0; i < 3; ++i)
+    if (f.extent[i] > emax) emax = f.extent[i];
+  const int exponent = f.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid) ? f.exponent : 2;
+  for (int step = 0; step < newton_steps; ++step) {
+    const PrimitiveSample s = primitive_sample(f, p);
+    if (!s.inside) break;
+    // Newton along the gradient on G = F^(1/p), which grows linearly along
+    // rays from the centre (F is homogeneous of degree p): a step lands on
+    // the surface for radial gradients and close to it otherwise, where
+    // Newton on F itself would overshoot. delta = (1 - G) / |grad G|
+    // = p (1 - r) F / (r |grad F|), r = F^(1/p) by repeated square roots.
+    uint64_t r = static_cast<uint64_t>(s.value);
+    for (int e = exponent; e > 1; e /= 2) r = fx::isqrt_u64(r << fx::kUnitFracBits);
+    fx::Vec3 dir = s.normal;
+    int64_t delta = emax / 2;
+    const int64_t den = fx::round_shift(static_cast<int64_t>(r) * s.gradient_length, fx::kUnitFracBits);
+    if (den > 0 && !(dir == fx::Vec3{0, 0, 0})) {
+      const int64_t num = fx::round_shift(int64_t{exponent} * (kOne - static_cast<int64_t>(r)) * s.value, 30);
+      delta = fx::div_round(fx::mul_shift_round(num, emax, 10), den) + 1;  // +1 LSB: leave the surface
+    } else {
+      dir = fallback;
+    }
+    if (delta > emax) delta = emax;
+    p = fx::add(p, along(dir, fx::sat_i32(delta)));
+  }
+  return p;
+}
+
+}  // namespace sinew::muscle

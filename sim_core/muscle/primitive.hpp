@@ -1,0 +1,37 @@
+// Implicit muscle primitives (LEMAN §5.2, §6.11): fast inside tests with
+// gradients, and the projection that moves a point out along the gradient.
+//
+// In the primitive's frame a point has local coordinates (x, y, z) and
+// normalised ones q = (x/a, y/b, z/c), a, b, c its half-extents. The
+// inside/outside function (Barr's superquadric with both exponents 2/p):
+//   sphere, superellipsoid:  F = |qx|^p + |qy|^p + |qz|^p   (sphere: p = 2)
+//   cylinder:                F = qx^2 + qy^2, and |qz| < 1
+// The point is inside when F < 1 (§6.11); the gradient
+//   dF/dx_i = p q_i^(p-1) / a_i
+// points out of the primitive. F is returned in Q2.30 (values of 1 or more,
+// including every point outside the bounding box, read as "outside").
+#pragma once
+
+#include <cstdint>
+
+#include "muscle_state.hpp"
+
+namespace sinew::muscle {
+
+struct PrimitiveSample {
+  bool inside = false;
+  int64_t value = 0;            // F in Q2.30 (>= 2^30 outside); 2^32 for points outside the bounding box
+  fx::Vec3 normal{0, 0, 0};     // unit outward gradient direction (world), Q2.30; zero at the centre
+  fx::Len gradient_length = 0;  // |grad F| * max extent, Q12.20 (dimensionless, in Len format)
+};
+
+// Evaluates F and its gradient direction at `p` (Len, model space).
+PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p);
+
+// Moves p out of the primitive along the gradient: `newton_steps` Newton
+// steps on G = F^(1/p) along the gradient (never more than the largest
+// extent per step). `fallback` (a unit vector) is used at the centre,
+// where the gradient vanishes. Returns the moved point (p if outside).
+fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps);
+
+}  // namespace sinew::muscle

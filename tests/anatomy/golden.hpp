@@ -1,0 +1,9 @@
+// Committed golden hash of the anatomy determinism workload. A numerics
+// change updates it on purpose, in a commit of its own that says why.
+#pragma once
+
+#include <cstdint>
+
+namespace sinew::test::golden {
+inline constexpr uint64_t kAnatomyArm = 0xdcc79fea7d1b0bdeu;
+}  // namespace sinew::test::golden
