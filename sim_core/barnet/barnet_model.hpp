@@ -7,7 +7,7 @@
 // Units and Q formats:
 //   positions, offsets         Len   Q12.20 rig units (same unit as the rig)
 //   force density q            Q16.16, q in [kMinForceDensity, kMaxForceDensity]
-//   forces (loads, pre-loads)  Force Q8.24 in units of (1 force density) x (1 rig unit)
+//   forces (loads)             Force Q8.24 in units of (1 force density) x (1 rig unit)
 //   weights, barycentrics      Unit  Q2.30, summing to 2^30
 //   angles                     signed binary angles (int32 view, 2^32 = a turn)
 #pragma once
@@ -44,16 +44,14 @@ inline constexpr uint32_t kMaxProfile = 1u << 18;
 enum class NodeKind : uint8_t { kFree = 0, kFixed = 1 };
 
 // A node of the net, which is also a vertex of the control mesh. Its skinned
-// position is sum_k weight[k] * S(joint[k]) * rest, S = global x inverse bind
-// (the smooth skinning of the control mesh). Fixed nodes take that position;
-// free nodes are solved for (eq. (4)).
+// position is s = sum_k weight[k] * S(joint[k]) * rest, S = global x inverse
+// bind (the smooth skinning of the control mesh). Fixed nodes take x_f = s_f.
+// Free nodes are solved for (eq. (4)) under p = D s + D_f s_f + loads: the
+// first two terms are the load that holds the net at its skinned shape (so
+// with no load the net is the smoothly skinned control mesh, exactly), the
+// loads deform it from there.
 struct NodeRecord {
   fx::Vec3 rest;  // Len, bind pose, model space
-  // Free nodes: the load that holds the node at `rest` in the bind pose,
-  // p0 = D x0 + D_f x0_f (eq. (3) solved for p), in the bind pose's model
-  // frame; each step it is carried by the node's blended skinning matrix
-  // like a vector. Zero for fixed nodes.
-  fx::Vec3 preload;  // Force
   uint8_t kind = 0;  // NodeKind
   uint8_t influence_count = 0;  // 1..kMaxNodeInfluences
   uint16_t joint[kMaxNodeInfluences] = {};

@@ -71,25 +71,20 @@ Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out
   // Skinning matrices S_j = G_j x B_j^-1 (the rig's palette, per joint).
   for (uint32_t j = 0; j < m.joint_count; ++j) st->skin[j] = fx::mul(in.bones[j], m.inverse_bind[j]);
 
-  // 1. Control mesh: smooth-skinned node positions (blend then round once);
-  //    free nodes also carry their pre-load like a vector.
+  // 1. Control mesh: smooth-skinned node positions (blend then round once).
   for (uint32_t i = 0; i < m.nodes.size(); ++i) {
     const NodeRecord& n = m.nodes[i];
-    Blend pos, pre;
-    for (uint32_t k = 0; k < n.influence_count; ++k) {
-      const fx::Mat34& sk = st->skin[n.joint[k]];
-      pos.add(fx::transform_point(sk, n.rest), n.weight[k]);
-      if (i < free) pre.add(fx::transform_vector(sk, n.preload), n.weight[k]);
-    }
+    Blend pos;
+    for (uint32_t k = 0; k < n.influence_count; ++k)
+      pos.add(fx::transform_point(st->skin[n.joint[k]], n.rest), n.weight[k]);
     const fx::Vec3 p = pos.result(sat);
-    if (i < free) {
-      const fx::Vec3 f = pre.result(sat);
-      for (size_t c = 0; c < 3; ++c) {
+    for (size_t c = 0; c < 3; ++c) {
+      if (i < free) {
         st->skinned[c][i] = component(p, c);
-        st->load[c][i] = component(f, c);
+        st->load[c][i] = 0;
+      } else {
+        out.node[c][i] = component(p, c);
       }
-    } else {
-      for (size_t c = 0; c < 3; ++c) out.node[c][i] = component(p, c);
     }
   }
 
@@ -101,11 +96,21 @@ Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out
     for (size_t c = 0; c < 3; ++c) st->load[c][l.node] += component(f, c);
   }
 
-  // 3. Eq. (4), per axis: x = D^-1 (p - D_f x_f). b in Q.36 force.
+  // 3. Eq. (4), per axis: x = D^-1 (p - D_f x_f), with p = D s + D_f s_f +
+  //    loads (the holding load of the skinned shape, then the loads), in
+  //    Q.36 force: q (Q16.16) x Len (Q12.20) products are exact.
   fx::Len max_disp = 0;
+  auto skinned = [st, &out, free](size_t c, uint32_t node) -> int64_t {
+    return node < free ? st->skinned[c][node] : out.node[c][node];
+  };
   for (size_t c = 0; c < 3; ++c) {
     for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->load[c][i] * (int64_t{1} << 12), sat);
     for (const BarRecord& b : m.bars) {
+      // Row a of [D D_f] s is sum over a's bars of q (s_a - s_b).
+      const int64_t qd = int64_t{b.q} * (skinned(c, b.a) - skinned(c, b.b));  // |qd| < 2^57
+      if (b.a < free) st->work[b.a] = clamp_vector(st->work[b.a] + qd, sat);
+      if (b.b < free) st->work[b.b] = clamp_vector(st->work[b.b] - qd, sat);
+      // -D_f x_f: +q x_f on a free node's bar to a fixed node.
       if (b.a < free && b.b >= free)
         st->work[b.a] = clamp_vector(st->work[b.a] + int64_t{b.q} * out.node[c][b.b], sat);
       else if (b.b < free && b.a >= free)

@@ -1,11 +1,11 @@
 // The bar-net step job (barnet-driven-skinning): bone global transforms and
 // joint angles in; node positions and wrapped fine-skin positions out.
-//   1. control mesh skinning: every node's smooth-skinned position; fixed
-//      nodes keep it (x_f), free nodes start their load from the skinned
-//      pre-load;
+//   1. control mesh skinning: every node's smooth-skinned position s; fixed
+//      nodes keep it (x_f = s_f);
 //   2. loads: each LoadRecord adds t(angle) * force, carried by its bone;
 //   3. eq. (4): x = D^-1 (p - D_f x_f) for x, y and z independently, with
-//      the factor computed at init;
+//      the factor computed at init and p = D s + D_f s_f + loads (the load
+//      holding the net at the skinned shape, plus the bound loads);
 //   4. wrap: each bound fine vertex = bary . triangle + offset * normal.
 #pragma once
 

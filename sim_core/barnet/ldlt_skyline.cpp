@@ -23,7 +23,11 @@ void reciprocal(int64_t d, int64_t* m, int32_t* e) {
     dn >>= 1;
     ++shift;
   }
-  *m = fx::div_round(int64_t{1} << 62, dn);
+  // round(2^62 / dn), half up, in unsigned arithmetic (2^62 itself is the
+  // numerator, beyond div_round's precondition).
+  const uint64_t num = uint64_t{1} << 62, den = static_cast<uint64_t>(dn);
+  const uint64_t quotient = num / den, remainder = num % den;
+  *m = static_cast<int64_t>(quotient + (2 * remainder >= den ? 1u : 0u));
   *e = shift;
 }
 
