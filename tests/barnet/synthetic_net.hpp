@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "host_tools/layers/barnet/net_spec.hpp"
-#include "sim_core/barnet/barnet_step.hpp"
+#include "sim_core/barnet/barnet.hpp"
 
 namespace sinew::test::barnet {
 

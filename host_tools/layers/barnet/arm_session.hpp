@@ -10,7 +10,7 @@
 
 #include "arm_net.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
-#include "sim_core/barnet/barnet_step.hpp"
+#include "sim_core/barnet/barnet.hpp"
 #include "sim_core/engine/engine.hpp"
 
 namespace sinew::layers::barnet {
