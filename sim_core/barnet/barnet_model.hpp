@@ -51,8 +51,8 @@ enum class NodeKind : uint8_t { kFree = 0, kFixed = 1 };
 // with no load the net is the smoothly skinned control mesh, exactly), the
 // loads deform it from there.
 struct NodeRecord {
-  fx::Vec3 rest;  // Len, bind pose, model space
-  uint8_t kind = 0;  // NodeKind
+  fx::Vec3 rest;                // Len, bind pose, model space
+  uint8_t kind = 0;             // NodeKind
   uint8_t influence_count = 0;  // 1..kMaxNodeInfluences
   uint16_t joint[kMaxNodeInfluences] = {};
   fx::Unit weight[kMaxNodeInfluences] = {};  // >= 0, sum 2^30
@@ -72,9 +72,9 @@ struct BarRecord {
 struct LoadRecord {
   uint32_t node = 0;
   uint16_t joint = 0;
-  uint16_t input = 0;  // index into the joint-angle inputs
+  uint16_t input = 0;                  // index into the joint-angle inputs
   int32_t angle_lo = 0, angle_hi = 0;  // signed binary angles, lo != hi
-  fx::Vec3 force;  // Force, at full activation
+  fx::Vec3 force;                      // Force, at full activation
 };
 
 // A triangle of the control mesh (node indices). Its normal is
@@ -94,9 +94,9 @@ struct WrapRecord {
 };
 
 struct BarnetModel {
-  uint32_t joint_count = 0;   // joints of the rig the net was built for
-  uint32_t input_count = 0;   // joint-angle inputs (the rig's inputs)
-  uint32_t vertex_count = 0;  // fine skin vertices of that rig
+  uint32_t joint_count = 0;                 // joints of the rig the net was built for
+  uint32_t input_count = 0;                 // joint-angle inputs (the rig's inputs)
+  uint32_t vertex_count = 0;                // fine skin vertices of that rig
   std::span<const fx::Mat34> inverse_bind;  // one per joint
   std::span<const NodeRecord> nodes;
   std::span<const BarRecord> bars;
@@ -107,12 +107,12 @@ struct BarnetModel {
 
 enum class Error : uint8_t {
   kNone = 0,
-  kLimit,        // a count beyond the maxima above
-  kBadIndex,     // an index out of range
-  kBadValue,     // a value out of its documented range
-  kSingular,     // D is singular: a free node has no path to a fixed node
+  kLimit,     // a count beyond the maxima above
+  kBadIndex,  // an index out of range
+  kBadValue,  // a value out of its documented range
+  kSingular,  // D is singular: a free node has no path to a fixed node
   kArenaTooSmall,
-  kBadSpan,      // a step input or output of the wrong size
+  kBadSpan,  // a step input or output of the wrong size
 };
 
 struct Status {

@@ -25,12 +25,12 @@ struct BarnetState {
   const BarnetModel* model = nullptr;
   uint32_t free_count = 0;
   SkylineFactor factor;
-  std::span<fx::Mat34> skin;         // per joint: global x inverse bind
-  std::span<int64_t> load[3];        // per free node, Force (Q.24), this step
-  std::span<fx::Len> skinned[3];     // per free node, smooth-skinned position
-  std::span<int64_t> work;           // per free node, solve vector
-  std::span<fx::Vec3> normal;        // per control triangle, Q2.30 unit normal
-  uint32_t profile = 0;              // entries of L
+  std::span<fx::Mat34> skin;      // per joint: global x inverse bind
+  std::span<int64_t> load[3];     // per free node, Force (Q.24), this step
+  std::span<fx::Len> skinned[3];  // per free node, smooth-skinned position
+  std::span<int64_t> work;        // per free node, solve vector
+  std::span<fx::Vec3> normal;     // per control triangle, Q2.30 unit normal
+  uint32_t profile = 0;           // entries of L
   StepStats stats;
 };
 

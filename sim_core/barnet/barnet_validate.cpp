@@ -93,7 +93,8 @@ Status barnet_validate(const BarnetModel& m) {
   const uint32_t free = free_count(m);
   if (free > kMaxFreeNodes) return fail(Error::kLimit, "nodes: more than 1024 free nodes");
   if (free == m.nodes.size())
-    return fail(Error::kSingular, "nodes: singular bar-net, no fixed node (D = C^T Q C has the constant vector in its kernel)");
+    return fail(Error::kSingular,
+                "nodes: singular bar-net, no fixed node (D = C^T Q C has the constant vector in its kernel)");
   s = check_bars(m);
   if (!s.ok()) return s;
   s = check_loads(m, free);
@@ -103,13 +104,20 @@ Status barnet_validate(const BarnetModel& m) {
 
 const char* error_name(Error e) {
   switch (e) {
-    case Error::kNone: return "none";
-    case Error::kLimit: return "limit";
-    case Error::kBadIndex: return "bad index";
-    case Error::kBadValue: return "bad value";
-    case Error::kSingular: return "singular";
-    case Error::kArenaTooSmall: return "arena too small";
-    case Error::kBadSpan: return "bad span";
+    case Error::kNone:
+      return "none";
+    case Error::kLimit:
+      return "limit";
+    case Error::kBadIndex:
+      return "bad index";
+    case Error::kBadValue:
+      return "bad value";
+    case Error::kSingular:
+      return "singular";
+    case Error::kArenaTooSmall:
+      return "arena too small";
+    case Error::kBadSpan:
+      return "bad span";
   }
   return "unknown";
 }

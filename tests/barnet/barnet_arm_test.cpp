@@ -33,11 +33,13 @@ TEST(BarnetArm, BindPoseReproducesTheRestSkin) {
     for (int c = 0; c < 3; ++c) worst_node = std::max<int64_t>(worst_node, std::llabs(int64_t{got[c]} - want[c]));
   }
   double worst_skin = 0;
-  for (uint32_t w = 0; w < s.model().wrap.size(); ++w) worst_skin = std::max(worst_skin, distance(wrapped(s, w), rest(s, w)));
-  std::printf("barnet arm: bind pose: %zu nodes (%u free), largest node deviation %lld LSB; %zu wrapped vertices, "
-              "largest deviation %.3g m (Len LSB %.3g m)\n",
-              s.model().nodes.size(), s.state().free_count, static_cast<long long>(worst_node), s.model().wrap.size(),
-              worst_skin, s.metres(1));
+  for (uint32_t w = 0; w < s.model().wrap.size(); ++w)
+    worst_skin = std::max(worst_skin, distance(wrapped(s, w), rest(s, w)));
+  std::printf(
+      "barnet arm: bind pose: %zu nodes (%u free), largest node deviation %lld LSB; %zu wrapped vertices, "
+      "largest deviation %.3g m (Len LSB %.3g m)\n",
+      s.model().nodes.size(), s.state().free_count, static_cast<long long>(worst_node), s.model().wrap.size(),
+      worst_skin, s.metres(1));
   EXPECT_LE(worst_node, 2);
   EXPECT_LT(worst_skin, 1e-7);
 }
@@ -60,9 +62,10 @@ TEST(BarnetArm, BulgeGrowsWithFlexionAndVolumeIsRestored) {
     const double bulge = s.metres(s.outputs().node[1][inner]) - s.metres(s.state().skinned[1][inner]);
     const double v_net = segment_volume(s, [&s](uint32_t w) { return wrapped(s, w); }) / rest_volume;
     const double v_lbs = segment_volume(s, [&s](uint32_t w) { return skinned(s, w); }) / rest_volume;
-    std::printf("barnet arm: elbow %3d deg: inner bulge %.2f mm, elbow segment volume / rest: skinning %.4f, "
-                "bar-net %.4f; largest net displacement %.2f mm\n",
-                deg, bulge * 1e3, v_lbs, v_net, s.metres(s.state().stats.max_displacement) * 1e3);
+    std::printf(
+        "barnet arm: elbow %3d deg: inner bulge %.2f mm, elbow segment volume / rest: skinning %.4f, "
+        "bar-net %.4f; largest net displacement %.2f mm\n",
+        deg, bulge * 1e3, v_lbs, v_net, s.metres(s.state().stats.max_displacement) * 1e3);
     EXPECT_GT(bulge, previous_bulge) << "bulge must grow with flexion";
     previous_bulge = bulge;
     if (deg >= 90) EXPECT_GT(v_net, v_lbs) << "the net restores volume smooth skinning loses";

@@ -21,7 +21,9 @@ struct Random {
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
     return z ^ (z >> 31);
   }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) / 9007199254740992.0; }
+  double uniform(double lo, double hi) {
+    return lo + (hi - lo) * static_cast<double>(next() >> 11) / 9007199254740992.0;
+  }
 };
 
 void add_loads(lb::NetSpec* s, Random* r, int per_set, double magnitude) {
@@ -33,7 +35,8 @@ void add_loads(lb::NetSpec* s, Random* r, int per_set, double magnitude) {
       l.input = set;
       l.angle_lo = 0;
       l.angle_hi = 90;
-      l.force = {r->uniform(-magnitude, magnitude), r->uniform(-magnitude, magnitude), r->uniform(-magnitude, magnitude)};
+      l.force = {r->uniform(-magnitude, magnitude), r->uniform(-magnitude, magnitude),
+                 r->uniform(-magnitude, magnitude)};
       s->loads.push_back(l);
     }
 }
@@ -125,9 +128,10 @@ TEST(BarnetSolve, MatchesDoublePrecisionOracle) {
   SyntheticNet net(hole);
   ASSERT_TRUE(net.ok()) << net.error();
   for (int combo = 0; combo < 4; ++combo) worst = std::max(worst, oracle_error(net, combo & 1, combo & 2));
-  std::printf("barnet solve: %u random nets (%u unknowns, q in [0.05, 50]) and the holed grid: largest error vs "
-              "double eq. (4) %.4f LSB of Len (bound 1)\n",
-              nets, unknowns, worst);
+  std::printf(
+      "barnet solve: %u random nets (%u unknowns, q in [0.05, 50]) and the holed grid: largest error vs "
+      "double eq. (4) %.4f LSB of Len (bound 1)\n",
+      nets, unknowns, worst);
   EXPECT_LT(worst, 1.0);
 }
 
@@ -170,9 +174,10 @@ TEST(BarnetSolve, AxesAreIndependent) {
     for (size_t c = 0; c < 3; ++c)
       for (uint32_t i = 0; i < net.state().free_count; ++i) changed[axis][c] += x0[c][i] != x1[c][i] ? 1 : 0;
   }
-  std::printf("barnet independence: free nodes moved by loads along x: (%u, %u, %u), y: (%u, %u, %u), z: (%u, %u, %u)\n",
-              changed[0][0], changed[0][1], changed[0][2], changed[1][0], changed[1][1], changed[1][2], changed[2][0],
-              changed[2][1], changed[2][2]);
+  std::printf(
+      "barnet independence: free nodes moved by loads along x: (%u, %u, %u), y: (%u, %u, %u), z: (%u, %u, %u)\n",
+      changed[0][0], changed[0][1], changed[0][2], changed[1][0], changed[1][1], changed[1][2], changed[2][0],
+      changed[2][1], changed[2][2]);
   for (size_t a = 0; a < 3; ++a)
     for (size_t c = 0; c < 3; ++c) {
       if (a == c)
@@ -194,9 +199,10 @@ TEST(BarnetSolve, NetWithAHoleAndABranchSolves) {
   const double err = oracle_error(net, true, false);
   const uint32_t m = net.build().node_order[tip];
   const double moved = std::ldexp(static_cast<double>(x1[0][m] - x0[0][m]), -20);
-  std::printf("barnet topology: grid with a hole and a forked branch, %zu nodes (%u free), %zu bars, profile %u: "
-              "branch tip moved %.4f m along x, error vs double %.4f LSB\n",
-              spec.nodes.size(), net.state().free_count, spec.bars.size(), net.state().profile, moved, err);
+  std::printf(
+      "barnet topology: grid with a hole and a forked branch, %zu nodes (%u free), %zu bars, profile %u: "
+      "branch tip moved %.4f m along x, error vs double %.4f LSB\n",
+      spec.nodes.size(), net.state().free_count, spec.bars.size(), net.state().profile, moved, err);
   EXPECT_GT(moved, 0.01);
   EXPECT_LT(err, 1.0);
 }

@@ -162,5 +162,6 @@ TEST(BarnetValidate, StepRejectsShortSpansAndArenaTooSmall) {
   EXPECT_EQ(arm.state().stats.steps, steps);
   std::vector<uint64_t> small(4, 0);
   bn::BarnetState st;
-  expect_rejected(bn::barnet_init(arm.model(), small.data(), small.size() * 8, &st), bn::Error::kArenaTooSmall, "arena");
+  expect_rejected(bn::barnet_init(arm.model(), small.data(), small.size() * 8, &st), bn::Error::kArenaTooSmall,
+                  "arena");
 }

@@ -104,9 +104,9 @@ void BM_EnginePlusBarnet(benchmark::State& state) {
   state.SetLabel("arm LBS + elbow bar-net");
 }
 
-BENCHMARK(BM_EngineStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_EnginePlusBarnet)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EngineStep)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EnginePlusBarnet)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 // The per-layer table, every figure measured here, in this run.
 void summary() {

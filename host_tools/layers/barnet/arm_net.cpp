@@ -32,7 +32,8 @@ bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* ou
   const int r0 = static_cast<int>(std::floor(o.x0 / kSkinRingStep + 0.5));
   const int dr = static_cast<int>(std::floor(o.ring_step / kSkinRingStep + 0.5));
   const int skin_rings = static_cast<int>(arm.vertices.size()) / per_ring;
-  if (dr < 1 || r0 < 0 || r0 + dr * (o.rings - 1) >= skin_rings) return *error = "x0/ring_step: outside the arm's skin", false;
+  if (dr < 1 || r0 < 0 || r0 + dr * (o.rings - 1) >= skin_rings)
+    return *error = "x0/ring_step: outside the arm's skin", false;
   const int stride = per_ring / o.segments;
   auto skin_vertex = [&](int ring, int k) { return static_cast<uint32_t>((r0 + dr * ring) * per_ring + k * stride); };
   auto node = [&](int ring, int k) { return static_cast<uint32_t>(ring * o.segments + (k % o.segments)); };
@@ -67,7 +68,11 @@ bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* ou
     const double ry = n.rest[1], rz = n.rest[2], r = std::sqrt(ry * ry + rz * rz);
     const double cy = ry / r, cz = rz / r;
     const double magnitude = o.force * (o.outer_share + (1 - o.outer_share) * (1 + cy) / 2);
-    s.loads.push_back({node(o.loaded_ring, k), shoulder, input_of(arm, elbow), o.flex_lo, o.flex_hi,
+    s.loads.push_back({node(o.loaded_ring, k),
+                       shoulder,
+                       input_of(arm, elbow),
+                       o.flex_lo,
+                       o.flex_hi,
                        {0, magnitude * cy, magnitude * cz}});
   }
   for (int ring = r0; ring <= r0 + dr * (o.rings - 1); ++ring)

@@ -17,10 +17,10 @@ struct ArmNetOptions {
   int rings = 7;
   int segments = 8;  // divides the skin's 32
   int first_free_ring = 2, last_free_ring = 4;
-  int loaded_ring = 3;  // its 8 nodes are loaded
-  double q = 1.0;       // uniform force density
-  double force = 0.05;  // q x m at full flexion, on the inner side
-  double outer_share = 0.5;  // the outer side's share of the force (cosine profile between)
+  int loaded_ring = 3;                // its 8 nodes are loaded
+  double q = 1.0;                     // uniform force density
+  double force = 0.05;                // q x m at full flexion, on the inner side
+  double outer_share = 0.5;           // the outer side's share of the force (cosine profile between)
   double flex_lo = 0, flex_hi = 150;  // degrees of elbow flexion: activation 0 -> 1
 };
 

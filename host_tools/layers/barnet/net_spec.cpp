@@ -29,7 +29,10 @@ Vec3d cross(const Vec3d& a, const Vec3d& b) {
 double distance2_to_triangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
   const Vec3d ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  auto d2p = [&p](const Vec3d& q) { const Vec3d d = sub(p, q); return dot(d, d); };
+  auto d2p = [&p](const Vec3d& q) {
+    const Vec3d d = sub(p, q);
+    return dot(d, d);
+  };
   if (d1 <= 0 && d2 <= 0) return d2p(a);
   const Vec3d bp = sub(p, b);
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
@@ -114,8 +117,7 @@ bool convert_nodes(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* b
 bool convert_bars(const NetSpec& spec, BarnetBuild* b, std::string* error) {
   for (size_t i = 0; i < spec.bars.size(); ++i) {
     const BarSpec& s = spec.bars[i];
-    if (s.a >= spec.nodes.size() || s.b >= spec.nodes.size())
-      return *error = at("bars", i, "a/b", "not a node"), false;
+    if (s.a >= spec.nodes.size() || s.b >= spec.nodes.size()) return *error = at("bars", i, "a/b", "not a node"), false;
     if (!(s.q > 0) || !std::isfinite(s.q)) return *error = at("bars", i, "q", "force density must be positive"), false;
     const int32_t q = rigc::to_fixed(s.q, bn::kForceDensityFracBits);
     if (q < bn::kMinForceDensity || q > bn::kMaxForceDensity)
@@ -129,9 +131,12 @@ bool convert_loads(const NetSpec& spec, BarnetBuild* b, std::string* error) {
   for (size_t i = 0; i < spec.loads.size(); ++i) {
     const LoadSpec& s = spec.loads[i];
     if (s.node >= spec.nodes.size()) return *error = at("loads", i, "node", "not a node"), false;
-    if (spec.nodes[s.node].fixed) return *error = at("loads", i, "node", "a fixed node (loads act on free nodes)"), false;
-    if (s.joint < 0 || static_cast<uint32_t>(s.joint) >= b->joint_count) return *error = at("loads", i, "joint", "not a joint"), false;
-    if (s.input < 0 || static_cast<uint32_t>(s.input) >= b->input_count) return *error = at("loads", i, "input", "not an input"), false;
+    if (spec.nodes[s.node].fixed)
+      return *error = at("loads", i, "node", "a fixed node (loads act on free nodes)"), false;
+    if (s.joint < 0 || static_cast<uint32_t>(s.joint) >= b->joint_count)
+      return *error = at("loads", i, "joint", "not a joint"), false;
+    if (s.input < 0 || static_cast<uint32_t>(s.input) >= b->input_count)
+      return *error = at("loads", i, "input", "not an input"), false;
     bn::LoadRecord r;
     r.node = b->node_order[s.node];
     r.joint = static_cast<uint16_t>(s.joint);
@@ -142,7 +147,8 @@ bool convert_loads(const NetSpec& spec, BarnetBuild* b, std::string* error) {
     int32_t f[3];
     for (size_t c = 0; c < 3; ++c) {
       const double v = std::ldexp(s.force[c], -b->length_exponent);
-      if (!(std::fabs(v) < 127.0)) return *error = at("loads", i, "force", "beyond the Q8.24 force range or not finite"), false;
+      if (!(std::fabs(v) < 127.0))
+        return *error = at("loads", i, "force", "beyond the Q8.24 force range or not finite"), false;
       f[c] = rigc::to_fixed(v, bn::kForceFracBits);
     }
     r.force = {f[0], f[1], f[2]};
@@ -169,7 +175,8 @@ bool bind_wrap(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* b, st
       if (d2 < best_d2) best_d2 = d2, best = t;
     }
     const bn::ControlTriangle& tri = b->triangles[best];
-    const Vec3d a = rest_of(b->nodes[tri.node[0]]), bb = rest_of(b->nodes[tri.node[1]]), c = rest_of(b->nodes[tri.node[2]]);
+    const Vec3d a = rest_of(b->nodes[tri.node[0]]), bb = rest_of(b->nodes[tri.node[1]]),
+                c = rest_of(b->nodes[tri.node[2]]);
     const Vec3d v0 = sub(bb, a), v1 = sub(c, a), v2 = sub(p, a);
     const Vec3d n = cross(v0, v1);
     const double n2 = dot(n, n);

@@ -31,10 +31,10 @@ struct BarSpec {
 
 struct LoadSpec {
   uint32_t node = 0;
-  int joint = 0;   // bone whose skinning matrix carries the force
-  int input = 0;   // rig input whose angle activates it
+  int joint = 0;                       // bone whose skinning matrix carries the force
+  int input = 0;                       // rig input whose angle activates it
   double angle_lo = 0, angle_hi = 90;  // degrees: activation 0 at lo, 1 at hi
-  Vec3d force{0, 0, 0};  // at full activation, bind-pose model frame, q x model units
+  Vec3d force{0, 0, 0};                // at full activation, bind-pose model frame, q x model units
 };
 
 struct NetSpec {
