@@ -1,0 +1,154 @@
+// Per-step cost of the bar-net layer on the built-in arm, beside the smooth
+// skinning (LBS and DQS engine steps) of the same rig, measured in the same
+// run; and how the step scales with the net's size. Prints the ratios as
+// counters (x_lbs: this benchmark's time per step / the LBS engine step) and
+// a final summary table.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+#include "host_tools/layers/barnet/arm_session.hpp"
+
+namespace bn = sinew::barnet;
+namespace lb = sinew::layers::barnet;
+
+namespace {
+
+lb::ArmNetOptions net_options(int segments) {
+  lb::ArmNetOptions o;
+  o.segments = segments;
+  return o;
+}
+
+// Median seconds per call of f over `reps` batches of `n` calls.
+template <typename F>
+double median_seconds(F&& f, int n, int reps = 7) {
+  std::vector<double> t;
+  for (int r = 0; r < reps; ++r) {
+    const auto a = std::chrono::steady_clock::now();
+    for (int i = 0; i < n; ++i) f(i);
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() / n);
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+double lbs_baseline() {
+  static const double seconds = [] {
+    lb::ArmSession s(sinew::rigc::SkinChoice::kLinear);
+    const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
+    return median_seconds(
+        [&](int i) {
+          s.inputs()[elbow] = lb::degrees_to_angle(i % 150);
+          benchmark::DoNotOptimize(s.engine_step());
+        },
+        200);
+  }();
+  return seconds;
+}
+
+void set_elbow(lb::ArmSession& s, int64_t i) {
+  s.inputs()[static_cast<size_t>(s.input("elbow.0"))] = lb::degrees_to_angle(static_cast<double>(i % 150));
+}
+
+void report(benchmark::State& state, size_t items) {
+  // (iterations x baseline) / elapsed, inverted: time per step / LBS step.
+  state.counters["x_lbs"] = benchmark::Counter(static_cast<double>(state.iterations()) * lbs_baseline(),
+                                               benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * items));
+}
+
+void BM_EngineStep(benchmark::State& state) {
+  lb::ArmSession s(state.range(0) == 0 ? sinew::rigc::SkinChoice::kLinear : sinew::rigc::SkinChoice::kDualQuaternion);
+  int64_t i = 0;
+  for (auto _ : state) {
+    set_elbow(s, i++);
+    benchmark::DoNotOptimize(s.engine_step());
+  }
+  report(state, s.rig().vertex_count());
+  state.SetLabel(state.range(0) == 0 ? "arm LBS (baseline)" : "arm DQS");
+}
+
+// The bar-net step alone: bones from one engine step, activation varying.
+void BM_BarnetStep(benchmark::State& state) {
+  lb::ArmSession s(sinew::rigc::SkinChoice::kLinear, net_options(static_cast<int>(state.range(0))));
+  if (!s.ok()) return state.SkipWithError(s.error().c_str());
+  set_elbow(s, 90);
+  s.engine_step();
+  std::vector<int32_t> angles = s.inputs();
+  const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
+  int64_t i = 0;
+  for (auto _ : state) {
+    angles[elbow] = lb::degrees_to_angle(static_cast<double>(i++ % 150));
+    benchmark::DoNotOptimize(bn::barnet_step(&s.state(), {s.engine().model, angles}, s.outputs()).error);
+  }
+  report(state, s.model().wrap.size());
+  char label[160];
+  std::snprintf(label, sizeof(label), "%zu nodes (%u free), %zu bars, profile %u, %zu wrapped vertices",
+                s.model().nodes.size(), s.state().free_count, s.model().bars.size(), s.state().profile,
+                s.model().wrap.size());
+  state.SetLabel(label);
+}
+
+void BM_EnginePlusBarnet(benchmark::State& state) {
+  lb::ArmSession s(sinew::rigc::SkinChoice::kLinear);
+  int64_t i = 0;
+  for (auto _ : state) {
+    set_elbow(s, i++);
+    benchmark::DoNotOptimize(s.step());
+  }
+  report(state, s.rig().vertex_count());
+  state.SetLabel("arm LBS + elbow bar-net");
+}
+
+BENCHMARK(BM_EngineStep)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EnginePlusBarnet)->UseRealTime()->Unit(benchmark::kMicrosecond);
+
+// The per-layer table, every figure measured here, in this run.
+void summary() {
+  lb::ArmSession lbs(sinew::rigc::SkinChoice::kLinear), dqs(sinew::rigc::SkinChoice::kDualQuaternion);
+  const double t_lbs = lbs_baseline();
+  const double t_dqs = median_seconds(
+      [&](int i) {
+        set_elbow(dqs, i);
+        benchmark::DoNotOptimize(dqs.engine_step());
+      },
+      200);
+  std::printf("\nbarnet bench: per step on the built-in arm (%u skin vertices), medians of this run\n",
+              lbs.rig().vertex_count());
+  std::printf("  %-44s %10.2f us  x%.3f\n", "engine step, LBS (baseline)", t_lbs * 1e6, 1.0);
+  std::printf("  %-44s %10.2f us  x%.3f\n", "engine step, DQS", t_dqs * 1e6, t_dqs / t_lbs);
+  for (int segments : {8, 16, 32}) {
+    lb::ArmSession s(sinew::rigc::SkinChoice::kLinear, net_options(segments));
+    set_elbow(s, 90);
+    s.engine_step();
+    std::vector<int32_t> angles = s.inputs();
+    const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
+    const double t = median_seconds(
+        [&](int i) {
+          angles[elbow] = lb::degrees_to_angle(i % 150);
+          benchmark::DoNotOptimize(bn::barnet_step(&s.state(), {s.engine().model, angles}, s.outputs()).error);
+        },
+        500);
+    char what[96];
+    std::snprintf(what, sizeof(what), "bar-net step, %zu nodes / %u free / %zu wrapped", s.model().nodes.size(),
+                  s.state().free_count, s.model().wrap.size());
+    std::printf("  %-44s %10.2f us  x%.3f  (%.1f ns per wrapped vertex)\n", what, t * 1e6, t / t_lbs,
+                t * 1e9 / static_cast<double>(s.model().wrap.size()));
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  summary();
+  return 0;
+}

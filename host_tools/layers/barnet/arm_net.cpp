@@ -1,0 +1,84 @@
+#include "arm_net.hpp"
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include "host_tools/rigc/builtin_rigs.hpp"
+
+namespace sinew::layers::barnet {
+namespace {
+
+constexpr double kSkinRingStep = 0.005;  // builtin_arm's ring spacing (m)
+
+int input_of(const rigc::RigSpec& rig, int joint) {
+  int input = 0;
+  for (int j = 0; j < joint; ++j) input += static_cast<int>(rig.joints[static_cast<size_t>(j)].dofs.size());
+  return input;
+}
+
+}  // namespace
+
+bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* out, std::string* error) {
+  const int shoulder = rigc::joint_index(arm, "shoulder"), elbow = rigc::joint_index(arm, "elbow");
+  const int per_ring = rigc::kArmRingSegments;
+  if (shoulder < 0 || elbow < 0 || arm.vertices.size() % static_cast<size_t>(per_ring) != 0)
+    return *error = "arm: not the built-in arm (joints shoulder and elbow, rings of 32 vertices)", false;
+  if (o.segments <= 2 || per_ring % o.segments != 0) return *error = "segments: must divide 32 and exceed 2", false;
+  if (o.rings < 2 || o.first_free_ring < 1 || o.last_free_ring >= o.rings - 1 || o.first_free_ring > o.last_free_ring)
+    return *error = "rings: the free rings must lie strictly between fixed end rings", false;
+  if (o.loaded_ring < o.first_free_ring || o.loaded_ring > o.last_free_ring)
+    return *error = "loaded_ring: must be a free ring", false;
+  const int r0 = static_cast<int>(std::floor(o.x0 / kSkinRingStep + 0.5));
+  const int dr = static_cast<int>(std::floor(o.ring_step / kSkinRingStep + 0.5));
+  const int skin_rings = static_cast<int>(arm.vertices.size()) / per_ring;
+  if (dr < 1 || r0 < 0 || r0 + dr * (o.rings - 1) >= skin_rings)
+    return *error = "x0/ring_step: outside the arm's skin", false;
+  const int stride = per_ring / o.segments;
+  auto skin_vertex = [&](int ring, int k) { return static_cast<uint32_t>((r0 + dr * ring) * per_ring + k * stride); };
+  auto node = [&](int ring, int k) { return static_cast<uint32_t>(ring * o.segments + (k % o.segments)); };
+
+  NetSpec s;
+  for (int c = 0; c < o.rings; ++c)
+    for (int k = 0; k < o.segments; ++k) {
+      const rigc::VertexSpec& v = arm.vertices[skin_vertex(c, k)];
+      NodeSpec n;
+      n.rest = v.position;
+      n.fixed = c < o.first_free_ring || c > o.last_free_ring;
+      n.influences = v.influences;
+      s.nodes.push_back(n);
+    }
+  // Control triangles wound so that cross(b - a, c - a) points outwards;
+  // their edges are the bars.
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  auto edge = [&edges](uint32_t a, uint32_t b) { edges.insert({a < b ? a : b, a < b ? b : a}); };
+  for (int c = 0; c + 1 < o.rings; ++c)
+    for (int k = 0; k < o.segments; ++k) {
+      const uint32_t a = node(c, k), b = node(c, k + 1), cc = node(c + 1, k), d = node(c + 1, k + 1);
+      s.triangles.push_back({a, b, cc});
+      s.triangles.push_back({b, d, cc});
+      edge(a, b), edge(a, cc), edge(b, cc), edge(b, d), edge(d, cc);
+    }
+  for (const auto& [a, b] : edges) s.bars.push_back({a, b, o.q});
+  // Radial loads on the loaded ring, heavier on the inner side (+y: the
+  // elbow flexes about +z, folding the forearm towards +y), carried by the
+  // upper arm and activated by elbow flexion.
+  for (int k = 0; k < o.segments; ++k) {
+    const NodeSpec& n = s.nodes[node(o.loaded_ring, k)];
+    const double ry = n.rest[1], rz = n.rest[2], r = std::sqrt(ry * ry + rz * rz);
+    const double cy = ry / r, cz = rz / r;
+    const double magnitude = o.force * (o.outer_share + (1 - o.outer_share) * (1 + cy) / 2);
+    s.loads.push_back({node(o.loaded_ring, k),
+                       shoulder,
+                       input_of(arm, elbow),
+                       o.flex_lo,
+                       o.flex_hi,
+                       {0, magnitude * cy, magnitude * cz}});
+  }
+  for (int ring = r0; ring <= r0 + dr * (o.rings - 1); ++ring)
+    for (int k = 0; k < per_ring; ++k) s.wrap_vertices.push_back(static_cast<uint32_t>(ring * per_ring + k));
+  *out = std::move(s);
+  return true;
+}
+
+}  // namespace sinew::layers::barnet

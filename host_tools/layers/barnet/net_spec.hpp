@@ -1,0 +1,67 @@
+// Offline description of a bar-net in double precision (model units of the
+// rig it drives), and the builder that quantises it into a runtime
+// barnet::BarnetModel: free nodes first, force densities in Q16.16, loads in Q8.24, and the wrap binding of the
+// fine skin (closest control triangle, barycentric coordinates and a normal
+// offset). Only + - * / and std::sqrt: the output is bit-identical on every
+// platform (compiled with -ffp-contract=off).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "host_tools/rigc/rig_spec.hpp"
+#include "sim_core/barnet/barnet_model.hpp"
+
+namespace sinew::layers::barnet {
+
+using rigc::Vec3d;
+
+struct NodeSpec {
+  Vec3d rest{0, 0, 0};
+  bool fixed = true;
+  std::vector<rigc::Influence> influences;  // palette index (as in the rig) and weight
+};
+
+struct BarSpec {
+  uint32_t a = 0, b = 0;
+  double q = 1.0;  // force density
+};
+
+struct LoadSpec {
+  uint32_t node = 0;
+  int joint = 0;                       // bone whose skinning matrix carries the force
+  int input = 0;                       // rig input whose angle activates it
+  double angle_lo = 0, angle_hi = 90;  // degrees: activation 0 at lo, 1 at hi
+  Vec3d force{0, 0, 0};                // at full activation, bind-pose model frame, q x model units
+};
+
+struct NetSpec {
+  std::vector<NodeSpec> nodes;
+  std::vector<BarSpec> bars;
+  std::vector<LoadSpec> loads;
+  std::vector<std::array<uint32_t, 3>> triangles;  // control mesh
+  std::vector<uint32_t> wrap_vertices;             // fine skin vertices bound to the control mesh
+};
+
+// The quantised model and the arrays it points into.
+struct BarnetBuild {
+  int32_t length_exponent = 0;  // the rig's: one rig unit = 2^e model units
+  uint32_t joint_count = 0, input_count = 0, vertex_count = 0;
+  std::vector<fx::Mat34> inverse_bind;
+  std::vector<sinew::barnet::NodeRecord> nodes;
+  std::vector<sinew::barnet::BarRecord> bars;
+  std::vector<sinew::barnet::LoadRecord> loads;
+  std::vector<sinew::barnet::ControlTriangle> triangles;
+  std::vector<sinew::barnet::WrapRecord> wrap;
+  std::vector<uint32_t> node_order;  // spec node index -> model node index
+  double max_wrap_offset = 0;        // largest |offset| of the wrap binding (model units)
+
+  sinew::barnet::BarnetModel model() const;
+};
+
+// Returns false with a message naming the spec record and field.
+bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* out, std::string* error);
+
+}  // namespace sinew::layers::barnet

@@ -1,0 +1,126 @@
+// A force-density bar-net (barnet-driven-skinning, appendix): nodes fixed or
+// free, bars with force densities q, loads on free nodes bound to joint
+// angles, the coarse control mesh the net is coupled to, and the wrap binding
+// of the fine skin to that mesh. Plain records in spans the caller (or the
+// offline builder) owns; the runtime never copies or allocates them.
+//
+// Units and Q formats:
+//   positions, offsets         Len   Q12.20 rig units (same unit as the rig)
+//   force density q            Q16.16, q in [kMinForceDensity, kMaxForceDensity]
+//   forces (loads)             Force Q8.24 in units of (1 force density) x (1 rig unit)
+//   weights, barycentrics      Unit  Q2.30, summing to 2^30
+//   angles                     signed binary angles (int32 view, 2^32 = a turn)
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "sim_core/fixed/mat34.hpp"
+
+namespace sinew::barnet {
+
+using ForceDensity = int32_t;  // Q16.16
+using Force = int32_t;         // Q8.24
+inline constexpr int kForceDensityFracBits = 16;
+inline constexpr int kForceFracBits = 24;
+inline constexpr ForceDensity kForceDensityOne = int32_t{1} << kForceDensityFracBits;
+
+// Limits: they bound the work of a step and keep every intermediate inside
+// int64 (see ldlt_skyline.hpp for the derivation).
+inline constexpr ForceDensity kMinForceDensity = int32_t{1} << 8;   // 2^-8
+inline constexpr ForceDensity kMaxForceDensity = int32_t{1} << 24;  // 256
+inline constexpr uint32_t kMaxNodes = 4096;
+inline constexpr uint32_t kMaxFreeNodes = 1024;
+inline constexpr uint32_t kMaxBars = 16384;
+inline constexpr uint32_t kMaxBarsPerNode = 16;
+inline constexpr uint32_t kMaxLoads = 1024;
+inline constexpr uint32_t kMaxTriangles = 8192;
+inline constexpr uint32_t kMaxWrapVertices = 1u << 20;
+inline constexpr uint32_t kMaxNodeInfluences = 4;
+inline constexpr uint32_t kMaxJoints = 1024;
+// Profile (envelope) entries of the factor: bounds factorisation and solve work.
+inline constexpr uint32_t kMaxProfile = 1u << 18;
+
+enum class NodeKind : uint8_t { kFree = 0, kFixed = 1 };
+
+// A node of the net, which is also a vertex of the control mesh. Its skinned
+// position is s = sum_k weight[k] * S(joint[k]) * rest, S = global x inverse
+// bind (the smooth skinning of the control mesh). Fixed nodes take x_f = s_f.
+// Free nodes are solved for (eq. (4)) under p = D s + D_f s_f + loads: the
+// first two terms are the load that holds the net at its skinned shape (so
+// with no load the net is the smoothly skinned control mesh, exactly), the
+// loads deform it from there.
+struct NodeRecord {
+  fx::Vec3 rest;                // Len, bind pose, model space
+  uint8_t kind = 0;             // NodeKind
+  uint8_t influence_count = 0;  // 1..kMaxNodeInfluences
+  uint16_t joint[kMaxNodeInfluences] = {};
+  fx::Unit weight[kMaxNodeInfluences] = {};  // >= 0, sum 2^30
+};
+
+// A bar between two distinct nodes, with its force density (force / length).
+struct BarRecord {
+  uint32_t a = 0, b = 0;
+  ForceDensity q = 0;
+};
+
+// A load on a free node, bound to one joint angle: activation
+// t = clamp((angle - angle_lo) / (angle_hi - angle_lo), 0, 1) and the load
+// is t * force, expressed in the bind pose's model frame and carried by the
+// skinning matrix of `joint` (so it turns with that bone). Several loads on
+// one node add up (superposition).
+struct LoadRecord {
+  uint32_t node = 0;
+  uint16_t joint = 0;
+  uint16_t input = 0;                  // index into the joint-angle inputs
+  int32_t angle_lo = 0, angle_hi = 0;  // signed binary angles, lo != hi
+  fx::Vec3 force;                      // Force, at full activation
+};
+
+// A triangle of the control mesh (node indices). Its normal is
+// cross(b - a, c - a), normalised.
+struct ControlTriangle {
+  uint32_t node[3] = {};
+};
+
+// Wrap binding of one fine skin vertex (computed offline): the vertex is
+// bary . (a, b, c) + offset * n of its control triangle, so it follows the
+// control mesh.
+struct WrapRecord {
+  uint32_t vertex = 0;    // index of the fine skin vertex in the rig
+  uint32_t triangle = 0;  // control triangle
+  fx::Unit bary[3] = {};  // sum 2^30 (may be slightly outside [0, 1])
+  fx::Len offset = 0;     // along the triangle's unit normal
+};
+
+struct BarnetModel {
+  uint32_t joint_count = 0;                 // joints of the rig the net was built for
+  uint32_t input_count = 0;                 // joint-angle inputs (the rig's inputs)
+  uint32_t vertex_count = 0;                // fine skin vertices of that rig
+  std::span<const fx::Mat34> inverse_bind;  // one per joint
+  std::span<const NodeRecord> nodes;
+  std::span<const BarRecord> bars;
+  std::span<const LoadRecord> loads;
+  std::span<const ControlTriangle> triangles;
+  std::span<const WrapRecord> wrap;
+};
+
+enum class Error : uint8_t {
+  kNone = 0,
+  kLimit,     // a count beyond the maxima above
+  kBadIndex,  // an index out of range
+  kBadValue,  // a value out of its documented range
+  kSingular,  // D is singular: a free node has no path to a fixed node
+  kArenaTooSmall,
+  kBadSpan,  // a step input or output of the wrong size
+};
+
+struct Status {
+  Error error = Error::kNone;
+  char message[160] = {};  // names the offending record and field
+  bool ok() const { return error == Error::kNone; }
+};
+
+const char* error_name(Error e);
+
+}  // namespace sinew::barnet

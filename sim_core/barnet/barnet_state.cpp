@@ -1,0 +1,168 @@
+#include "barnet_state.hpp"
+
+#include "barnet_validate.hpp"
+#include "status_message.hpp"
+
+namespace sinew::barnet {
+namespace {
+
+// Byte layout of the arena, every segment 8-byte aligned.
+struct Layout {
+  size_t first, offset, lower, recip, shift, skin, load, skinned, work, normal, scratch, total;
+};
+
+size_t align8(size_t v) { return (v + 7) & ~size_t{7}; }
+
+// Entries of L in skyline storage: row i spans from its lowest free
+// neighbour to the diagonal. Memoryless (free x bars); init-time only.
+uint64_t profile_size(const BarnetModel& m, uint32_t free) {
+  uint64_t total = 0;
+  for (uint32_t i = 0; i < free; ++i) {
+    uint32_t f = i;
+    for (const BarRecord& b : m.bars) {
+      if (b.a == i && b.b < f) f = b.b;
+      if (b.b == i && b.a < f) f = b.a;
+    }
+    total += i - f;
+  }
+  return total;
+}
+
+Layout layout(const BarnetModel& m, uint32_t free, uint64_t profile) {
+  Layout l{};
+  size_t at = 0;
+  auto take = [&at](size_t bytes) {
+    const size_t start = at;
+    at = align8(at + bytes);
+    return start;
+  };
+  const size_t n = free;
+  l.first = take(n * sizeof(uint32_t));
+  l.offset = take((n + 1) * sizeof(uint32_t));
+  l.lower = take(static_cast<size_t>(profile) * sizeof(int32_t));
+  l.recip = take(n * sizeof(int64_t));
+  l.shift = take(n * sizeof(int32_t));
+  l.skin = take(m.joint_count * sizeof(fx::Mat34));
+  l.load = take(3 * n * sizeof(int64_t));
+  l.skinned = take(3 * n * sizeof(fx::Len));
+  l.work = take(n * sizeof(int64_t));
+  l.normal = take(m.triangles.size() * sizeof(fx::Vec3));
+  l.scratch = take(m.nodes.size() * sizeof(uint32_t));
+  l.total = at;
+  return l;
+}
+
+template <typename T>
+std::span<T> carve(unsigned char* base, size_t offset, size_t count) {
+  return {reinterpret_cast<T*>(base + offset), count};
+}
+
+// Union-find over nodes with every fixed node merged into one ground node
+// (the first fixed node): a free node is grounded iff it joins that set.
+uint32_t find(std::span<uint32_t> parent, uint32_t v) {
+  while (parent[v] != v) {
+    parent[v] = parent[parent[v]];  // path halving
+    v = parent[v];
+  }
+  return v;
+}
+
+Status check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t> scratch) {
+  const uint32_t nodes = static_cast<uint32_t>(m.nodes.size());
+  for (uint32_t i = 0; i < nodes; ++i) scratch[i] = 0;
+  for (const BarRecord& b : m.bars) {
+    ++scratch[b.a];
+    ++scratch[b.b];
+  }
+  for (uint32_t i = 0; i < nodes; ++i)
+    if (scratch[i] > kMaxBarsPerNode) return fail(Error::kLimit, "nodes", i, "bars", "more than 16 bars on one node");
+  const uint32_t ground = free;  // validate() guarantees a fixed node exists
+  for (uint32_t i = 0; i < nodes; ++i) scratch[i] = i < free ? i : ground;
+  for (const BarRecord& b : m.bars) {
+    const uint32_t ra = find(scratch, b.a), rb = find(scratch, b.b);
+    if (ra < rb) scratch[rb] = ra;
+    if (rb < ra) scratch[ra] = rb;
+  }
+  const uint32_t g = find(scratch, ground);
+  for (uint32_t i = 0; i < free; ++i)
+    if (find(scratch, i) != g)
+      return fail(Error::kSingular, "nodes", i, "kind",
+                  "singular bar-net: this free node has no path of bars to a fixed node");
+  return {};
+}
+
+}  // namespace
+
+size_t barnet_state_bytes(const BarnetModel& model) {
+  if (!barnet_validate(model).ok()) return 0;
+  const uint32_t free = free_count(model);
+  const uint64_t profile = profile_size(model, free);
+  if (profile > kMaxProfile) return 0;
+  return layout(model, free, profile).total;
+}
+
+Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out) {
+  Status s = barnet_validate(model);
+  if (!s.ok()) return s;
+  const uint32_t free = free_count(model);
+  const uint64_t profile = profile_size(model, free);
+  if (profile > kMaxProfile)
+    return fail(Error::kLimit, "bars: the factor's profile exceeds 2^18 entries (order free nodes along the net)");
+  const Layout l = layout(model, free, profile);
+  if (arena == nullptr || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0 || arena_bytes < l.total)
+    return fail(Error::kArenaTooSmall, "arena: null, not 8-byte aligned or smaller than barnet_state_bytes()");
+  auto* base = static_cast<unsigned char*>(arena);
+
+  BarnetState st;
+  st.model = &model;
+  st.free_count = free;
+  st.profile = static_cast<uint32_t>(profile);
+  st.factor.n = free;
+  st.factor.first = carve<uint32_t>(base, l.first, free);
+  st.factor.offset = carve<uint32_t>(base, l.offset, free + 1);
+  st.factor.lower = carve<int32_t>(base, l.lower, static_cast<size_t>(profile));
+  st.factor.recip = carve<int64_t>(base, l.recip, free);
+  st.factor.shift = carve<int32_t>(base, l.shift, free);
+  st.skin = carve<fx::Mat34>(base, l.skin, model.joint_count);
+  for (size_t c = 0; c < 3; ++c) {
+    st.load[c] = carve<int64_t>(base, l.load + c * free * sizeof(int64_t), free);
+    st.skinned[c] = carve<fx::Len>(base, l.skinned + c * free * sizeof(fx::Len), free);
+  }
+  st.work = carve<int64_t>(base, l.work, free);
+  st.normal = carve<fx::Vec3>(base, l.normal, model.triangles.size());
+  const std::span<uint32_t> scratch = carve<uint32_t>(base, l.scratch, model.nodes.size());
+
+  s = check_graph(model, free, scratch);
+  if (!s.ok()) return s;
+
+  // Skyline rows: first[i] = lowest free neighbour (or i).
+  for (uint32_t i = 0; i < free; ++i) st.factor.first[i] = i;
+  for (const BarRecord& b : model.bars) {
+    if (b.a >= free || b.b >= free) continue;
+    const uint32_t hi = b.a > b.b ? b.a : b.b, lo = b.a > b.b ? b.b : b.a;
+    if (lo < st.factor.first[hi]) st.factor.first[hi] = lo;
+  }
+  st.factor.offset[0] = 0;
+  for (uint32_t i = 0; i < free; ++i) st.factor.offset[i + 1] = st.factor.offset[i] + (i - st.factor.first[i]);
+
+  // Assemble D = C^T Q C (eq. (3)): D_ii = sum of q on node i's bars,
+  // D_ij = -sum of q on bars between free nodes i and j; Q16.16.
+  for (int32_t& v : st.factor.lower) v = 0;
+  for (int64_t& v : st.factor.recip) v = 0;
+  for (const BarRecord& b : model.bars) {
+    if (b.a < free) st.factor.recip[b.a] += b.q;
+    if (b.b < free) st.factor.recip[b.b] += b.q;
+    if (b.a < free && b.b < free) {
+      const uint32_t hi = b.a > b.b ? b.a : b.b, lo = b.a > b.b ? b.b : b.a;
+      st.factor.lower[st.factor.offset[hi] + (lo - st.factor.first[hi])] -= b.q;
+    }
+  }
+  const uint32_t bad = ldlt_factor(st.factor, st.work);
+  if (bad < free)
+    return fail(Error::kSingular, "nodes", bad, "kind", "singular bar-net: LDL^T pivot below 2^-24 at this free node");
+  for (uint32_t i = 0; i < free; ++i) st.work[i] = 0;
+  *out = st;
+  return {};
+}
+
+}  // namespace sinew::barnet

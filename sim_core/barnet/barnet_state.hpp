@@ -1,0 +1,46 @@
+// Runtime state of a bar-net, carved from caller memory at init: the LDL^T
+// factor of D (computed here, in fixed point, once), the per-step load and
+// solve vectors, the skinning matrices and the control-mesh normals. After
+// init nothing allocates; a step's work is bounded by the model's counts.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "barnet_model.hpp"
+#include "ldlt_skyline.hpp"
+
+namespace sinew::barnet {
+
+struct StepStats {
+  uint64_t steps = 0;
+  uint32_t saturated = 0;  // values clamped in the last step
+  // Largest |solved - smoothly skinned| over the free nodes in the last step,
+  // per component (Len): how far the net moved the control mesh.
+  fx::Len max_displacement = 0;
+};
+
+struct BarnetState {
+  const BarnetModel* model = nullptr;
+  uint32_t free_count = 0;
+  SkylineFactor factor;
+  std::span<fx::Mat34> skin;      // per joint: global x inverse bind
+  std::span<int64_t> load[3];     // per free node, Force (Q.24), this step
+  std::span<fx::Len> skinned[3];  // per free node, smooth-skinned position
+  std::span<int64_t> work;        // per free node, solve vector
+  std::span<fx::Vec3> normal;     // per control triangle, Q2.30 unit normal
+  uint32_t profile = 0;           // entries of L
+  StepStats stats;
+};
+
+// Bytes barnet_init needs (8-byte aligned), or 0 if the model is invalid.
+size_t barnet_state_bytes(const BarnetModel& model);
+
+// Validates the model (barnet_validate plus: at most kMaxBarsPerNode bars on
+// a node, a path of bars from every free node to a fixed node, the profile
+// limit, positive pivots), carves the arena and factorises D. The model's
+// spans must outlive the state.
+Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out);
+
+}  // namespace sinew::barnet

@@ -1,0 +1,155 @@
+#include "barnet_step.hpp"
+
+#include "status_message.hpp"
+#include "wide_sat.hpp"
+
+namespace sinew::barnet {
+namespace {
+
+int32_t component(fx::Vec3 v, size_t c) { return c == 0 ? v.x : (c == 1 ? v.y : v.z); }
+
+// Convex combinations of Len or Force values with Q2.30 weights summing to
+// 2^30: the accumulator never exceeds 2^61.
+struct Blend {
+  int64_t acc[3] = {0, 0, 0};
+  void add(fx::Vec3 v, fx::Unit w) {
+    acc[0] += int64_t{v.x} * w;
+    acc[1] += int64_t{v.y} * w;
+    acc[2] += int64_t{v.z} * w;
+  }
+  fx::Vec3 result(fx::Saturation& sat) const {
+    return {fx::sat_i32(fx::round_shift(acc[0], 30), sat), fx::sat_i32(fx::round_shift(acc[1], 30), sat),
+            fx::sat_i32(fx::round_shift(acc[2], 30), sat)};
+  }
+};
+
+// Activation of a load: clamp((angle - lo) / (hi - lo), 0, 1) in Q2.30.
+fx::Unit activation(int32_t angle, int32_t lo, int32_t hi) {
+  const int64_t num = int64_t{angle} - lo, den = int64_t{hi} - lo;  // |num|, |den| < 2^32
+  if (num == 0 || (num < 0) != (den < 0)) return 0;
+  if ((num < 0 ? -num : num) >= (den < 0 ? -den : den)) return fx::kUnitOne;
+  return static_cast<fx::Unit>(fx::div_round(num * fx::kUnitOne, den));  // |num| * 2^30 < 2^62
+}
+
+// Unit normal of a control triangle, from its exact int64 cross product.
+fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
+  const fx::Vec3 e1 = fx::sub(b, a), e2 = fx::sub(c, a);
+  int64_t n[3] = {int64_t{e1.y} * e2.z - int64_t{e1.z} * e2.y, int64_t{e1.z} * e2.x - int64_t{e1.x} * e2.z,
+                  int64_t{e1.x} * e2.y - int64_t{e1.y} * e2.x};
+  // Bring the largest component below 2^30 (floor shifts: a direction only).
+  uint64_t biggest = 0;
+  for (int64_t v : n) biggest |= fx::magnitude(v);
+  int shift = 0;
+  while ((biggest >> shift) >= (uint64_t{1} << 30)) ++shift;
+  const fx::Vec3 v{static_cast<int32_t>(n[0] >> shift), static_cast<int32_t>(n[1] >> shift),
+                   static_cast<int32_t>(n[2] >> shift)};
+  fx::Vec3 unit{0, 0, 0};
+  fx::normalize_to_unit(v, &unit);  // degenerate triangle: zero normal, offset ignored
+  return unit;
+}
+
+Status check_spans(const BarnetModel& m, const StepInputs& in, const StepOutputs& out) {
+  if (in.bones.size() < m.joint_count) return fail(Error::kBadSpan, "inputs.bones: fewer than joint_count transforms");
+  if (in.joint_angles.size() < m.input_count)
+    return fail(Error::kBadSpan, "inputs.joint_angles: fewer than input_count angles");
+  for (size_t c = 0; c < 3; ++c) {
+    if (out.node[c].size() < m.nodes.size()) return fail(Error::kBadSpan, "outputs.node: shorter than the node count");
+    if (out.skin[c].size() < m.wrap.size()) return fail(Error::kBadSpan, "outputs.skin: shorter than the wrap count");
+  }
+  return {};
+}
+
+}  // namespace
+
+Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out) {
+  const BarnetModel& m = *st->model;
+  Status s = check_spans(m, in, out);
+  if (!s.ok()) return s;
+  fx::Saturation sat;
+  const uint32_t free = st->free_count;
+
+  // Skinning matrices S_j = G_j x B_j^-1 (the rig's palette, per joint).
+  for (uint32_t j = 0; j < m.joint_count; ++j) st->skin[j] = fx::mul(in.bones[j], m.inverse_bind[j]);
+
+  // 1. Control mesh: smooth-skinned node positions (blend then round once).
+  for (uint32_t i = 0; i < m.nodes.size(); ++i) {
+    const NodeRecord& n = m.nodes[i];
+    Blend pos;
+    for (uint32_t k = 0; k < n.influence_count; ++k)
+      pos.add(fx::transform_point(st->skin[n.joint[k]], n.rest), n.weight[k]);
+    const fx::Vec3 p = pos.result(sat);
+    for (size_t c = 0; c < 3; ++c) {
+      if (i < free) {
+        st->skinned[c][i] = component(p, c);
+        st->load[c][i] = 0;
+      } else {
+        out.node[c][i] = component(p, c);
+      }
+    }
+  }
+
+  // 2. Loads bound to joint angles, carried by their bone (superposed).
+  for (const LoadRecord& l : m.loads) {
+    const fx::Unit t = activation(in.joint_angles[l.input], l.angle_lo, l.angle_hi);
+    if (t == 0) continue;
+    const fx::Vec3 f = fx::transform_vector(st->skin[l.joint], fx::scale(l.force, t));
+    for (size_t c = 0; c < 3; ++c) st->load[c][l.node] += component(f, c);
+  }
+
+  // 3. Eq. (4), per axis: x = D^-1 (p - D_f x_f), with p = D s + D_f s_f +
+  //    loads (the holding load of the skinned shape, then the loads), in
+  //    Q.36 force: q (Q16.16) x Len (Q12.20) products are exact.
+  fx::Len max_disp = 0;
+  auto skinned = [st, &out, free](size_t c, uint32_t node) -> int64_t {
+    return node < free ? st->skinned[c][node] : out.node[c][node];
+  };
+  for (size_t c = 0; c < 3; ++c) {
+    for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->load[c][i] * (int64_t{1} << 12), sat);
+    for (const BarRecord& b : m.bars) {
+      // Row a of [D D_f] s is sum over a's bars of q (s_a - s_b).
+      const int64_t qd = int64_t{b.q} * (skinned(c, b.a) - skinned(c, b.b));  // |qd| < 2^57
+      if (b.a < free) st->work[b.a] = clamp_vector(st->work[b.a] + qd, sat);
+      if (b.b < free) st->work[b.b] = clamp_vector(st->work[b.b] - qd, sat);
+      // -D_f x_f: +q x_f on a free node's bar to a fixed node.
+      if (b.a < free && b.b >= free)
+        st->work[b.a] = clamp_vector(st->work[b.a] + int64_t{b.q} * out.node[c][b.b], sat);
+      else if (b.b < free && b.a >= free)
+        st->work[b.b] = clamp_vector(st->work[b.b] + int64_t{b.q} * out.node[c][b.a], sat);
+    }
+    ldlt_solve(st->factor, st->work, sat);
+    for (uint32_t i = 0; i < free; ++i) {
+      const fx::Len x = fx::sat_i32(fx::round_shift(st->work[i], 20), sat);  // Q.40 -> Len
+      out.node[c][i] = x;
+      const int64_t d = int64_t{x} - st->skinned[c][i];
+      const int64_t mag = d < 0 ? -d : d;
+      if (mag > max_disp) max_disp = fx::sat_i32(mag);
+    }
+  }
+
+  // 4. Wrap: control-triangle normals, then every bound fine vertex.
+  for (uint32_t t = 0; t < m.triangles.size(); ++t) {
+    const ControlTriangle& tri = m.triangles[t];
+    fx::Vec3 p[3];
+    for (uint32_t k = 0; k < 3; ++k)
+      p[k] = {out.node[0][tri.node[k]], out.node[1][tri.node[k]], out.node[2][tri.node[k]]};
+    st->normal[t] = triangle_normal(p[0], p[1], p[2]);
+  }
+  constexpr int64_t kAccLimit = int64_t{1} << 62;
+  for (uint32_t w = 0; w < m.wrap.size(); ++w) {
+    const WrapRecord& r = m.wrap[w];
+    const ControlTriangle& tri = m.triangles[r.triangle];
+    const fx::Vec3 n = st->normal[r.triangle];
+    for (size_t c = 0; c < 3; ++c) {
+      int64_t acc = int64_t{r.offset} * component(n, c);
+      for (uint32_t k = 0; k < 3; ++k) acc = fx::add_sat_i64(acc, int64_t{r.bary[k]} * out.node[c][tri.node[k]]);
+      out.skin[c][w] = fx::sat_i32(fx::round_shift(fx::clamp_i64(acc, -kAccLimit, kAccLimit), 30), sat);
+    }
+  }
+
+  st->stats.steps += 1;
+  st->stats.saturated = sat.events;
+  st->stats.max_displacement = max_disp;
+  return {};
+}
+
+}  // namespace sinew::barnet

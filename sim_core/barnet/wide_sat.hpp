@@ -1,0 +1,44 @@
+// Saturating 64-bit helpers for the bar-net solve: a rounded 64x64 product
+// shift that clamps instead of overflowing (fx::mul_shift_round requires the
+// result to fit), and a symmetric clamp of solve vectors.
+#pragma once
+
+#include <cstdint>
+
+#include "sim_core/fixed/scalar.hpp"
+#include "sim_core/fixed/wide.hpp"
+
+namespace sinew::barnet {
+
+// Solve vectors are kept within +-2^61 so that a sum of two never overflows
+// and a product with a Q2.30 factor (|L| < 2) shifted by 30 stays below 2^62.
+inline constexpr int64_t kVectorLimit = int64_t{1} << 61;
+
+inline int64_t clamp_vector(int64_t v, fx::Saturation& sat) {
+  const int64_t r = fx::clamp_i64(v, -kVectorLimit, kVectorLimit);
+  sat.events += static_cast<uint32_t>(r != v);
+  return r;
+}
+
+// round_half_up(a * b / 2^s), 1 <= s <= 62, clamped to +-kVectorLimit.
+inline int64_t mul_shift_round_sat(int64_t a, int64_t b, int s, fx::Saturation& sat) {
+  const bool negative = (a < 0) != (b < 0);
+  fx::U128 p = fx::mul_u64(fx::magnitude(a), fx::magnitude(b));
+  const uint64_t half = (uint64_t{1} << (s - 1)) - (negative ? 1u : 0u);
+  const uint64_t lo = p.lo + half;
+  p.hi += static_cast<uint64_t>(lo < p.lo);
+  // The shifted magnitude fits in 64 bits iff hi < 2^s; then it must not
+  // exceed the vector limit.
+  if ((p.hi >> s) != 0) {
+    ++sat.events;
+    return negative ? -kVectorLimit : kVectorLimit;
+  }
+  const uint64_t m = (p.hi << (64 - s)) | (lo >> s);
+  if (m > static_cast<uint64_t>(kVectorLimit)) {
+    ++sat.events;
+    return negative ? -kVectorLimit : kVectorLimit;
+  }
+  return negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m);
+}
+
+}  // namespace sinew::barnet
