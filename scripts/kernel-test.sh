@@ -46,8 +46,15 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # --- the kernel: resolved at run time, since old ABI packages disappear -------
-image_pkg=$(apt-cache show --no-all-versions linux-image-amd64 2>/dev/null |
-  sed -n 's/^Depends:.*\(linux-image-6\.1\.0-[0-9]*-amd64\).*/\1/p' | head -n1)
+resolve_image() {
+  apt-cache show --no-all-versions linux-image-amd64 2>/dev/null |
+    sed -n 's/^Depends:.*\(linux-image-6\.1\.0-[0-9]*-amd64\).*/\1/p' | head -n1
+}
+image_pkg=$(resolve_image)
+if [ -z "$image_pkg" ]; then  # no package lists yet (fresh container)
+  "${sudo_cmd[@]}" apt-get update -qq
+  image_pkg=$(resolve_image)
+fi
 [ -n "$image_pkg" ] || die "cannot resolve a linux-image-6.1.0-*-amd64 package from linux-image-amd64 (is this Debian 12?)"
 abi="${image_pkg#linux-image-}"                # e.g. 6.1.0-56-amd64
 version=$(apt-cache show --no-all-versions "$image_pkg" | awk '/^Version:/ {print $2; exit}')
