@@ -136,7 +136,7 @@ void GpioSource::apply(const LineEvent& event) {
   }
 }
 
-size_t GpioSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, firmware::InputHealth&) {
+size_t GpioSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, hal::InputHealth&) {
   bool read_failed = false;
   if (inputs_) {
     for (int round = 0; round < kMaxReadRounds; ++round) {
@@ -173,9 +173,9 @@ size_t GpioSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, fir
     problems += d.counters().illegal + d.counters().missed_edges + d.counters().resyncs;
   }
   for (Debouncer& l : limits_) l.settle(until_ns);
-  state_ = read_failed                  ? firmware::SourceState::kDown
-           : problems != last_problems_ ? firmware::SourceState::kDegraded
-                                        : firmware::SourceState::kOk;
+  state_ = read_failed                  ? hal::SourceState::kDown
+           : problems != last_problems_ ? hal::SourceState::kDegraded
+                                        : hal::SourceState::kOk;
   last_problems_ = problems;
   if (read_failed) return 0;
 
@@ -261,7 +261,7 @@ bool GpioSource::set_fault(bool fault) {
 
 std::string GpioSource::status_line() const {
   std::string s =
-      std::string(firmware::source_state_name(state_)) + ", " + std::to_string(encoders_.size()) + " encoders";
+      std::string(hal::source_state_name(state_)) + ", " + std::to_string(encoders_.size()) + " encoders";
   for (size_t i = 0; i < encoders_.size(); ++i) {
     const QuadratureCounters& c = encoders_[i].counters();
     s += " [" + std::to_string(i) + ": count " + std::to_string(encoders_[i].count()) +

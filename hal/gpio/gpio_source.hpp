@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "debounce.hpp"
-#include "firmware/runtime/io.hpp"
+#include "hal/common/input_source.hpp"
 #include "gpio_source_config.hpp"
 #include "line_io.hpp"
 #include "quadrature.hpp"
@@ -43,7 +43,7 @@ struct GpioCounters {
   uint64_t overflow_checks = 0;  // latches that re-read the levels after a full kernel FIFO
 };
 
-class GpioSource : public firmware::InputSource {
+class GpioSource : public InputSource {
  public:
   // Opens config.chip with libgpiod, validates, requests the lines.
   static std::unique_ptr<GpioSource> create(GpioSourceConfig config, std::string* error);
@@ -57,10 +57,10 @@ class GpioSource : public firmware::InputSource {
   // next latch) and emits, per encoder, its angle as of until_ns with the
   // limit-switch bits of its input. An encoder with an index line emits
   // nothing until its first index pulse (not homed).
-  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, firmware::InputHealth& health) override;
+  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, hal::InputHealth& health) override;
   // ok; degraded when the last latch saw illegal transitions or lost edges;
   // down after a read error.
-  firmware::SourceState state() const override { return state_; }
+  hal::SourceState state() const override { return state_; }
   std::string status_line() const override;
 
   // Lockstep with a master: waits up to timeout_ns (0 polls) for the sync
@@ -108,7 +108,7 @@ class GpioSource : public firmware::InputSource {
   uint64_t seen_overflows_ = 0;
   uint64_t last_ts_ = 0;
   uint64_t last_problems_ = 0;  // illegal + missed edges at the previous latch
-  firmware::SourceState state_ = firmware::SourceState::kOk;
+  hal::SourceState state_ = hal::SourceState::kOk;
   GpioCounters counters_;
 };
 

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "firmware/runtime/input_health.hpp"
+#include "hal/common/input_health.hpp"
 #include "hal/gpio/simulated_gpio.hpp"
 #include "tests/support/alloc_guard.hpp"
 
@@ -49,11 +49,11 @@ struct EncoderDriver {
 struct Fixture {
   SimulatedGpio wire{16};
   std::unique_ptr<GpioSource> source;
-  firmware::InputHealth health;
+  hal::InputHealth health;
   std::array<JointSample, 8> out{};
 
   Fixture() {
-    const firmware::InputLimits limits[4] = {};
+    const hal::InputLimits limits[4] = {};
     const int32_t initial[4] = {};
     health.init(limits, initial, 0);
   }
@@ -85,7 +85,7 @@ TEST(GpioSource, DecodesBothDirectionsIntoAngles) {
   EXPECT_EQ(f.out[0].input, 2);
   EXPECT_EQ(f.out[0].value, 1 << 30);
   EXPECT_EQ(f.out[0].timestamp_ns, t);
-  EXPECT_EQ(f.source->state(), firmware::SourceState::kOk);
+  EXPECT_EQ(f.source->state(), hal::SourceState::kOk);
   enc.run(f, -1536, &t, 10 * kUs);  // back 3/8 turn: to -1/8 turn
   ASSERT_EQ(f.latch(t), 1u);
   EXPECT_EQ(f.out[0].value, -(1 << 29));
@@ -138,12 +138,12 @@ TEST(GpioSource, EveryIllegalTransitionCountedAndDegraded) {
     f.latch(t);
     illegal += legal[i] ? 0 : 1;
     EXPECT_EQ(f.source->encoder(0).counters().illegal, illegal) << int(prev) << "->" << int(path[i]);
-    EXPECT_EQ(f.source->state(), legal[i] ? firmware::SourceState::kOk : firmware::SourceState::kDegraded);
+    EXPECT_EQ(f.source->state(), legal[i] ? hal::SourceState::kOk : hal::SourceState::kDegraded);
     prev = path[i];
   }
   EXPECT_EQ(f.source->encoder(0).count(), 1);  // only 00 -> 10 moved it
   f.latch(t + 1000);
-  EXPECT_EQ(f.source->state(), firmware::SourceState::kOk);  // nothing new: healthy again
+  EXPECT_EQ(f.source->state(), hal::SourceState::kOk);  // nothing new: healthy again
   std::printf("illegal transitions 00-11, 11-00, 01-10, 10-01: counted %llu; status: %s\n",
               static_cast<unsigned long long>(f.source->encoder(0).counters().illegal),
               f.source->status_line().c_str());
@@ -242,7 +242,7 @@ TEST(GpioSource, KernelFifoOverflowShowsAsLostEdges) {
   EXPECT_EQ(c.resyncs, 1u);  // the read-back levels (11) disagree with the decoded state after 32 steps (00)
   EXPECT_EQ(f.source->counters().overflow_checks, 1u);
   EXPECT_EQ(f.source->encoder(0).count(), 32);
-  EXPECT_EQ(f.source->state(), firmware::SourceState::kDegraded);
+  EXPECT_EQ(f.source->state(), hal::SourceState::kDegraded);
 }
 
 TEST(GpioSource, SmallStagingBufferStillDrainsAllDueEvents) {
@@ -260,11 +260,11 @@ TEST(GpioSource, ReadErrorIsDownThenRecovers) {
   Fixture f(one_encoder());
   f.wire.fail_reads(ENODEV);
   EXPECT_EQ(f.latch(1000), 0u);
-  EXPECT_EQ(f.source->state(), firmware::SourceState::kDown);
+  EXPECT_EQ(f.source->state(), hal::SourceState::kDown);
   EXPECT_EQ(f.source->counters().read_errors, 1u);
   f.wire.fail_reads(0);
   EXPECT_EQ(f.latch(2000), 1u);
-  EXPECT_EQ(f.source->state(), firmware::SourceState::kOk);
+  EXPECT_EQ(f.source->state(), hal::SourceState::kOk);
 }
 
 TEST(GpioSource, SyncEdgeStartsATick) {

@@ -8,7 +8,7 @@
 #include <array>
 #include <chrono>
 
-#include "firmware/runtime/input_health.hpp"
+#include "hal/common/input_health.hpp"
 #include "hal/gpio/gpio_source.hpp"
 #include "hal/gpio/simulated_gpio.hpp"
 
@@ -51,8 +51,8 @@ void BM_LatchEncoderEdges(benchmark::State& state) {
     state.SkipWithError(error.c_str());
     return;
   }
-  firmware::InputHealth health;
-  const firmware::InputLimits limits[1] = {};
+  hal::InputHealth health;
+  const hal::InputLimits limits[1] = {};
   const int32_t initial[1] = {};
   health.init(limits, initial, 0);
   std::array<JointSample, 4> out{};

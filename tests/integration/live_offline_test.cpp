@@ -48,20 +48,29 @@ TEST(LiveOffline, LiveAndOfflineRunsWriteIdenticalFrames) {
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   const Frames live = read_all(live_log), offline = read_all(offline_log);
-  ASSERT_EQ(live.poses.size(), 100u);
   ASSERT_EQ(offline.poses.size(), 100u);
-  for (size_t i = 0; i < live.poses.size(); ++i) {
-    const auto& a = live.poses[i];
-    const auto& b = offline.poses[i];
-    EXPECT_EQ(a.tick, b.tick);
+  // A live tick more than a period late is skipped (a gap in the tick
+  // numbers, which name the schedule slot); every slot the live run executed
+  // must equal the offline one. Per-tick flags may differ right after a gap.
+  ASSERT_GE(live.poses.size(), 90u) << "more than 10 % of live ticks skipped";
+  size_t gaps = 0;
+  uint64_t previous = UINT64_MAX;
+  for (const auto& a : live.poses) {
+    ASSERT_LT(a.tick, offline.poses.size());
+    const auto& b = offline.poses[a.tick];
+    ASSERT_EQ(b.tick, a.tick);
+    const bool gap = previous != UINT64_MAX && a.tick != previous + 1;
+    previous = a.tick;
+    gaps += gap ? 1 : 0;
     // Timestamps differ (monotonic clock vs. zero-based); everything computed must not.
     for (int c = 0; c < 3; ++c) {
-      EXPECT_EQ(a.position[c], b.position[c]) << "frame " << i;
-      EXPECT_EQ(a.normal[c], b.normal[c]) << "frame " << i;
+      EXPECT_EQ(a.position[c], b.position[c]) << "tick " << a.tick;
+      EXPECT_EQ(a.normal[c], b.normal[c]) << "tick " << a.tick;
     }
     EXPECT_TRUE(a.has_normals);
-    EXPECT_EQ(a.input_value, b.input_value) << "frame " << i;
-    EXPECT_EQ(a.input_status, b.input_status) << "frame " << i;
+    EXPECT_EQ(a.input_value, b.input_value) << "tick " << a.tick;
+    if (!gap) EXPECT_EQ(a.input_status, b.input_status) << "tick " << a.tick;
     if (::testing::Test::HasFailure()) break;
   }
+  std::printf("live frames %zu of 100 (%zu gaps from skipped ticks), all equal to offline\n", live.poses.size(), gaps);
 }

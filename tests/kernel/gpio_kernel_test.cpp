@@ -16,7 +16,7 @@
 #include <string>
 #include <thread>
 
-#include "firmware/runtime/input_health.hpp"
+#include "hal/common/input_health.hpp"
 #include "hal/gpio/gpio_source.hpp"
 #include "tests/support/alloc_guard.hpp"
 
@@ -57,7 +57,7 @@ class GpioSim : public ::testing::Test {
     sysfs_ = env("SINEW_GPIO_SIM_SYSFS");
     if (chip_ == nullptr || sysfs_ == nullptr) GTEST_SKIP() << "no gpio-sim chip (run scripts/kernel-test.sh)";
     for (uint32_t line = 0; line < 5; ++line) pull(line, false);
-    const firmware::InputLimits limits[4] = {};
+    const hal::InputLimits limits[4] = {};
     const int32_t initial[4] = {};
     health_.init(limits, initial, 0);
   }
@@ -119,7 +119,7 @@ class GpioSim : public ::testing::Test {
   char path_[512] = {};
   int pos_ = 0;
   std::unique_ptr<GpioSource> source_;
-  firmware::InputHealth health_;
+  hal::InputHealth health_;
   std::array<JointSample, 4> out_{};
 };
 
@@ -145,7 +145,7 @@ TEST_F(GpioSim, EncoderCountsBothWaysWithKernelTimestamps) {
   EXPECT_EQ(c.illegal, 0u);
   EXPECT_EQ(c.missed_edges, 0u);
   EXPECT_EQ(source_->counters().late_events, 0u);
-  EXPECT_EQ(source_->state(), firmware::SourceState::kOk);
+  EXPECT_EQ(source_->state(), hal::SourceState::kOk);
 }
 
 TEST_F(GpioSim, IndexHomesTheCount) {
@@ -239,11 +239,11 @@ TEST_F(GpioSim, FifoOverflowDetectedByReadBack) {
   std::printf("overflow: count %lld after 42 steps, %llu resyncs, overflow checks %llu, state %s\n",
               static_cast<long long>(source_->encoder(0).count()), static_cast<unsigned long long>(c.resyncs),
               static_cast<unsigned long long>(source_->counters().overflow_checks),
-              firmware::source_state_name(source_->state()));
+              hal::source_state_name(source_->state()));
   EXPECT_GE(source_->counters().overflow_checks, 1u);
   EXPECT_EQ(c.resyncs, 1u);  // 32 steps decoded (state 00), the lines show 42 (state 11)
   EXPECT_EQ(source_->encoder(0).count(), 32);
-  EXPECT_EQ(source_->state(), firmware::SourceState::kDegraded);
+  EXPECT_EQ(source_->state(), hal::SourceState::kDegraded);
 }
 
 TEST_F(GpioSim, LatchDoesNotAllocate) {
