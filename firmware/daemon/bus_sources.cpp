@@ -9,6 +9,7 @@
 #include "hal/can/joint_stream_decoder.hpp"
 #include "hal/can/recording_frame_source.hpp"
 #include "hal/can/socketcan_source.hpp"
+#include "hal/gpio/gpio_source.hpp"
 #include "hal/modbus/modbus_source.hpp"
 #include "host_tools/rigsim/modbus_feeder.hpp"
 #include "host_tools/rigsim/simulated_rig_bus.hpp"
@@ -251,6 +252,92 @@ std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig&
   return source;
 }
 
+// A rig input named "<joint>.<dof>" or given by index.
+bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& rig, const char* what, uint16_t* input,
+                std::string* error) {
+  if (const auto name = t["input"].value<std::string>()) {
+    const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), *name);
+    if (it == rig.input_names.end())
+      return *error = where(s, std::string(what) + ".input") + " '" + *name + "' is no rig input", false;
+    *input = static_cast<uint16_t>(it - rig.input_names.begin());
+    return true;
+  }
+  const int64_t index = t["input"].value_or(int64_t{-1});
+  if (index < 0 || index >= static_cast<int64_t>(rig.rig.input_count))
+    return *error = where(s, std::string(what) + ".input") + " must name a rig input", false;
+  *input = static_cast<uint16_t>(index);
+  return true;
+}
+
+std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& rig, std::string* error) {
+  hal::gpio::GpioSourceConfig c;
+  c.name = s.name;
+  c.chip = s.table["chip"].value_or<std::string>("gpiochip0");
+  c.consumer = s.table["consumer"].value_or<std::string>("sinew");
+  c.event_capacity = static_cast<uint32_t>(s.table["event_capacity"].value_or(int64_t{1024}) & 0xFFFFFFFF);
+  const auto line = [](const toml::table& t, const char* key, int64_t fallback) {
+    const int64_t v = t[key].value_or(fallback);
+    return v < -1 || v > 65535 ? int64_t{-2} : v;  // -2: out of range, caught by validate()
+  };
+  if (const toml::array* encoders = s.table["encoder"].as_array()) {
+    for (const toml::node& node : *encoders) {
+      const toml::table* t = node.as_table();
+      if (t == nullptr) return *error = where(s, "encoder") + " entries must be tables", nullptr;
+      hal::gpio::EncoderConfig e;
+      if (!read_input(s, *t, rig, "encoder", &e.input, error)) return nullptr;
+      const int64_t a = line(*t, "line_a", -1), b = line(*t, "line_b", -1);
+      if (a < 0 || b < 0) return *error = where(s, "encoder") + " needs line_a and line_b (0..65535)", nullptr;
+      e.line_a = static_cast<uint32_t>(a);
+      e.line_b = static_cast<uint32_t>(b);
+      e.line_index = static_cast<int32_t>(line(*t, "line_index", -1));
+      e.active_low = (*t)["active_low"].value_or(false);
+      const int64_t cpt = (*t)["counts_per_turn"].value_or(int64_t{4096});
+      if (cpt < 1 || cpt > (int64_t{1} << 30)) return *error = where(s, "encoder.counts_per_turn") + " must be 1..2^30", nullptr;
+      e.counts_per_turn = static_cast<uint32_t>(cpt);
+      const double offset_deg = (*t)["offset_deg"].value_or(0.0);
+      if (!(offset_deg >= -360 && offset_deg <= 360)) return *error = where(s, "encoder.offset_deg") + " must be -360..360", nullptr;
+      e.offset = static_cast<int32_t>(static_cast<uint32_t>(static_cast<int64_t>(std::llround(offset_deg / 360.0 * 4294967296.0))));
+      e.invert = (*t)["invert"].value_or(false);
+      const double window_us = (*t)["window_us"].value_or(0.0);
+      if (!(window_us >= 0 && window_us <= 1000)) return *error = where(s, "encoder.window_us") + " must be 0..1000", nullptr;
+      e.window_ns = static_cast<uint64_t>(std::llround(window_us * 1000));
+      e.index_count = (*t)["index_count"].value_or(int64_t{0});
+      e.home_every_index = (*t)["home_every_index"].value_or(false);
+      c.encoders.push_back(e);
+    }
+  }
+  if (const toml::array* limits = s.table["limit"].as_array()) {
+    for (const toml::node& node : *limits) {
+      const toml::table* t = node.as_table();
+      if (t == nullptr) return *error = where(s, "limit") + " entries must be tables", nullptr;
+      hal::gpio::LimitSwitchConfig l;
+      if (!read_input(s, *t, rig, "limit", &l.input, error)) return nullptr;
+      const int64_t ln = line(*t, "line", -1);
+      if (ln < 0) return *error = where(s, "limit.line") + " is required (0..65535)", nullptr;
+      l.line = static_cast<uint32_t>(ln);
+      l.active_low = (*t)["active_low"].value_or(true);
+      const std::string side = (*t)["side"].value_or<std::string>("min");
+      if (side != "min" && side != "max") return *error = where(s, "limit.side") + " must be min or max", nullptr;
+      l.side = side == "min" ? hal::gpio::LimitSide::kMin : hal::gpio::LimitSide::kMax;
+      const double debounce_ms = (*t)["debounce_ms"].value_or(5.0);
+      if (!(debounce_ms >= 0 && debounce_ms <= 1000)) return *error = where(s, "limit.debounce_ms") + " must be 0..1000", nullptr;
+      l.debounce_ns = static_cast<uint64_t>(std::llround(debounce_ms * 1e6));
+      c.limits.push_back(l);
+    }
+  }
+  if (const toml::table* sync = s.table["sync"].as_table()) {
+    c.sync.line = static_cast<int32_t>(line(*sync, "line", -1));
+    c.sync.active_low = (*sync)["active_low"].value_or(false);
+  }
+  if (const toml::table* fault = s.table["fault_line"].as_table()) {
+    c.fault.line = static_cast<int32_t>(line(*fault, "line", -1));
+    c.fault.active_low = (*fault)["active_low"].value_or(false);
+  }
+  auto source = hal::gpio::GpioSource::create(std::move(c), error);
+  if (!source) *error = "source " + s.name + ": " + *error;
+  return source;
+}
+
 }  // namespace
 
 std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const LoadedRig& rig,
@@ -259,7 +346,8 @@ std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const L
   if (s.type == "candump") return candump(s, rig, config, start_ns, error);
   if (s.type == "simulated-rig") return simulated_rig(s, rig, config, start_ns, error);
   if (s.type == "modbus") return modbus(s, rig, error);
-  *error = "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus)";
+  if (s.type == "gpio") return gpio(s, rig, error);
+  *error = "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus, gpio)";
   return nullptr;
 }
 
