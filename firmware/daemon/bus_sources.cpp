@@ -66,7 +66,8 @@ bool read_faults(const SourceConfig& s, const LoadedRig& rig, rigsim::FaultPlan*
     f.amount = static_cast<uint64_t>(std::llround((*t)["delay_ms"].value_or(0.0) * 1e6));
     if (const auto name = (*t)["input"].value<std::string>()) {
       const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), *name);
-      if (it == rig.input_names.end()) return *error = where(s, "fault.input") + " '" + *name + "' is no rig input", false;
+      if (it == rig.input_names.end())
+        return *error = where(s, "fault.input") + " '" + *name + "' is no rig input", false;
       f.input = static_cast<int32_t>(it - rig.input_names.begin());
     }
     plan->faults.push_back(f);
@@ -84,14 +85,13 @@ std::unique_ptr<hal::InputSource> can_source(const SourceConfig& s, const Loaded
   auto decoder = std::make_unique<hal::can::JointStreamDecoder>();
   if (!decoder->configure(stream, error)) return *error = where(s, "protocol") + ": " + *error, nullptr;
   if (const auto path = s.table["record"].value<std::string>()) {
-    auto recording = hal::can::RecordingFrameSource::create(std::move(frames), *path,
-                                                            s.table["interface"].value_or<std::string>("can0"),
-                                                            start_ns, error);
+    auto recording = hal::can::RecordingFrameSource::create(
+        std::move(frames), *path, s.table["interface"].value_or<std::string>("can0"), start_ns, error);
     if (!recording) return *error = where(s, "record") + ": " + *error, nullptr;
     frames = std::move(recording);
   }
-  auto source = hal::can::CanInputSource::create(s.name, std::move(frames), std::move(decoder), kFramesPerTick,
-                                                 start_ns, error);
+  auto source =
+      hal::can::CanInputSource::create(s.name, std::move(frames), std::move(decoder), kFramesPerTick, start_ns, error);
   if (!source) *error = "source " + s.name + ": " + *error;
   return source;
 }
@@ -113,8 +113,8 @@ class KeepAlive final : public hal::InputSource {
   std::shared_ptr<void> extra_;
 };
 
-std::unique_ptr<hal::InputSource> simulated_rig(const SourceConfig& s, const LoadedRig& rig,
-                                                const DaemonConfig& config, uint64_t start_ns, std::string* error) {
+std::unique_ptr<hal::InputSource> simulated_rig(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
+                                                uint64_t start_ns, std::string* error) {
   rigsim::SimulatedRigOptions options;
   if (!read_ms(s, "period_ms", config.default_period_ms, 0.01, 60000, &options.period_ns, error) ||
       !read_ms(s, "offset_ms", options.period_ns / 2e6, 0, 60000, &options.offset_ns, error) ||
@@ -223,15 +223,16 @@ std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig&
       const std::string input = (*t)["input"].value_or<std::string>("");
       ch.name = input;
       const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), input);
-      if (it == rig.input_names.end()) return *error = where(s, "channel.input") + " '" + input + "' is no rig input", nullptr;
+      if (it == rig.input_names.end())
+        return *error = where(s, "channel.input") + " '" + input + "' is no rig input", nullptr;
       ch.input = static_cast<uint16_t>(it - rig.input_names.begin());
       ch.table = (*t)["table"].value_or<std::string>("holding") == "input" ? hal::modbus::RegisterTable::kInput
-                                                                          : hal::modbus::RegisterTable::kHolding;
+                                                                           : hal::modbus::RegisterTable::kHolding;
       const int64_t address = (*t)["address"].value_or(int64_t{-1});
       if (address < 0 || address > 65535) return *error = where(s, "channel.address") + " must be 0..65535", nullptr;
       ch.address = static_cast<uint16_t>(address);
-      ch.width = (*t)["width"].value_or(int64_t{16}) == 32 ? hal::modbus::RegisterWidth::k32
-                                                            : hal::modbus::RegisterWidth::k16;
+      ch.width =
+          (*t)["width"].value_or(int64_t{16}) == 32 ? hal::modbus::RegisterWidth::k32 : hal::modbus::RegisterWidth::k16;
       ch.word_order = (*t)["word_order"].value_or<std::string>("high-first") == "low-first"
                           ? hal::modbus::WordOrder::kLowWordFirst
                           : hal::modbus::WordOrder::kHighWordFirst;
@@ -292,14 +293,18 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
       e.line_index = static_cast<int32_t>(line(*t, "line_index", -1));
       e.active_low = (*t)["active_low"].value_or(false);
       const int64_t cpt = (*t)["counts_per_turn"].value_or(int64_t{4096});
-      if (cpt < 1 || cpt > (int64_t{1} << 30)) return *error = where(s, "encoder.counts_per_turn") + " must be 1..2^30", nullptr;
+      if (cpt < 1 || cpt > (int64_t{1} << 30))
+        return *error = where(s, "encoder.counts_per_turn") + " must be 1..2^30", nullptr;
       e.counts_per_turn = static_cast<uint32_t>(cpt);
       const double offset_deg = (*t)["offset_deg"].value_or(0.0);
-      if (!(offset_deg >= -360 && offset_deg <= 360)) return *error = where(s, "encoder.offset_deg") + " must be -360..360", nullptr;
-      e.offset = static_cast<int32_t>(static_cast<uint32_t>(static_cast<int64_t>(std::llround(offset_deg / 360.0 * 4294967296.0))));
+      if (!(offset_deg >= -360 && offset_deg <= 360))
+        return *error = where(s, "encoder.offset_deg") + " must be -360..360", nullptr;
+      e.offset = static_cast<int32_t>(
+          static_cast<uint32_t>(static_cast<int64_t>(std::llround(offset_deg / 360.0 * 4294967296.0))));
       e.invert = (*t)["invert"].value_or(false);
       const double window_us = (*t)["window_us"].value_or(0.0);
-      if (!(window_us >= 0 && window_us <= 1000)) return *error = where(s, "encoder.window_us") + " must be 0..1000", nullptr;
+      if (!(window_us >= 0 && window_us <= 1000))
+        return *error = where(s, "encoder.window_us") + " must be 0..1000", nullptr;
       e.window_ns = static_cast<uint64_t>(std::llround(window_us * 1000));
       e.index_count = (*t)["index_count"].value_or(int64_t{0});
       e.home_every_index = (*t)["home_every_index"].value_or(false);
@@ -320,7 +325,8 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
       if (side != "min" && side != "max") return *error = where(s, "limit.side") + " must be min or max", nullptr;
       l.side = side == "min" ? hal::gpio::LimitSide::kMin : hal::gpio::LimitSide::kMax;
       const double debounce_ms = (*t)["debounce_ms"].value_or(5.0);
-      if (!(debounce_ms >= 0 && debounce_ms <= 1000)) return *error = where(s, "limit.debounce_ms") + " must be 0..1000", nullptr;
+      if (!(debounce_ms >= 0 && debounce_ms <= 1000))
+        return *error = where(s, "limit.debounce_ms") + " must be 0..1000", nullptr;
       l.debounce_ns = static_cast<uint64_t>(std::llround(debounce_ms * 1e6));
       c.limits.push_back(l);
     }
@@ -347,7 +353,8 @@ std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const L
   if (s.type == "simulated-rig") return simulated_rig(s, rig, config, start_ns, error);
   if (s.type == "modbus") return modbus(s, rig, error);
   if (s.type == "gpio") return gpio(s, rig, error);
-  *error = "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus, gpio)";
+  *error =
+      "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus, gpio)";
   return nullptr;
 }
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-
 namespace sinew::hal::can {
 
 std::unique_ptr<CanInputSource> CanInputSource::create(std::string name, std::unique_ptr<FrameSource> source,
@@ -31,20 +30,23 @@ size_t CanInputSource::latch(uint64_t until_ns, std::span<JointSample> out, Inpu
 
 SourceState CanInputSource::state() const {
   switch (receiver_.bus_state()) {
-    case BusState::kErrorActive: return SourceState::kOk;
+    case BusState::kErrorActive:
+      return SourceState::kOk;
     case BusState::kErrorWarning:
-    case BusState::kErrorPassive: return SourceState::kDegraded;
+    case BusState::kErrorPassive:
+      return SourceState::kDegraded;
     case BusState::kBusOff:
-    case BusState::kInterfaceDown: return SourceState::kDown;
+    case BusState::kInterfaceDown:
+      return SourceState::kDown;
   }
   return SourceState::kDown;
 }
 
 std::string CanInputSource::status_line() const {
   const BusCounters& c = receiver_.bus_counters();
-  return std::string(source_->name()) + " " + bus_state_name(receiver_.bus_state()) +
-         ", frames " + std::to_string(c.frames) + ", error frames " + std::to_string(c.error_frames) +
-         ", bus-off " + std::to_string(c.bus_off_events) + ", dropped " + std::to_string(c.dropped);
+  return std::string(source_->name()) + " " + bus_state_name(receiver_.bus_state()) + ", frames " +
+         std::to_string(c.frames) + ", error frames " + std::to_string(c.error_frames) + ", bus-off " +
+         std::to_string(c.bus_off_events) + ", dropped " + std::to_string(c.dropped);
 }
 
 }  // namespace sinew::hal::can

@@ -17,9 +17,9 @@ namespace sinew::hal::can {
 
 struct CandumpReplayOptions {
   std::string path;
-  std::string interface;   // replay only frames logged on this interface; empty: all
-  bool has_origin = false; // false: the first replayed frame's timestamp is the origin
-  uint64_t origin_ns = 0;  // log time (ns) that maps to start_ns
+  std::string interface;    // replay only frames logged on this interface; empty: all
+  bool has_origin = false;  // false: the first replayed frame's timestamp is the origin
+  uint64_t origin_ns = 0;   // log time (ns) that maps to start_ns
 };
 
 class CandumpReplaySource final : public FrameSource {

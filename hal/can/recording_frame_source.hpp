@@ -20,7 +20,9 @@ class RecordingFrameSource final : public FrameSource {
                                                       std::string interface, uint64_t origin_ns, std::string* error);
 
   const char* name() const override { return inner_->name(); }
-  bool set_filters(std::span<const FrameId> ids, std::string* error) override { return inner_->set_filters(ids, error); }
+  bool set_filters(std::span<const FrameId> ids, std::string* error) override {
+    return inner_->set_filters(ids, error);
+  }
   size_t drain(std::span<CanFrame> out, uint64_t now_ns) override;
   BusState bus_state() const override { return inner_->bus_state(); }
   const BusCounters& counters() const override { return inner_->counters(); }

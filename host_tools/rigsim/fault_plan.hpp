@@ -11,23 +11,23 @@
 namespace sinew::rigsim {
 
 enum class FaultKind : uint8_t {
-  kDrop,          // CAN frames not sent (inputs go stale after their timeout)
-  kDelay,         // CAN frames arrive `amount` ns late
-  kDuplicate,     // every CAN frame sent twice (the copy repeats the alive counter)
-  kCorrupt,       // one payload bit flipped (bad CRC)
-  kStuckCounter,  // the alive counter stops advancing (repeated counter)
-  kOutOfRange,    // the value sent is far beyond the joint's range
-  kBusOff,        // the controller goes bus-off at the start, restarts at the end
-  kModbusTimeout, // the Modbus server stops answering
-  kModbusException, // the Modbus server answers exception 4 (server device failure)
+  kDrop,             // CAN frames not sent (inputs go stale after their timeout)
+  kDelay,            // CAN frames arrive `amount` ns late
+  kDuplicate,        // every CAN frame sent twice (the copy repeats the alive counter)
+  kCorrupt,          // one payload bit flipped (bad CRC)
+  kStuckCounter,     // the alive counter stops advancing (repeated counter)
+  kOutOfRange,       // the value sent is far beyond the joint's range
+  kBusOff,           // the controller goes bus-off at the start, restarts at the end
+  kModbusTimeout,    // the Modbus server stops answering
+  kModbusException,  // the Modbus server answers exception 4 (server device failure)
 };
 
 struct Fault {
   FaultKind kind = FaultKind::kDrop;
   uint64_t from_ns = 0;  // window [from, to) relative to the run's start
   uint64_t to_ns = 0;
-  int32_t input = -1;    // the input whose frames are affected; -1: all
-  uint64_t amount = 0;   // kDelay: nanoseconds
+  int32_t input = -1;   // the input whose frames are affected; -1: all
+  uint64_t amount = 0;  // kDelay: nanoseconds
 };
 
 struct FaultPlan {

@@ -1,7 +1,8 @@
 // The simulated rig's Modbus side: a real libmodbus TCP server on 127.0.0.1,
 // on its own thread. Serves the holding and input registers it is given,
 // answers an exception for a chosen request address, or goes mute (accepts
-// and reads requests but never answers: a response timeout at the client). Every wait is bounded; stop() (or the destructor) ends it.
+// and reads requests but never answers: a response timeout at the client). Every wait is bounded; stop() (or the
+// destructor) ends it.
 #pragma once
 
 #include <atomic>

@@ -22,7 +22,7 @@ struct SimulatedRigOptions {
   uint64_t period_ns = 10'000'000;  // send period per input; whole microseconds
   uint64_t offset_ns = 5'000'000;   // first frame at start + offset (half a period off the tick grid)
   FaultPlan faults;
-  size_t queue_frames = 4096;       // the simulated socket's receive queue
+  size_t queue_frames = 4096;  // the simulated socket's receive queue
 };
 
 class SimulatedRigBus final : public hal::can::FrameSource {
@@ -52,8 +52,8 @@ class SimulatedRigBus final : public hal::can::FrameSource {
   hal::can::JointStreamConfig stream_;
   hal::can::SimulatedCanBus bus_;
   uint64_t start_ns_;
-  uint64_t next_step_ = 0;            // index of the next send step
-  std::vector<uint8_t> counters_;     // alive counter per input
+  uint64_t next_step_ = 0;         // index of the next send step
+  std::vector<uint8_t> counters_;  // alive counter per input
   bool bus_off_ = false;
   uint64_t sent_ = 0;
 };

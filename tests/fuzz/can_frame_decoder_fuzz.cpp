@@ -43,8 +43,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   while (i + 6 <= size) {
     CanFrame f;
     const uint8_t selector = data[i];
-    f.id = (selector & 0x80) ? 0x100u + (data[i + 1] & 0x1F) : (selector & 0x40) ? 0x180u + (data[i + 1] & 3)
-                                                                                   : uint32_t{data[i + 1]} << 3 | 0x300u;
+    f.id = (selector & 0x80)   ? 0x100u + (data[i + 1] & 0x1F)
+           : (selector & 0x40) ? 0x180u + (data[i + 1] & 3)
+                               : uint32_t{data[i + 1]} << 3 | 0x300u;
     if (selector & 0x20) f.id = 0x18FF0001, f.extended = true;
     f.fd = (selector & 0x10) != 0;
     f.kind = (selector & 0x0C) == 0x0C ? FrameKind::kRemote : FrameKind::kData;

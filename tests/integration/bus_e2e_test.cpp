@@ -5,14 +5,13 @@
 // (3) the Modbus device on loopback keeps feeding through its timeouts and
 // exceptions.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
-
-#include <unistd.h>
 
 #include "hal/common/pose_frame.hpp"
 #include "hal/output/frame_log_reader.hpp"
@@ -74,13 +73,13 @@ TEST(BusEndToEnd, EveryFaultHasItsDocumentedEffect) {
                        "[loop]\nrate_hz = 50\nduration_s = 4.0\nstats_interval_s = 0\nmode = \"offline\"\n"
                        "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\n";
   const char* faults[] = {
-      "kind = \"corrupt\"\nfrom_s = 0.2\nto_s = 0.3",                          // 10 steps x 7 inputs: bad CRC
-      "kind = \"duplicate\"\ninput = \"elbow.0\"\nfrom_s = 0.5\nto_s = 0.6",   // 10 repeated counters
+      "kind = \"corrupt\"\nfrom_s = 0.2\nto_s = 0.3",                             // 10 steps x 7 inputs: bad CRC
+      "kind = \"duplicate\"\ninput = \"elbow.0\"\nfrom_s = 0.5\nto_s = 0.6",      // 10 repeated counters
       "kind = \"stuck-counter\"\ninput = \"wrist.0\"\nfrom_s = 0.8\nto_s = 0.9",  // 10 repeated counters
       "kind = \"out-of-range\"\ninput = \"elbow.0\"\nfrom_s = 1.1\nto_s = 1.2",   // 10 out of range
-      "kind = \"drop\"\ninput = \"shoulder.0\"\nfrom_s = 1.5\nto_s = 1.8",     // stale after 15 ms
+      "kind = \"drop\"\ninput = \"shoulder.0\"\nfrom_s = 1.5\nto_s = 1.8",        // stale after 15 ms
       "kind = \"delay\"\ninput = \"wrist.1\"\nfrom_s = 2.0\nto_s = 2.2\ndelay_ms = 40.0",  // a 50 ms gap: stale once
-      "kind = \"bus-off\"\nfrom_s = 2.6\nto_s = 2.9",                          // every input stale, source down
+      "kind = \"bus-off\"\nfrom_s = 2.6\nto_s = 2.9",  // every input stale, source down
   };
   for (const char* f : faults) config += std::string("[[source.fault]]\n") + f + "\n";
   const std::string frames = testing::TempDir() + "/faults.frames";
@@ -98,8 +97,12 @@ TEST(BusEndToEnd, EveryFaultHasItsDocumentedEffect) {
   EXPECT_NE(r.out.find("bus-off 1"), std::string::npos);
 
   // Per-frame flags: the elbow held its last good value while out of range.
-  const auto status_at = [&](double t, int input) { return r.poses[static_cast<size_t>(t * 50) - 1].input_status[input]; };
-  const auto value_at = [&](double t, int input) { return r.poses[static_cast<size_t>(t * 50) - 1].input_value[input]; };
+  const auto status_at = [&](double t, int input) {
+    return r.poses[static_cast<size_t>(t * 50) - 1].input_status[input];
+  };
+  const auto value_at = [&](double t, int input) {
+    return r.poses[static_cast<size_t>(t * 50) - 1].input_value[input];
+  };
   EXPECT_TRUE(status_at(0.24, 0) & sinew::hal::kJointRejected);
   EXPECT_TRUE(status_at(1.16, 3) & sinew::hal::kJointRejected);
   EXPECT_EQ(value_at(1.16, 3), value_at(1.1, 3)) << "out-of-range samples never reach the engine";
@@ -123,18 +126,20 @@ TEST(BusEndToEnd, LiveRunAndItsCandumpReplayWriteIdenticalFrames) {
       "[[source.fault]]\nkind = \"corrupt\"\nfrom_s = 0.3\nto_s = 0.4\n"
       "[[source.fault]]\nkind = \"drop\"\ninput = \"elbow.0\"\nfrom_s = 0.6\nto_s = 0.9\n"
       "[[source.fault]]\nkind = \"bus-off\"\nfrom_s = 1.2\nto_s = 1.4\n";
-  const DaemonRun live = run_daemon("live",
-                              std::string(kRig) +
-                                  "[loop]\nrate_hz = 20\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"live\"\n"
-                                  "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\nrecord = \"" +
-                                  record + "\"\n" + faults,
-                              dir + "/live.frames");
-  const DaemonRun replay = run_daemon("replay",
-                                std::string(kRig) +
-                                    "[loop]\nrate_hz = 20\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"replay\"\n"
-                                    "[[source]]\ntype = \"candump\"\nname = \"log\"\nperiod_ms = 10.0\norigin_s = 0\npath = \"" +
-                                    record + "\"\n",
-                                dir + "/replay.frames");
+  const DaemonRun live =
+      run_daemon("live",
+                 std::string(kRig) +
+                     "[loop]\nrate_hz = 20\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"live\"\n"
+                     "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\nrecord = \"" +
+                     record + "\"\n" + faults,
+                 dir + "/live.frames");
+  const DaemonRun replay =
+      run_daemon("replay",
+                 std::string(kRig) +
+                     "[loop]\nrate_hz = 20\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"replay\"\n"
+                     "[[source]]\ntype = \"candump\"\nname = \"log\"\nperiod_ms = 10.0\norigin_s = 0\npath = \"" +
+                     record + "\"\n",
+                 dir + "/replay.frames");
   ASSERT_EQ(replay.poses.size(), 40u);
   ASSERT_GE(live.poses.size(), 36u) << "more than 10 % of live ticks skipped\n" << live.out;
   std::map<uint64_t, const DecodedPose*> by_tick;
@@ -166,9 +171,10 @@ TEST(BusEndToEnd, LiveRunAndItsCandumpReplayWriteIdenticalFrames) {
 // Modbus source times out, backs off, reconnects and goes on, and the tick
 // never waits for it (every tick's frame is written).
 TEST(BusEndToEnd, ModbusDeviceFaultsAreSurvived) {
-  const std::string config = std::string(kRig) +
-                             "[loop]\nrate_hz = 50\nduration_s = 2.5\nstats_interval_s = 0\nmode = \"live\"\n"
-                             "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\nmodbus_port = 0\n";
+  const std::string config =
+      std::string(kRig) +
+      "[loop]\nrate_hz = 50\nduration_s = 2.5\nstats_interval_s = 0\nmode = \"live\"\n"
+      "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\nmodbus_port = 0\n";
   // Port 0 picks a free port, which the Modbus source cannot know: use a fixed
   // one derived from the process id instead.
   const int port = 20000 + static_cast<int>(::getpid() % 20000);

@@ -43,8 +43,10 @@ TEST(LiveOffline, LiveAndOfflineRunsWriteIdenticalFrames) {
   const std::string live_log = dir + "/live.log", offline_log = dir + "/offline.log";
   std::remove(live_log.c_str());
   std::remove(offline_log.c_str());
-  for (const auto& [mode, log] : {std::pair{std::string("live"), live_log}, std::pair{std::string("offline"), offline_log}}) {
-    const std::string cmd = std::string(SINEWD_EXE) + " --config " + write_config(dir, mode, log) + " > " + dir + "/" + mode + ".out";
+  for (const auto& [mode, log] :
+       {std::pair{std::string("live"), live_log}, std::pair{std::string("offline"), offline_log}}) {
+    const std::string cmd =
+        std::string(SINEWD_EXE) + " --config " + write_config(dir, mode, log) + " > " + dir + "/" + mode + ".out";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   const Frames live = read_all(live_log), offline = read_all(offline_log);

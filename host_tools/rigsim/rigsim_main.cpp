@@ -1,0 +1,192 @@
+// rigsim: the simulated rig as its own process. Plays a motion (the built-in
+// swing, or CSV joint tracks in degrees) at the rig's send rate, as a real
+// rig would: default joint-stream frames on a SocketCAN interface (vcan0 or
+// real), written to a candump log, and joint registers on a libmodbus TCP
+// server on loopback; with the same fault injection as the daemon's
+// simulated-rig source.
+//   rigsim --rig arm --can vcan0 --modbus-port 1502 --duration 10 \
+//          --fault corrupt:1.0:1.5 --fault drop:2:3:elbow.0
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+
+#include "firmware/daemon/loaded_rig.hpp"
+#include "hal/can/candump_writer.hpp"
+#include "hal/common/monotonic_clock.hpp"
+#include "host_tools/motion/csv_tracks.hpp"
+#include "modbus_feeder.hpp"
+#include "simulated_rig_bus.hpp"
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+int open_can(const std::string& interface, std::string* error) {
+  const int fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+  if (fd < 0) return *error = std::string("socket(PF_CAN): ") + std::strerror(errno), -1;
+  ifreq ifr{};
+  std::snprintf(ifr.ifr_name, sizeof ifr.ifr_name, "%s", interface.c_str());
+  if (ioctl(fd, SIOCGIFINDEX, &ifr) < 0) {
+    *error = interface + ": " + std::strerror(errno);
+    close(fd);
+    return -1;
+  }
+  sockaddr_can addr{};
+  addr.can_family = AF_CAN;
+  addr.can_ifindex = ifr.ifr_ifindex;
+  if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) < 0) {
+    *error = interface + ": bind: " + std::strerror(errno);
+    close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+bool parse_fault(const std::string& text, const sinew::firmware::LoadedRig& rig, sinew::rigsim::Fault* f,
+                 std::string* error) {
+  // kind:from_s:to_s[:input[:delay_ms]]
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (size_t at; (at = text.find(':', start)) != std::string::npos; start = at + 1)
+    parts.push_back(text.substr(start, at - start));
+  parts.push_back(text.substr(start));
+  if (parts.size() < 3 || !sinew::rigsim::parse_fault_kind(parts[0], &f->kind))
+    return *error = "--fault " + text + ": expected kind:from_s:to_s[:input[:delay_ms]]", false;
+  char* end = nullptr;
+  const double from = std::strtod(parts[1].c_str(), &end), to = std::strtod(parts[2].c_str(), &end);
+  if (!(from >= 0 && to > from)) return *error = "--fault " + text + ": needs 0 <= from < to", false;
+  f->from_ns = static_cast<uint64_t>(from * 1e9);
+  f->to_ns = static_cast<uint64_t>(to * 1e9);
+  if (parts.size() > 3 && !parts[3].empty()) {
+    const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), parts[3]);
+    if (it == rig.input_names.end()) return *error = "--fault " + text + ": no rig input " + parts[3], false;
+    f->input = static_cast<int32_t>(it - rig.input_names.begin());
+  }
+  if (parts.size() > 4) f->amount = static_cast<uint64_t>(std::strtod(parts[4].c_str(), &end) * 1e6);
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace sinew;
+  CLI::App app{"rigsim: the simulated rig (CAN joint stream, Modbus registers, faults)"};
+  std::string rig_name = "arm", can_interface, candump_path, csv_path;
+  std::vector<std::string> fault_texts;
+  double period_ms = 10.0, duration_s = 10.0;
+  int modbus_port = -1;
+  app.add_option("--rig", rig_name, "built-in rig: arm or hand");
+  app.add_option("--motion", csv_path, "CSV joint tracks (time, <joint>.<dof> columns in degrees); default: the swing");
+  app.add_option("--period-ms", period_ms, "send period per input")->check(CLI::Range(0.1, 10000.0));
+  app.add_option("--duration", duration_s, "seconds; 0 = until Ctrl-C")->check(CLI::Range(0.0, 1e6));
+  app.add_option("--can", can_interface, "send on this SocketCAN interface (e.g. vcan0)");
+  app.add_option("--candump", candump_path, "also log every frame sent (candump -L format)");
+  app.add_option("--modbus-port", modbus_port, "serve the joint registers on 127.0.0.1:PORT")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--fault", fault_texts, "kind:from_s:to_s[:input[:delay_ms]] (kinds as in the daemon config)");
+  CLI11_PARSE(app, argc, argv);
+
+  firmware::LoadedRig rig;
+  std::string error;
+  if (!firmware::load_rig(rig_name, "", &rig, &error)) return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  std::vector<rigsim::InputRange> ranges(rig.rig.input_count);
+  std::vector<bool> rotation(rig.rig.input_count, true);
+  for (const rig::JointRecord& j : rig.rig.joints)
+    for (uint32_t d = 0; d < j.dof_count; ++d) {
+      ranges[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
+      rotation[j.first_input + d] = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
+    }
+  rigsim::RigMotion motion(ranges);
+  if (!csv_path.empty()) {
+    motion::JointTracks tracks;
+    if (!motion::load_csv_tracks(csv_path, &tracks, &error))
+      return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+    std::vector<bool> has(ranges.size(), false);
+    std::vector<int> column(ranges.size(), -1);
+    for (size_t i = 0; i < ranges.size(); ++i) {
+      const std::string& name = rig.input_names[i];
+      const size_t dot = name.rfind('.');
+      if (const auto c = tracks.find(name.substr(0, dot), name.substr(dot + 1)))
+        column[i] = static_cast<int>(*c), has[i] = true;
+    }
+    std::vector<uint64_t> times;
+    std::vector<int32_t> values;
+    for (size_t k = 0; k < tracks.times.size(); ++k) {
+      times.push_back(static_cast<uint64_t>(std::llround(std::max(0.0, tracks.times[k]) * 1e9)));
+      for (size_t i = 0; i < ranges.size(); ++i) {
+        const double deg = column[i] < 0 ? 0 : tracks.values[k * tracks.tracks.size() + static_cast<size_t>(column[i])];
+        values.push_back(static_cast<int32_t>(static_cast<uint32_t>(
+            static_cast<int64_t>(std::llround(std::remainder(deg, 360.0) / 360.0 * 4294967296.0)))));
+      }
+    }
+    motion = rigsim::RigMotion::keyframed(ranges, std::move(times), std::move(values), std::move(has));
+  }
+  rigsim::SimulatedRigOptions options;
+  options.period_ns = static_cast<uint64_t>(period_ms * 1000) * 1000;
+  options.offset_ns = 0;
+  for (const std::string& t : fault_texts) {
+    rigsim::Fault f;
+    if (!parse_fault(t, rig, &f, &error)) return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+    options.faults.faults.push_back(f);
+  }
+  if (!rigsim::SimulatedRigBus::validate(options, ranges.size(), &error))
+    return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  const uint64_t start = hal::monotonic_ns();
+  rigsim::ModbusFeeder feeder;
+  if (modbus_port >= 0 &&
+      !feeder.start(motion, rotation, options.faults, start, 1000000, static_cast<uint16_t>(modbus_port), &error))
+    return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  const rigsim::FaultPlan faults = options.faults;
+  rigsim::SimulatedRigBus bus(motion, options, start);
+  int can_fd = -1;
+  if (!can_interface.empty() && (can_fd = open_can(can_interface, &error)) < 0)
+    return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  hal::can::CandumpWriter log;
+  if (!candump_path.empty() && !log.open(candump_path, &error))
+    return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::printf("rigsim: rig %s, %u inputs every %.1f ms%s%s%s\n", rig_name.c_str(), rig.rig.input_count, period_ms,
+              can_interface.empty() ? "" : (", CAN " + can_interface).c_str(),
+              modbus_port >= 0 ? (", Modbus 127.0.0.1:" + std::to_string(feeder.port())).c_str() : "",
+              candump_path.empty() ? "" : (", log " + candump_path).c_str());
+  std::fflush(stdout);
+  std::vector<hal::can::CanFrame> frames(4096);
+  uint64_t sent = 0, send_errors = 0;
+  for (uint64_t next = start; !g_stop && (duration_s <= 0 || next < start + static_cast<uint64_t>(duration_s * 1e9));
+       next += options.period_ns) {
+    const timespec ts{static_cast<time_t>(next / 1000000000u), static_cast<long>(next % 1000000000u)};
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+    const size_t n = bus.drain(frames, next);
+    for (size_t i = 0; i < n; ++i) {
+      const hal::can::CanFrame& f = frames[i];
+      if (f.kind == hal::can::FrameKind::kError) continue;  // a real controller reports its own state
+      if (!candump_path.empty()) log.write(f, can_interface.empty() ? "can0" : can_interface);
+      if (can_fd >= 0) {
+        can_frame cf{};
+        cf.can_id = f.id | (f.extended ? CAN_EFF_FLAG : 0u);
+        cf.len = f.len;
+        std::memcpy(cf.data, f.data.data(), f.len);
+        if (write(can_fd, &cf, sizeof cf) != static_cast<ssize_t>(sizeof cf)) ++send_errors;
+      }
+      ++sent;
+    }
+  }
+  log.flush();
+  if (can_fd >= 0) close(can_fd);
+  std::printf("rigsim: %llu frames sent, %llu send errors, %zu faults planned, %llu Modbus requests served\n",
+              static_cast<unsigned long long>(sent), static_cast<unsigned long long>(send_errors), faults.faults.size(),
+              static_cast<unsigned long long>(feeder.requests()));
+  return 0;
+}
