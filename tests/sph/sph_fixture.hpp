@@ -16,7 +16,6 @@
 
 namespace sinew::test {
 
-
 class SphArm {
  public:
   explicit SphArm(const layers::SphBuildOptions& options, rigc::SkinChoice skin = rigc::SkinChoice::kDualQuaternion)
@@ -28,21 +27,34 @@ class SphArm {
     std::memcpy(blob_.data(), bytes.data(), bytes.size());
     const auto* data = reinterpret_cast<const uint8_t*>(blob_.data());
     size_t rig_bytes = 0;
-    if (!rig::rig_validate(data, bytes.size(), &rig_bytes).ok()) { error_ = "rig validate"; return; }
+    if (!rig::rig_validate(data, bytes.size(), &rig_bytes).ok()) {
+      error_ = "rig validate";
+      return;
+    }
     rig_arena_.assign(rig_bytes / 8 + 1, 0);
-    if (!rig::rig_init(data, bytes.size(), rig_arena_.data(), rig_arena_.size() * 8, &rig_).ok())
-      { error_ = "rig init"; return; }
+    if (!rig::rig_init(data, bytes.size(), rig_arena_.data(), rig_arena_.size() * 8, &rig_).ok()) {
+      error_ = "rig init";
+      return;
+    }
     engine_arena_.assign(engine::engine_arena_bytes(rig_) / 8 + 1, 0);
-    if (!engine::engine_init(rig_, engine_arena_.data(), engine_arena_.size() * 8, &engine_))
-      { error_ = "engine init"; return; }
+    if (!engine::engine_init(rig_, engine_arena_.data(), engine_arena_.size() * 8, &engine_)) {
+      error_ = "engine init";
+      return;
+    }
     inputs_.assign(rig_.input_count, 0);
     if (!layers::build_sph(spec_, options, &built_, &error_)) return;
     model_ = built_.model();
     const sph::SphStatus v = sph::sph_validate(model_, rig_.joint_count(), rig_.vertex_count());
-    if (!v.ok()) { error_ = v.message; return; }
+    if (!v.ok()) {
+      error_ = v.message;
+      return;
+    }
     sph_arena_.assign(sph::sph_state_bytes(model_) / 8 + 1, 0);
     const sph::SphStatus s = sph::sph_init(model_, engine_.model, sph_arena_.data(), sph_arena_.size() * 8, &state_);
-    if (!s.ok()) { error_ = s.message; return; }
+    if (!s.ok()) {
+      error_ = s.message;
+      return;
+    }
     ok_ = true;
   }
   bool ok() const { return ok_; }
