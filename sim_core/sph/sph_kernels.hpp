@@ -59,7 +59,8 @@ constexpr std::array<int32_t, kTableSize> make_spiky() {
 // 1 - q in Q30.
 constexpr std::array<int32_t, kTableSize> make_viscosity() {
   std::array<int32_t, kTableSize> t{};
-  for (size_t i = 0; i < kTableSize; ++i) t[i] = static_cast<int32_t>((int64_t{1} << 30) - q_of(static_cast<int64_t>(i) << kStepShift));
+  for (size_t i = 0; i < kTableSize; ++i)
+    t[i] = static_cast<int32_t>((int64_t{1} << 30) - q_of(static_cast<int64_t>(i) << kStepShift));
   return t;
 }
 
@@ -93,8 +94,8 @@ inline int32_t viscosity_factor(uint32_t s) { return kernel_detail::lookup(kerne
 // positions closer than h on every axis; false (and nothing written) when
 // they are not within the kernel. inv_h: 2^50 / h, rounded (see InvH).
 struct PairGeometry {
-  fx::Vec3 d;   // (a - b) / h, Q2.30, each component in (-1, 1)
-  uint32_t s;   // |d|^2, Q2.30, < 2^30
+  fx::Vec3 d;  // (a - b) / h, Q2.30, each component in (-1, 1)
+  uint32_t s;  // |d|^2, Q2.30, < 2^30
 };
 
 struct InvH {

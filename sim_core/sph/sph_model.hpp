@@ -14,10 +14,10 @@
 namespace sinew::sph {
 
 // Documented maxima. They bound the worst-case work of one step.
-inline constexpr uint32_t kMaxParticles = 8192;    // particle indices fit in uint16
-inline constexpr uint32_t kMaxNeighbours = 96;     // per particle, per substep
+inline constexpr uint32_t kMaxParticles = 8192;  // particle indices fit in uint16
+inline constexpr uint32_t kMaxNeighbours = 96;   // per particle, per substep
 inline constexpr uint32_t kMaxSubsteps = 16;
-inline constexpr uint32_t kMaxGridDim = 64;        // cells per axis of the neighbour grid
+inline constexpr uint32_t kMaxGridDim = 64;  // cells per axis of the neighbour grid
 inline constexpr uint32_t kMaxSkinVertices = 1u << 16;
 inline constexpr uint32_t kMaxVertexNeighbours = 64;  // particles interpolated per skin vertex
 
@@ -47,17 +47,17 @@ struct SphParams {
   // External load: rig units per substep^2 per newton, dt^2 / (m unit),
   // with m the mass of one particle; Q2.30, >= 0.
   fx::Unit load_gain = 0;
-  Dens tau_f = 0;               // Tresca limit (rho_max - rho_min) / 2, eq. (4); > 0
-  uint32_t yield_count = 0;     // yielded particles that make the joint yield, >= 1
-  fx::Len grid_radius = 0;      // half side of the neighbour grid centred on the joint
+  Dens tau_f = 0;            // Tresca limit (rho_max - rho_min) / 2, eq. (4); > 0
+  uint32_t yield_count = 0;  // yielded particles that make the joint yield, >= 1
+  fx::Len grid_radius = 0;   // half side of the neighbour grid centred on the joint
 };
 
 // The driven joint: the distal bone flexes about `axis` through the origin of
 // the distal joint's frame; its flexion comes out of the particles.
 struct SphJoint {
-  uint32_t proximal_joint = 0;  // rig joint whose model transform carries kProximal particles
-  uint32_t distal_joint = 0;    // rig joint whose model transform carries kDistal particles
-  fx::Vec3 axis{0, 0, 0};       // flexion axis, unit (Q2.30), in the distal joint's frame
+  uint32_t proximal_joint = 0;   // rig joint whose model transform carries kProximal particles
+  uint32_t distal_joint = 0;     // rig joint whose model transform carries kDistal particles
+  fx::Vec3 axis{0, 0, 0};        // flexion axis, unit (Q2.30), in the distal joint's frame
   fx::Vec3 load_point{0, 0, 0};  // where the external force acts, Len, distal joint's frame
 };
 

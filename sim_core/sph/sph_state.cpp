@@ -40,9 +40,7 @@ class Carver {
   bool failed_ = false;
 };
 
-uint32_t grid_dim_of(const SphParams& p) {
-  return static_cast<uint32_t>((2 * int64_t{p.grid_radius} + p.h - 1) / p.h);
-}
+uint32_t grid_dim_of(const SphParams& p) { return static_cast<uint32_t>((2 * int64_t{p.grid_radius} + p.h - 1) / p.h); }
 
 Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   Carver c(base, size);
@@ -133,7 +131,8 @@ SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transf
   if (layout(model, static_cast<uint8_t*>(arena), arena_bytes, &s).failed())
     return fail(SphError::kArena, "arena smaller than sph_state_bytes(model)");
   JointFrame f;
-  if (!joint_frame(model, rest_transforms, &f)) return fail(SphError::kBadInput, "rest_transforms shorter than the joints");
+  if (!joint_frame(model, rest_transforms, &f))
+    return fail(SphError::kBadInput, "rest_transforms shorter than the joints");
   // Rest density of every particle, from its rest neighbourhood: the state of
   // minimum principal stress (§4.2) and the reference of the equation of state.
   for (int a = 0; a < 3; ++a)
@@ -147,7 +146,7 @@ SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transf
   for (uint32_t i = 0; i < model.particle_count(); ++i) {
     if (model.bone[i] != static_cast<uint8_t>(Bone::kDistal)) continue;
     const fx::Vec3 r = fx::sub({model.rest_model[0][i], model.rest_model[1][i], model.rest_model[2][i]}, f.centre);
-    const fx::Vec3 rp = fx::cross(f.axis, r, 30);  // |axis x r| = |r_perp|
+    const fx::Vec3 rp = fx::cross(f.axis, r, 30);          // |axis x r| = |r_perp|
     inertia += fx::round_shift(fx::dot_wide(rp, rp), 28);  // Q40 -> Q12
   }
   if (inertia <= 0) return fail(SphError::kBadParameter, "distal particles have no lever arm about the joint axis");

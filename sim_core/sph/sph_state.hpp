@@ -20,7 +20,7 @@ struct Neighbour {
 
 struct SphStats {
   uint64_t steps = 0;
-  uint32_t neighbour_overflow = 0;  // neighbours dropped by max_neighbours, last step
+  uint32_t neighbour_overflow = 0;   // neighbours dropped by max_neighbours, last step
   uint32_t max_neighbour_count = 0;  // largest list, last step
   uint64_t neighbour_pairs = 0;      // pairs evaluated, last step (all substeps)
   uint32_t saturated = 0;            // values clamped, last step
@@ -31,13 +31,13 @@ struct SphState {
 
   // Outputs, one entry per particle (SoA). Positions in Len, model space.
   std::span<fx::Len> position[3];
-  std::span<Dens> pressure;   // rho - rho0 (Q8.24, normalised density units; x k_p = pressure)
+  std::span<Dens> pressure;    // rho - rho0 (Q8.24, normalised density units; x k_p = pressure)
   std::span<uint8_t> yielded;  // 1 once the particle met the Tresca condition, eq. (4)
   // Outputs per joint.
-  fx::Angle bend = 0;           // flexion caused by the particles about the joint axis (signed view)
-  bool joint_yielded = false;   // at least yield_count particles yielded
+  fx::Angle bend = 0;          // flexion caused by the particles about the joint axis (signed view)
+  bool joint_yielded = false;  // at least yield_count particles yielded
   uint32_t yielded_particles = 0;
-  fx::Mat34 distal_flexed{};    // distal joint's model transform with the bend applied
+  fx::Mat34 distal_flexed{};  // distal joint's model transform with the bend applied
   // Skin displacement of eq. (2) for model->skin_vertex[k], Len, model space.
   std::span<fx::Len> skin_offset[3];
 
@@ -59,7 +59,7 @@ struct SphState {
   std::span<int32_t> skin_weight;     // poly6 at rest, Q2.30
   std::span<uint8_t> skin_count;
   uint32_t grid_dim = 0;
-  int64_t inertia_q12 = 0;  // sum over distal particles of |r_perp|^2, rig units^2, Q12
+  int64_t inertia_q12 = 0;       // sum over distal particles of |r_perp|^2, rig units^2, Q12
   int64_t yield_torque_q12 = 0;  // |torque| when the joint yielded (rig unit x N, Q12)
   SphStats stats;
 };

@@ -47,8 +47,7 @@ void density_and_yield(SphState* st, bool tresca) {
     if (st->yielded[i] != 0 && rho > st->rho_max[i]) rho = st->rho_max[i];
     if (rho > st->rho_max[i]) st->rho_max[i] = rho;
     if (rho < st->rho_min[i]) st->rho_min[i] = rho;
-    if (tresca && st->yielded[i] == 0 &&
-        (int64_t{st->rho_max[i]} - st->rho_min[i]) >= 2 * int64_t{m.params.tau_f}) {
+    if (tresca && st->yielded[i] == 0 && (int64_t{st->rho_max[i]} - st->rho_min[i]) >= 2 * int64_t{m.params.tau_f}) {
       st->yielded[i] = 1;
       ++st->yielded_particles;
     }
@@ -76,8 +75,8 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
       if (!pair_geometry(xi, {st->position[0][j], st->position[1][j], st->position[2][j]}, ih, &g)) continue;
       // Pressure, symmetric form of Mueller 2003 eq. (10) with the spiky
       // gradient: (p_i + p_j) / (2 rho_j) (1 - q)^2 / q (r_ij / h).
-      const int64_t psum = int64_t{st->pressure[i]} + st->pressure[j];        // Q24
-      const int64_t t = fx::round_shift(psum * st->inv_density[j], 31);      // Q24, halved
+      const int64_t psum = int64_t{st->pressure[i]} + st->pressure[j];                  // Q24
+      const int64_t t = fx::round_shift(psum * st->inv_density[j], 31);                 // Q24, halved
       const int64_t tg = fx::sat_i32(fx::round_shift(t * spiky_factor(g.s), 24), sat);  // Q24
       press[0] += fx::round_shift(tg * g.d.x, 30);
       press[1] += fx::round_shift(tg * g.d.y, 30);
@@ -129,8 +128,8 @@ fx::Angle measure_bend(const SphState& st, const JointFrame& f) {
     if (m.bone[i] != static_cast<uint8_t>(Bone::kDistal)) continue;
     const fx::Vec3 g = fx::sub({st.ideal[0][i], st.ideal[1][i], st.ideal[2][i]}, f.centre);
     const fx::Vec3 x = fx::sub({st.position[0][i], st.position[1][i], st.position[2][i]}, f.centre);
-    const fx::Vec3 gx = fx::cross(g, x, 20);                        // Len
-    s += fx::round_shift(fx::dot_wide(gx, f.axis), 30);             // Len
+    const fx::Vec3 gx = fx::cross(g, x, 20);             // Len
+    s += fx::round_shift(fx::dot_wide(gx, f.axis), 30);  // Len
     const int64_t gn = fx::round_shift(fx::dot_wide(g, f.axis), 30);
     const int64_t xn = fx::round_shift(fx::dot_wide(x, f.axis), 30);
     c += fx::round_shift(fx::dot_wide(g, x), 20) - fx::round_shift(gn * xn, 20);

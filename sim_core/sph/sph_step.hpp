@@ -17,8 +17,8 @@ namespace sinew::sph {
 
 struct SphInputs {
   std::span<const fx::Mat34> transforms;  // one per rig joint, model space
-  fx::Vec3 force{0, 0, 0};  // newtons, Q16.16, model space, acting at joint.load_point; |c| <= 2^30
-  bool tresca = true;       // apply the yield condition of eqs. (3)-(4)
+  fx::Vec3 force{0, 0, 0};                // newtons, Q16.16, model space, acting at joint.load_point; |c| <= 2^30
+  bool tresca = true;                     // apply the yield condition of eqs. (3)-(4)
 };
 
 // Returns kBadInput, changing nothing, if a transform is missing or the

@@ -136,7 +136,8 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
     return *error = "sph builder: distal_joint '" + o.distal_joint + "' has no degree of freedom to flex", false;
   if (o.particle_count == 0) return *error = "sph builder: particle_count must be at least 1", false;
   if (o.particle_count > sph::kMaxParticles)
-    return *error = "sph builder: particle_count " + std::to_string(o.particle_count) + " exceeds the maximum 8192", false;
+    return *error = "sph builder: particle_count " + std::to_string(o.particle_count) + " exceeds the maximum 8192",
+           false;
   if (!(o.capsule_radius > 0) || !(o.capsule_half_length >= 0) || !(o.kernel_ratio > 0) || !(o.tick_hz > 0) ||
       o.substeps == 0 || !(o.tissue_mass > 0))
     return *error = "sph builder: capsule_radius, kernel_ratio, tick_hz, substeps and tissue_mass must be > 0", false;
@@ -191,7 +192,9 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   p.h = rigc::to_len(b.h_metres, e);
   p.substeps = o.substeps;
   p.max_neighbours = o.max_neighbours;
-  const auto unit_gain = [](double v) { return static_cast<fx::Unit>(std::clamp<int64_t>(q30(v), INT32_MIN, INT32_MAX)); };
+  const auto unit_gain = [](double v) {
+    return static_cast<fx::Unit>(std::clamp<int64_t>(q30(v), INT32_MIN, INT32_MAX));
+  };
   p.elastic_gain = unit_gain(o.elastic_stiffness * dt * dt);
   p.pressure_gain = unit_gain(o.pressure_stiffness * dt * dt);
   p.viscosity_gain = unit_gain(o.viscosity * dt);
@@ -216,8 +219,8 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   if (!rest_transforms(spec, e, &rest, error)) return false;
   {
     const sph::SphModel m = b.model();
-    const sph::SphStatus st = sph::sph_validate(m, static_cast<uint32_t>(spec.joints.size()),
-                                                static_cast<uint32_t>(spec.vertices.size()));
+    const sph::SphStatus st =
+        sph::sph_validate(m, static_cast<uint32_t>(spec.joints.size()), static_cast<uint32_t>(spec.vertices.size()));
     if (!st.ok()) return *error = st.message, false;
     std::vector<uint64_t> arena(sph::sph_state_bytes(m) / 8 + 1);
     sph::SphState state;
@@ -234,8 +237,10 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
     sph::build_neighbours(&state, centre);
     sph::compute_density(&state);
     int64_t spread = 0;
-    for (uint32_t i = 0; i < n; ++i) spread = std::max<int64_t>(spread, int64_t{state.density[i]} - state.rest_density[i]);
-    p.tau_f = static_cast<sph::Dens>(std::clamp<double>(std::floor(static_cast<double>(spread) / 2.0 * o.yield_scale + 0.5), 0, INT32_MAX));
+    for (uint32_t i = 0; i < n; ++i)
+      spread = std::max<int64_t>(spread, int64_t{state.density[i]} - state.rest_density[i]);
+    p.tau_f = static_cast<sph::Dens>(
+        std::clamp<double>(std::floor(static_cast<double>(spread) / 2.0 * o.yield_scale + 0.5), 0, INT32_MAX));
   }
   if (o.override_tau_f >= 0) p.tau_f = static_cast<sph::Dens>(o.override_tau_f);
   const sph::SphStatus st = sph::sph_validate(b.model(), static_cast<uint32_t>(spec.joints.size()),

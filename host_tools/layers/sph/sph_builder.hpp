@@ -33,15 +33,15 @@ struct SphBuildOptions {
   double tick_hz = 1000;
   uint32_t substeps = 2;
   uint32_t max_neighbours = 64;
-  double tissue_mass = 1.0;       // kg, shared equally by the particles
-  double elastic_stiffness = 3000; // k_e, 1/s^2: pull toward the skinned rest position
+  double tissue_mass = 1.0;          // kg, shared equally by the particles
+  double elastic_stiffness = 3000;   // k_e, 1/s^2: pull toward the skinned rest position
   double pressure_stiffness = 2000;  // k_p, h/s^2 per unit of normalised density
-  double viscosity = 20;          // mu, 1/s
-  double damping = 40;            // c, 1/s
-  double load_distance = 0.25;    // metres from the joint along the distal bone (the wrist)
-  double yield_angle_deg = 60;    // flexion whose peak density spread defines tau_f
-  double yield_scale = 1.0;       // tau_f multiplier (1: the paper's calibration)
-  uint32_t yield_count = 0;       // 0: 1 % of the particles (at least 1)
+  double viscosity = 20;             // mu, 1/s
+  double damping = 40;               // c, 1/s
+  double load_distance = 0.25;       // metres from the joint along the distal bone (the wrist)
+  double yield_angle_deg = 60;       // flexion whose peak density spread defines tau_f
+  double yield_scale = 1.0;          // tau_f multiplier (1: the paper's calibration)
+  uint32_t yield_count = 0;          // 0: 1 % of the particles (at least 1)
   // Overrides for tests of the validator (applied after calibration); < 0: keep.
   int64_t override_h = -1;
   int64_t override_tau_f = -1;
