@@ -1,0 +1,121 @@
+// Smoothing kernels of Mueller, Charypar and Gross 2003 (the paper's [37]), in
+// normalised form: each takes s = q^2 with q = distance / h in Q2.30, s in
+// [0, 1], and omits the constants (they fold into the particle mass and the
+// gains of SphParams). Working in units of h keeps every value in [0, ~32]:
+// fixed point neither overflows nor underflows whatever the rig's units.
+//   poly6:      W  ~ (1 - q^2)^3            (density)
+//   spiky grad: dW ~ (1 - q)^2 / q * (r/h)  (pressure; factor tabulated)
+//   viscosity:  L  ~ (1 - q)                (viscosity Laplacian)
+// The two kernels that need q itself come from 1025-entry tables over s
+// (built at compile time with an exact integer sqrt) with linear
+// interpolation: pure integer, identical on every platform.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "sim_core/fixed/scalar.hpp"
+
+namespace sinew::sph {
+
+namespace kernel_detail {
+
+constexpr uint64_t isqrt(uint64_t v) {
+  uint64_t root = 0, bit = uint64_t{1} << 62;
+  while (bit > v) bit >>= 2;
+  while (bit != 0) {
+    if (v >= root + bit) {
+      v -= root + bit;
+      root = (root >> 1) + bit;
+    } else {
+      root >>= 1;
+    }
+    bit >>= 2;
+  }
+  return root;
+}
+
+inline constexpr int kTableBits = 10;  // 1024 intervals over s in [0, 1]
+inline constexpr int kStepShift = 30 - kTableBits;
+inline constexpr size_t kTableSize = (size_t{1} << kTableBits) + 1;
+
+// q in Q30 for s in Q30.
+constexpr int64_t q_of(int64_t s) { return static_cast<int64_t>(isqrt(static_cast<uint64_t>(s) << 30)); }
+
+// (1 - q)^2 / q in Q24; below the first table step q is clamped to 1/32
+// (coincident particles have no direction anyway).
+constexpr std::array<int32_t, kTableSize> make_spiky() {
+  std::array<int32_t, kTableSize> t{};
+  for (size_t i = 0; i < kTableSize; ++i) {
+    const int64_t s = static_cast<int64_t>(i == 0 ? 1 : i) << kStepShift;
+    const int64_t q = q_of(s), one = int64_t{1} << 30;
+    const int64_t num = (one - q) * (one - q);  // Q60
+    t[i] = static_cast<int32_t>((num / q + 32) >> 6);
+  }
+  return t;
+}
+
+// 1 - q in Q30.
+constexpr std::array<int32_t, kTableSize> make_viscosity() {
+  std::array<int32_t, kTableSize> t{};
+  for (size_t i = 0; i < kTableSize; ++i)
+    t[i] = static_cast<int32_t>((int64_t{1} << 30) - q_of(static_cast<int64_t>(i) << kStepShift));
+  return t;
+}
+
+inline constexpr std::array<int32_t, kTableSize> kSpiky = make_spiky();
+inline constexpr std::array<int32_t, kTableSize> kViscosity = make_viscosity();
+
+inline int32_t lookup(const std::array<int32_t, kTableSize>& t, uint32_t s) {
+  const uint32_t i = s >> kStepShift;
+  if (i >= kTableSize - 1) return t[kTableSize - 1];
+  const int64_t frac = s & ((uint32_t{1} << kStepShift) - 1);
+  const int64_t a = t[i], b = t[i + 1];
+  return static_cast<int32_t>(a + fx::round_shift((b - a) * frac, kStepShift));
+}
+
+}  // namespace kernel_detail
+
+// s = q^2 in Q2.30, s < 2^30 (inside the kernel). Result in Q2.30.
+inline int32_t poly6(uint32_t s) {
+  const int64_t t = (int64_t{1} << 30) - s;
+  const int64_t t2 = fx::round_shift(t * t, 30);
+  return static_cast<int32_t>(fx::round_shift(t2 * t, 30));
+}
+
+// (1 - q)^2 / q in Q8.24.
+inline int32_t spiky_factor(uint32_t s) { return kernel_detail::lookup(kernel_detail::kSpiky, s); }
+
+// (1 - q) in Q2.30.
+inline int32_t viscosity_factor(uint32_t s) { return kernel_detail::lookup(kernel_detail::kViscosity, s); }
+
+// Normalised offset (a - b) / h in Q2.30 and s = q^2 in Q2.30 for two
+// positions closer than h on every axis; false (and nothing written) when
+// they are not within the kernel. inv_h: 2^50 / h, rounded (see InvH).
+struct PairGeometry {
+  fx::Vec3 d;  // (a - b) / h, Q2.30, each component in (-1, 1)
+  uint32_t s;  // |d|^2, Q2.30, < 2^30
+};
+
+struct InvH {
+  int64_t inv = 0;  // round(2^50 / h)
+  fx::Len h = 0;
+};
+
+inline InvH make_inv_h(fx::Len h) { return {fx::div_round(int64_t{1} << 50, h), h}; }
+
+inline bool pair_geometry(fx::Vec3 a, fx::Vec3 b, const InvH& ih, PairGeometry* out) {
+  const int64_t dx = int64_t{a.x} - b.x, dy = int64_t{a.y} - b.y, dz = int64_t{a.z} - b.z;
+  if (dx >= ih.h || dx <= -ih.h || dy >= ih.h || dy <= -ih.h || dz >= ih.h || dz <= -ih.h) return false;
+  // |d| < h < 2^31 and inv < 2^50 / h, so the products stay below 2^50.
+  const int64_t nx = fx::round_shift(dx * ih.inv, 20), ny = fx::round_shift(dy * ih.inv, 20),
+                nz = fx::round_shift(dz * ih.inv, 20);
+  const int64_t s = fx::round_shift(nx * nx + ny * ny + nz * nz, 30);
+  if (s >= (int64_t{1} << 30)) return false;
+  out->d = {static_cast<int32_t>(nx), static_cast<int32_t>(ny), static_cast<int32_t>(nz)};
+  out->s = static_cast<uint32_t>(s);
+  return true;
+}
+
+}  // namespace sinew::sph

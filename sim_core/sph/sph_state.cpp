@@ -1,0 +1,187 @@
+#include "sph_state.hpp"
+
+#include "sim_core/rig/message.hpp"
+#include "sph_grid.hpp"
+#include "sph_kernels.hpp"
+#include "sph_pose.hpp"
+
+namespace sinew::sph {
+namespace {
+
+constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
+
+// Bump allocator over the caller's arena; used only inside sph_init.
+class Carver {
+ public:
+  Carver(uint8_t* base, size_t size) : base_(base), size_(size) {}
+  template <typename T>
+  std::span<T> take(size_t count) {
+    static_assert(alignof(T) <= 8, "the arena and every carve are 8-byte aligned");
+    if (count == 0) return {};
+    const size_t bytes = align8(count * sizeof(T));
+    needed_ += bytes;
+    if (base_ == nullptr || used_ + bytes > size_) {
+      failed_ = true;
+      return {};
+    }
+    T* p = static_cast<T*>(static_cast<void*>(base_ + used_));
+    for (size_t i = 0; i < count; ++i) p[i] = T{};
+    used_ += bytes;
+    return {p, count};
+  }
+  size_t needed() const { return needed_; }
+  bool failed() const { return failed_; }
+
+ private:
+  uint8_t* base_;
+  size_t size_;
+  size_t used_ = 0;
+  size_t needed_ = 0;
+  bool failed_ = false;
+};
+
+uint32_t grid_dim_of(const SphParams& p) { return static_cast<uint32_t>((2 * int64_t{p.grid_radius} + p.h - 1) / p.h); }
+
+Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
+  Carver c(base, size);
+  const size_t n = m.particle_count(), sv = m.skin_count();
+  const size_t d = grid_dim_of(m.params), cells = d * d * d;
+  for (int a = 0; a < 3; ++a) {
+    s->position[a] = c.take<fx::Len>(n);
+    s->velocity[a] = c.take<fx::Len>(n);
+    s->ideal[a] = c.take<fx::Len>(n);
+    s->scratch[a] = c.take<fx::Len>(n);
+    s->skin_offset[a] = c.take<fx::Len>(sv);
+  }
+  s->pressure = c.take<Dens>(n);
+  s->yielded = c.take<uint8_t>(n);
+  s->density = c.take<Dens>(n);
+  s->rest_density = c.take<Dens>(n);
+  s->rho_min = c.take<Dens>(n);
+  s->rho_max = c.take<Dens>(n);
+  s->inv_density = c.take<fx::Unit>(n);
+  s->cell = c.take<uint32_t>(n);
+  s->cell_start = c.take<uint32_t>(cells + 1);
+  s->sorted = c.take<uint16_t>(n);
+  s->neighbours = c.take<Neighbour>(n * m.params.max_neighbours);
+  s->neighbour_count = c.take<uint8_t>(n);
+  s->skin_particle = c.take<uint16_t>(sv * kMaxVertexNeighbours);
+  s->skin_weight = c.take<int32_t>(sv * kMaxVertexNeighbours);
+  s->skin_count = c.take<uint8_t>(sv);
+  s->grid_dim = static_cast<uint32_t>(d);
+  return c;
+}
+
+SphStatus fail(SphError e, const char* what) {
+  SphStatus s;
+  s.error = e;
+  rig::MessageBuilder(s.message, sizeof s.message).text("sph init: ").text(what);
+  return s;
+}
+
+// Kernel weights of eq. (2) between each skin vertex and the particles, at
+// rest: the interpolation is embedded in the rest configuration (constant
+// weights), only the particles' displacements and densities change.
+void skin_weights(SphState* st, fx::Vec3 centre) {
+  const SphModel& m = *st->model;
+  const uint32_t d = st->grid_dim;
+  const InvH ih = make_inv_h(m.params.h);
+  for (uint32_t v = 0; v < m.skin_count(); ++v) {
+    const fx::Vec3 pv{m.skin_rest[0][v], m.skin_rest[1][v], m.skin_rest[2][v]};
+    const uint32_t c = cell_index(*st, centre, pv);
+    const int32_t cx = static_cast<int32_t>(c % d), cy = static_cast<int32_t>((c / d) % d),
+                  cz = static_cast<int32_t>(c / (d * d));
+    uint32_t count = 0;
+    for (int32_t z = cz - 1; z <= cz + 1; ++z)
+      for (int32_t y = cy - 1; y <= cy + 1; ++y)
+        for (int32_t x = cx - 1; x <= cx + 1; ++x) {
+          if (x < 0 || y < 0 || z < 0 || x >= static_cast<int32_t>(d) || y >= static_cast<int32_t>(d) ||
+              z >= static_cast<int32_t>(d))
+            continue;
+          const uint32_t cc = (static_cast<uint32_t>(z) * d + static_cast<uint32_t>(y)) * d + static_cast<uint32_t>(x);
+          for (uint32_t k = st->cell_start[cc]; k < st->cell_start[cc + 1] && count < kMaxVertexNeighbours; ++k) {
+            const uint32_t j = st->sorted[k];
+            PairGeometry g;
+            if (!pair_geometry(pv, {st->position[0][j], st->position[1][j], st->position[2][j]}, ih, &g)) continue;
+            st->skin_particle[size_t{v} * kMaxVertexNeighbours + count] = static_cast<uint16_t>(j);
+            st->skin_weight[size_t{v} * kMaxVertexNeighbours + count] = poly6(g.s);
+            ++count;
+          }
+        }
+    st->skin_count[v] = static_cast<uint8_t>(count);
+  }
+}
+
+}  // namespace
+
+size_t sph_state_bytes(const SphModel& model) {
+  SphState probe;
+  probe.model = &model;
+  return layout(model, nullptr, 0, &probe).needed();
+}
+
+SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
+                   SphState* out) {
+  SphStatus status = sph_validate(model, 0, 0);
+  if (!status.ok()) return status;
+  if (arena == nullptr || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0)
+    return fail(SphError::kArena, "arena is null or not 8-byte aligned");
+  SphState s;
+  s.model = &model;
+  if (layout(model, static_cast<uint8_t*>(arena), arena_bytes, &s).failed())
+    return fail(SphError::kArena, "arena smaller than sph_state_bytes(model)");
+  JointFrame f;
+  if (!joint_frame(model, rest_transforms, &f))
+    return fail(SphError::kBadInput, "rest_transforms shorter than the joints");
+  // Rest density of every particle, from its rest neighbourhood: the state of
+  // minimum principal stress (§4.2) and the reference of the equation of state.
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t i = 0; i < model.particle_count(); ++i) s.position[a][i] = model.rest_model[a][i];
+  build_neighbours(&s, f.centre);
+  compute_density(&s);
+  skin_weights(&s, f.centre);
+  for (uint32_t i = 0; i < model.particle_count(); ++i) s.rest_density[i] = s.density[i];
+  // Rotational inertia of the distal particles about the axis (equal masses).
+  int64_t inertia = 0;
+  for (uint32_t i = 0; i < model.particle_count(); ++i) {
+    if (model.bone[i] != static_cast<uint8_t>(Bone::kDistal)) continue;
+    const fx::Vec3 r = fx::sub({model.rest_model[0][i], model.rest_model[1][i], model.rest_model[2][i]}, f.centre);
+    const fx::Vec3 rp = fx::cross(f.axis, r, 30);          // |axis x r| = |r_perp|
+    inertia += fx::round_shift(fx::dot_wide(rp, rp), 28);  // Q40 -> Q12
+  }
+  if (inertia <= 0) return fail(SphError::kBadParameter, "distal particles have no lever arm about the joint axis");
+  s.inertia_q12 = inertia;
+  *out = s;
+  status = sph_reset(out, rest_transforms);
+  out->stats = {};
+  return status;
+}
+
+SphStatus sph_reset(SphState* st, std::span<const fx::Mat34> transforms) {
+  JointFrame f;
+  if (st == nullptr || st->model == nullptr) return fail(SphError::kBadInput, "state is not initialised");
+  if (!joint_frame(*st->model, transforms, &f)) return fail(SphError::kBadInput, "transforms shorter than the joints");
+  compute_ideal(st, f);
+  const uint32_t n = st->model->particle_count();
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t i = 0; i < n; ++i) {
+      st->position[a][i] = st->ideal[a][i];
+      st->velocity[a][i] = 0;
+    }
+  for (uint32_t i = 0; i < n; ++i) {
+    st->density[i] = st->rho_min[i] = st->rho_max[i] = st->rest_density[i];
+    st->pressure[i] = 0;
+    st->yielded[i] = 0;
+    st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, st->rest_density[i]));
+  }
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t v = 0; v < st->model->skin_count(); ++v) st->skin_offset[a][v] = 0;
+  st->bend = 0;
+  st->joint_yielded = false;
+  st->yielded_particles = 0;
+  st->yield_torque_q12 = 0;
+  st->distal_flexed = *f.distal;
+  return {};
+}
+
+}  // namespace sinew::sph

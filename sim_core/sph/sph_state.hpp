@@ -1,0 +1,80 @@
+// Run-time state of one SPH elastic joint, carved at init from caller memory
+// (sph_state_bytes). After sph_init nothing allocates; a step's work is
+// bounded by the model's counts (particles x max_neighbours x substeps).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "sim_core/fixed/mat34.hpp"
+#include "sph_model.hpp"
+
+namespace sinew::sph {
+
+struct Neighbour {
+  uint16_t j;  // particle index
+  uint16_t reserved;
+  uint32_t s;  // q^2, Q2.30
+};
+
+struct SphStats {
+  uint64_t steps = 0;
+  uint32_t neighbour_overflow = 0;   // neighbours dropped by max_neighbours, last step
+  uint32_t max_neighbour_count = 0;  // largest list, last step
+  uint64_t neighbour_pairs = 0;      // pairs evaluated, last step (all substeps)
+  uint32_t saturated = 0;            // values clamped, last step
+};
+
+struct SphState {
+  const SphModel* model = nullptr;
+
+  // Outputs, one entry per particle (SoA). Positions in Len, model space.
+  std::span<fx::Len> position[3];
+  std::span<Dens> pressure;    // rho - rho0 (Q8.24, normalised density units; x k_p = pressure)
+  std::span<uint8_t> yielded;  // 1 once the particle met the Tresca condition, eq. (4)
+  // Outputs per joint.
+  fx::Angle bend = 0;          // flexion caused by the particles about the joint axis (signed view)
+  bool joint_yielded = false;  // at least yield_count particles yielded
+  uint32_t yielded_particles = 0;
+  fx::Mat34 distal_flexed{};  // distal joint's model transform with the bend applied
+  // Skin displacement of eq. (2) for model->skin_vertex[k], Len, model space.
+  std::span<fx::Len> skin_offset[3];
+
+  // Internal.
+  std::span<fx::Len> velocity[3];  // Len per substep
+  std::span<fx::Len> ideal[3];     // skinned rest positions in the commanded pose
+  std::span<fx::Len> scratch[3];   // accelerations, then displacements for eq. (2)
+  std::span<Dens> density;
+  std::span<Dens> rest_density;
+  std::span<Dens> rho_min;
+  std::span<Dens> rho_max;
+  std::span<fx::Unit> inv_density;  // 1 / rho, Q2.30 (rho >= 1)
+  std::span<uint32_t> cell;         // linear cell index per particle
+  std::span<uint32_t> cell_start;   // cells + 1
+  std::span<uint16_t> sorted;       // particle indices by cell, then index
+  std::span<Neighbour> neighbours;  // particle i: [i * max_neighbours, + count[i])
+  std::span<uint8_t> neighbour_count;
+  std::span<uint16_t> skin_particle;  // vertex k: [k * kMaxVertexNeighbours, + skin_count[k])
+  std::span<int32_t> skin_weight;     // poly6 at rest, Q2.30
+  std::span<uint8_t> skin_count;
+  uint32_t grid_dim = 0;
+  int64_t inertia_q12 = 0;       // sum over distal particles of |r_perp|^2, rig units^2, Q12
+  int64_t yield_torque_q12 = 0;  // |torque| when the joint yielded (rig unit x N, Q12)
+  SphStats stats;
+};
+
+size_t sph_state_bytes(const SphModel& model);
+
+// Validates the model, carves the arena (8-byte aligned, >= sph_state_bytes),
+// places the particles at their rest positions and computes each one's rest
+// density. rest_transforms: model-space joint transforms of the rig's rest
+// pose (engine.model right after engine_init).
+SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
+                   SphState* out);
+
+// Places every particle on its skinned rest position for the given pose, at
+// rest, and clears the yield memory (density extremes, flags, joint yield).
+SphStatus sph_reset(SphState* state, std::span<const fx::Mat34> transforms);
+
+}  // namespace sinew::sph

@@ -1,0 +1,224 @@
+#include "sph_step.hpp"
+
+#include "sim_core/fixed/wide.hpp"
+#include "sim_core/rig/message.hpp"
+#include "sph_grid.hpp"
+#include "sph_kernels.hpp"
+#include "sph_pose.hpp"
+
+namespace sinew::sph {
+namespace {
+
+constexpr int32_t kMaxForce = int32_t{1} << 30;  // newtons Q16.16: 16384 N
+
+SphStatus bad_input(const char* what) {
+  SphStatus s;
+  s.error = SphError::kBadInput;
+  rig::MessageBuilder(s.message, sizeof s.message).text("sph step: ").text(what);
+  return s;
+}
+
+// Torque of the external force about the joint axis, rig unit x N in Q12:
+// ((P - c) x F) . n with P the load point (Len), F in Q16.16.
+int64_t load_torque_q12(const JointFrame& f, const fx::Vec3& load_point, fx::Vec3 force) {
+  const fx::Vec3 p = fx::transform_point(*f.distal, load_point);
+  const int64_t r[3] = {int64_t{p.x} - f.centre.x, int64_t{p.y} - f.centre.y, int64_t{p.z} - f.centre.z};
+  const int64_t F[3] = {force.x, force.y, force.z};
+  const int64_t n[3] = {f.axis.x, f.axis.y, f.axis.z};
+  int64_t torque = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    // |r| < 2^32, |F| <= 2^30: each product < 2^62, the difference < 2^63.
+    const int64_t cross_q36 = r[b] * F[c] - r[c] * F[b];
+    torque += fx::mul_shift_round(cross_q36, n[a], 54);  // Q36 x Q30 -> Q12
+  }
+  return torque;
+}
+
+// Tresca yield, eq. (4) of sph-elastic-joints-tresca: a particle yields once
+// half the spread of the densities it has seen reaches tau_f; from then on its
+// density no longer increases (§4.2: "we do not increase the density by more
+// than that") and it takes no external force.
+void density_and_yield(SphState* st, bool tresca) {
+  const SphModel& m = *st->model;
+  compute_density(st);
+  for (uint32_t i = 0; i < m.particle_count(); ++i) {
+    Dens rho = st->density[i];
+    if (st->yielded[i] != 0 && rho > st->rho_max[i]) rho = st->rho_max[i];
+    if (rho > st->rho_max[i]) st->rho_max[i] = rho;
+    if (rho < st->rho_min[i]) st->rho_min[i] = rho;
+    if (tresca && st->yielded[i] == 0 && (int64_t{st->rho_max[i]} - st->rho_min[i]) >= 2 * int64_t{m.params.tau_f}) {
+      st->yielded[i] = 1;
+      ++st->yielded_particles;
+    }
+    st->density[i] = rho;
+    // Equation of state p = k_p (rho - rho0), Mueller 2003; k_p is in pressure_gain.
+    st->pressure[i] = fx::sat_i32(int64_t{rho} - st->rest_density[i]);
+    st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, rho < kDensOne ? kDensOne : rho));
+  }
+}
+
+// Per-substep velocity change (Len per substep) of every particle, into scratch.
+void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturation& sat) {
+  const SphModel& m = *st->model;
+  const SphParams& pr = m.params;
+  const InvH ih = make_inv_h(pr.h);
+  for (uint32_t i = 0; i < m.particle_count(); ++i) {
+    const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
+    const int64_t vi[3] = {st->velocity[0][i], st->velocity[1][i], st->velocity[2][i]};
+    int64_t press[3] = {0, 0, 0};  // normalised units, Q8.24
+    int64_t visc[3] = {0, 0, 0};   // Len per substep
+    const Neighbour* list = &st->neighbours[size_t{i} * pr.max_neighbours];
+    for (uint32_t k = 0; k < st->neighbour_count[i]; ++k) {
+      const uint32_t j = list[k].j;
+      PairGeometry g;
+      if (!pair_geometry(xi, {st->position[0][j], st->position[1][j], st->position[2][j]}, ih, &g)) continue;
+      // Pressure, symmetric form of Mueller 2003 eq. (10) with the spiky
+      // gradient: (p_i + p_j) / (2 rho_j) (1 - q)^2 / q (r_ij / h).
+      const int64_t psum = int64_t{st->pressure[i]} + st->pressure[j];                  // Q24
+      const int64_t t = fx::round_shift(psum * st->inv_density[j], 31);                 // Q24, halved
+      const int64_t tg = fx::sat_i32(fx::round_shift(t * spiky_factor(g.s), 24), sat);  // Q24
+      press[0] += fx::round_shift(tg * g.d.x, 30);
+      press[1] += fx::round_shift(tg * g.d.y, 30);
+      press[2] += fx::round_shift(tg * g.d.z, 30);
+      // Viscosity, Mueller 2003 eq. (14): (v_j - v_i) / rho_j * laplacian.
+      const int64_t lw = fx::round_shift(int64_t{viscosity_factor(g.s)} * st->inv_density[j], 30);  // Q30
+      for (int a = 0; a < 3; ++a) {
+        const int64_t dv = int64_t{st->velocity[a][j]} - vi[a];
+        visc[a] += fx::round_shift(dv * lw, 30);
+      }
+    }
+    // Load carried by the distal bone, applied as the rigid-body acceleration
+    // beta (axis x r) of each particle bound to it, unless it yielded.
+    fx::Vec3 ext{0, 0, 0};
+    if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0)
+      ext = fx::scale(fx::cross(f.axis, fx::sub(xi, f.centre), 30), beta);
+    const int32_t x[3] = {xi.x, xi.y, xi.z};
+    const int32_t e[3] = {ext.x, ext.y, ext.z};
+    for (int a = 0; a < 3; ++a) {
+      // Pressure: Q24 (units of h) -> Len via gain (Q30) and h.
+      const int64_t p16 = fx::sat_i32(fx::round_shift(press[a], 8), sat);  // Q16
+      const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);      // Q16
+      const int64_t p_len = fx::round_shift(pg * pr.h, 16);
+      const int64_t v_len = fx::round_shift(fx::clamp_i64(visc[a], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
+      // Elastic pull toward the skinned rest position (§4.1 tension).
+      const int64_t pull = fx::round_shift((int64_t{st->ideal[a][i]} - x[a]) * pr.elastic_gain, 30);
+      st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a], sat);
+    }
+  }
+}
+
+void integrate(SphState* st, fx::Saturation& sat) {
+  const SphModel& m = *st->model;
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t i = 0; i < m.particle_count(); ++i) {
+      // Symplectic Euler in Len per substep: v' = damping v + a dt^2, x' = x + v'.
+      const int64_t v = fx::round_shift(int64_t{st->velocity[a][i]} * m.params.damping, 30) + st->scratch[a][i];
+      st->velocity[a][i] = fx::sat_i32(v, sat);
+      st->position[a][i] = fx::sat_i32(int64_t{st->position[a][i]} + st->velocity[a][i], sat);
+    }
+}
+
+// Best-fit rotation about the axis of the distal particles from their ideal
+// to their current positions: atan2(sum n.(g x x), sum g_perp . x_perp).
+fx::Angle measure_bend(const SphState& st, const JointFrame& f) {
+  const SphModel& m = *st.model;
+  int64_t s = 0, c = 0;
+  for (uint32_t i = 0; i < m.particle_count(); ++i) {
+    if (m.bone[i] != static_cast<uint8_t>(Bone::kDistal)) continue;
+    const fx::Vec3 g = fx::sub({st.ideal[0][i], st.ideal[1][i], st.ideal[2][i]}, f.centre);
+    const fx::Vec3 x = fx::sub({st.position[0][i], st.position[1][i], st.position[2][i]}, f.centre);
+    const fx::Vec3 gx = fx::cross(g, x, 20);             // Len
+    s += fx::round_shift(fx::dot_wide(gx, f.axis), 30);  // Len
+    const int64_t gn = fx::round_shift(fx::dot_wide(g, f.axis), 30);
+    const int64_t xn = fx::round_shift(fx::dot_wide(x, f.axis), 30);
+    c += fx::round_shift(fx::dot_wide(g, x), 20) - fx::round_shift(gn * xn, 20);
+  }
+  while (s >= (int64_t{1} << 30) || s <= -(int64_t{1} << 30) || c >= (int64_t{1} << 30) || c <= -(int64_t{1} << 30)) {
+    s >>= 1;
+    c >>= 1;
+  }
+  return fx::atan2_angle(static_cast<int32_t>(s), static_cast<int32_t>(c));
+}
+
+// Displacement of eq. (2): A(r) = sum_j m_j A_j W(r - r_j, h) / rho_j, A_j the
+// particle's offset from its anchor in the flexed pose; kernel weights taken
+// at rest. In normalised units m_j W / rho_j = w / rho_hat, so a vertex deep
+// in the tissue takes the full displacement and one outside every kernel
+// none: the interpolation itself blends SPH with the skinning result.
+void skin_displacement(SphState* st, fx::Saturation& sat) {
+  const SphModel& m = *st->model;
+  for (uint32_t i = 0; i < m.particle_count(); ++i) {
+    const fx::Vec3 r{m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]};
+    const bool distal = m.bone[i] == static_cast<uint8_t>(Bone::kDistal);
+    const fx::Vec3 anchor = distal ? fx::transform_point(st->distal_flexed, r)
+                                   : fx::Vec3{st->ideal[0][i], st->ideal[1][i], st->ideal[2][i]};
+    st->scratch[0][i] = fx::sub_sat(st->position[0][i], anchor.x);
+    st->scratch[1][i] = fx::sub_sat(st->position[1][i], anchor.y);
+    st->scratch[2][i] = fx::sub_sat(st->position[2][i], anchor.z);
+  }
+  for (uint32_t v = 0; v < m.skin_count(); ++v) {
+    int64_t sum[3] = {0, 0, 0};
+    const size_t base = size_t{v} * kMaxVertexNeighbours;
+    for (uint32_t k = 0; k < st->skin_count[v]; ++k) {
+      const uint32_t j = st->skin_particle[base + k];
+      const int64_t w = fx::round_shift(int64_t{st->skin_weight[base + k]} * st->inv_density[j], 30);  // Q30
+      for (int a = 0; a < 3; ++a) sum[a] += fx::round_shift(int64_t{st->scratch[a][j]} * w, 30);
+    }
+    for (int a = 0; a < 3; ++a) st->skin_offset[a][v] = fx::sat_i32(sum[a], sat);
+  }
+}
+
+}  // namespace
+
+SphStatus sph_step(SphState* st, const SphInputs& in) {
+  if (st == nullptr || st->model == nullptr) return bad_input("state is not initialised");
+  const SphModel& m = *st->model;
+  JointFrame f;
+  if (!joint_frame(m, in.transforms, &f)) return bad_input("transforms: fewer than the model's joints");
+  if (in.force.x < -kMaxForce || in.force.x > kMaxForce || in.force.y < -kMaxForce || in.force.y > kMaxForce ||
+      in.force.z < -kMaxForce || in.force.z > kMaxForce)
+    return bad_input("force: a component beyond 16384 N");
+  fx::Saturation sat;
+  st->stats.neighbour_overflow = 0;
+  st->stats.max_neighbour_count = 0;
+  st->stats.neighbour_pairs = 0;
+
+  // Once the joint has yielded it takes no further load (§4.2: "the object
+  // is no longer subjected to force"): the torque is capped at its value then.
+  int64_t torque = fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
+  if (in.tresca && st->joint_yielded) torque = fx::clamp_i64(torque, -st->yield_torque_q12, st->yield_torque_q12);
+  // Angular acceleration x dt^2 of the distal bone: torque x load_gain / I.
+  const fx::Unit beta = fx::sat_i32(
+      fx::clamp_i64(fx::div_round(torque * m.params.load_gain, st->inertia_q12), -fx::kUnitOne, fx::kUnitOne), sat);
+
+  compute_ideal(st, f);
+  for (uint32_t s = 0; s < m.params.substeps; ++s) {
+    build_neighbours(st, f.centre);
+    density_and_yield(st, in.tresca);
+    accelerations(st, f, beta, sat);
+    integrate(st, sat);
+  }
+  if (in.tresca && !st->joint_yielded && st->yielded_particles >= m.params.yield_count) {
+    st->joint_yielded = true;
+    st->yield_torque_q12 = torque < 0 ? -torque : torque;
+  }
+  st->bend = measure_bend(*st, f);
+  const fx::Mat34 flex = fx::mat34_from_quat(fx::quat_from_axis_angle(m.joint.axis, st->bend), {0, 0, 0});
+  st->distal_flexed = fx::mul(*f.distal, flex);
+  skin_displacement(st, sat);
+  st->stats.saturated = sat.events;
+  ++st->stats.steps;
+  return {};
+}
+
+void sph_apply_skin(const SphState& st, std::span<fx::Len> position[3]) {
+  const SphModel& m = *st.model;
+  for (uint32_t v = 0; v < m.skin_count(); ++v) {
+    const uint32_t idx = m.skin_vertex[v];
+    for (int a = 0; a < 3; ++a)
+      if (idx < position[a].size()) position[a][idx] = fx::add_sat(position[a][idx], st.skin_offset[a][v]);
+  }
+}
+
+}  // namespace sinew::sph

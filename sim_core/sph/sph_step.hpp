@@ -1,0 +1,32 @@
+// The SPH elastic-joint step (sph-elastic-joints-tresca §4), one tick:
+//   inputs : model-space joint transforms of the commanded pose (the
+//            engine's Engine::model after engine_step), an external force on
+//            the distal bone, the Tresca switch;
+//   outputs: (in SphState) particle positions / pressures / yield flags, the
+//            bend of the joint, its yield flag, the flexed distal transform
+//            and the skin displacement of eq. (2) for the vertices near the
+//            joint.
+// Call sequence with the engine: docs/sph.md.
+#pragma once
+
+#include <span>
+
+#include "sph_state.hpp"
+
+namespace sinew::sph {
+
+struct SphInputs {
+  std::span<const fx::Mat34> transforms;  // one per rig joint, model space
+  fx::Vec3 force{0, 0, 0};                // newtons, Q16.16, model space, acting at joint.load_point; |c| <= 2^30
+  bool tresca = true;                     // apply the yield condition of eqs. (3)-(4)
+};
+
+// Returns kBadInput, changing nothing, if a transform is missing or the
+// force is out of range.
+SphStatus sph_step(SphState* state, const SphInputs& inputs);
+
+// Adds skin_offset to the engine's skinned positions of the near-joint
+// vertices (position[c] indexed by rig vertex).
+void sph_apply_skin(const SphState& state, std::span<fx::Len> position[3]);
+
+}  // namespace sinew::sph

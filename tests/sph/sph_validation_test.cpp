@@ -1,0 +1,115 @@
+// Bad parameters are rejected with a message naming the field, by the
+// builder and by the run-time validator; bad step inputs change nothing.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "sph_fixture.hpp"
+
+namespace layers = sinew::layers;
+namespace sph = sinew::sph;
+
+namespace {
+
+std::string build_error(const layers::SphBuildOptions& o) {
+  layers::SphBuilt b;
+  std::string error;
+  EXPECT_FALSE(layers::build_sph(sinew::rigc::builtin_arm(), o, &b, &error));
+  std::printf("rejected: %s\n", error.c_str());
+  return error;
+}
+
+layers::SphBuilt small_model() {
+  layers::SphBuildOptions o;
+  o.particle_count = 300;
+  layers::SphBuilt b;
+  std::string error;
+  EXPECT_TRUE(layers::build_sph(sinew::rigc::builtin_arm(), o, &b, &error)) << error;
+  return b;
+}
+
+std::string validate_error(const sph::SphModel& m) {
+  const sph::SphStatus s = sph::sph_validate(m, 4, 4192);
+  EXPECT_FALSE(s.ok());
+  std::printf("rejected: %s\n", s.message);
+  return s.message;
+}
+
+}  // namespace
+
+TEST(SphValidation, BuilderRejectsBadOptions) {
+  layers::SphBuildOptions o;
+  o.particle_count = 0;
+  EXPECT_NE(build_error(o).find("particle_count"), std::string::npos);
+  o.particle_count = 9000;
+  EXPECT_NE(build_error(o).find("8192"), std::string::npos);
+  o = {};
+  o.particle_count = 300;
+  o.override_h = 0;
+  EXPECT_NE(build_error(o).find("h "), std::string::npos);
+  o = {};
+  o.particle_count = 300;
+  o.override_tau_f = 0;
+  EXPECT_NE(build_error(o).find("tau_f"), std::string::npos);
+  o = {};
+  o.distal_joint = "knee";
+  EXPECT_NE(build_error(o).find("knee"), std::string::npos);
+}
+
+TEST(SphValidation, ValidatorRejectsBadModels) {
+  const layers::SphBuilt b = small_model();
+  ASSERT_TRUE(sph::sph_validate(b.model(), 4, 4192).ok());
+  sph::SphModel m = b.model();
+  m.params.h = 0;
+  EXPECT_NE(validate_error(m).find("h "), std::string::npos);
+  m = b.model();
+  m.params.tau_f = 0;
+  EXPECT_NE(validate_error(m).find("tau_f"), std::string::npos);
+  m.params.tau_f = -5;
+  EXPECT_NE(validate_error(m).find("tau_f"), std::string::npos);
+  m = b.model();
+  m.bone = {};
+  EXPECT_NE(validate_error(m).find("particle count"), std::string::npos);
+  m = b.model();
+  m.params.substeps = 0;
+  EXPECT_NE(validate_error(m).find("substeps"), std::string::npos);
+  m = b.model();
+  m.params.damping = 0;
+  EXPECT_NE(validate_error(m).find("damping"), std::string::npos);
+  m = b.model();
+  m.joint.distal_joint = 7;
+  EXPECT_NE(validate_error(m).find("distal_joint"), std::string::npos);
+  // A particle count beyond the documented maximum.
+  std::vector<uint8_t> bones(sph::kMaxParticles + 1, 1);
+  std::vector<sinew::fx::Len> zeros(bones.size(), 0);
+  m = b.model();
+  m.bone = bones;
+  for (int a = 0; a < 3; ++a) m.rest_local[a] = m.rest_model[a] = zeros;
+  EXPECT_NE(validate_error(m).find("8192"), std::string::npos);
+}
+
+TEST(SphValidation, StepRejectsBadInputsAndChangesNothing) {
+  layers::SphBuildOptions o;
+  o.particle_count = 300;
+  sinew::test::SphArm arm(o);
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  const int32_t before = arm.state().position[0][0];
+  sph::SphInputs in;
+  in.transforms = arm.engine().model.first(1);
+  sph::SphStatus s = sph::sph_step(&arm.state(), in);
+  EXPECT_EQ(s.error, sph::SphError::kBadInput);
+  std::printf("rejected: %s\n", s.message);
+  in.transforms = arm.engine().model;
+  in.force = {INT32_MAX, 0, 0};
+  s = sph::sph_step(&arm.state(), in);
+  EXPECT_EQ(s.error, sph::SphError::kBadInput);
+  std::printf("rejected: %s\n", s.message);
+  EXPECT_EQ(arm.state().position[0][0], before);
+  EXPECT_EQ(arm.state().stats.steps, 0u);
+  std::vector<uint64_t> tiny(4);
+  sph::SphState st;
+  s = sph::sph_init(arm.model(), arm.engine().model, tiny.data(), tiny.size() * 8, &st);
+  EXPECT_EQ(s.error, sph::SphError::kArena);
+  std::printf("rejected: %s\n", s.message);
+}
