@@ -56,6 +56,13 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     else if (mode == "offline") c.mode = RunMode::kOffline;
     else return *error = at(origin, (*loop)["mode"].node(), "[loop] mode") + ": must be live, replay or offline", false;
   }
+  if (const toml::table* layers = t["layers"].as_table()) {
+    c.layer_metaballs = (*layers)["metaballs"].value_or(false);
+    if (c.layer_metaballs && c.rig_builtin != "arm")
+      return *error = at(origin, (*layers)["metaballs"].node(), "[layers] metaballs") +
+                      ": needs [rig] builtin = \"arm\" (rig blobs carry no metaballs section yet)",
+             false;
+  }
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;

@@ -52,8 +52,8 @@ int main(int argc, char** argv) {
   const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() + 50000000u : 0;
   Runtime runtime;
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
-  if (!runtime.init(rig.rig, limits, start, &error) || !add_sources(config, rig, period, start, &runtime, &error) ||
-      !add_sinks(config, rig, &runtime, &error)) {
+  if (!runtime.init(rig.rig, limits, start, &error) || !add_layers(config, rig, &runtime, &error) ||
+      !add_sources(config, rig, period, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }

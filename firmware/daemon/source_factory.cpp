@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "bus_sources.hpp"
+#include "metaballs_layer.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 #include "hal/output/frame_log_writer.hpp"
@@ -47,6 +48,15 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
       if (!source) return false;
       runtime->add_source(std::move(source));
     }
+  }
+  return true;
+}
+
+bool add_layers(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
+  if (config.layer_metaballs) {
+    std::unique_ptr<PoseLayer> layer = make_arm_metaballs_layer(rig.rig, error);
+    if (!layer) return false;
+    runtime->add_layer(std::move(layer));
   }
   return true;
 }
@@ -102,6 +112,8 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
               static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(runtime.dropped_frames()));
   for (const auto& s : runtime.sources())
     std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
+  if (runtime.layer_errors() > 0)
+    std::printf("  layer errors %llu (the skinned pose was kept)\n", static_cast<unsigned long long>(runtime.layer_errors()));
   for (const auto& s : runtime.sinks()) std::printf("  sink   %-10s %s\n", s->name(), s->status_line().c_str());
   if (final_report) {
     // Per-reason totals, one line the tests (and log scrapers) can parse.

@@ -14,11 +14,24 @@
 
 namespace sinew::firmware {
 
+// A physical layer applied after the engine's skinning each tick (metaballs,
+// bar-nets, ...): it reads the engine's joint transforms and rewrites its
+// vertex positions in place. Must not allocate; returns false on an error,
+// which the runtime counts (the skinned pose is kept for that tick).
+class PoseLayer {
+ public:
+  virtual ~PoseLayer() = default;
+  virtual const char* name() const = 0;
+  virtual bool apply(engine::Engine& engine) = 0;
+};
+
 class Runtime {
  public:
   // rig must outlive the runtime. limits: one per rig input.
   bool init(const rig::Rig& rig, std::span<const InputLimits> limits, uint64_t start_ns, std::string* error);
   void add_source(std::unique_ptr<InputSource> s) { sources_.push_back(std::move(s)); }
+  void add_layer(std::unique_ptr<PoseLayer> l) { layers_.push_back(std::move(l)); }
+  uint64_t layer_errors() const { return layer_errors_; }
   void add_sink(std::unique_ptr<OutputSink> s) { sinks_.push_back(std::move(s)); }
 
   // Runs the tick whose nominal time is tick_ns. Returns the frame written.
@@ -51,6 +64,8 @@ class Runtime {
   StepTiming timing_;
   uint64_t tick_ = 0;
   uint64_t dropped_frames_ = 0;
+  std::vector<std::unique_ptr<PoseLayer>> layers_;
+  uint64_t layer_errors_ = 0;
 };
 
 // Samples latched per source per tick at most; more wait for the next tick.
