@@ -13,7 +13,8 @@ std::string at(const std::string& origin, const toml::node* n, const std::string
 }
 
 template <typename T>
-bool read_number(const toml::table& t, const char* key, T lo, T hi, T* out, const std::string& origin, std::string* error) {
+bool read_number(const toml::table& t, const char* key, T lo, T hi, T* out, const std::string& origin,
+                 std::string* error) {
   const toml::node* n = t.get(key);
   if (n == nullptr) return true;
   const auto v = n->value<double>();
@@ -45,22 +46,33 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
   if (c.rig_builtin.empty() == c.rig_blob.empty())
     return *error = origin + ": [rig] needs exactly one of builtin = \"arm\"|\"hand\" or blob = \"file.rig\"", false;
   if (!c.rig_builtin.empty() && c.rig_builtin != "arm" && c.rig_builtin != "hand")
-    return *error = at(origin, t["rig"]["builtin"].node(), "[rig] builtin") + ": unknown built-in rig (arm, hand)", false;
+    return *error = at(origin, t["rig"]["builtin"].node(), "[rig] builtin") + ": unknown built-in rig (arm, hand)",
+           false;
   if (const toml::table* loop = t["loop"].as_table()) {
     if (!read_number(*loop, "rate_hz", 1u, 20000u, &c.rate_hz, origin, error)) return false;
     if (!read_number(*loop, "duration_s", 0.0, 1e7, &c.duration_s, origin, error)) return false;
     if (!read_number(*loop, "stats_interval_s", 0.0, 3600.0, &c.stats_interval_s, origin, error)) return false;
     const std::string mode = (*loop)["mode"].value_or<std::string>("live");
-    if (mode == "live") c.mode = RunMode::kLive;
-    else if (mode == "replay") c.mode = RunMode::kReplay;
-    else if (mode == "offline") c.mode = RunMode::kOffline;
-    else return *error = at(origin, (*loop)["mode"].node(), "[loop] mode") + ": must be live, replay or offline", false;
+    if (mode == "live")
+      c.mode = RunMode::kLive;
+    else if (mode == "replay")
+      c.mode = RunMode::kReplay;
+    else if (mode == "offline")
+      c.mode = RunMode::kOffline;
+    else
+      return *error = at(origin, (*loop)["mode"].node(), "[loop] mode") + ": must be live, replay or offline", false;
   }
   if (const toml::table* layers = t["layers"].as_table()) {
     c.layer_metaballs = (*layers)["metaballs"].value_or(false);
-    if (c.layer_metaballs && c.rig_builtin != "arm")
-      return *error = at(origin, (*layers)["metaballs"].node(), "[layers] metaballs") +
-                      ": needs [rig] builtin = \"arm\" (rig blobs carry no metaballs section yet)",
+    c.layer_barnet = (*layers)["barnet"].value_or(false);
+    for (const char* layer : {"metaballs", "barnet"})
+      if ((*layers)[layer].value_or(false) && c.rig_builtin != "arm")
+        return *error = at(origin, (*layers)[layer].node(), std::string("[layers] ") + layer) +
+                        ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
+               false;
+    if (c.layer_metaballs && c.layer_barnet)
+      return *error = at(origin, (*layers)["barnet"].node(), "[layers] barnet") +
+                      ": metaballs and barnet both reshape the elbow; enable one",
              false;
   }
   if (const toml::table* rt = t["realtime"].as_table()) {

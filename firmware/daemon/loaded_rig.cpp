@@ -34,7 +34,8 @@ bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRi
   out->input_names.clear();
   for (uint32_t j = 0; j < out->rig.joint_count(); ++j) {
     const std::string joint = out->rig.names.empty() ? "joint" + std::to_string(j) : std::string(out->rig.names[j]);
-    for (uint32_t d = 0; d < out->rig.joints[j].dof_count; ++d) out->input_names.push_back(joint + "." + std::to_string(d));
+    for (uint32_t d = 0; d < out->rig.joints[j].dof_count; ++d)
+      out->input_names.push_back(joint + "." + std::to_string(d));
   }
   return true;
 }

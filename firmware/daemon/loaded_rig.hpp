@@ -10,7 +10,7 @@
 namespace sinew::firmware {
 
 struct LoadedRig {
-  std::vector<uint64_t> blob;   // 8-byte aligned
+  std::vector<uint64_t> blob;  // 8-byte aligned
   std::vector<uint64_t> arena;
   rig::Rig rig;
   std::vector<std::string> input_names;  // "<joint>.<dof>"

@@ -14,7 +14,9 @@ namespace {
 class MetaballsLayer final : public PoseLayer {
  public:
   const char* name() const override { return "metaballs"; }
-  bool apply(engine::Engine& engine) override { return metaballs::step(&state_, engine.model, engine.vertices).ok(); }
+  bool apply(engine::Engine& engine, std::span<const int32_t>) override {
+    return metaballs::step(&state_, engine.model, engine.vertices).ok();
+  }
 
   metaballs_build::Build build_;
   metaballs::MetaballModel model_;

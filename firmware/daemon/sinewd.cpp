@@ -4,7 +4,6 @@
 // the final report.
 //   sinewd --config FILE [--duration S] [--offline]
 #include <CLI/CLI.hpp>
-
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -70,9 +69,10 @@ int main(int argc, char** argv) {
 
   const uint64_t total_ticks =
       config.duration_s > 0 ? static_cast<uint64_t>(config.duration_s * config.rate_hz) : UINT64_MAX;
-  const uint64_t stats_every = config.stats_interval_s > 0
-                                   ? std::max<uint64_t>(1, static_cast<uint64_t>(config.stats_interval_s * config.rate_hz))
-                                   : UINT64_MAX;
+  const uint64_t stats_every =
+      config.stats_interval_s > 0
+          ? std::max<uint64_t>(1, static_cast<uint64_t>(config.stats_interval_s * config.rate_hz))
+          : UINT64_MAX;
   TickClock clock(period, start + period);
   for (uint64_t tick = 0; tick < total_ticks && !g_stop.load(std::memory_order_relaxed); ++tick) {
     const uint64_t tick_ns = config.mode == RunMode::kLive ? clock.wait_next() : start + (tick + 1) * period;
@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   runtime.flush();
   print_stats(runtime, rig, true);
   if (clock.skipped_ticks() > 0)
-    std::printf("skipped ticks (more than a period late): %llu\n", static_cast<unsigned long long>(clock.skipped_ticks()));
+    std::printf("skipped ticks (more than a period late): %llu\n",
+                static_cast<unsigned long long>(clock.skipped_ticks()));
   return 0;
 }

@@ -3,12 +3,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "barnet_layer.hpp"
 #include "bus_sources.hpp"
-#include "metaballs_layer.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/udp_sender.hpp"
+#include "metaballs_layer.hpp"
 
 namespace sinew::firmware {
 
@@ -58,6 +59,11 @@ bool add_layers(const DaemonConfig& config, const LoadedRig& rig, Runtime* runti
     if (!layer) return false;
     runtime->add_layer(std::move(layer));
   }
+  if (config.layer_barnet) {
+    std::unique_ptr<PoseLayer> layer = make_arm_barnet_layer(rig.rig, error);
+    if (!layer) return false;
+    runtime->add_layer(std::move(layer));
+  }
   return true;
 }
 
@@ -103,17 +109,19 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
     for (uint64_t r : h.counters(i).rejected) rejected += r;
   }
   for (uint64_t r : h.unassigned().rejected) rejected += r;
-  std::printf("%s tick %llu: step p50 %.1f us p99 %.1f us max %.1f us, deadline misses %llu, inputs stale %zu/%u, "
-              "samples accepted %llu rejected %llu, frames dropped %llu\n",
-              final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
-              static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
-              static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()),
-              h.stale_count(), rig.rig.input_count, static_cast<unsigned long long>(accepted),
-              static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(runtime.dropped_frames()));
+  std::printf(
+      "%s tick %llu: step p50 %.1f us p99 %.1f us max %.1f us, deadline misses %llu, inputs stale %zu/%u, "
+      "samples accepted %llu rejected %llu, frames dropped %llu\n",
+      final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
+      static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
+      static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()), h.stale_count(),
+      rig.rig.input_count, static_cast<unsigned long long>(accepted), static_cast<unsigned long long>(rejected),
+      static_cast<unsigned long long>(runtime.dropped_frames()));
   for (const auto& s : runtime.sources())
     std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
   if (runtime.layer_errors() > 0)
-    std::printf("  layer errors %llu (the skinned pose was kept)\n", static_cast<unsigned long long>(runtime.layer_errors()));
+    std::printf("  layer errors %llu (the skinned pose was kept)\n",
+                static_cast<unsigned long long>(runtime.layer_errors()));
   for (const auto& s : runtime.sinks()) std::printf("  sink   %-10s %s\n", s->name(), s->status_line().c_str());
   if (final_report) {
     // Per-reason totals, one line the tests (and log scrapers) can parse.

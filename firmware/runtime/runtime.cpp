@@ -34,7 +34,7 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
   health_.end_tick(tick_ns);
   engine::engine_step(&engine_, health_.values());
   for (const auto& layer : layers_)
-    if (!layer->apply(engine_)) ++layer_errors_;
+    if (!layer->apply(engine_, health_.values())) ++layer_errors_;
   // Per-input status: health bits plus "clamped" from the joint that owns the input.
   const std::span<const uint8_t> hs = health_.status();
   for (size_t i = 0; i < input_status_.size(); ++i) input_status_[i] = hs[i];

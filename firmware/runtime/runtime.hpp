@@ -15,14 +15,14 @@
 namespace sinew::firmware {
 
 // A physical layer applied after the engine's skinning each tick (metaballs,
-// bar-nets, ...): it reads the engine's joint transforms and rewrites its
+// bar-nets, ...): it reads the engine's joint transforms (and the held inputs) and rewrites its
 // vertex positions in place. Must not allocate; returns false on an error,
 // which the runtime counts (the skinned pose is kept for that tick).
 class PoseLayer {
  public:
   virtual ~PoseLayer() = default;
   virtual const char* name() const = 0;
-  virtual bool apply(engine::Engine& engine) = 0;
+  virtual bool apply(engine::Engine& engine, std::span<const int32_t> inputs) = 0;
 };
 
 class Runtime {

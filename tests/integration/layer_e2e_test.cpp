@@ -14,13 +14,14 @@
 
 namespace {
 
-std::vector<sinew::hal::output::DecodedPose> run(const std::string& name, bool metaballs) {
+std::vector<sinew::hal::output::DecodedPose> run(const std::string& name, const std::string& layers) {
   const std::string dir = testing::TempDir();
   const std::string config = dir + "/" + name + ".toml", log = dir + "/" + name + ".frames";
   std::remove(log.c_str());
   std::ofstream(config) << "[rig]\nbuiltin = \"arm\"\n[loop]\nrate_hz = 100\nduration_s = 1.0\nstats_interval_s = 0\n"
-                        << "mode = \"offline\"\n[layers]\nmetaballs = " << (metaballs ? "true" : "false")
-                        << "\n[[source]]\ntype = \"trajectory\"\nperiod_ms = 10\n[[sink]]\ntype = \"log\"\npath = \""
+                        << "mode = \"offline\"\n[layers]\n"
+                        << layers
+                        << "\n[[source]]\ntype = \"simulated-rig\"\nperiod_ms = 10\n[[sink]]\ntype = \"log\"\npath = \""
                         << log << "\"\n";
   const std::string cmd = std::string(SINEWD_EXE) + " --config " + config + " > " + dir + "/" + name + ".out";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
@@ -36,7 +37,7 @@ std::vector<sinew::hal::output::DecodedPose> run(const std::string& name, bool m
 }  // namespace
 
 TEST(LayerEndToEnd, MetaballsLayerChangesTheSkinWithinBounds) {
-  const auto plain = run("plain", false), balls = run("metaballs", true);
+  const auto plain = run("plain", ""), balls = run("metaballs", "metaballs = true");
   ASSERT_EQ(plain.size(), 100u);
   ASSERT_EQ(balls.size(), 100u);
   size_t differing_frames = 0;
@@ -71,4 +72,29 @@ TEST(LayerEndToEnd, MetaballsNeedTheBuiltInArm) {
   std::ifstream in(dir + "/hb.out");
   const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(out.find("[layers] metaballs"), std::string::npos) << out;
+}
+
+// The bar-net's elbow bulge in the daemon's frames: it moves only the wrapped
+// vertices, and more at deep flexion than near straight.
+TEST(LayerEndToEnd, BarnetBulgeGrowsWithElbowFlexion) {
+  const auto plain = run("plain-b", ""), net = run("barnet", "barnet = true");
+  ASSERT_EQ(plain.size(), 100u);
+  ASSERT_EQ(net.size(), 100u);
+  constexpr int kElbow = 3;  // arm inputs: shoulder.0-2, elbow.0, ...
+  size_t straightest = 0, deepest = 0;
+  std::vector<double> bulge(plain.size(), 0);
+  for (size_t f = 0; f < plain.size(); ++f) {
+    const double scale = std::ldexp(1.0, plain[f].length_exponent - 20);
+    for (int c = 0; c < 3; ++c)
+      for (size_t v = 0; v < plain[f].vertex_count; ++v)
+        bulge[f] =
+            std::max(bulge[f], std::abs(static_cast<double>(plain[f].position[c][v]) - net[f].position[c][v]) * scale);
+    if (plain[f].input_value[kElbow] < plain[straightest].input_value[kElbow]) straightest = f;
+    if (plain[f].input_value[kElbow] > plain[deepest].input_value[kElbow]) deepest = f;
+  }
+  const auto deg = [&](size_t f) { return plain[f].input_value[kElbow] * (360.0 / 4294967296.0); };
+  std::printf("bar-net vs plain skinning: elbow %.1f deg -> largest move %.2f mm; elbow %.1f deg -> %.2f mm\n",
+              deg(straightest), bulge[straightest] * 1e3, deg(deepest), bulge[deepest] * 1e3);
+  EXPECT_GT(bulge[deepest], bulge[straightest] + 1e-3);
+  EXPECT_LT(bulge[deepest], 0.05);
 }
