@@ -65,15 +65,18 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
   if (const toml::table* layers = t["layers"].as_table()) {
     c.layer_metaballs = (*layers)["metaballs"].value_or(false);
     c.layer_barnet = (*layers)["barnet"].value_or(false);
+    if (!read_number(*layers, "anatomy_iterations", 0, 64, &c.layer_anatomy_iterations, origin, error)) return false;
+    if (c.layer_anatomy_iterations > 0 && c.rig_builtin != "arm")
+      return *error = at(origin, (*layers)["anatomy_iterations"].node(), "[layers] anatomy_iterations") +
+                      ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
+             false;
     for (const char* layer : {"metaballs", "barnet"})
       if ((*layers)[layer].value_or(false) && c.rig_builtin != "arm")
         return *error = at(origin, (*layers)[layer].node(), std::string("[layers] ") + layer) +
                         ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
                false;
-    if (c.layer_metaballs && c.layer_barnet)
-      return *error = at(origin, (*layers)["barnet"].node(), "[layers] barnet") +
-                      ": metaballs and barnet both reshape the elbow; enable one",
-             false;
+    if (int{c.layer_metaballs} + int{c.layer_barnet} + int{c.layer_anatomy_iterations > 0} > 1)
+      return *error = origin + ": [layers]: metaballs, barnet and anatomy each reshape the elbow; enable one", false;
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;

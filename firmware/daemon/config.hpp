@@ -39,8 +39,9 @@ struct DaemonConfig {
   double range_margin_deg = 10.0;   // accepted beyond a DOF limit (then clamped); further is a fault
   std::vector<SourceConfig> sources;
   std::vector<SinkConfig> sinks;
-  bool layer_metaballs = false;  // [layers] metaballs: volume-preserving skin on the built-in arm
-  bool layer_barnet = false;     // [layers] barnet: the elbow bar-net bulge on the built-in arm
+  bool layer_metaballs = false;      // [layers] metaballs: volume-preserving skin on the built-in arm
+  int layer_anatomy_iterations = 0;  // [layers] anatomy: muscles + elastic skin, relaxations per tick (0 = off)
+  bool layer_barnet = false;         // [layers] barnet: the elbow bar-net bulge on the built-in arm
 };
 
 // Reads and validates a config file; errors name the file, line and key.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "anatomy_layer.hpp"
 #include "barnet_layer.hpp"
 #include "bus_sources.hpp"
 #include "firmware/sinks/hal_sink.hpp"
@@ -56,6 +57,11 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
 bool add_layers(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
   if (config.layer_metaballs) {
     std::unique_ptr<PoseLayer> layer = make_arm_metaballs_layer(rig.rig, error);
+    if (!layer) return false;
+    runtime->add_layer(std::move(layer));
+  }
+  if (config.layer_anatomy_iterations > 0) {
+    std::unique_ptr<PoseLayer> layer = make_arm_anatomy_layer(rig.rig, config.layer_anatomy_iterations, error);
     if (!layer) return false;
     runtime->add_layer(std::move(layer));
   }
