@@ -19,7 +19,7 @@ void reciprocal(int64_t d, int64_t* m, int32_t* e) {
   const int bits = bit_length(static_cast<uint64_t>(d));
   int32_t shift = bits - 32;  // d = dn * 2^shift, dn in [2^31, 2^32)
   int64_t dn = shift > 0 ? fx::round_shift(d, shift) : d << -shift;
-  if (dn >= (int64_t{1} << 32)) {  // rounding carried into a new bit
+  if (dn >= (int64_t{1} << 32)) {  // rounding carried into the next bit
     dn >>= 1;
     ++shift;
   }
