@@ -54,7 +54,8 @@ Layout layout(const BarnetModel& m, uint32_t free, uint64_t profile) {
 
 template <typename T>
 std::span<T> carve(unsigned char* base, size_t offset, size_t count) {
-  return {reinterpret_cast<T*>(base + offset), count};
+  // The layout keeps every offset 8-aligned and the arena is checked 8-aligned.
+  return {static_cast<T*>(static_cast<void*>(base + offset)), count};
 }
 
 // Union-find over nodes with every fixed node merged into one ground node
