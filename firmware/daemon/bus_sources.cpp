@@ -12,6 +12,7 @@
 #include "hal/gpio/gpio_source.hpp"
 #include "hal/modbus/modbus_source.hpp"
 #include "host_tools/rigsim/modbus_feeder.hpp"
+#include "host_tools/rigsim/simulated_encoders.hpp"
 #include "host_tools/rigsim/simulated_rig_bus.hpp"
 
 namespace sinew::firmware {
@@ -57,7 +58,7 @@ bool read_faults(const SourceConfig& s, const LoadedRig& rig, rigsim::FaultPlan*
     if (!rigsim::parse_fault_kind(kind, &f.kind))
       return *error = where(s, "fault.kind") + " '" + kind +
                       "' unknown (drop, delay, duplicate, corrupt, stuck-counter, out-of-range, bus-off, "
-                      "modbus-timeout, modbus-exception)",
+                      "modbus-timeout, modbus-exception, encoder-glitch)",
              false;
     const double from = (*t)["from_s"].value_or(-1.0), to = (*t)["to_s"].value_or(-1.0);
     if (!(from >= 0 && to > from && to < 1e6)) return *error = where(s, "fault") + " needs 0 <= from_s < to_s", false;
@@ -270,7 +271,60 @@ bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& ri
   return true;
 }
 
-std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& rig, std::string* error) {
+// A GPIO source on the simulated rig's chip: each latch first plays the
+// encoders' motion up to the tick onto the lines, then reads them as the
+// real chip would be read.
+class SimulatedGpioRig final : public hal::InputSource {
+ public:
+  SimulatedGpioRig(std::unique_ptr<rigsim::SimulatedEncoders> rig, std::unique_ptr<hal::gpio::GpioSource> source)
+      : rig_(std::move(rig)), source_(std::move(source)) {}
+  const char* name() const override { return source_->name(); }
+  size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, hal::InputHealth& health) override {
+    rig_->advance(until_ns);
+    return source_->latch(until_ns, out, health);
+  }
+  hal::SourceState state() const override { return source_->state(); }
+  std::string status_line() const override {
+    return source_->status_line() + ", glitches injected " + std::to_string(rig_->glitches());
+  }
+
+ private:
+  std::unique_ptr<rigsim::SimulatedEncoders> rig_;  // the wire outlives the source's chip
+  std::unique_ptr<hal::gpio::GpioSource> source_;
+};
+
+std::unique_ptr<hal::InputSource> simulated_gpio(const SourceConfig& s, const LoadedRig& rig,
+                                                 hal::gpio::GpioSourceConfig c, uint64_t start_ns,
+                                                 std::string* error) {
+  rigsim::SimulatedEncoderOptions options;
+  if (!read_ms(s, "update_ms", 1.0, 0.01, 1000, &options.update_ns, error) ||
+      !read_faults(s, rig, &options.faults, error))
+    return nullptr;
+  for (const rigsim::Fault& f : options.faults.faults)
+    if (f.kind != rigsim::FaultKind::kEncoderGlitch)
+      return *error = where(s, "fault.kind") + " '" + rigsim::fault_kind_name(f.kind) +
+                      "' does not apply to GPIO (encoder-glitch)",
+             nullptr;
+  if (!c.limits.empty() || c.sync.line != hal::gpio::kNoLine)
+    return *error = where(s, "chip") + " \"simulated-rig\" drives encoders only (no limit or sync lines)", nullptr;
+  const int64_t lines = s.table["lines"].value_or(int64_t{64});
+  if (lines < 1 || lines > 65536) return *error = where(s, "lines") + " must be 1..65536", nullptr;
+  std::vector<rigsim::InputRange> ranges;
+  std::vector<bool> rotation;
+  rig_inputs(rig, &ranges, &rotation);
+  rigsim::RigMotion motion(ranges);
+  const auto line_count = static_cast<uint32_t>(lines);
+  if (!rigsim::SimulatedEncoders::validate(c.encoders, options, motion, rotation, line_count, error))
+    return *error = "source " + s.name + ": " + *error, nullptr;
+  auto encoders = std::make_unique<rigsim::SimulatedEncoders>(std::move(motion), c.encoders, std::move(options),
+                                                              line_count, start_ns);
+  auto source = hal::gpio::GpioSource::create(std::move(c), encoders->wire().chip(), error);
+  if (!source) return *error = "source " + s.name + ": " + *error, nullptr;
+  return std::make_unique<SimulatedGpioRig>(std::move(encoders), std::move(source));
+}
+
+std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& rig, uint64_t start_ns,
+                                       std::string* error) {
   hal::gpio::GpioSourceConfig c;
   c.name = s.name;
   c.chip = s.table["chip"].value_or<std::string>("gpiochip0");
@@ -339,6 +393,8 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
     c.fault.line = static_cast<int32_t>(line(*fault, "line", -1));
     c.fault.active_low = (*fault)["active_low"].value_or(false);
   }
+  // The simulated rig's encoders instead of a kernel chip (CI, demos).
+  if (c.chip == "simulated-rig") return simulated_gpio(s, rig, std::move(c), start_ns, error);
   auto source = hal::gpio::GpioSource::create(std::move(c), error);
   if (!source) *error = "source " + s.name + ": " + *error;
   return source;
@@ -352,7 +408,7 @@ std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const L
   if (s.type == "candump") return candump(s, rig, config, start_ns, error);
   if (s.type == "simulated-rig") return simulated_rig(s, rig, config, start_ns, error);
   if (s.type == "modbus") return modbus(s, rig, error);
-  if (s.type == "gpio") return gpio(s, rig, error);
+  if (s.type == "gpio") return gpio(s, rig, start_ns, error);
   *error =
       "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus, gpio)";
   return nullptr;

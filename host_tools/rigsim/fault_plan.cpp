@@ -7,7 +7,7 @@ namespace sinew::rigsim {
 
 namespace {
 
-constexpr std::array<std::pair<FaultKind, const char*>, 9> kNames{{
+constexpr std::array<std::pair<FaultKind, const char*>, 10> kNames{{
     {FaultKind::kDrop, "drop"},
     {FaultKind::kDelay, "delay"},
     {FaultKind::kDuplicate, "duplicate"},
@@ -17,6 +17,7 @@ constexpr std::array<std::pair<FaultKind, const char*>, 9> kNames{{
     {FaultKind::kBusOff, "bus-off"},
     {FaultKind::kModbusTimeout, "modbus-timeout"},
     {FaultKind::kModbusException, "modbus-exception"},
+    {FaultKind::kEncoderGlitch, "encoder-glitch"},
 }};
 
 }  // namespace

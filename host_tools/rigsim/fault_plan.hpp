@@ -20,6 +20,7 @@ enum class FaultKind : uint8_t {
   kBusOff,           // the controller goes bus-off at the start, restarts at the end
   kModbusTimeout,    // the Modbus server stops answering
   kModbusException,  // the Modbus server answers exception 4 (server device failure)
+  kEncoderGlitch,    // both quadrature lines of an encoder spike together (illegal transitions)
 };
 
 struct Fault {
