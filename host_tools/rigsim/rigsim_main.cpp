@@ -63,6 +63,11 @@ bool parse_fault(const std::string& text, const sinew::firmware::LoadedRig& rig,
   parts.push_back(text.substr(start));
   if (parts.size() < 3 || !sinew::rigsim::parse_fault_kind(parts[0], &f->kind))
     return *error = "--fault " + text + ": expected kind:from_s:to_s[:input[:delay_ms]]", false;
+  if (f->kind == sinew::rigsim::FaultKind::kEncoderGlitch)
+    return *error = "--fault " + text +
+                    ": encoder glitches need the simulated GPIO chip, which lives inside sinewd "
+                    "(a gpio source with chip = \"simulated-rig\")",
+           false;
   char* end = nullptr;
   const double from = std::strtod(parts[1].c_str(), &end), to = std::strtod(parts[2].c_str(), &end);
   if (!(from >= 0 && to > from)) return *error = "--fault " + text + ": needs 0 <= from < to", false;
