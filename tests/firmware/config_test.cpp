@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "firmware/daemon/bus_sources.hpp"
 #include "firmware/daemon/config.hpp"
 #include "firmware/daemon/loaded_rig.hpp"
 
@@ -48,4 +49,41 @@ TEST(DaemonConfig, CorruptRigBlobIsRejectedWithTheLoaderMessage) {
   std::string error;
   EXPECT_FALSE(sinew::firmware::load_rig("", path, &rig, &error));
   EXPECT_NE(error.find("corrupt.rig: rig blob: header"), std::string::npos) << error;
+}
+
+// A gpio source on the simulated rig's chip: encoders only, encoder-glitch
+// faults only, and the wiring checked like a real chip's.
+TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
+  sinew::firmware::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(sinew::firmware::load_rig("arm", "", &rig, &error)) << error;
+  const auto source_error = [&](const std::string& source) {
+    DaemonConfig c;
+    std::string e;
+    EXPECT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nname = \"enc\"\n"
+                             "chip = \"simulated-rig\"\n" + source,
+                             "t.toml", &c, &e))
+        << e;
+    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << source;
+    return e;
+  };
+  const std::string encoder = "[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 0\nline_b = 1\n";
+  EXPECT_NE(source_error(encoder + "[[source.fault]]\nkind = \"drop\"\nfrom_s = 1\nto_s = 2\n")
+                .find("source enc: fault.kind 'drop' does not apply to GPIO (encoder-glitch)"),
+            std::string::npos);
+  EXPECT_NE(source_error(encoder + "[[source.limit]]\ninput = \"elbow.0\"\nline = 5\n")
+                .find("drives encoders only"),
+            std::string::npos);
+  EXPECT_NE(source_error("lines = 8\n[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 0\nline_b = 9\n")
+                .find("line 9 is beyond the simulated chip's 8 lines"),
+            std::string::npos);
+  EXPECT_NE(source_error("update_ms = 0.001\n" + encoder).find("source enc: update_ms must be in"),
+            std::string::npos);
+
+  DaemonConfig c;
+  ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nname = \"enc\"\n"
+                           "chip = \"simulated-rig\"\n" + encoder,
+                           "t.toml", &c, &error))
+      << error;
+  EXPECT_NE(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << error;
 }
