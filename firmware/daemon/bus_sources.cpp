@@ -294,8 +294,7 @@ class SimulatedGpioRig final : public hal::InputSource {
 };
 
 std::unique_ptr<hal::InputSource> simulated_gpio(const SourceConfig& s, const LoadedRig& rig,
-                                                 hal::gpio::GpioSourceConfig c, uint64_t start_ns,
-                                                 std::string* error) {
+                                                 hal::gpio::GpioSourceConfig c, uint64_t start_ns, std::string* error) {
   rigsim::SimulatedEncoderOptions options;
   if (!read_ms(s, "update_ms", 1.0, 0.01, 1000, &options.update_ns, error) ||
       !read_faults(s, rig, &options.faults, error))

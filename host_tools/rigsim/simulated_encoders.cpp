@@ -73,8 +73,8 @@ int64_t SimulatedEncoders::target_count(size_t encoder, uint64_t t_ns) const {
   const EncoderConfig& e = encoders_[encoder];
   // Signed turn fraction from the offset (wraps like every binary angle), in
   // 2^-32 turns; |diff| * cpt < 2^61, rounded half up.
-  const auto diff = static_cast<int32_t>(static_cast<uint32_t>(motion_.value(e.input, t_ns)) -
-                                         static_cast<uint32_t>(e.offset));
+  const auto diff =
+      static_cast<int32_t>(static_cast<uint32_t>(motion_.value(e.input, t_ns)) - static_cast<uint32_t>(e.offset));
   return (int64_t{diff} * e.counts_per_turn + (int64_t{1} << 31)) >> 32;
 }
 

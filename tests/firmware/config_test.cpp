@@ -1,7 +1,8 @@
+#include "firmware/daemon/config.hpp"
+
 #include <gtest/gtest.h>
 
 #include "firmware/daemon/bus_sources.hpp"
-#include "firmware/daemon/config.hpp"
 #include "firmware/daemon/loaded_rig.hpp"
 
 using sinew::firmware::DaemonConfig;
@@ -19,8 +20,9 @@ std::string error_of(const std::string& text) {
 TEST(DaemonConfig, DefaultsAndValues) {
   DaemonConfig c;
   std::string error;
-  ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"hand\"\n[loop]\nrate_hz = 500\n[[source]]\ntype = \"trajectory\"\nperiod_ms = 4\n",
-                           "t.toml", &c, &error))
+  ASSERT_TRUE(parse_config(
+      "[rig]\nbuiltin = \"hand\"\n[loop]\nrate_hz = 500\n[[source]]\ntype = \"trajectory\"\nperiod_ms = 4\n", "t.toml",
+      &c, &error))
       << error;
   EXPECT_EQ(c.rig_builtin, "hand");
   EXPECT_EQ(c.rate_hz, 500u);
@@ -32,9 +34,11 @@ TEST(DaemonConfig, DefaultsAndValues) {
 TEST(DaemonConfig, BadInputNamesFileLineAndKey) {
   EXPECT_NE(error_of("[rig]\nbuiltin = \"leg\"\n").find("test.toml:2: [rig] builtin"), std::string::npos);
   EXPECT_NE(error_of("[loop]\n").find("[rig] needs exactly one"), std::string::npos);
-  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[loop]\nrate_hz = 0\n").find("test.toml:4: rate_hz"), std::string::npos);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[loop]\nrate_hz = 0\n").find("test.toml:4: rate_hz"),
+            std::string::npos);
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[loop]\nmode = \"fast\"\n").find("[loop] mode"), std::string::npos);
-  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[[source]]\nperiod_ms = 3\n").find("[[source]] type"), std::string::npos);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[[source]]\nperiod_ms = 3\n").find("[[source]] type"),
+            std::string::npos);
   EXPECT_NE(error_of("[rig\n").find("test.toml:1"), std::string::npos);
 }
 
@@ -60,9 +64,11 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
   const auto source_error = [&](const std::string& source) {
     DaemonConfig c;
     std::string e;
-    EXPECT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nname = \"enc\"\n"
-                             "chip = \"simulated-rig\"\n" + source,
-                             "t.toml", &c, &e))
+    EXPECT_TRUE(
+        parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nname = \"enc\"\n"
+                     "chip = \"simulated-rig\"\n" +
+                         source,
+                     "t.toml", &c, &e))
         << e;
     EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << source;
     return e;
@@ -71,19 +77,19 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
   EXPECT_NE(source_error(encoder + "[[source.fault]]\nkind = \"drop\"\nfrom_s = 1\nto_s = 2\n")
                 .find("source enc: fault.kind 'drop' does not apply to GPIO (encoder-glitch)"),
             std::string::npos);
-  EXPECT_NE(source_error(encoder + "[[source.limit]]\ninput = \"elbow.0\"\nline = 5\n")
-                .find("drives encoders only"),
+  EXPECT_NE(source_error(encoder + "[[source.limit]]\ninput = \"elbow.0\"\nline = 5\n").find("drives encoders only"),
             std::string::npos);
   EXPECT_NE(source_error("lines = 8\n[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 0\nline_b = 9\n")
                 .find("line 9 is beyond the simulated chip's 8 lines"),
             std::string::npos);
-  EXPECT_NE(source_error("update_ms = 0.001\n" + encoder).find("source enc: update_ms must be in"),
-            std::string::npos);
+  EXPECT_NE(source_error("update_ms = 0.001\n" + encoder).find("source enc: update_ms must be in"), std::string::npos);
 
   DaemonConfig c;
-  ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nname = \"enc\"\n"
-                           "chip = \"simulated-rig\"\n" + encoder,
-                           "t.toml", &c, &error))
+  ASSERT_TRUE(
+      parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nname = \"enc\"\n"
+                   "chip = \"simulated-rig\"\n" +
+                       encoder,
+                   "t.toml", &c, &error))
       << error;
   EXPECT_NE(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << error;
 }

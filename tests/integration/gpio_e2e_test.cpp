@@ -35,18 +35,19 @@ TEST(GpioEndToEnd, SimulatedEncodersDriveTheArm) {
   const std::string dir = testing::TempDir();
   const std::string config = dir + "/gpio_e2e.toml", out = dir + "/gpio_e2e.out", frames = dir + "/gpio_e2e.frames";
   std::remove(frames.c_str());
-  std::ofstream(config) << "[rig]\nbuiltin = \"arm\"\n"
-                           "[loop]\nrate_hz = 100\nduration_s = 3.0\nstats_interval_s = 0\nmode = \"offline\"\n"
-                           "[inputs]\ndefault_period_ms = 10.0\n"
-                           "[[source]]\ntype = \"gpio\"\nname = \"encoders\"\nchip = \"simulated-rig\"\nupdate_ms = 5.0\n"
-                           "[[source.encoder]]\ninput = \"forearm_twist.0\"\nline_a = 0\nline_b = 1\n"
-                           "counts_per_turn = 2048\n"
-                           "[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 2\nline_b = 3\nline_index = 4\n"
-                           "counts_per_turn = 3600\noffset_deg = 75.0\n"
-                           "[[source.fault]]\nkind = \"encoder-glitch\"\ninput = \"forearm_twist.0\"\n"
-                           "from_s = 2.0\nto_s = 2.1\n"
-                           "[[sink]]\ntype = \"log\"\npath = \""
-                        << frames << "\"\n";
+  std::ofstream(config)
+      << "[rig]\nbuiltin = \"arm\"\n"
+         "[loop]\nrate_hz = 100\nduration_s = 3.0\nstats_interval_s = 0\nmode = \"offline\"\n"
+         "[inputs]\ndefault_period_ms = 10.0\n"
+         "[[source]]\ntype = \"gpio\"\nname = \"encoders\"\nchip = \"simulated-rig\"\nupdate_ms = 5.0\n"
+         "[[source.encoder]]\ninput = \"forearm_twist.0\"\nline_a = 0\nline_b = 1\n"
+         "counts_per_turn = 2048\n"
+         "[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 2\nline_b = 3\nline_index = 4\n"
+         "counts_per_turn = 3600\noffset_deg = 75.0\n"
+         "[[source.fault]]\nkind = \"encoder-glitch\"\ninput = \"forearm_twist.0\"\n"
+         "from_s = 2.0\nto_s = 2.1\n"
+         "[[sink]]\ntype = \"log\"\npath = \""
+      << frames << "\"\n";
   const std::string cmd = std::string(SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
   const int status = std::system(cmd.c_str());
   const std::string report = slurp(out);
