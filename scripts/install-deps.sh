@@ -2,7 +2,9 @@
 # Installs the Debian 12 packages sinew needs, skipping those already present.
 # Usage: scripts/install-deps.sh [runtime|test]
 #   runtime: what building and running the main job needs
-#   test:    everything the full test suite needs (cross toolchains, qemu-user, ...)
+#   test:    everything the full test suite needs (cross toolchains, qemu-user,
+#            and the arm64 builds of the firmware's libraries for the aarch64
+#            preset, which adds arm64 as a dpkg foreign architecture)
 set -euo pipefail
 
 profile="${1:-test}"
@@ -18,10 +20,18 @@ test_pkgs=(
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user-static
   can-utils
 )
+# The aarch64 preset cross-builds hal/ and the firmware: their libraries as
+# arm64 multiarch packages, pkgconf:arm64 for aarch64-linux-gnu-pkg-config, and
+# the arm64 C and C++ runtime its tests run on under qemu-user.
+# (No armhf equivalent: the armhf preset builds sim_core only.)
+cross_arm64_pkgs=(
+  libgpiod-dev:arm64 libmodbus-dev:arm64 libtomlplusplus-dev:arm64 pkgconf:arm64
+  libc6:arm64 libstdc++6:arm64
+)
 
 case "$profile" in
   runtime) wanted=("${runtime_pkgs[@]}") ;;
-  test) wanted=("${test_pkgs[@]}") ;;
+  test) wanted=("${test_pkgs[@]}" "${cross_arm64_pkgs[@]}") ;;
   *) echo "install-deps: unknown profile '$profile' (runtime|test)" >&2; exit 2 ;;
 esac
 
@@ -37,5 +47,11 @@ echo "install-deps: installing ${missing[*]}"
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive
+if [[ " ${missing[*]}" == *:arm64* ]] &&
+   [ "$(dpkg --print-architecture)" != arm64 ] &&
+   ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  echo "install-deps: adding arm64 as a foreign architecture"
+  "${sudo_cmd[@]}" dpkg --add-architecture arm64
+fi
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

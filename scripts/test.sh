@@ -3,7 +3,9 @@
 #   dev      gcc Debug with ASan+UBSan: every unit, property, integration test
 #   release  gcc Release: the same tests at -O3, and the benchmarks' smoke runs
 #   clang    clang RelWithDebInfo: unit and determinism tests
-#   aarch64, armhf  cross builds under qemu-user: sim_core unit and determinism tests
+#   aarch64  cross build under qemu-user: sim_core, hal and firmware tests,
+#            and the integration tests through the aarch64 daemon
+#   armhf    cross build under qemu-user: sim_core unit and determinism tests
 # Every build prints its `determinism-hash` lines; they must all agree.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,7 +28,7 @@ for preset in "${presets[@]}"; do
   while read -r exe; do
     emu=()
     case "$preset" in
-      aarch64) emu=(qemu-aarch64-static -L /usr/aarch64-linux-gnu) ;;
+      aarch64) emu=(qemu-aarch64-static -L /) ;;  # as cmake/toolchain-aarch64.cmake
       armhf) emu=(qemu-arm-static -L /usr/arm-linux-gnueabihf) ;;
     esac
     "${emu[@]}" "$exe" --gtest_brief=1 | grep '^determinism-hash' | sed "s/^/$preset /" >> "$hash_log"

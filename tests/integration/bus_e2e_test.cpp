@@ -38,7 +38,7 @@ DaemonRun run_daemon(const std::string& name, const std::string& config_body, co
   const std::string config = dir + "/" + name + ".toml", out = dir + "/" + name + ".out";
   std::remove(frames_path.c_str());
   std::ofstream(config) << config_body << "[[sink]]\ntype = \"log\"\npath = \"" << frames_path << "\"\n";
-  const std::string cmd = std::string(SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
+  const std::string cmd = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
   DaemonRun r;
   const int status = std::system(cmd.c_str());
   r.out = slurp(out);

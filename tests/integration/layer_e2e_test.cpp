@@ -23,7 +23,8 @@ std::vector<sinew::hal::output::DecodedPose> run(const std::string& name, const 
                         << layers
                         << "\n[[source]]\ntype = \"simulated-rig\"\nperiod_ms = 10\n[[sink]]\ntype = \"log\"\npath = \""
                         << log << "\"\n";
-  const std::string cmd = std::string(SINEWD_EXE) + " --config " + config + " > " + dir + "/" + name + ".out";
+  const std::string cmd =
+      std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + dir + "/" + name + ".out";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::vector<sinew::hal::output::DecodedPose> poses;
   sinew::hal::output::FrameLogReader reader;
@@ -67,7 +68,8 @@ TEST(LayerEndToEnd, MetaballsNeedTheBuiltInArm) {
   const std::string dir = testing::TempDir();
   const std::string config = dir + "/hand-balls.toml";
   std::ofstream(config) << "[rig]\nbuiltin = \"hand\"\n[layers]\nmetaballs = true\n";
-  const std::string cmd = std::string(SINEWD_EXE) + " --config " + config + " > " + dir + "/hb.out 2>&1";
+  const std::string cmd =
+      std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + dir + "/hb.out 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2);
   std::ifstream in(dir + "/hb.out");
   const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -45,8 +45,8 @@ TEST(LiveOffline, LiveAndOfflineRunsWriteIdenticalFrames) {
   std::remove(offline_log.c_str());
   for (const auto& [mode, log] :
        {std::pair{std::string("live"), live_log}, std::pair{std::string("offline"), offline_log}}) {
-    const std::string cmd =
-        std::string(SINEWD_EXE) + " --config " + write_config(dir, mode, log) + " > " + dir + "/" + mode + ".out";
+    const std::string cmd = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + write_config(dir, mode, log) +
+                            " > " + dir + "/" + mode + ".out";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   const Frames live = read_all(live_log), offline = read_all(offline_log);
