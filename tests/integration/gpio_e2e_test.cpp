@@ -48,7 +48,7 @@ TEST(GpioEndToEnd, SimulatedEncodersDriveTheArm) {
          "from_s = 2.0\nto_s = 2.1\n"
          "[[sink]]\ntype = \"log\"\npath = \""
       << frames << "\"\n";
-  const std::string cmd = std::string(SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
+  const std::string cmd = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
   const int status = std::system(cmd.c_str());
   const std::string report = slurp(out);
   ASSERT_EQ(status, 0) << cmd << "\n" << report;
