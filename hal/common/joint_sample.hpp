@@ -3,6 +3,7 @@
 // only the input index, the value and when it arrived.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace sinew::hal {
@@ -10,10 +11,10 @@ namespace sinew::hal {
 // Value formats (docs/numerics.md): a rotational input is a signed binary
 // angle (2^32 = one turn); a translational one is Q12.20 rig units.
 struct JointSample {
-  uint16_t input = 0;        // index into the rig's inputs
+  uint16_t input = 0;  // index into the rig's inputs
   int32_t value = 0;
-  uint64_t timestamp_ns = 0; // arrival time (kernel timestamp where available), CLOCK_MONOTONIC
-  uint8_t status = 0;        // SampleStatus bits reported by the sender
+  uint64_t timestamp_ns = 0;  // arrival time (kernel timestamp where available), CLOCK_MONOTONIC
+  uint8_t status = 0;         // SampleStatus bits reported by the sender
 };
 
 enum SampleStatus : uint8_t {
@@ -33,5 +34,8 @@ enum class RejectReason : uint8_t {
 };
 
 const char* reject_reason_name(RejectReason r);
+
+// The reason as an index into per-reason counter arrays.
+constexpr size_t reason_index(RejectReason r) { return static_cast<size_t>(r); }
 
 }  // namespace sinew::hal

@@ -17,6 +17,10 @@
 
 namespace sinew::hal::gpio {
 
+// The AB states (A << 1 | B) of successive forward positions; position p is
+// in state kQuadratureForward[p mod 4].
+inline constexpr uint8_t kQuadratureForward[4] = {0b00, 0b10, 0b11, 0b01};
+
 // Direction of one state change: +1 forward, -1 backward, 0 no change,
 // kIllegalStep for a both-lines change.
 inline constexpr int8_t kIllegalStep = 2;

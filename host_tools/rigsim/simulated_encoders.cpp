@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "hal/gpio/quadrature.hpp"
+
 namespace sinew::rigsim {
 
 namespace {
@@ -9,14 +11,13 @@ namespace {
 using hal::gpio::EncoderConfig;
 using hal::gpio::kNoLine;
 
-// AB states in the decoder's forward order (hal/gpio/quadrature.hpp).
-constexpr uint8_t kForward[4] = {0, 2, 3, 1};
+using hal::gpio::kQuadratureForward;
 constexpr uint64_t kGlitchWidthNs = 1000;
 
 uint8_t state_of(const EncoderConfig& e, int64_t position) {
   // An inverted encoder's decoder counts B-leads-A as forward: the wire runs backwards.
   const int64_t raw = e.invert ? -position : position;
-  return kForward[static_cast<size_t>(((raw % 4) + 4) % 4)];
+  return kQuadratureForward[static_cast<size_t>(((raw % 4) + 4) % 4)];
 }
 
 }  // namespace

@@ -1,9 +1,8 @@
 // Error frames → bus state, as the kernel's CAN drivers report them.
-#include <gtest/gtest.h>
-
-#include <linux/can/error.h>
-
 #include "hal/can/bus_state.hpp"
+
+#include <gtest/gtest.h>
+#include <linux/can/error.h>
 
 namespace sinew::hal::can {
 namespace {

@@ -1,19 +1,21 @@
 // The per-tick path end to end on the simulated bus: drain, decode, latch by
 // timestamp, receive timeouts, bus-off and recovery, no allocation.
+#include "hal/can/can_receiver.hpp"
+
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "hal/can/can_receiver.hpp"
 #include "hal/can/joint_stream_decoder.hpp"
 #include "hal/can/joint_stream_encoder.hpp"
 #include "hal/can/simulated_can_bus.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace sinew::hal::can {
 namespace {
 
-constexpr uint64_t kMs = 1'000'000;
+using sinew::test::kMs;
 constexpr uint64_t kPeriod = 10 * kMs;  // default timeout 15 ms
 
 class ReceiverTest : public ::testing::Test {
@@ -79,7 +81,7 @@ TEST_F(ReceiverTest, FiltersKeepUnknownIdentifiersOffTheQueue) {
 TEST_F(ReceiverTest, StaleAfterOneAndAHalfPeriodsWithoutAValidSample) {
   send_all(1, 1 * kMs);
   receiver_.poll(1 * kMs);
-  EXPECT_TRUE(stale(16 * kMs).empty());              // 15 ms after the sample: not yet
+  EXPECT_TRUE(stale(16 * kMs).empty());  // 15 ms after the sample: not yet
   EXPECT_EQ(stale(16 * kMs + 1), (std::vector<uint16_t>{0, 1, 2}));
   EXPECT_EQ(receiver_.timeouts().stale_events(), 3u);
   EXPECT_EQ(stale(30 * kMs).size(), 3u);

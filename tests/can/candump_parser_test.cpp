@@ -121,21 +121,21 @@ TEST(CandumpParser, BlankAndCommentLinesAreSkipped) {
 TEST(CandumpParser, BadLinesSayWhy) {
   EXPECT_STREQ(parse_error("vcan0 123#00"), "line does not start with a '(' timestamp");
   EXPECT_STRNE(parse_error("(abc) vcan0 123#00"), "");
-  EXPECT_STRNE(parse_error("(1436509052) vcan0 123#00"), "");      // no fraction
-  EXPECT_STRNE(parse_error("(1.0123456789) vcan0 123#00"), "");    // 10 fraction digits
-  EXPECT_STRNE(parse_error("(1.0) vcan0"), "");                    // no frame
-  EXPECT_STRNE(parse_error("(1.0)"), "");                          // no interface
-  EXPECT_STRNE(parse_error("(1.0) vcan0 123"), "");                // no '#'
-  EXPECT_STRNE(parse_error("(1.0) vcan0 1234#00"), "");            // 4 digits
-  EXPECT_STRNE(parse_error("(1.0) vcan0 800#00"), "");             // > 7FF
-  EXPECT_STRNE(parse_error("(1.0) vcan0 40000000#00"), "");        // > 29 bits
-  EXPECT_STRNE(parse_error("(1.0) vcan0 12G#00"), "");             // not hex
-  EXPECT_STRNE(parse_error("(1.0) vcan0 123#0"), "");              // odd digit count
-  EXPECT_STRNE(parse_error("(1.0) vcan0 123#001122334455667788"), "");  // 9 bytes classic
-  EXPECT_STRNE(parse_error("(1.0) vcan0 123#R9"), "");             // remote length > 8
-  EXPECT_STRNE(parse_error("(1.0) vcan0 123##"), "");              // FD without flags
+  EXPECT_STRNE(parse_error("(1436509052) vcan0 123#00"), "");             // no fraction
+  EXPECT_STRNE(parse_error("(1.0123456789) vcan0 123#00"), "");           // 10 fraction digits
+  EXPECT_STRNE(parse_error("(1.0) vcan0"), "");                           // no frame
+  EXPECT_STRNE(parse_error("(1.0)"), "");                                 // no interface
+  EXPECT_STRNE(parse_error("(1.0) vcan0 123"), "");                       // no '#'
+  EXPECT_STRNE(parse_error("(1.0) vcan0 1234#00"), "");                   // 4 digits
+  EXPECT_STRNE(parse_error("(1.0) vcan0 800#00"), "");                    // > 7FF
+  EXPECT_STRNE(parse_error("(1.0) vcan0 40000000#00"), "");               // > 29 bits
+  EXPECT_STRNE(parse_error("(1.0) vcan0 12G#00"), "");                    // not hex
+  EXPECT_STRNE(parse_error("(1.0) vcan0 123#0"), "");                     // odd digit count
+  EXPECT_STRNE(parse_error("(1.0) vcan0 123#001122334455667788"), "");    // 9 bytes classic
+  EXPECT_STRNE(parse_error("(1.0) vcan0 123#R9"), "");                    // remote length > 8
+  EXPECT_STRNE(parse_error("(1.0) vcan0 123##"), "");                     // FD without flags
   EXPECT_STRNE(parse_error("(1.0) vcan0 123##0001122334455667788"), "");  // FD length 9
-  EXPECT_STRNE(parse_error("(1.0) vcan0 20000004#R"), "");         // remote error frame
+  EXPECT_STRNE(parse_error("(1.0) vcan0 20000004#R"), "");                // remote error frame
   EXPECT_STREQ(parse_error("(1.0) vcan0 45123#81:00:12345678#11"), "CAN XL frames are not supported");
 }
 

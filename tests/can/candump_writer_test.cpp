@@ -1,6 +1,7 @@
 // The writer produces candump's exact text, and what it writes parses back.
-#include <gtest/gtest.h>
+#include "hal/can/candump_writer.hpp"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -9,7 +10,6 @@
 #include <string>
 
 #include "hal/can/candump_format.hpp"
-#include "hal/can/candump_writer.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace sinew::hal::can {
@@ -33,7 +33,8 @@ CanFrame data_frame(uint32_t id, bool extended, std::initializer_list<int> bytes
 TEST(CandumpWriter, ExactCandumpText) {
   EXPECT_EQ(line_of(data_frame(0x123, false, {0xDE, 0xAD, 0xBE, 0xEF}, 1436509052249713000u), "vcan0"),
             "(1436509052.249713) vcan0 123#DEADBEEF\n");
-  EXPECT_EQ(line_of(data_frame(0x11FC1063, true, {0, 0x3D}, 7'000'001'999u)), "(0000000007.000001) can0 11FC1063#003D\n");
+  EXPECT_EQ(line_of(data_frame(0x11FC1063, true, {0, 0x3D}, 7'000'001'999u)),
+            "(0000000007.000001) can0 11FC1063#003D\n");
   EXPECT_EQ(line_of(data_frame(0x7FF, false, {}, 0)), "(0000000000.000000) can0 7FF#\n");
 }
 

@@ -3,9 +3,9 @@
 // the DBC's own signal definitions gives the protocol decoder's values.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <map>
-#include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -57,8 +57,8 @@ std::map<uint32_t, DbcMessage> read_dbc() {
       unsigned start = 0, length = 0;
       char order = 0, sign = 0;
       int consumed = 0;
-      const int fields = std::sscanf(line.c_str(), " SG_ %63s : %u|%u@%c%c (%lf,%lf) [%lf|%lf]%n", name, &start, &length,
-                                     &order, &sign, &s.scale, &s.offset, &s.min, &s.max, &consumed);
+      const int fields = std::sscanf(line.c_str(), " SG_ %63s : %u|%u@%c%c (%lf,%lf) [%lf|%lf]%n", name, &start,
+                                     &length, &order, &sign, &s.scale, &s.offset, &s.min, &s.max, &consumed);
       EXPECT_EQ(fields, 9) << "unparsed signal line: " << line;
       if (current == nullptr || fields != 9) continue;
       const std::string rest = line.substr(static_cast<size_t>(consumed));
@@ -195,7 +195,8 @@ TEST(DbcFile, DecodingWithTheDbcSignalsAgreesWithTheProtocolDecoder) {
           EXPECT_EQ(a.samples[k].value, b.samples[k].value);
         }
         // The counter and CRC signals read the record's bytes.
-        const DbcSignal* counter = find(messages.at(config.frames[f].can_id), joint_name(config.frames[f].joints[0].input) + "_Counter");
+        const DbcSignal* counter =
+            find(messages.at(config.frames[f].can_id), joint_name(config.frames[f].joints[0].input) + "_Counter");
         EXPECT_EQ(extract_bits({frame.data.data(), frame.len}, counter->start, counter->length, ByteOrder::kIntel),
                   static_cast<uint64_t>(round % 15));
       }

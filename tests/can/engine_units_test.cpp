@@ -1,10 +1,10 @@
+#include "hal/can/engine_units.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <numbers>
-
-#include "hal/can/engine_units.hpp"
 
 namespace sinew::hal::can {
 namespace {

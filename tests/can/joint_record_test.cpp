@@ -1,9 +1,10 @@
+#include "hal/can/joint_record.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
 
 #include "hal/can/crc8_sae_j1850.hpp"
-#include "hal/can/joint_record.hpp"
 
 namespace sinew::hal::can {
 namespace {

@@ -1,25 +1,24 @@
 // Every receiver check of the default joint stream: the documented outcome
 // and the counter it moves (docs/can-protocol.md, "Receiver checks").
+#include "hal/can/joint_stream_decoder.hpp"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "hal/can/crc8_sae_j1850.hpp"
-#include "hal/can/joint_stream_decoder.hpp"
 #include "hal/can/joint_stream_encoder.hpp"
 
 namespace sinew::hal::can {
 namespace {
 
-constexpr uint64_t kPeriod = 10'000'000;  // 10 ms
+constexpr uint64_t kStreamPeriod = 10'000'000;  // 10 ms
 constexpr uint16_t kDataId = 0x5300;
-
-size_t reason_index(RejectReason r) { return static_cast<size_t>(r); }
 
 class ClassicJoint : public ::testing::Test {
  protected:
   void SetUp() override {
-    JointStreamConfig config = default_joint_stream_config(2, false, kPeriod);
+    JointStreamConfig config = default_joint_stream_config(2, false, kStreamPeriod);
     config.frames[0].joints[0].min = -1000;
     config.frames[0].joints[0].max = 1000;
     std::string error;
@@ -54,14 +53,14 @@ TEST_F(ClassicJoint, AcceptsAValidFrame) {
 
 TEST_F(ClassicJoint, FirstFrameIsAcceptedWhateverItsCounter) {
   EXPECT_EQ(send(9, 1, 0).sample_count, 1);
-  EXPECT_EQ(send(10, 2, kPeriod).sample_count, 1);
+  EXPECT_EQ(send(10, 2, kStreamPeriod).sample_count, 1);
 }
 
 TEST_F(ClassicJoint, BadCrcIsRejectedAndCountedAndLeavesTheCounterReference) {
   ASSERT_EQ(send(0, 1, 0).sample_count, 1);
   CanFrame f = encode_classic_joint_frame(kDefaultClassicBaseId, false, kDataId, {1, 0, 2});
   f.data[3] ^= 0x10;  // corrupted in transit
-  f.timestamp_ns = kPeriod;
+  f.timestamp_ns = kStreamPeriod;
   const FrameDecode d = feed(f);
   EXPECT_EQ(d.sample_count, 0);
   ASSERT_EQ(d.rejection_count, 1);
@@ -69,48 +68,48 @@ TEST_F(ClassicJoint, BadCrcIsRejectedAndCountedAndLeavesTheCounterReference) {
   EXPECT_EQ(d.rejections[0].reason, RejectReason::kBadCrc);
   EXPECT_EQ(rejected(RejectReason::kBadCrc), 1u);
   // The corrupted record did not move the counter reference: counter 1 is still next.
-  EXPECT_EQ(send(1, 3, 2 * kPeriod).sample_count, 1);
+  EXPECT_EQ(send(1, 3, 2 * kStreamPeriod).sample_count, 1);
 }
 
 TEST_F(ClassicJoint, RepeatedCounterIsRejectedAndCounted) {
   ASSERT_EQ(send(4, 1, 0).sample_count, 1);
-  const FrameDecode d = send(4, 2, kPeriod);
+  const FrameDecode d = send(4, 2, kStreamPeriod);
   EXPECT_EQ(d.sample_count, 0);
   ASSERT_EQ(d.rejection_count, 1);
   EXPECT_EQ(d.rejections[0].reason, RejectReason::kRepeatedCounter);
   EXPECT_EQ(rejected(RejectReason::kRepeatedCounter), 1u);
-  EXPECT_EQ(send(5, 3, 2 * kPeriod).sample_count, 1);
+  EXPECT_EQ(send(5, 3, 2 * kStreamPeriod).sample_count, 1);
 }
 
 TEST_F(ClassicJoint, CounterJumpIsRejectedCountedAndResynchronises) {
   ASSERT_EQ(send(4, 1, 0).sample_count, 1);
-  const FrameDecode d = send(6, 2, kPeriod);  // one frame lost: delta 2 > max delta 1
+  const FrameDecode d = send(6, 2, kStreamPeriod);  // one frame lost: delta 2 > max delta 1
   EXPECT_EQ(d.sample_count, 0);
   ASSERT_EQ(d.rejection_count, 1);
   EXPECT_EQ(d.rejections[0].reason, RejectReason::kCounterJump);
   EXPECT_EQ(rejected(RejectReason::kCounterJump), 1u);
   // The jumped counter is the new reference: the next consecutive record is accepted.
-  EXPECT_EQ(send(7, 3, 2 * kPeriod).sample_count, 1);
+  EXPECT_EQ(send(7, 3, 2 * kStreamPeriod).sample_count, 1);
   EXPECT_EQ(decoder_.counters(0).accepted, 2u);
 }
 
 TEST_F(ClassicJoint, WrapFromFourteenToZeroIsDeltaOne) {
   ASSERT_EQ(send(13, 1, 0).sample_count, 1);
-  EXPECT_EQ(send(14, 2, kPeriod).sample_count, 1);
-  EXPECT_EQ(send(0, 3, 2 * kPeriod).sample_count, 1);
+  EXPECT_EQ(send(14, 2, kStreamPeriod).sample_count, 1);
+  EXPECT_EQ(send(0, 3, 2 * kStreamPeriod).sample_count, 1);
   EXPECT_EQ(decoder_.counters(0).rejected_total(), 0u);
 }
 
 TEST_F(ClassicJoint, OutOfRangeIsRejectedCountedButKeepsTheSequence) {
-  ASSERT_EQ(send(0, 1000, 0).sample_count, 1);   // max is inclusive
-  const FrameDecode d = send(1, 1001, kPeriod);
+  ASSERT_EQ(send(0, 1000, 0).sample_count, 1);  // max is inclusive
+  const FrameDecode d = send(1, 1001, kStreamPeriod);
   EXPECT_EQ(d.sample_count, 0);
   ASSERT_EQ(d.rejection_count, 1);
   EXPECT_EQ(d.rejections[0].reason, RejectReason::kOutOfRange);
-  EXPECT_EQ(send(2, -1001, 2 * kPeriod).rejections[0].reason, RejectReason::kOutOfRange);
+  EXPECT_EQ(send(2, -1001, 2 * kStreamPeriod).rejections[0].reason, RejectReason::kOutOfRange);
   EXPECT_EQ(rejected(RejectReason::kOutOfRange), 2u);
   // The authentic out-of-range records advanced the counter: 3 is next.
-  EXPECT_EQ(send(3, -1000, 3 * kPeriod).sample_count, 1);
+  EXPECT_EQ(send(3, -1000, 3 * kStreamPeriod).sample_count, 1);
 }
 
 TEST_F(ClassicJoint, WrongLengthIsMalformed) {
@@ -191,7 +190,7 @@ TEST_F(ClassicJoint, ChannelsCarryTheResolvedTimeout) {
 }
 
 TEST(JointStreamDecoderConfig, LargerMaxDeltaToleratesLostFrames) {
-  JointStreamConfig config = default_joint_stream_config(1, false, kPeriod);
+  JointStreamConfig config = default_joint_stream_config(1, false, kStreamPeriod);
   config.frames[0].joints[0].max_counter_delta = 3;
   JointStreamDecoder decoder;
   ASSERT_TRUE(decoder.configure(config, nullptr));
@@ -206,40 +205,40 @@ TEST(JointStreamDecoderConfig, LargerMaxDeltaToleratesLostFrames) {
 TEST(JointStreamDecoderConfig, RejectsInconsistentConfigurations) {
   std::string error;
   JointStreamDecoder decoder;
-  JointStreamConfig config = default_joint_stream_config(2, false, kPeriod);
+  JointStreamConfig config = default_joint_stream_config(2, false, kStreamPeriod);
   config.frames[1].can_id = config.frames[0].can_id;
   EXPECT_FALSE(decoder.configure(config, &error));
   EXPECT_NE(error.find("identifier"), std::string::npos) << error;
 
-  config = default_joint_stream_config(2, false, kPeriod);
+  config = default_joint_stream_config(2, false, kStreamPeriod);
   config.frames[0].joints.push_back(config.frames[1].joints[0]);
   EXPECT_FALSE(decoder.configure(config, &error));
 
-  config = default_joint_stream_config(9, true, kPeriod);
+  config = default_joint_stream_config(9, true, kStreamPeriod);
   config.frames[0].joints.push_back(config.frames[1].joints[0]);  // 9 in one FD frame
   EXPECT_FALSE(decoder.configure(config, &error));
 
-  config = default_joint_stream_config(2, false, kPeriod);
+  config = default_joint_stream_config(2, false, kStreamPeriod);
   config.frames[1].joints[0].data_id = config.frames[0].joints[0].data_id;
   EXPECT_FALSE(decoder.configure(config, &error));
   EXPECT_NE(error.find("data ID"), std::string::npos) << error;
 
-  config = default_joint_stream_config(2, false, kPeriod);
+  config = default_joint_stream_config(2, false, kStreamPeriod);
   config.frames[1].joints[0].input = 0;
   EXPECT_FALSE(decoder.configure(config, &error));
 
-  config = default_joint_stream_config(1, false, kPeriod);
+  config = default_joint_stream_config(1, false, kStreamPeriod);
   config.frames[0].joints[0].min = 5;
   config.frames[0].joints[0].max = 4;
   EXPECT_FALSE(decoder.configure(config, &error));
 
-  config = default_joint_stream_config(1, false, kPeriod);
+  config = default_joint_stream_config(1, false, kStreamPeriod);
   config.frames[0].joints[0].max_counter_delta = 15;
   EXPECT_FALSE(decoder.configure(config, &error));
   config.frames[0].joints[0].max_counter_delta = 0;
   EXPECT_FALSE(decoder.configure(config, &error));
 
-  config = default_joint_stream_config(1, false, kPeriod);
+  config = default_joint_stream_config(1, false, kStreamPeriod);
   config.frames[0].can_id = 0x800;  // not 11-bit
   EXPECT_FALSE(decoder.configure(config, &error));
 }
@@ -249,7 +248,7 @@ TEST(JointStreamDecoderConfig, RejectsInconsistentConfigurations) {
 class FdJoints : public ::testing::Test {
  protected:
   void SetUp() override {
-    config_ = default_joint_stream_config(11, true, kPeriod);  // 8 + 3 joints
+    config_ = default_joint_stream_config(11, true, kStreamPeriod);  // 8 + 3 joints
     ASSERT_TRUE(decoder_.configure(config_, nullptr));
     ASSERT_TRUE(sender_.configure(config_, nullptr));
   }
@@ -330,7 +329,7 @@ TEST_F(FdJoints, ClassicFrameOnAnFdIdIsMalformed) {
 }
 
 TEST(JointStreamSender, ManyFramesAcrossCounterWrapsAreAllAccepted) {
-  const JointStreamConfig config = default_joint_stream_config(3, false, kPeriod);
+  const JointStreamConfig config = default_joint_stream_config(3, false, kStreamPeriod);
   JointStreamSender sender;
   JointStreamDecoder decoder;
   ASSERT_TRUE(sender.configure(config, nullptr));
@@ -339,7 +338,7 @@ TEST(JointStreamSender, ManyFramesAcrossCounterWrapsAreAllAccepted) {
   for (int i = 0; i < 100; ++i) {
     for (size_t f = 0; f < sender.frame_count(); ++f) {
       const int32_t v = i * 1000 + static_cast<int32_t>(f);
-      decoder.decode(sender.next(f, {&v, 1}, {}, static_cast<uint64_t>(i) * kPeriod), d);
+      decoder.decode(sender.next(f, {&v, 1}, {}, static_cast<uint64_t>(i) * kStreamPeriod), d);
       ASSERT_EQ(d.sample_count, 1) << "frame " << f << " step " << i;
       EXPECT_EQ(d.samples[0].value, v);
     }

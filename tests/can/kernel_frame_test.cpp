@@ -1,12 +1,11 @@
 // CanFrame <-> struct can_frame / canfd_frame and CAN_RAW_FILTER entries.
-#include <gtest/gtest.h>
+#include "hal/can/kernel_frame.hpp"
 
+#include <gtest/gtest.h>
 #include <linux/can.h>
 #include <linux/can/error.h>
 
 #include <cstring>
-
-#include "hal/can/kernel_frame.hpp"
 
 namespace sinew::hal::can {
 namespace {

@@ -1,10 +1,10 @@
 // DBC bit placement, against frames computed by hand.
+#include "hal/can/signal_bits.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstdint>
-
-#include "hal/can/signal_bits.hpp"
 
 namespace sinew::hal::can {
 namespace {
@@ -82,7 +82,7 @@ TEST(SignalBitsMotorola, SixtyFourBits) {
 TEST(SignalBits, ImpossibleFieldsNeedNoBytes) {
   EXPECT_EQ(bytes_needed(0, 0, ByteOrder::kIntel), 0u);
   EXPECT_EQ(bytes_needed(0, 65, ByteOrder::kIntel), 0u);
-  EXPECT_EQ(bytes_needed(508, 8, ByteOrder::kIntel), 0u);     // runs past byte 63
+  EXPECT_EQ(bytes_needed(508, 8, ByteOrder::kIntel), 0u);  // runs past byte 63
   EXPECT_EQ(bytes_needed(504, 8, ByteOrder::kIntel), 64u);
   EXPECT_EQ(bytes_needed(504, 9, ByteOrder::kMotorola), 0u);  // LSB would be in byte 64
   EXPECT_EQ(bytes_needed(512, 1, ByteOrder::kIntel), 0u);

@@ -1,16 +1,14 @@
 // Third-party encoder signals: raw bits → physical → range → engine units.
+#include "hal/can/signal_decoder.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <string>
 
-#include "hal/can/signal_decoder.hpp"
-
 namespace sinew::hal::can {
 namespace {
-
-size_t reason_index(RejectReason r) { return static_cast<size_t>(r); }
 
 CanFrame frame(uint32_t id, std::initializer_list<int> bytes, bool extended = false) {
   CanFrame f;

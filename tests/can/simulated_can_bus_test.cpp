@@ -1,11 +1,12 @@
 // The simulated twin behaves like the SocketCAN backend: queue order and
 // limits, filters, error frames, bus-off, interface down with back-off.
+#include "hal/can/simulated_can_bus.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
 #include <vector>
 
-#include "hal/can/simulated_can_bus.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace sinew::hal::can {
@@ -109,9 +110,9 @@ TEST(SimulatedCanBus, InterfaceDownIsReopenedWithBackoff) {
   EXPECT_EQ(bus.counters().reopen_attempts, 1u);
   bus.drain(out, 1299 * ms);
   EXPECT_EQ(bus.counters().reopen_attempts, 1u);
-  bus.drain(out, 1300 * ms);                      // attempt 2 fails: next at +400 ms (the cap)
+  bus.drain(out, 1300 * ms);  // attempt 2 fails: next at +400 ms (the cap)
   EXPECT_EQ(bus.counters().reopen_attempts, 2u);
-  bus.drain(out, 1700 * ms);                      // attempt 3 fails: next at +400 ms
+  bus.drain(out, 1700 * ms);  // attempt 3 fails: next at +400 ms
   EXPECT_EQ(bus.counters().reopen_attempts, 3u);
   bus.drain(out, 2099 * ms);
   EXPECT_EQ(bus.counters().reopen_attempts, 3u);

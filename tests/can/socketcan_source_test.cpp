@@ -1,8 +1,9 @@
 // The real SocketCAN backend. Needs a vcan0 interface (modprobe vcan;
 // ip link add vcan0 type vcan; ip link set vcan0 up); without it the tests
 // that need traffic skip. Opening a missing interface is tested everywhere.
-#include <gtest/gtest.h>
+#include "hal/can/socketcan_source.hpp"
 
+#include <gtest/gtest.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -15,7 +16,6 @@
 
 #include "hal/can/joint_stream_encoder.hpp"
 #include "hal/can/kernel_frame.hpp"
-#include "hal/can/socketcan_source.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace sinew::hal::can {

@@ -1,15 +1,17 @@
+#include "hal/common/input_health.hpp"
+
 #include <gtest/gtest.h>
 
-#include "hal/common/input_health.hpp"
 #include "firmware/runtime/step_timing.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 using sinew::hal::InputHealth;
 using sinew::hal::InputLimits;
 namespace hal = sinew::hal;
 
 namespace {
-constexpr uint64_t kMs = 1000000;
+using sinew::test::kMs;
 InputHealth make(uint64_t timeout_ns) {
   InputHealth h;
   const InputLimits limits[2] = {{-1000, 1000, timeout_ns}, {-1000, 1000, timeout_ns}};

@@ -1,18 +1,20 @@
+#include "firmware/runtime/runtime.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstring>
 
-#include "firmware/runtime/runtime.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace fw = sinew::firmware;
 namespace hal = sinew::hal;
 
 namespace {
 
-constexpr uint64_t kMs = 1000000;
+using sinew::test::kMs;
 
 // Delivers a fixed script of samples by timestamp; can be told to reject.
 class ScriptedSource : public fw::InputSource {
@@ -83,7 +85,7 @@ int32_t deg(double d) { return static_cast<int32_t>(d / 360.0 * 4294967296.0); }
 std::vector<hal::JointSample> script() {
   std::vector<hal::JointSample> s;
   for (uint64_t t = 1; t <= 100; ++t) {
-    s.push_back({3, deg(static_cast<double>(t)), t * kMs, 0});          // elbow flexes, every ms
+    s.push_back({3, deg(static_cast<double>(t)), t * kMs, 0});               // elbow flexes, every ms
     if (t <= 20) s.push_back({4, deg(static_cast<double>(t)), t * kMs, 0});  // twist stops at 20 ms
   }
   s.push_back({3, deg(30), 50 * kMs, 0xEE});  // a corrupted frame
@@ -134,7 +136,8 @@ TEST(Runtime, ClampedJointsAreFlaggedInTheFrame) {
   std::vector<fw::InputLimits> limits(arm.rig.input_count, fw::InputLimits{deg(-170), deg(170), 0});
   std::string error;
   ASSERT_TRUE(rt.init(arm.rig, limits, 0, &error));
-  rt.add_source(std::make_unique<ScriptedSource>(std::vector<hal::JointSample>{{3, deg(160), 1, 0}}));  // elbow limit 150
+  rt.add_source(
+      std::make_unique<ScriptedSource>(std::vector<hal::JointSample>{{3, deg(160), 1, 0}}));  // elbow limit 150
   const hal::PoseFrame& f = rt.step(kMs);
   EXPECT_TRUE(f.input_status[3] & hal::kJointClampedStatus);
   EXPECT_FALSE(f.input_status[0] & hal::kJointClampedStatus);

@@ -4,10 +4,12 @@
 
 #include <cstdio>
 
+#include "tests/support/time_units.hpp"
+
 namespace sinew::hal::gpio {
 namespace {
 
-constexpr uint64_t kUs = 1000;
+using sinew::test::kUs;
 
 TEST(Debouncer, BouncingPressIsOneChangeAfterTheLastEdge) {
   Debouncer d;

@@ -13,19 +13,19 @@
 #include "hal/common/input_health.hpp"
 #include "hal/gpio/simulated_gpio.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace sinew::hal::gpio {
 namespace {
 
-constexpr uint64_t kUs = 1000;
-constexpr uint64_t kMs = 1'000'000;
-constexpr uint8_t kForward[4] = {0, 2, 3, 1};  // AB Gray sequence
+using sinew::test::kMs;
+using sinew::test::kUs;
 
 // Plays an encoder on two lines of the wire: quarter-period steps at a fixed spacing.
 struct EncoderDriver {
   SimulatedGpio* wire;
   uint32_t a, b;
-  int pos = 0;  // index into kForward
+  int pos = 0;  // index into kQuadratureForward
   // Steps and latches every 8 quarter periods (4 edges per line), as a
   // ticking runtime would: the v1 kernel FIFO holds only 16 events per line.
   template <typename F>
@@ -40,8 +40,8 @@ struct EncoderDriver {
     for (int i = 0; i < (steps < 0 ? -steps : steps); ++i) {
       pos = (pos + (steps < 0 ? 3 : 1)) % 4;
       *t += spacing_ns;
-      wire->set_level(a, (kForward[pos] & 2) != 0, *t);
-      wire->set_level(b, (kForward[pos] & 1) != 0, *t);
+      wire->set_level(a, (kQuadratureForward[pos] & 2) != 0, *t);
+      wire->set_level(b, (kQuadratureForward[pos] & 1) != 0, *t);
     }
   }
 };
@@ -111,7 +111,7 @@ TEST(GpioSource, InvertOffsetAndActiveLow) {
   uint64_t t = 10;
   // Logical forward = physical inverse of the Gray sequence.
   for (int i = 1; i <= 100; ++i) {
-    const uint8_t ab = kForward[i % 4];
+    const uint8_t ab = kQuadratureForward[i % 4];
     t += 1000;
     wire.set_level(0, (ab & 2) == 0, t);
     wire.set_level(1, (ab & 1) == 0, t);

@@ -15,8 +15,6 @@
 namespace sinew::hal::gpio {
 namespace {
 
-constexpr uint8_t kForward[4] = {0, 2, 3, 1};
-
 // ns per tick of the bare decoder for `edges` edges (the baseline).
 double decoder_ns_per_tick(int edges) {
   QuadratureDecoder d;
@@ -28,8 +26,8 @@ double decoder_ns_per_tick(int edges) {
   for (int k = 0; k < ticks; ++k) {
     for (int i = 0; i < edges; ++i) {
       const int next = (pos + 1) % 4;
-      const uint8_t diff = static_cast<uint8_t>(kForward[pos] ^ kForward[next]);
-      d.on_edge(diff == 2 ? 0 : 1, (kForward[next] & diff) != 0, ++t);
+      const uint8_t diff = static_cast<uint8_t>(kQuadratureForward[pos] ^ kQuadratureForward[next]);
+      d.on_edge(diff == 2 ? 0 : 1, (kQuadratureForward[next] & diff) != 0, ++t);
       pos = next;
     }
     d.settle(t);
@@ -63,8 +61,8 @@ void BM_LatchEncoderEdges(benchmark::State& state) {
     for (int i = 0; i < edges; ++i) {
       pos = (pos + 1) % 4;
       ++t;
-      wire.set_level(0, (kForward[pos] & 2) != 0, t);
-      wire.set_level(1, (kForward[pos] & 1) != 0, t);
+      wire.set_level(0, (kQuadratureForward[pos] & 2) != 0, t);
+      wire.set_level(1, (kQuadratureForward[pos] & 1) != 0, t);
     }
     benchmark::DoNotOptimize(source->latch(t, out, health));
   }

@@ -10,7 +10,6 @@ namespace sinew::hal::gpio {
 namespace {
 
 // Forward Gray sequence of AB = (A << 1) | B.
-constexpr uint8_t kForward[4] = {0, 2, 3, 1};
 
 TEST(QuadratureTable, EveryTransition) {
   int forward = 0, backward = 0, none = 0, illegal = 0;
@@ -36,8 +35,8 @@ TEST(QuadratureTable, EveryTransition) {
     }
   }
   for (int i = 0; i < 4; ++i) {
-    EXPECT_EQ(quadrature_step(kForward[i], kForward[(i + 1) % 4]), 1);
-    EXPECT_EQ(quadrature_step(kForward[(i + 1) % 4], kForward[i]), -1);
+    EXPECT_EQ(quadrature_step(kQuadratureForward[i], kQuadratureForward[(i + 1) % 4]), 1);
+    EXPECT_EQ(quadrature_step(kQuadratureForward[(i + 1) % 4], kQuadratureForward[i]), -1);
   }
   std::printf("transition table: %d forward, %d backward, %d no change, %d illegal\n", forward, backward, none,
               illegal);
@@ -52,8 +51,8 @@ TEST(QuadratureTable, EveryTransition) {
 void drive(QuadratureDecoder& d, uint8_t& ab, int steps, uint64_t* t) {
   for (int i = 0; i < (steps < 0 ? -steps : steps); ++i) {
     int pos = 0;
-    while (kForward[pos] != ab) ++pos;
-    const uint8_t next = kForward[(pos + (steps < 0 ? 3 : 1)) % 4];
+    while (kQuadratureForward[pos] != ab) ++pos;
+    const uint8_t next = kQuadratureForward[(pos + (steps < 0 ? 3 : 1)) % 4];
     const uint8_t diff = static_cast<uint8_t>(ab ^ next);
     *t += 1000;
     d.on_edge(diff == 2 ? 0 : 1, (next & diff) != 0, *t);
@@ -93,8 +92,8 @@ TEST(QuadratureDecoder, EveryIllegalTransitionIsCountedAndResyncs) {
     EXPECT_EQ(d.state(), to);
     // The decoder counts normally from the observed state.
     int pos = 0;
-    while (kForward[pos] != to) ++pos;
-    const uint8_t next = kForward[(pos + 1) % 4];
+    while (kQuadratureForward[pos] != to) ++pos;
+    const uint8_t next = kQuadratureForward[(pos + 1) % 4];
     const uint8_t diff = static_cast<uint8_t>(to ^ next);
     d.on_edge(diff == 2 ? 0 : 1, (next & diff) != 0, 6000);
     d.settle(6000);

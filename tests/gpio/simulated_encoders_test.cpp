@@ -13,13 +13,14 @@
 #include "hal/gpio/gpio_source.hpp"
 #include "hal/gpio/quadrature.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace sinew::rigsim {
 namespace {
 
 using hal::gpio::EncoderConfig;
 
-constexpr uint64_t kMs = 1'000'000;
+using sinew::test::kMs;
 constexpr uint64_t kStart = 5'000 * kMs;  // any monotonic start
 
 int32_t deg(double d) { return static_cast<int32_t>(static_cast<int64_t>(d / 360.0 * 4294967296.0)); }

@@ -10,11 +10,11 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 
 #include "hal/common/pose_frame.hpp"
 #include "hal/output/frame_log_reader.hpp"
+#include "tests/integration/daemon_harness.hpp"
 
 namespace {
 
@@ -26,30 +26,15 @@ struct DaemonRun {
   std::string stop;
 };
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 DaemonRun run_daemon(const std::string& name, const std::string& config_body, const std::string& frames_path) {
   const std::string dir = testing::TempDir();
   const std::string config = dir + "/" + name + ".toml", out = dir + "/" + name + ".out";
   std::remove(frames_path.c_str());
   std::ofstream(config) << config_body << "[[sink]]\ntype = \"log\"\npath = \"" << frames_path << "\"\n";
-  const std::string cmd = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
-  DaemonRun r;
-  const int status = std::system(cmd.c_str());
-  r.out = slurp(out);
-  EXPECT_EQ(status, 0) << cmd << "\n" << r.out;
-  sinew::hal::output::FrameLogReader reader;
-  std::string error;
-  EXPECT_TRUE(reader.open(frames_path, &error)) << error;
-  DecodedPose pose;
-  while (reader.next(&pose)) r.poses.push_back(pose);
-  r.stop = reader.stop_message();
-  return r;
+  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, out);
+  EXPECT_EQ(daemon.status, 0) << daemon.command << "\n" << daemon.out;
+  sinew::test::FrameLog log = sinew::test::read_frame_log(frames_path);
+  return DaemonRun{daemon.out, std::move(log.poses), std::move(log.stop)};
 }
 
 // "name 12" in the final "rejected by reason:" line.

@@ -8,22 +8,15 @@
 
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include "hal/common/pose_frame.hpp"
 #include "hal/output/frame_log_reader.hpp"
+#include "tests/integration/daemon_harness.hpp"
 
 namespace {
 
 using sinew::hal::output::DecodedPose;
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The arm's inputs: shoulder.0-2 are 0-2, elbow.0 is 3, forearm_twist.0 is 4, wrist.0-1 are 5-6.
 constexpr int kElbow = 3, kTwist = 4;
@@ -48,18 +41,12 @@ TEST(GpioEndToEnd, SimulatedEncodersDriveTheArm) {
          "from_s = 2.0\nto_s = 2.1\n"
          "[[sink]]\ntype = \"log\"\npath = \""
       << frames << "\"\n";
-  const std::string cmd = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + out + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  const std::string report = slurp(out);
-  ASSERT_EQ(status, 0) << cmd << "\n" << report;
+  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, out);
+  const std::string& report = daemon.out;
+  ASSERT_EQ(daemon.status, 0) << daemon.command << "\n" << report;
   std::printf("%s", report.c_str());
 
-  sinew::hal::output::FrameLogReader reader;
-  std::string error;
-  ASSERT_TRUE(reader.open(frames, &error)) << error;
-  std::vector<DecodedPose> poses;
-  DecodedPose pose;
-  while (reader.next(&pose)) poses.push_back(pose);
+  const std::vector<DecodedPose> poses = sinew::test::read_frame_log(frames).poses;
   ASSERT_EQ(poses.size(), 300u) << "a frame for every tick";
 
   // The twist swings +-105 deg (its range and 5 % past it) in 3.48 s.

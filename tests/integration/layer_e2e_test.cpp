@@ -11,6 +11,7 @@
 #include <string>
 
 #include "hal/output/frame_log_reader.hpp"
+#include "tests/integration/daemon_harness.hpp"
 
 namespace {
 
@@ -23,16 +24,9 @@ std::vector<sinew::hal::output::DecodedPose> run(const std::string& name, const 
                         << layers
                         << "\n[[source]]\ntype = \"simulated-rig\"\nperiod_ms = 10\n[[sink]]\ntype = \"log\"\npath = \""
                         << log << "\"\n";
-  const std::string cmd =
-      std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + dir + "/" + name + ".out";
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  std::vector<sinew::hal::output::DecodedPose> poses;
-  sinew::hal::output::FrameLogReader reader;
-  std::string error;
-  EXPECT_TRUE(reader.open(log, &error)) << error;
-  sinew::hal::output::DecodedPose pose;
-  while (reader.next(&pose)) poses.push_back(pose);
-  return poses;
+  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, dir + "/" + name + ".out");
+  EXPECT_EQ(daemon.status, 0) << daemon.command << "\n" << daemon.out;
+  return sinew::test::read_frame_log(log).poses;
 }
 
 }  // namespace
@@ -68,12 +62,9 @@ TEST(LayerEndToEnd, MetaballsNeedTheBuiltInArm) {
   const std::string dir = testing::TempDir();
   const std::string config = dir + "/hand-balls.toml";
   std::ofstream(config) << "[rig]\nbuiltin = \"hand\"\n[layers]\nmetaballs = true\n";
-  const std::string cmd =
-      std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + config + " > " + dir + "/hb.out 2>&1";
-  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2);
-  std::ifstream in(dir + "/hb.out");
-  const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(out.find("[layers] metaballs"), std::string::npos) << out;
+  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, dir + "/hb.out");
+  EXPECT_EQ(WEXITSTATUS(daemon.status), 2);
+  EXPECT_NE(daemon.out.find("[layers] metaballs"), std::string::npos) << daemon.out;
 }
 
 // The largest skin move against plain skinning at the straightest and the

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "hal/output/frame_log_reader.hpp"
+#include "tests/integration/daemon_harness.hpp"
 
 namespace {
 
@@ -20,22 +21,6 @@ std::string write_config(const std::string& dir, const std::string& mode, const 
   return path;
 }
 
-struct Frames {
-  std::vector<sinew::hal::output::DecodedPose> poses;
-  std::string stop;
-};
-
-Frames read_all(const std::string& path) {
-  Frames f;
-  sinew::hal::output::FrameLogReader reader;
-  std::string error;
-  EXPECT_TRUE(reader.open(path, &error)) << error;
-  sinew::hal::output::DecodedPose pose;
-  while (reader.next(&pose)) f.poses.push_back(pose);
-  f.stop = reader.stop_message();
-  return f;
-}
-
 }  // namespace
 
 TEST(LiveOffline, LiveAndOfflineRunsWriteIdenticalFrames) {
@@ -45,11 +30,12 @@ TEST(LiveOffline, LiveAndOfflineRunsWriteIdenticalFrames) {
   std::remove(offline_log.c_str());
   for (const auto& [mode, log] :
        {std::pair{std::string("live"), live_log}, std::pair{std::string("offline"), offline_log}}) {
-    const std::string cmd = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " --config " + write_config(dir, mode, log) +
-                            " > " + dir + "/" + mode + ".out";
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const sinew::test::DaemonRun daemon =
+        sinew::test::run_sinewd(write_config(dir, mode, log), dir + "/" + mode + ".out");
+    ASSERT_EQ(daemon.status, 0) << daemon.command << "\n" << daemon.out;
   }
-  const Frames live = read_all(live_log), offline = read_all(offline_log);
+  const sinew::test::FrameLog live = sinew::test::read_frame_log(live_log),
+                              offline = sinew::test::read_frame_log(offline_log);
   ASSERT_EQ(offline.poses.size(), 100u);
   // A live tick more than a period late is skipped (a gap in the tick
   // numbers, which name the schedule slot); every slot the live run executed

@@ -21,12 +21,13 @@
 #include "hal/can/kernel_frame.hpp"
 #include "hal/can/socketcan_source.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace sinew::hal::can {
 namespace {
 
 constexpr const char* kVcan = "vcan0";
-constexpr uint64_t kMs = 1'000'000;
+using sinew::test::kMs;
 
 uint64_t monotonic_ns() {
   timespec ts{};

@@ -19,11 +19,12 @@
 #include "hal/common/input_health.hpp"
 #include "hal/gpio/gpio_source.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace sinew::hal::gpio {
 namespace {
 
-constexpr uint64_t kMs = 1'000'000;
+using sinew::test::kMs;
 constexpr uint8_t kForward[4] = {0, 2, 3, 1};  // AB Gray sequence
 
 // Line map of the simulated chip (8 lines).

@@ -12,6 +12,7 @@
 #include "hal/modbus/modbus_source.hpp"
 #include "host_tools/rigsim/modbus_server.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/time_units.hpp"
 
 namespace mb = sinew::hal::modbus;
 namespace hal = sinew::hal;
@@ -20,10 +21,10 @@ using sinew::rigsim::now_ns;
 
 namespace {
 
-constexpr uint64_t kMs = 1'000'000;
-constexpr int32_t kQuarterTurn = 1 << 30;
+using sinew::test::kMs;
+constexpr int32_t kNinetyDegrees = 1 << 30;  // binary angle
 
-mb::ChannelConfig channel(uint16_t input, uint16_t address, mb::RegisterWidth width = mb::RegisterWidth::k16) {
+mb::ChannelConfig joint_channel(uint16_t input, uint16_t address, mb::RegisterWidth width = mb::RegisterWidth::k16) {
   mb::ChannelConfig c;
   c.name = "joint" + std::to_string(input);
   c.input = input;
@@ -112,17 +113,20 @@ class Tick {
 
 TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
   sinew::rigsim::ModbusServer server;
-  server.set_holding(10, 900);                                         // u16 x 0.1 = 90 deg
-  server.set_holding(11, static_cast<uint16_t>(-200));                 // s16 x 0.5 + 10 = -90 deg
-  server.set_holding32(12, static_cast<uint32_t>(-450000), true);      // s32 ABCD x 1e-4 = -45 deg
-  server.set_holding32(14, 100000, false);                             // u32 CDAB x 0.001 - 10 = 90 deg
-  server.set_input32(0, static_cast<uint32_t>(-1500), false);          // s32 CDAB x 0.001 = -1.5 rig units
-  server.set_input32(2, static_cast<uint32_t>(-1000), true);           // s32 ABCD x 0.01 = -10 N
+  server.set_holding(10, 900);                                     // u16 x 0.1 = 90 deg
+  server.set_holding(11, static_cast<uint16_t>(-200));             // s16 x 0.5 + 10 = -90 deg
+  server.set_holding32(12, static_cast<uint32_t>(-450000), true);  // s32 ABCD x 1e-4 = -45 deg
+  server.set_holding32(14, 100000, false);                         // u32 CDAB x 0.001 - 10 = 90 deg
+  server.set_input32(0, static_cast<uint32_t>(-1500), false);      // s32 CDAB x 0.001 = -1.5 rig units
+  server.set_input32(2, static_cast<uint32_t>(-1000), true);       // s32 ABCD x 0.01 = -10 N
   ASSERT_TRUE(server.start());
 
-  std::vector<mb::ChannelConfig> channels{channel(0, 10), channel(1, 11), channel(2, 12, mb::RegisterWidth::k32),
-                                          channel(3, 14, mb::RegisterWidth::k32),
-                                          channel(4, 0, mb::RegisterWidth::k32), channel(5, 2, mb::RegisterWidth::k32)};
+  std::vector<mb::ChannelConfig> channels{joint_channel(0, 10),
+                                          joint_channel(1, 11),
+                                          joint_channel(2, 12, mb::RegisterWidth::k32),
+                                          joint_channel(3, 14, mb::RegisterWidth::k32),
+                                          joint_channel(4, 0, mb::RegisterWidth::k32),
+                                          joint_channel(5, 2, mb::RegisterWidth::k32)};
   channels[0].is_signed = false;
   channels[0].scale = 0.1;
   channels[1].scale = 0.5;
@@ -149,10 +153,10 @@ TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
   EXPECT_EQ(source->request_count(), 2u);  // holding 10..15 and input 0..3
   Tick tick(*source, 6, 0);
   ASSERT_TRUE(tick.until([&] { return tick.value(5) != 0 && source->state() == hal::SourceState::kOk; }));
-  EXPECT_EQ(tick.value(0), kQuarterTurn);
-  EXPECT_EQ(tick.value(1), -kQuarterTurn);
-  EXPECT_EQ(tick.value(2), -kQuarterTurn / 2);
-  EXPECT_EQ(tick.value(3), kQuarterTurn);
+  EXPECT_EQ(tick.value(0), kNinetyDegrees);
+  EXPECT_EQ(tick.value(1), -kNinetyDegrees);
+  EXPECT_EQ(tick.value(2), -kNinetyDegrees / 2);
+  EXPECT_EQ(tick.value(3), kNinetyDegrees);
   EXPECT_EQ(tick.value(4), -1572864);  // -1.5 in Q12.20
   EXPECT_EQ(tick.value(5), -655360);   // -10 N in Q16.16
 
@@ -171,7 +175,7 @@ TEST(ModbusSource, RejectsOutOfRangeValuesAndReportsThem) {
   sinew::rigsim::ModbusServer server;
   server.set_holding(0, 1000);  // 100 deg: outside [-90, 90]
   ASSERT_TRUE(server.start());
-  std::vector<mb::ChannelConfig> channels{channel(0, 0)};
+  std::vector<mb::ChannelConfig> channels{joint_channel(0, 0)};
   channels[0].scale = 0.1;
   channels[0].min = -90.0;
   channels[0].max = 90.0;
@@ -194,7 +198,7 @@ TEST(ModbusSource, RejectsOutOfRangeValuesAndReportsThem) {
   EXPECT_EQ(tick.rejected(0, hal::RejectReason::kOutOfRange), source->channel(0).out_of_range);
 
   server.set_holding(0, 450);  // 45 deg
-  ASSERT_TRUE(tick.until([&] { return tick.value(0) == kQuarterTurn / 2; }));
+  ASSERT_TRUE(tick.until([&] { return tick.value(0) == kNinetyDegrees / 2; }));
   EXPECT_EQ(source->channel(0).status, mb::ChannelStatus::kOk);
 }
 
@@ -204,7 +208,7 @@ TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
   ASSERT_TRUE(server.start());
   // Input 1 reads an address the server does not map: "illegal data address".
   const uint16_t unmapped = sinew::rigsim::ModbusServer::kRegisters + 44;
-  std::vector<mb::ChannelConfig> channels{channel(0, 10), channel(1, unmapped)};
+  std::vector<mb::ChannelConfig> channels{joint_channel(0, 10), joint_channel(1, unmapped)};
   channels[0].scale = 0.1;
   auto source = create(tcp_config(server.port(), channels));
   ASSERT_NE(source, nullptr);
@@ -247,7 +251,7 @@ TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
   server.set_holding(0, 100);
   ASSERT_TRUE(server.start());
   const uint16_t port = server.port();
-  auto source = create(tcp_config(port, {channel(0, 0)}));
+  auto source = create(tcp_config(port, {joint_channel(0, 0)}));
   ASSERT_NE(source, nullptr);
   Tick tick(*source, 1, 50 * kMs);
   ASSERT_TRUE(tick.until([&] { return tick.value(0) != 0 && source->state() == hal::SourceState::kOk; }));
@@ -270,9 +274,8 @@ TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
   server.set_holding(0, 20);
   ASSERT_TRUE(server.start(port));
   const int32_t twenty = mb::to_engine(mb::Quantity::kAngle, 20.0);
-  ASSERT_TRUE(tick.until([&] {
-    return source->state() == hal::SourceState::kOk && tick.value(0) == twenty && !tick.stale(0);
-  }));
+  ASSERT_TRUE(tick.until(
+      [&] { return source->state() == hal::SourceState::kOk && tick.value(0) == twenty && !tick.stale(0); }));
   EXPECT_EQ(source->counters().backoff_ns, 0u);
   EXPECT_GE(source->counters().connects, 2u);
 }
@@ -281,7 +284,7 @@ TEST(ModbusSource, SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits) {
   sinew::rigsim::ModbusServer server;
   server.set_mute(true);
   ASSERT_TRUE(server.start());
-  auto config = tcp_config(server.port(), {channel(0, 0)});
+  auto config = tcp_config(server.port(), {joint_channel(0, 0)});
   config.response_timeout_ns = 200 * kMs;
   config.backoff_initial_ns = 10 * kMs;
   config.backoff_max_ns = 10 * kMs;
@@ -329,8 +332,8 @@ TEST(ModbusSource, LatchDoesNotAllocate) {
   server.set_holding(8, 5000);  // out of range below
   ASSERT_TRUE(server.start());
   std::vector<mb::ChannelConfig> channels;
-  for (uint16_t i = 0; i < 9; ++i) channels.push_back(channel(i, i));
-  channels.push_back(channel(9, sinew::rigsim::ModbusServer::kRegisters + 1));  // exception every cycle
+  for (uint16_t i = 0; i < 9; ++i) channels.push_back(joint_channel(i, i));
+  channels.push_back(joint_channel(9, sinew::rigsim::ModbusServer::kRegisters + 1));  // exception every cycle
   auto source = create(tcp_config(server.port(), channels));
   ASSERT_NE(source, nullptr);
   Tick tick(*source, 10, 0);
@@ -355,7 +358,7 @@ TEST(ModbusSource, MissingSerialDeviceIsDownAndRetried) {
   config.name = "rs485";
   config.link.transport = mb::Transport::kRtu;
   config.link.rtu.device = "no-such-serial-device";
-  config.channels = {channel(0, 0)};
+  config.channels = {joint_channel(0, 0)};
   config.backoff_initial_ns = 10 * kMs;
   config.backoff_max_ns = 40 * kMs;
   auto source = create(config);
@@ -368,7 +371,7 @@ TEST(ModbusSource, MissingSerialDeviceIsDownAndRetried) {
 
 TEST(ModbusSource, RefusesInvalidConfig) {
   std::string error;
-  mb::PollerConfig config = tcp_config(502, {channel(0, 0), channel(0, 1)});
+  mb::PollerConfig config = tcp_config(502, {joint_channel(0, 0), joint_channel(0, 1)});
   EXPECT_EQ(mb::ModbusSource::create(config, &error), nullptr);
   EXPECT_NE(error.find("plc"), std::string::npos) << error;
 }

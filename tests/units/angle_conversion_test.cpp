@@ -18,15 +18,12 @@ namespace {
 
 using Limits = std::numeric_limits<double>;
 
-constexpr double kInf = Limits::infinity();
 constexpr double kHalfStepDeg = 45 * 0x1p-30;  // 360 / 2^33
 constexpr uint32_t kQuarter = uint32_t{1} << 30;
 
-double below(double x) { return std::nextafter(x, -kInf); }
-
 std::vector<uint32_t> sample_angles() {
-  std::vector<uint32_t> a = {0, 1, 0xFFFFFFFFu, kQuarter, 2 * kQuarter, 3 * kQuarter, 2 * kQuarter - 1,
-                             2 * kQuarter + 1};
+  std::vector<uint32_t> a = {
+      0, 1, 0xFFFFFFFFu, kQuarter, 2 * kQuarter, 3 * kQuarter, 2 * kQuarter - 1, 2 * kQuarter + 1};
   std::mt19937_64 rng(21);
   for (int i = 0; i < 100000; ++i) a.push_back(static_cast<uint32_t>(rng()));
   return a;

@@ -17,11 +17,7 @@ namespace {
 
 using Limits = std::numeric_limits<double>;
 
-constexpr double kInf = Limits::infinity();
 const double kNaN = Limits::quiet_NaN();
-
-double below(double x) { return std::nextafter(x, -kInf); }
-double above(double x) { return std::nextafter(x, kInf); }
 
 // Independent oracle: round half up of x * 2^frac_bits in plain double
 // arithmetic (the scaling, floor and the fraction are all exact), for x whose
@@ -167,7 +163,8 @@ TEST(FixedConversion, MatchesRoundingOracle) {
     if (want > INT32_MAX) {
       ASSERT_TRUE(converts_to(r, INT32_MAX, kClamped)) << x;
     } else {
-      ASSERT_TRUE(converts_to(r, static_cast<int32_t>(want), std::ldexp(x, 30) == static_cast<double>(want) ? kOk : kRounded))
+      ASSERT_TRUE(
+          converts_to(r, static_cast<int32_t>(want), std::ldexp(x, 30) == static_cast<double>(want) ? kOk : kRounded))
           << x;
     }
   }

@@ -1,0 +1,33 @@
+// Runs the daemon binary on a config file and reads back what it wrote: the
+// shared plumbing of the end-to-end tests.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "hal/output/frame_log_reader.hpp"
+
+namespace sinew::test {
+
+// The whole content of a text file ("" if it cannot be read).
+std::string slurp(const std::string& path);
+
+struct DaemonRun {
+  int status = -1;  // std::system's status; 0 when the daemon exited 0
+  std::string command;
+  std::string out;  // the daemon's stdout and stderr
+};
+
+// Starts `SINEWD_LAUNCHER SINEWD_EXE --config CONFIG` (through the emulator
+// in a cross build) and waits for it; its output goes to OUT_PATH.
+DaemonRun run_sinewd(const std::string& config_path, const std::string& out_path);
+
+struct FrameLog {
+  std::vector<hal::output::DecodedPose> poses;  // every complete frame, in order
+  std::string stop;                             // why the reader stopped
+};
+
+// Every frame of a frame log; a log that cannot be opened fails the test.
+FrameLog read_frame_log(const std::string& path);
+
+}  // namespace sinew::test
