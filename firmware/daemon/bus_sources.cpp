@@ -36,15 +36,19 @@ bool read_ms(const SourceConfig& s, const char* key, double fallback, double lo,
   return true;
 }
 
-// Per-input range and kind from the rig (the simulator's motion and layout).
+// Per-input range and kind from the rig and its external inputs (the
+// simulator's motion and layout): the simulated rig swings an external force
+// across its range like a joint.
 void rig_inputs(const LoadedRig& rig, std::vector<rigsim::InputRange>* ranges, std::vector<bool>* rotation) {
-  ranges->assign(rig.rig.input_count, {});
-  rotation->assign(rig.rig.input_count, true);
+  ranges->assign(rig.input_count(), {});
+  rotation->assign(rig.input_count(), false);
   for (const rig::JointRecord& j : rig.rig.joints)
     for (uint32_t d = 0; d < j.dof_count; ++d) {
       (*ranges)[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
       (*rotation)[j.first_input + d] = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
     }
+  for (size_t k = 0; k < rig.external.size(); ++k)
+    (*ranges)[rig.rig.input_count + k] = {rig.external[k].min, rig.external[k].max};
 }
 
 bool read_faults(const SourceConfig& s, const LoadedRig& rig, rigsim::FaultPlan* plan, std::string* error) {
@@ -82,7 +86,7 @@ std::unique_ptr<hal::InputSource> can_source(const SourceConfig& s, const Loaded
   uint64_t period = 0;
   if (!read_ms(s, "period_ms", config.default_period_ms, 0.01, 60000, &period, error)) return nullptr;
   hal::can::JointStreamConfig stream =
-      hal::can::default_joint_stream_config(rig.rig.input_count, s.table["fd"].value_or(false), period);
+      hal::can::default_joint_stream_config(rig.input_count(), s.table["fd"].value_or(false), period);
   auto decoder = std::make_unique<hal::can::JointStreamDecoder>();
   if (!decoder->configure(stream, error)) return *error = where(s, "protocol") + ": " + *error, nullptr;
   if (const auto path = s.table["record"].value<std::string>()) {
@@ -210,6 +214,14 @@ std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig&
       ch.quantity = rotation[i] ? hal::modbus::Quantity::kAngle : hal::modbus::Quantity::kTranslation;
       ch.min = rotation[i] ? -180.0 : -2000.0;
       ch.max = rotation[i] ? 180.0 : 2000.0;
+      if (i >= rig.rig.input_count && rig.external[i - rig.rig.input_count].force) {
+        // The feeder writes a non-angle as millionths of a Q12.20 unit: for a
+        // Q16.16 force one register unit is 2^20 / 10^6 / 2^16 = 16 uN.
+        ch.scale = 16e-6;
+        ch.quantity = hal::modbus::Quantity::kForce;
+        ch.min = -30000.0;
+        ch.max = 30000.0;
+      }
       c.channels.push_back(ch);
     }
   } else if (!layout.empty()) {
@@ -227,20 +239,28 @@ std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig&
       if (it == rig.input_names.end())
         return *error = where(s, "channel.input") + " '" + input + "' is no rig input", nullptr;
       ch.input = static_cast<uint16_t>(it - rig.input_names.begin());
-      ch.table = (*t)["table"].value_or<std::string>("holding") == "input" ? hal::modbus::RegisterTable::kInput
-                                                                           : hal::modbus::RegisterTable::kHolding;
+      const std::string table = (*t)["table"].value_or<std::string>("holding");
+      if (table != "holding" && table != "input")
+        return *error = where(s, "channel.table") + " '" + table + "' unknown (holding, input)", nullptr;
+      ch.table = table == "input" ? hal::modbus::RegisterTable::kInput : hal::modbus::RegisterTable::kHolding;
       const int64_t address = (*t)["address"].value_or(int64_t{-1});
       if (address < 0 || address > 65535) return *error = where(s, "channel.address") + " must be 0..65535", nullptr;
       ch.address = static_cast<uint16_t>(address);
-      ch.width =
-          (*t)["width"].value_or(int64_t{16}) == 32 ? hal::modbus::RegisterWidth::k32 : hal::modbus::RegisterWidth::k16;
-      ch.word_order = (*t)["word_order"].value_or<std::string>("high-first") == "low-first"
-                          ? hal::modbus::WordOrder::kLowWordFirst
-                          : hal::modbus::WordOrder::kHighWordFirst;
+      const int64_t width = (*t)["width"].value_or(int64_t{16});
+      if (width != 16 && width != 32) return *error = where(s, "channel.width") + " must be 16 or 32", nullptr;
+      ch.width = width == 32 ? hal::modbus::RegisterWidth::k32 : hal::modbus::RegisterWidth::k16;
+      const std::string order = (*t)["word_order"].value_or<std::string>("high-first");
+      if (order != "high-first" && order != "low-first")
+        return *error = where(s, "channel.word_order") + " '" + order + "' unknown (high-first, low-first)", nullptr;
+      ch.word_order =
+          order == "low-first" ? hal::modbus::WordOrder::kLowWordFirst : hal::modbus::WordOrder::kHighWordFirst;
       ch.is_signed = (*t)["signed"].value_or(true);
       ch.scale = (*t)["scale"].value_or(1.0);
       ch.offset = (*t)["offset"].value_or(0.0);
       const std::string quantity = (*t)["quantity"].value_or<std::string>("angle");
+      if (quantity != "angle" && quantity != "translation" && quantity != "force")
+        return *error = where(s, "channel.quantity") + " '" + quantity + "' unknown (angle, translation, force)",
+               nullptr;
       ch.quantity = quantity == "force"         ? hal::modbus::Quantity::kForce
                     : quantity == "translation" ? hal::modbus::Quantity::kTranslation
                                                 : hal::modbus::Quantity::kAngle;
@@ -265,7 +285,7 @@ bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& ri
     return true;
   }
   const int64_t index = t["input"].value_or(int64_t{-1});
-  if (index < 0 || index >= static_cast<int64_t>(rig.rig.input_count))
+  if (index < 0 || index >= static_cast<int64_t>(rig.input_count()))
     return *error = where(s, std::string(what) + ".input") + " must name a rig input", false;
   *input = static_cast<uint16_t>(index);
   return true;

@@ -70,13 +70,22 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       return *error = at(origin, (*layers)["anatomy_iterations"].node(), "[layers] anatomy_iterations") +
                       ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
              false;
+    if (!read_number(*layers, "sph_particles", 0, 8192, &c.layer_sph_particles, origin, error)) return false;
+    if (!read_number(*layers, "sph_force_max_n", 1.0, 16000.0, &c.layer_sph_force_max_n, origin, error)) return false;
+    if (c.layer_sph_particles > 0 && c.rig_builtin != "arm")
+      return *error = at(origin, (*layers)["sph_particles"].node(), "[layers] sph_particles") +
+                      ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
+             false;
     for (const char* layer : {"metaballs", "barnet"})
       if ((*layers)[layer].value_or(false) && c.rig_builtin != "arm")
         return *error = at(origin, (*layers)[layer].node(), std::string("[layers] ") + layer) +
                         ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
                false;
-    if (int{c.layer_metaballs} + int{c.layer_barnet} + int{c.layer_anatomy_iterations > 0} > 1)
-      return *error = origin + ": [layers]: metaballs, barnet and anatomy each reshape the elbow; enable one", false;
+    if (int{c.layer_metaballs} + int{c.layer_barnet} + int{c.layer_anatomy_iterations > 0} +
+            int{c.layer_sph_particles > 0} >
+        1)
+      return *error = origin + ": [layers]: metaballs, barnet, anatomy and sph each reshape the elbow; enable one",
+             false;
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;

@@ -39,9 +39,11 @@ struct DaemonConfig {
   double range_margin_deg = 10.0;   // accepted beyond a DOF limit (then clamped); further is a fault
   std::vector<SourceConfig> sources;
   std::vector<SinkConfig> sinks;
-  bool layer_metaballs = false;      // [layers] metaballs: volume-preserving skin on the built-in arm
-  int layer_anatomy_iterations = 0;  // [layers] anatomy: muscles + elastic skin, relaxations per tick (0 = off)
-  bool layer_barnet = false;         // [layers] barnet: the elbow bar-net bulge on the built-in arm
+  bool layer_metaballs = false;       // [layers] metaballs: volume-preserving skin on the built-in arm
+  int layer_anatomy_iterations = 0;   // [layers] anatomy: muscles + elastic skin, relaxations per tick (0 = off)
+  bool layer_barnet = false;          // [layers] barnet: the elbow bar-net bulge on the built-in arm
+  int layer_sph_particles = 0;        // [layers] sph_particles: SPH elastic elbow on the built-in arm (0 = off)
+  double layer_sph_force_max_n = 40;  // [layers] sph_force_max_n: range of its elbow.force input, newtons
 };
 
 // Reads and validates a config file; errors name the file, line and key.

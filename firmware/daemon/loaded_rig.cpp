@@ -32,12 +32,19 @@ bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRi
   }
   if (!st.ok()) return *error = (blob_path.empty() ? builtin : blob_path) + ": " + st.message, false;
   out->input_names.clear();
+  out->external.clear();
   for (uint32_t j = 0; j < out->rig.joint_count(); ++j) {
     const std::string joint = out->rig.names.empty() ? "joint" + std::to_string(j) : std::string(out->rig.names[j]);
     for (uint32_t d = 0; d < out->rig.joints[j].dof_count; ++d)
       out->input_names.push_back(joint + "." + std::to_string(d));
   }
   return true;
+}
+
+uint32_t LoadedRig::add_external(ExternalInput input) {
+  input_names.push_back(input.name);
+  external.push_back(std::move(input));
+  return input_count() - 1;
 }
 
 }  // namespace sinew::firmware

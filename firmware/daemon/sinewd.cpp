@@ -50,15 +50,19 @@ int main(int argc, char** argv) {
   // the first tick late (a late tick is skipped, not burst).
   const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() + 50000000u : 0;
   Runtime runtime;
-  const std::vector<InputLimits> limits = input_limits(rig, config, period);
-  if (!runtime.init(rig.rig, limits, start, &error) || !add_layers(config, rig, &runtime, &error) ||
-      !add_sources(config, rig, period, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
+  if (!add_layers(config, &rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }
-  std::printf("sinewd: rig %s, %u joints, %u inputs, %u vertices; %u Hz, mode %s\n",
+  const std::vector<InputLimits> limits = input_limits(rig, config, period);
+  if (!runtime.init(rig.rig, limits, start, &error) || !add_sources(config, rig, period, start, &runtime, &error) ||
+      !add_sinks(config, rig, &runtime, &error)) {
+    std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+    return 2;
+  }
+  std::printf("sinewd: rig %s, %u joints, %u inputs (%zu external), %u vertices; %u Hz, mode %s\n",
               config.rig_builtin.empty() ? config.rig_blob.c_str() : config.rig_builtin.c_str(), rig.rig.joint_count(),
-              rig.rig.input_count, rig.rig.vertex_count(), config.rate_hz,
+              rig.input_count(), rig.external.size(), rig.rig.vertex_count(), config.rate_hz,
               config.mode == RunMode::kLive ? "live" : (config.mode == RunMode::kReplay ? "replay" : "offline"));
   if (config.mode == RunMode::kLive) {
     const std::string rt = apply_realtime(config.realtime);

@@ -11,11 +11,12 @@
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/udp_sender.hpp"
 #include "metaballs_layer.hpp"
+#include "sph_layer.hpp"
 
 namespace sinew::firmware {
 
 std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& config, uint64_t) {
-  std::vector<InputLimits> limits(rig.rig.input_count);
+  std::vector<InputLimits> limits(rig.input_count());
   const auto timeout = static_cast<uint64_t>(config.timeout_factor * config.default_period_ms * 1e6);
   const int64_t margin_angle = static_cast<int64_t>(config.range_margin_deg / 360.0 * 4294967296.0);
   for (const rig::JointRecord& j : rig.rig.joints) {
@@ -27,6 +28,14 @@ std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& 
       l.max = static_cast<int32_t>(std::min<int64_t>(INT32_MAX, j.dof_max[d] + margin));
       l.timeout_ns = timeout;
     }
+  }
+  for (size_t k = 0; k < rig.external.size(); ++k) {
+    const ExternalInput& e = rig.external[k];
+    InputLimits& l = limits[rig.rig.input_count + k];
+    const int64_t margin = (int64_t{e.max} - e.min) / 10;
+    l.min = static_cast<int32_t>(std::max<int64_t>(INT32_MIN, e.min - margin));
+    l.max = static_cast<int32_t>(std::min<int64_t>(INT32_MAX, e.max + margin));
+    l.timeout_ns = timeout;
   }
   return limits;
 }
@@ -54,7 +63,8 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
   return true;
 }
 
-bool add_layers(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
+bool add_layers(const DaemonConfig& config, LoadedRig* loaded, Runtime* runtime, std::string* error) {
+  const LoadedRig& rig = *loaded;
   if (config.layer_metaballs) {
     std::unique_ptr<PoseLayer> layer = make_arm_metaballs_layer(rig.rig, error);
     if (!layer) return false;
@@ -70,13 +80,22 @@ bool add_layers(const DaemonConfig& config, const LoadedRig& rig, Runtime* runti
     if (!layer) return false;
     runtime->add_layer(std::move(layer));
   }
+  if (config.layer_sph_particles > 0) {
+    SphLayerOptions options;
+    options.particles = static_cast<uint32_t>(config.layer_sph_particles);
+    options.tick_hz = config.rate_hz;
+    options.force_max_n = config.layer_sph_force_max_n;
+    std::unique_ptr<PoseLayer> layer = make_arm_sph_layer(loaded, options, error);
+    if (!layer) return false;
+    runtime->add_layer(std::move(layer));
+  }
   return true;
 }
 
 bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
   hal::output::FrameShape shape;
   shape.vertex_count = rig.rig.vertex_count();
-  shape.input_count = rig.rig.input_count;
+  shape.input_count = rig.input_count();
   shape.length_exponent = rig.rig.length_exponent;
   for (const SinkConfig& s : config.sinks) {
     const bool normals = s.table["normals"].value_or(false);
@@ -110,7 +129,7 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
   StepTiming& t = runtime.timing();
   const InputHealth& h = runtime.health();
   uint64_t rejected = 0, accepted = 0;
-  for (size_t i = 0; i < rig.rig.input_count; ++i) {
+  for (size_t i = 0; i < rig.input_count(); ++i) {
     accepted += h.counters(i).accepted;
     for (uint64_t r : h.counters(i).rejected) rejected += r;
   }
@@ -121,7 +140,7 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
       final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
       static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
       static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()), h.stale_count(),
-      rig.rig.input_count, static_cast<unsigned long long>(accepted), static_cast<unsigned long long>(rejected),
+      rig.input_count(), static_cast<unsigned long long>(accepted), static_cast<unsigned long long>(rejected),
       static_cast<unsigned long long>(runtime.dropped_frames()));
   for (const auto& s : runtime.sources())
     std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
@@ -133,7 +152,7 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
     // Per-reason totals, one line the tests (and log scrapers) can parse.
     uint64_t by_reason[static_cast<int>(hal::RejectReason::kCount)] = {};
     uint64_t stale_events = 0;
-    for (size_t i = 0; i < rig.rig.input_count; ++i) {
+    for (size_t i = 0; i < rig.input_count(); ++i) {
       for (int r = 0; r < static_cast<int>(hal::RejectReason::kCount); ++r) by_reason[r] += h.counters(i).rejected[r];
       stale_events += h.counters(i).stale_events;
     }
@@ -144,7 +163,7 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
     std::printf("; stale events %llu\n", static_cast<unsigned long long>(stale_events));
   }
   if (final_report && h.stale_count() > 0) {
-    for (size_t i = 0; i < rig.rig.input_count; ++i)
+    for (size_t i = 0; i < rig.input_count(); ++i)
       if (h.status()[i] & hal::kJointStale) std::printf("  stale input %s\n", rig.input_names[i].c_str());
   }
   std::fflush(stdout);

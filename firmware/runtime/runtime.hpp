@@ -23,6 +23,9 @@ class PoseLayer {
   virtual ~PoseLayer() = default;
   virtual const char* name() const = 0;
   virtual bool apply(engine::Engine& engine, std::span<const int32_t> inputs) = 0;
+  // ORs the layer's per-input flags (e.g. hal::kJointYieldedStatus) into the
+  // tick's input status, after the health and clamp bits.
+  virtual void flag_inputs(std::span<uint8_t> /*status*/) const {}
 };
 
 class Runtime {

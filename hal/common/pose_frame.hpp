@@ -11,19 +11,19 @@ enum JointStatus : uint8_t {
   kJointClampedStatus = 1u << 0,  // commanded beyond a limit, clamped
   kJointStale = 1u << 1,          // no valid sample within its timeout: holding the last good value
   kJointRejected = 1u << 2,       // a sample was rejected this tick (CRC, counter, range)
-  kJointYielded = 1u << 3,        // reserved for physical layers (e.g. SPH Tresca yield)
+  kJointYielded = 1u << 3,        // a physical layer's joint yielded (SPH Tresca yield, docs/sph.md)
 };
 
 struct PoseFrame {
-  uint64_t tick = 0;          // step index since start
-  uint64_t timestamp_ns = 0;  // CLOCK_MONOTONIC at the start of the tick
+  uint64_t tick = 0;            // step index since start
+  uint64_t timestamp_ns = 0;    // CLOCK_MONOTONIC at the start of the tick
   int32_t length_exponent = 0;  // one rig unit = 2^e metres; positions are Q12.20 rig units
   uint32_t vertex_count = 0;
   const int32_t* position[3] = {nullptr, nullptr, nullptr};  // SoA, vertex_count each
   const int32_t* normal[3] = {nullptr, nullptr, nullptr};    // SoA Q2.30, or null
   uint32_t input_count = 0;
-  const int32_t* input_value = nullptr;   // value per rig input, as applied this tick
-  const uint8_t* input_status = nullptr;  // JointStatus bits per rig input
+  const int32_t* input_value = nullptr;   // value per input (the rig's, then external ones), as applied this tick
+  const uint8_t* input_status = nullptr;  // JointStatus bits per input
 };
 
 }  // namespace sinew::hal

@@ -212,6 +212,18 @@ SphStatus sph_step(SphState* st, const SphInputs& in) {
   return {};
 }
 
+bool sph_flexion_force(const SphModel& model, std::span<const fx::Mat34> transforms, int32_t newtons, fx::Vec3* out) {
+  *out = {0, 0, 0};
+  JointFrame f;
+  if (!joint_frame(model, transforms, &f)) return false;
+  const fx::Vec3 lever = fx::sub(fx::transform_point(*f.distal, model.joint.load_point), f.centre);
+  fx::Vec3 direction;  // Q2.30
+  if (!fx::normalize_to_unit(fx::cross(f.axis, lever, 30), &direction)) return true;
+  const int32_t n = newtons < -kMaxForce ? -kMaxForce : (newtons > kMaxForce ? kMaxForce : newtons);
+  *out = {fx::mul_by_unit(n, direction.x), fx::mul_by_unit(n, direction.y), fx::mul_by_unit(n, direction.z)};
+  return true;
+}
+
 void sph_apply_skin(const SphState& st, std::span<fx::Len> position[3]) {
   const SphModel& m = *st.model;
   for (uint32_t v = 0; v < m.skin_count(); ++v) {

@@ -25,6 +25,15 @@ struct SphInputs {
 // force is out of range.
 SphStatus sph_step(SphState* state, const SphInputs& inputs);
 
+// The external force of SphInputs for a force sensor that measures one
+// scalar: `newtons` (Q16.16, |newtons| <= 16384 N) acting at the load point
+// along n x r, perpendicular to the flexion axis n and to the lever arm r
+// from the joint to the load point, in the pose `transforms`. A positive
+// force flexes the joint (positive bend about n), and every newton of it
+// turns into torque. Zero if the lever arm is parallel to the axis; false
+// only if the transforms span is too short.
+bool sph_flexion_force(const SphModel& model, std::span<const fx::Mat34> transforms, int32_t newtons, fx::Vec3* out);
+
 // Adds skin_offset to the engine's skinned positions of the near-joint
 // vertices (position[c] indexed by rig vertex).
 void sph_apply_skin(const SphState& state, std::span<fx::Len> position[3]);

@@ -93,3 +93,49 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
       << error;
   EXPECT_NE(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << error;
 }
+
+// The SPH elbow's keys, and the one-elbow-layer rule.
+TEST(DaemonConfig, SphLayerKeys) {
+  DaemonConfig c;
+  std::string error;
+  ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 1000\nsph_force_max_n = 60\n", "t.toml",
+                           &c, &error))
+      << error;
+  EXPECT_EQ(c.layer_sph_particles, 1000);
+  EXPECT_DOUBLE_EQ(c.layer_sph_force_max_n, 60.0);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 9000\n").find("test.toml:4: sph_particles"),
+            std::string::npos);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\nsph_force_max_n = 0\n")
+                .find("sph_force_max_n"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("[rig]\nbuiltin = \"hand\"\n[layers]\nsph_particles = 500\n").find("needs [rig] builtin = \"arm\""),
+      std::string::npos);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\nbarnet = true\n").find("enable one"),
+            std::string::npos);
+}
+
+// A Modbus channel's enumerated keys accept only their documented values: a
+// typo must not silently read an angle from the wrong table or word order.
+TEST(DaemonConfig, ModbusChannelRejectsUnknownEnumValues) {
+  sinew::firmware::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(sinew::firmware::load_rig("arm", "", &rig, &error)) << error;
+  const auto channel_error = [&](const std::string& key) {
+    DaemonConfig c;
+    std::string e;
+    EXPECT_TRUE(
+        parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"modbus\"\nname = \"mb\"\n"
+                     "host = \"127.0.0.1\"\nport = 1502\n[[source.channel]]\ninput = \"elbow.0\"\n"
+                     "address = 0\n" +
+                         key,
+                     "t.toml", &c, &e))
+        << e;
+    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << key;
+    return e;
+  };
+  EXPECT_NE(channel_error("quantity = \"torque\"\n").find("channel.quantity 'torque' unknown"), std::string::npos);
+  EXPECT_NE(channel_error("table = \"coil\"\n").find("channel.table 'coil' unknown"), std::string::npos);
+  EXPECT_NE(channel_error("word_order = \"little\"\n").find("channel.word_order 'little' unknown"), std::string::npos);
+  EXPECT_NE(channel_error("width = 24\n").find("channel.width must be 16 or 32"), std::string::npos);
+}

@@ -9,6 +9,10 @@
 
 namespace sinew::test {
 
+// The built-in arm's inputs: shoulder.0-2 are 0-2, elbow.0 is 3,
+// forearm_twist.0 is 4, wrist.0-1 are 5-6; external inputs follow.
+inline constexpr int kArmElbow = 3, kArmTwist = 4, kArmInputs = 7;
+
 // The whole content of a text file ("" if it cannot be read).
 std::string slurp(const std::string& path);
 

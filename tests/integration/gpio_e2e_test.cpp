@@ -18,8 +18,8 @@ namespace {
 
 using sinew::hal::output::DecodedPose;
 
-// The arm's inputs: shoulder.0-2 are 0-2, elbow.0 is 3, forearm_twist.0 is 4, wrist.0-1 are 5-6.
-constexpr int kElbow = 3, kTwist = 4;
+using sinew::test::kArmElbow;
+using sinew::test::kArmTwist;
 
 // Binary angle to degrees in [-180, 180).
 double degrees(int32_t angle) { return angle / 4294967296.0 * 360.0; }
@@ -52,9 +52,9 @@ TEST(GpioEndToEnd, SimulatedEncodersDriveTheArm) {
   // The twist swings +-105 deg (its range and 5 % past it) in 3.48 s.
   double twist_min = 0, twist_max = 0;
   for (const DecodedPose& p : poses) {
-    twist_min = std::min(twist_min, degrees(p.input_value[kTwist]));
-    twist_max = std::max(twist_max, degrees(p.input_value[kTwist]));
-    EXPECT_FALSE(p.input_status[kTwist] & sinew::hal::kJointStale);
+    twist_min = std::min(twist_min, degrees(p.input_value[kArmTwist]));
+    twist_max = std::max(twist_max, degrees(p.input_value[kArmTwist]));
+    EXPECT_FALSE(p.input_status[kArmTwist] & sinew::hal::kJointStale);
   }
   std::printf("twist decoded over %.1f .. %.1f deg\n", twist_min, twist_max);
   EXPECT_LT(twist_min, -60.0);
@@ -63,10 +63,10 @@ TEST(GpioEndToEnd, SimulatedEncodersDriveTheArm) {
   // Not homed: the elbow has no sample (stale) until the swing brings it back
   // to 75 deg after half of its 3.11 s period; homed, it follows the swing
   // down past its 0 deg limit.
-  EXPECT_TRUE(poses[100].input_status[kElbow] & sinew::hal::kJointStale);
-  EXPECT_FALSE(poses[170].input_status[kElbow] & sinew::hal::kJointStale);
+  EXPECT_TRUE(poses[100].input_status[kArmElbow] & sinew::hal::kJointStale);
+  EXPECT_FALSE(poses[170].input_status[kArmElbow] & sinew::hal::kJointStale);
   double elbow_min = 180;
-  for (size_t i = 170; i < poses.size(); ++i) elbow_min = std::min(elbow_min, degrees(poses[i].input_value[kElbow]));
+  for (size_t i = 170; i < poses.size(); ++i) elbow_min = std::min(elbow_min, degrees(poses[i].input_value[kArmElbow]));
   std::printf("elbow homed, then down to %.1f deg\n", elbow_min);
   EXPECT_LT(elbow_min, 5.0);
 

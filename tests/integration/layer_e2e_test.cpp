@@ -68,7 +68,7 @@ TEST(LayerEndToEnd, MetaballsNeedTheBuiltInArm) {
 }
 
 // The largest skin move against plain skinning at the straightest and the
-// deepest elbow of a run (arm inputs: shoulder.0-2, elbow.0 is 3, ...).
+// deepest elbow of a run.
 struct BulgeAtFlexion {
   double straight_deg, straight_mm, deep_deg, deep_mm;
 };
@@ -77,7 +77,6 @@ BulgeAtFlexion bulge_at_flexion(const std::string& name, const std::string& laye
   const auto plain = run(name + "-plain", ""), layered = run(name, layer);
   EXPECT_EQ(plain.size(), 100u);
   EXPECT_EQ(layered.size(), plain.size());
-  constexpr int kElbow = 3;
   size_t straightest = 0, deepest = 0;
   std::vector<double> bulge(plain.size(), 0);
   for (size_t f = 0; f < plain.size() && f < layered.size(); ++f) {
@@ -86,10 +85,11 @@ BulgeAtFlexion bulge_at_flexion(const std::string& name, const std::string& laye
       for (size_t v = 0; v < plain[f].vertex_count; ++v)
         bulge[f] = std::max(bulge[f],
                             std::abs(static_cast<double>(plain[f].position[c][v]) - layered[f].position[c][v]) * scale);
-    if (plain[f].input_value[kElbow] < plain[straightest].input_value[kElbow]) straightest = f;
-    if (plain[f].input_value[kElbow] > plain[deepest].input_value[kElbow]) deepest = f;
+    if (plain[f].input_value[sinew::test::kArmElbow] < plain[straightest].input_value[sinew::test::kArmElbow])
+      straightest = f;
+    if (plain[f].input_value[sinew::test::kArmElbow] > plain[deepest].input_value[sinew::test::kArmElbow]) deepest = f;
   }
-  const auto deg = [&](size_t f) { return plain[f].input_value[kElbow] * (360.0 / 4294967296.0); };
+  const auto deg = [&](size_t f) { return plain[f].input_value[sinew::test::kArmElbow] * (360.0 / 4294967296.0); };
   const BulgeAtFlexion b{deg(straightest), bulge[straightest] * 1e3, deg(deepest), bulge[deepest] * 1e3};
   std::printf("%s vs plain skinning: elbow %.1f deg -> largest move %.2f mm; elbow %.1f deg -> %.2f mm\n", name.c_str(),
               b.straight_deg, b.straight_mm, b.deep_deg, b.deep_mm);

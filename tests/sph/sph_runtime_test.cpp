@@ -93,3 +93,44 @@ TEST(SphRuntime, SkinNearTheJointTakesTheParticleDisplacement) {
   EXPECT_GT(largest, 0);
   EXPECT_LT(arm.metres(static_cast<int32_t>(largest)), 0.03);
 }
+
+// A scalar force sensor's reading becomes a force perpendicular to the
+// flexion axis and the lever arm, of the same magnitude; positive flexes.
+TEST(SphRuntime, FlexionForceIsPerpendicularAndFlexes) {
+  SphArm arm(small(256));
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  const size_t elbow = static_cast<size_t>(arm.input("elbow.0"));
+  arm.inputs()[elbow] = 1 << 28;  // 22.5 deg: the rule holds in any pose
+  sinew::engine::engine_step(&arm.engine(), arm.inputs());
+  const sinew::sph::SphModel& m = arm.model();
+  sinew::fx::Vec3 f;
+  ASSERT_TRUE(sinew::sph::sph_flexion_force(m, arm.engine().model, SphArm::newtons(20), &f));
+  const double n[3] = {f.x / 65536.0, f.y / 65536.0, f.z / 65536.0};
+  const double magnitude = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const sinew::fx::Mat34& distal = arm.engine().model[m.joint.distal_joint];
+  const sinew::fx::Vec3 axis = sinew::fx::transform_vector(distal, m.joint.axis);
+  const double along_axis = (n[0] * axis.x + n[1] * axis.y + n[2] * axis.z) / 1073741824.0;
+  std::printf("20 N reading -> (%.4f, %.4f, %.4f) N, |F| %.5f N, along the axis %.6f N\n", n[0], n[1], n[2], magnitude,
+              along_axis);
+  EXPECT_NEAR(magnitude, 20.0, 1e-3);
+  EXPECT_NEAR(along_axis, 0.0, 1e-3);
+
+  // Held for 100 ticks, it bends the elbow forward; the opposite reading back.
+  double bend[2] = {0, 0};
+  for (int sign = 0; sign < 2; ++sign) {
+    SphArm fresh(small(256));
+    ASSERT_TRUE(fresh.ok());
+    for (int t = 0; t < 100; ++t) {
+      sinew::engine::engine_step(&fresh.engine(), fresh.inputs());
+      sinew::sph::SphInputs in;
+      in.transforms = fresh.engine().model;
+      ASSERT_TRUE(sinew::sph::sph_flexion_force(fresh.model(), fresh.engine().model,
+                                                SphArm::newtons(sign == 0 ? 10 : -10), &in.force));
+      ASSERT_TRUE(sinew::sph::sph_step(&fresh.state(), in).ok());
+    }
+    bend[sign] = fresh.bend_degrees();
+  }
+  std::printf("bend after 100 ticks: +10 N %.2f deg, -10 N %.2f deg\n", bend[0], bend[1]);
+  EXPECT_GT(bend[0], 1.0);
+  EXPECT_LT(bend[1], -1.0);
+}
