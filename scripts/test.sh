@@ -2,7 +2,7 @@
 # Builds and runs the whole test suite:
 #   dev      gcc Debug with ASan+UBSan: every unit, property, integration test
 #   release  gcc Release: the same tests at -O3, and the benchmarks' smoke runs
-#   clang    clang RelWithDebInfo: unit and determinism tests
+#   clang    clang RelWithDebInfo: sim_core, hal and firmware tests, short fuzz runs
 #   aarch64  cross build under qemu-user: sim_core, hal and firmware tests,
 #            and the integration tests through the aarch64 daemon
 #   armhf    cross build under qemu-user: sim_core unit and determinism tests

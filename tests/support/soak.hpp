@@ -12,4 +12,14 @@ inline bool soak_enabled() {
   return value != nullptr && value[0] != '\0' && value[0] != '0';
 }
 
+// True in the cross builds, whose tests run under qemu-user (10-30x slower):
+// a test whose native short form is already long may run fewer steps there.
+inline constexpr bool emulated() {
+#ifdef SINEW_TEST_EMULATED
+  return true;
+#else
+  return false;
+#endif
+}
+
 }  // namespace sinew::test
