@@ -6,6 +6,7 @@
 // the joint yield (Tresca) the elbow's input carries kJointYielded in every
 // later frame.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -82,6 +83,40 @@ TEST(SphEndToEnd, ForceInputBendsTheElbowUntilItYields) {
   // about 150 mm. A bend past 45 deg (or a wrapped elbow angle, 0.5 m) fails.
   EXPECT_GT(largest_mm, 10.0);
   EXPECT_LT(largest_mm, 300.0) << "the particles flex the arm, they do not tear it";
+}
+
+// The force sensor read over Modbus: the simulated rig's CAN stream drops
+// elbow.force for the whole run, so only the Modbus device (layout
+// "simulated-rig", quantity force) can deliver it. Live, on loopback TCP.
+TEST(SphEndToEnd, ForceArrivesOverModbus) {
+  const std::string dir = testing::TempDir();
+  const std::string config = dir + "/sph-modbus.toml", frames = dir + "/sph-modbus.frames";
+  std::remove(frames.c_str());
+  const int port = 20000 + static_cast<int>((::getpid() + 7919) % 20000);
+  std::ofstream(config) << "[rig]\nbuiltin = \"arm\"\n"
+                        << "[loop]\nrate_hz = 25\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"live\"\n"
+                        << "[layers]\nsph_particles = 128\n"
+                        << "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10\n"
+                        << "modbus_port = " << port << "\n"
+                        << "[[source.fault]]\nkind = \"drop\"\ninput = \"elbow.force\"\nfrom_s = 0\nto_s = 100\n"
+                        << "[[source]]\ntype = \"modbus\"\nname = \"plc\"\nport = " << port
+                        << "\nlayout = \"simulated-rig\"\ntimeout_ms = 50\nperiod_ms = 10\n"
+                        << "[[sink]]\ntype = \"log\"\npath = \"" << frames << "\"\n";
+  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, dir + "/sph-modbus.out");
+  ASSERT_EQ(daemon.status, 0) << daemon.command << "\n" << daemon.out;
+  const std::vector<DecodedPose> poses = sinew::test::read_frame_log(frames).poses;
+  ASSERT_GE(poses.size(), 25u) << daemon.out;  // 50 ticks; late ones are skipped
+  double force_max = 0;
+  size_t fed = 0;
+  for (const DecodedPose& p : poses) {
+    ASSERT_EQ(p.input_count, kForce + 1u);
+    force_max = std::max(force_max, std::abs(p.input_value[kForce] / 65536.0));
+    fed += (p.input_status[kForce] & sinew::hal::kJointStale) == 0 ? 1 : 0;
+  }
+  std::printf("force over Modbus: %zu of %zu frames fresh, largest |force| %.2f N\n", fed, poses.size(), force_max);
+  EXPECT_GT(force_max, 20.0) << daemon.out;
+  EXPECT_LT(force_max, 45.0);
+  EXPECT_GT(fed, poses.size() / 2) << daemon.out;
 }
 
 TEST(SphEndToEnd, NeedsTheBuiltInArm) {
