@@ -1,5 +1,6 @@
 #include "config.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -28,6 +29,29 @@ bool read_number(const toml::table& t, const char* key, T lo, T hi, T* out, cons
   return true;
 }
 
+bool read_flag(const toml::table& t, const char* key, bool* out, const std::string& origin, std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return true;
+  const auto v = n->value_exact<bool>();
+  if (!v) return *error = at(origin, n, key) + ": must be true or false", false;
+  *out = *v;
+  return true;
+}
+
+// A misspelt key would otherwise be ignored and its default used in silence.
+bool known_keys_only(const toml::table& t, const char* table, std::initializer_list<std::string_view> keys,
+                     const std::string& origin, std::string* error) {
+  for (const auto& [key, node] : t) {
+    if (std::find(keys.begin(), keys.end(), key.str()) != keys.end()) continue;
+    std::string known;
+    for (std::string_view k : keys) known += (known.empty() ? "" : ", ") + std::string(k);
+    return *error = at(origin, &node, std::string("[") + table + "] " + std::string(key.str())) + ": unknown key (" +
+                    known + ")",
+           false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool parse_config(std::string_view text, const std::string& origin, DaemonConfig* out, std::string* error) {
@@ -39,7 +63,17 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     return false;
   }
   DaemonConfig c;
+  for (const char* table : {"rig", "loop", "layers", "realtime", "inputs"})
+    if (t.contains(table) && !t[table].is_table())
+      return *error = at(origin, t[table].node(), std::string("[") + table + "]") + ": must be a table", false;
+  for (const auto& [key, node] : t)
+    if (std::string_view k = key.str();
+        k != "rig" && k != "loop" && k != "layers" && k != "realtime" && k != "inputs" && k != "source" && k != "sink")
+      return *error = at(origin, &node, std::string(k)) +
+                      ": unknown table or key (rig, loop, layers, realtime, inputs, source, sink)",
+             false;
   if (const toml::table* rig = t["rig"].as_table()) {
+    if (!known_keys_only(*rig, "rig", {"builtin", "blob"}, origin, error)) return false;
     c.rig_builtin = (*rig)["builtin"].value_or<std::string>("");
     c.rig_blob = (*rig)["blob"].value_or<std::string>("");
   }
@@ -49,6 +83,8 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     return *error = at(origin, t["rig"]["builtin"].node(), "[rig] builtin") + ": unknown built-in rig (arm, hand)",
            false;
   if (const toml::table* loop = t["loop"].as_table()) {
+    if (!known_keys_only(*loop, "loop", {"rate_hz", "duration_s", "stats_interval_s", "mode"}, origin, error))
+      return false;
     if (!read_number(*loop, "rate_hz", 1u, 20000u, &c.rate_hz, origin, error)) return false;
     if (!read_number(*loop, "duration_s", 0.0, 1e7, &c.duration_s, origin, error)) return false;
     if (!read_number(*loop, "stats_interval_s", 0.0, 3600.0, &c.stats_interval_s, origin, error)) return false;
@@ -63,8 +99,12 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       return *error = at(origin, (*loop)["mode"].node(), "[loop] mode") + ": must be live, replay or offline", false;
   }
   if (const toml::table* layers = t["layers"].as_table()) {
-    c.layer_metaballs = (*layers)["metaballs"].value_or(false);
-    c.layer_barnet = (*layers)["barnet"].value_or(false);
+    if (!known_keys_only(*layers, "layers",
+                         {"metaballs", "barnet", "anatomy_iterations", "sph_particles", "sph_force_max_n"}, origin,
+                         error) ||
+        !read_flag(*layers, "metaballs", &c.layer_metaballs, origin, error) ||
+        !read_flag(*layers, "barnet", &c.layer_barnet, origin, error))
+      return false;
     if (!read_number(*layers, "anatomy_iterations", 0, 64, &c.layer_anatomy_iterations, origin, error)) return false;
     if (c.layer_anatomy_iterations > 0 && c.rig_builtin != "arm")
       return *error = at(origin, (*layers)["anatomy_iterations"].node(), "[layers] anatomy_iterations") +
@@ -88,11 +128,14 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
              false;
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
+    if (!known_keys_only(*rt, "realtime", {"fifo_priority", "cpu", "lock_memory"}, origin, error)) return false;
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;
-    c.realtime.lock_memory = (*rt)["lock_memory"].value_or(false);
+    if (!read_flag(*rt, "lock_memory", &c.realtime.lock_memory, origin, error)) return false;
   }
   if (const toml::table* in = t["inputs"].as_table()) {
+    if (!known_keys_only(*in, "inputs", {"timeout_factor", "default_period_ms", "range_margin_deg"}, origin, error))
+      return false;
     if (!read_number(*in, "timeout_factor", 1.0, 100.0, &c.timeout_factor, origin, error)) return false;
     if (!read_number(*in, "default_period_ms", 0.01, 10000.0, &c.default_period_ms, origin, error)) return false;
     if (!read_number(*in, "range_margin_deg", 0.0, 180.0, &c.range_margin_deg, origin, error)) return false;

@@ -139,3 +139,30 @@ TEST(DaemonConfig, ModbusChannelRejectsUnknownEnumValues) {
   EXPECT_NE(channel_error("word_order = \"little\"\n").find("channel.word_order 'little' unknown"), std::string::npos);
   EXPECT_NE(channel_error("width = 24\n").find("channel.width must be 16 or 32"), std::string::npos);
 }
+
+// A misspelt key or a wrongly typed flag is an error naming it, not a
+// silent default.
+TEST(DaemonConfig, UnknownKeysAndNonBooleanFlagsAreRejected) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n";
+  EXPECT_NE(error_of(rig + "[layers]\nmetaball = true\n").find("test.toml:4: [layers] metaball: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\nrate = 100\n").find("[loop] rate: unknown key"), std::string::npos);
+  EXPECT_NE(error_of(rig + "[inputs]\ntimeout = 2\n").find("[inputs] timeout: unknown key"), std::string::npos);
+  EXPECT_NE(error_of(rig + "[realtime]\nlock_memory = 1\n").find("test.toml:4: lock_memory: must be true or false"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[layers]\nmetaballs = \"yes\"\n").find("metaballs: must be true or false"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[sources]\ntype = \"can\"\n").find("sources: unknown table or key"), std::string::npos);
+  EXPECT_NE(error_of("loop = 3\n" + rig).find("test.toml:1: [loop]: must be a table"), std::string::npos);
+  EXPECT_NE(error_of(rig + "blobs = \"a.rig\"\n").find("[rig] blobs: unknown key (builtin, blob)"), std::string::npos);
+}
+
+// Every configuration the project ships parses.
+TEST(DaemonConfig, ShippedConfigurationsParse) {
+  for (const char* name : {"default.toml"}) {
+    DaemonConfig c;
+    std::string error;
+    EXPECT_TRUE(sinew::firmware::load_config(std::string(SINEW_FIRMWARE_CONFIG_DIR) + "/" + name, &c, &error))
+        << name << ": " << error;
+  }
+}
