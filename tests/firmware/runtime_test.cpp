@@ -5,8 +5,11 @@
 #include <array>
 #include <cstring>
 
+#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/daemon/sph_layer.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "tests/support/alloc_guard.hpp"
+#include "tests/support/soak.hpp"
 #include "tests/support/time_units.hpp"
 
 namespace fw = sinew::firmware;
@@ -141,4 +144,52 @@ TEST(Runtime, ClampedJointsAreFlaggedInTheFrame) {
   const hal::PoseFrame& f = rt.step(kMs);
   EXPECT_TRUE(f.input_status[3] & hal::kJointClampedStatus);
   EXPECT_FALSE(f.input_status[0] & hal::kJointClampedStatus);
+}
+
+// The SPH elbow as a runtime layer, fed by an external force input: 1000
+// ticks (300 under qemu) without a heap call, the force logged in the frame, and the joint's
+// yield flagged on the elbow's input once the ramp passes the Tresca limit.
+TEST(Runtime, SphLayerOnAnExternalForceInputNeverAllocates) {
+  fw::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(fw::load_rig("arm", "", &rig, &error)) << error;
+  fw::SphLayerOptions options;
+  options.particles = 128;
+  std::unique_ptr<fw::PoseLayer> layer = fw::make_arm_sph_layer(&rig, options, &error);
+  ASSERT_NE(layer, nullptr) << error;
+  ASSERT_EQ(rig.input_count(), rig.rig.input_count + 1);
+  ASSERT_EQ(rig.input_names.back(), "elbow.force");
+  const auto force = static_cast<uint16_t>(rig.input_count() - 1);
+
+  const uint64_t ticks = sinew::test::emulated() ? 300 : 1000, ramp = ticks / 2;
+  std::vector<hal::JointSample> samples;  // 0 -> 40 N over the first half, then held
+  for (uint64_t t = 1; t <= ticks; ++t)
+    samples.push_back({force, static_cast<int32_t>(std::min(t, ramp) * 40 * 65536 / ramp), t * kMs, 0});
+  fw::Runtime rt;
+  rt.add_layer(std::move(layer));
+  const std::vector<fw::InputLimits> limits(rig.input_count(), fw::InputLimits{INT32_MIN, INT32_MAX, 0});
+  ASSERT_TRUE(rt.init(rig.rig, limits, 0, &error)) << error;
+  rt.add_source(std::make_unique<ScriptedSource>(std::move(samples)));
+  auto sink = std::make_unique<FingerprintSink>();
+  FingerprintSink* fingerprint = sink.get();
+  rt.add_sink(std::move(sink));
+
+  sinew::test::AllocationCounter allocations;
+  const hal::PoseFrame* frame = nullptr;
+  uint64_t first_yield_tick = 0;
+  for (uint64_t t = 1; t <= ticks; ++t) {
+    frame = &rt.step(t * kMs);
+    if (first_yield_tick == 0 && (frame->input_status[3] & hal::kJointYielded)) first_yield_tick = t;
+  }
+  std::printf("sph layer: %llu heap allocations in %llu ticks; yielded at tick %llu (%.1f N); layer errors %llu\n",
+              static_cast<unsigned long long>(allocations.allocations()), static_cast<unsigned long long>(ticks),
+              static_cast<unsigned long long>(first_yield_tick),
+              static_cast<double>(std::min(first_yield_tick, ramp)) * 40 / static_cast<double>(ramp),
+              static_cast<unsigned long long>(rt.layer_errors()));
+  EXPECT_EQ(allocations.allocations(), 0u);
+  EXPECT_EQ(rt.layer_errors(), 0u);
+  ASSERT_EQ(frame->input_count, rig.input_count());
+  EXPECT_EQ(frame->input_value[force], 40 * 65536);
+  EXPECT_GT(first_yield_tick, 0u) << "40 N is past the elbow's Tresca limit";
+  EXPECT_TRUE(fingerprint->last_status_[3] & hal::kJointYielded);
 }
