@@ -66,6 +66,9 @@ struct RigSpec {
   // Extra magnitudes the rig must represent (e.g. animated translations), in
   // model units; considered when choosing the length exponent.
   double extra_extent = 0;
+  // For rigs imported from glTF: the node each joint comes from (a spec may
+  // name a joint by node index where the file leaves nodes unnamed).
+  std::vector<int> source_node;
 };
 
 struct CompileReport {

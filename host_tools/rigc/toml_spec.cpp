@@ -5,6 +5,7 @@
 
 #include "builtin_rigs.hpp"
 #include "gltf_import.hpp"
+#include "toml_layers.hpp"
 
 namespace sinew::rigc {
 namespace {
@@ -36,6 +37,11 @@ int input_index(const RigSpec& spec, const std::string& name) {
 }  // namespace
 
 bool load_toml_spec(const std::string& path, RigSpec* out, std::string* error) {
+  layers::LayerSpecs ignored;
+  return load_toml_rig(path, out, &ignored, error);
+}
+
+bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* layer_specs, std::string* error) {
   toml::table t;
   try {  // Debian's toml++ is built with exceptions: parse errors arrive as toml::parse_error
     t = toml::parse_file(path);
@@ -43,6 +49,16 @@ bool load_toml_spec(const std::string& path, RigSpec* out, std::string* error) {
     *error = path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description());
     return false;
   }
+  for (const auto& [key, node] : t) {
+    static const char* const kTables[] = {"rig", "joint", "synergy", "sph", "metaballs", "muscle", "skin", "barnet", "external_input"};
+    bool known = false;
+    for (const char* k : kTables) known |= key.str() == k;
+    if (!known) return *error = where(path, &node, std::string(key.str())) + ": unknown table", false;
+  }
+  if (const toml::table* rig = t["rig"].as_table())
+    for (const auto& [key, node] : *rig)
+      if (key.str() != "source" && key.str() != "skinning" && key.str() != "rate_hz")
+        return *error = where(path, &node, "[rig] " + std::string(key.str())) + ": unknown key", false;
   const auto source = t["rig"]["source"].value<std::string>();
   if (!source) return *error = path + ": [rig] source is required (\"builtin:arm\", \"builtin:hand\" or a glTF path)", false;
   const std::string skinning = t["rig"]["skinning"].value_or<std::string>("dqs");
@@ -57,6 +73,7 @@ bool load_toml_spec(const std::string& path, RigSpec* out, std::string* error) {
     GltfRig gltf;
     if (!import_gltf(model.string(), &gltf, error)) return false;
     *out = gltf.spec;
+    out->source_node = gltf.joint_node;
     for (VertexSpec& v : out->vertices) v.dual_quaternion = method == SkinChoice::kDualQuaternion;
   }
   if (const toml::array* joints = t["joint"].as_array()) {
@@ -102,7 +119,7 @@ bool load_toml_spec(const std::string& path, RigSpec* out, std::string* error) {
       out->synergies.push_back(spec);
     }
   }
-  return true;
+  return read_toml_layers(path, t, layer_specs, error);
 }
 
 }  // namespace sinew::rigc

@@ -18,6 +18,7 @@
 
 #include <string>
 
+#include "host_tools/layers/rig_layers.hpp"
 #include "rig_spec.hpp"
 
 namespace sinew::rigc {
@@ -25,5 +26,9 @@ namespace sinew::rigc {
 // Builds the RigSpec a TOML file describes. Errors name the file, the line and
 // the key at fault.
 bool load_toml_spec(const std::string& path, RigSpec* out, std::string* error);
+
+// The same, with the spec's layer tables (toml_layers.hpp). Unknown top-level
+// tables and unknown [rig] keys are refused.
+bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* layers, std::string* error);
 
 }  // namespace sinew::rigc

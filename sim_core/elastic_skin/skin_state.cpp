@@ -1,12 +1,12 @@
 #include "skin_state.hpp"
 
-#include "sim_core/muscle/arena.hpp"
+#include "sim_core/fixed/arena.hpp"
 
 namespace sinew::elastic_skin {
 namespace {
 
-muscle::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinState* s) {
-  muscle::ArenaCarver c(base, size);
+fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinState* s) {
+  fx::ArenaCarver c(base, size);
   const size_t n = model.vertex_count;
   for (int a = 0; a < 3; ++a) s->position[a] = c.take<fx::Len>(n);
   for (int a = 0; a < 3; ++a) s->anchor[a] = c.take<fx::Len>(n);
@@ -30,7 +30,7 @@ LayerStatus skin_state_init(const SkinModel& model, void* memory, size_t bytes, 
   if (model.vertex_count > kMaxVertices)
     return muscle::layer_fail(LayerError::kBadModel, "skin model", -1, "vertex_count", "above 2^20", model.vertex_count,
                               true);
-  if (!muscle::aligned8(memory))
+  if (!fx::aligned8(memory))
     return muscle::layer_fail(LayerError::kMemory, "skin state", -1, "memory", "null or not 8-byte aligned");
   SkinState s;
   if (layout(model, memory, bytes, &s).failed())

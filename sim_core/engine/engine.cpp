@@ -1,3 +1,4 @@
+#include "sim_core/fixed/arena.hpp"
 #include "engine.hpp"
 
 namespace sinew::engine {
@@ -5,35 +6,7 @@ namespace {
 
 constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
-// Bump allocator over the caller's arena; used only inside engine_init.
-class Carver {
- public:
-  Carver(uint8_t* base, size_t size) : base_(base), size_(size) {}
-  template <typename T>
-  std::span<T> take(size_t count) {
-    const size_t bytes = align8(count * sizeof(T));
-    if (count == 0) return {};
-    needed_ += bytes;
-    if (base_ == nullptr || used_ + bytes > size_) {
-      failed_ = true;
-      return {};
-    }
-    static_assert(alignof(T) <= 8, "the arena and every carve are 8-byte aligned");
-    T* p = static_cast<T*>(static_cast<void*>(base_ + used_));
-    for (size_t i = 0; i < count; ++i) p[i] = T{};
-    used_ += bytes;
-    return {p, count};
-  }
-  size_t needed() const { return needed_; }
-  bool failed() const { return failed_; }
-
- private:
-  uint8_t* base_;
-  size_t size_;
-  size_t used_ = 0;
-  size_t needed_ = 0;
-  bool failed_ = false;
-};
+using Carver = fx::ArenaCarver;
 
 Carver layout(const rig::Rig& rig, uint8_t* base, size_t size, Engine* e) {
   Carver c(base, size);

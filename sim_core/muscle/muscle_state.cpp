@@ -1,13 +1,13 @@
 #include "muscle_state.hpp"
 
-#include "arena.hpp"
+#include "sim_core/fixed/arena.hpp"
 #include "sim_core/fixed/trig.hpp"
 
 namespace sinew::muscle {
 namespace {
 
-ArenaCarver layout(const MuscleModel& model, void* base, size_t size, MuscleState* s) {
-  ArenaCarver c(base, size);
+fx::ArenaCarver layout(const MuscleModel& model, void* base, size_t size, MuscleState* s) {
+  fx::ArenaCarver c(base, size);
   const size_t m = model.muscles.size(), ring = model.ring_vertices;
   s->ring_cos = c.take<fx::Unit>(ring);
   s->ring_sin = c.take<fx::Unit>(ring);
@@ -36,10 +36,10 @@ LayerStatus muscle_state_init(const MuscleModel& model, void* memory, size_t byt
                       ring, true);
   if (model.muscles.size() > kMaxMuscles || model.primitives.size() > kMaxPrimitives)
     return layer_fail(LayerError::kBadModel, "muscle model", -1, "muscles", "more records than the documented maxima");
-  if (!aligned8(memory))
+  if (!fx::aligned8(memory))
     return layer_fail(LayerError::kMemory, "muscle state", -1, "memory", "null or not 8-byte aligned");
   MuscleState s;
-  const ArenaCarver c = layout(model, memory, bytes, &s);
+  const fx::ArenaCarver c = layout(model, memory, bytes, &s);
   if (c.failed())
     return layer_fail(LayerError::kMemory, "muscle state", -1, "bytes", "smaller than muscle_state_bytes",
                       static_cast<int64_t>(bytes), true);

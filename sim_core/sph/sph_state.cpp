@@ -1,3 +1,4 @@
+#include "sim_core/fixed/arena.hpp"
 #include "sph_state.hpp"
 
 #include "sim_core/rig/message.hpp"
@@ -10,35 +11,7 @@ namespace {
 
 constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
-// Bump allocator over the caller's arena; used only inside sph_init.
-class Carver {
- public:
-  Carver(uint8_t* base, size_t size) : base_(base), size_(size) {}
-  template <typename T>
-  std::span<T> take(size_t count) {
-    static_assert(alignof(T) <= 8, "the arena and every carve are 8-byte aligned");
-    if (count == 0) return {};
-    const size_t bytes = align8(count * sizeof(T));
-    needed_ += bytes;
-    if (base_ == nullptr || used_ + bytes > size_) {
-      failed_ = true;
-      return {};
-    }
-    T* p = static_cast<T*>(static_cast<void*>(base_ + used_));
-    for (size_t i = 0; i < count; ++i) p[i] = T{};
-    used_ += bytes;
-    return {p, count};
-  }
-  size_t needed() const { return needed_; }
-  bool failed() const { return failed_; }
-
- private:
-  uint8_t* base_;
-  size_t size_;
-  size_t used_ = 0;
-  size_t needed_ = 0;
-  bool failed_ = false;
-};
+using Carver = fx::ArenaCarver;
 
 uint32_t grid_dim_of(const SphParams& p) { return static_cast<uint32_t>((2 * int64_t{p.grid_radius} + p.h - 1) / p.h); }
 

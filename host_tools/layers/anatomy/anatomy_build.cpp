@@ -86,12 +86,44 @@ class Builder {
   }
   fx::Vec3 to_vec(const P3& p) const { return {len(p[0]), len(p[1]), len(p[2])}; }
 
+  // Where a file's bind pose (the inverse of its inverse bind matrices, the
+  // space its mesh is in) differs from its nodes' rest pose, the builder
+  // works in the bind pose: attachments and anchors are then bind-space
+  // joint coordinates, which the runtime maps with model x inverse bind.
+  // Rigs whose rest pose is their bind pose (the built-in ones) keep the
+  // engine's rest transforms exactly.
+  void bind_pose() {
+    for (const rig::PaletteRecord& p : rig_.palette) {
+      if (p.joint >= rest_model_.size()) continue;
+      double a[3][3], inv[3][3], t[3];
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) a[r][c] = std::ldexp(static_cast<double>(p.inverse_bind.m[r][c]), -24);
+        t[r] = from_len(p.inverse_bind.t[r]);
+      }
+      invert3(a, inv);
+      fx::Mat34 bind{};
+      double difference = 0;
+      const fx::Mat34& rest = rest_model_[p.joint];
+      for (int r = 0; r < 3; ++r) {
+        const double tr = -(inv[r][0] * t[0] + inv[r][1] * t[1] + inv[r][2] * t[2]);
+        for (int c = 0; c < 3; ++c) {
+          bind.m[r][c] = rigc::to_fixed(inv[r][c], 24);
+          difference = std::max(difference, std::fabs(inv[r][c] - std::ldexp(static_cast<double>(rest.m[r][c]), -24)));
+        }
+        bind.t[r] = len(tr);
+        difference = std::max(difference, std::fabs(tr - from_len(rest.t[r])) / std::ldexp(1.0, e_));
+      }
+      if (difference > 1e-4) rest_model_[p.joint] = bind;
+    }
+  }
+
   void rest_pose() {
     const uint32_t joints = rig_.joint_count();
     std::vector<skeleton::LocalPose> locals(joints);
     rest_model_.assign(joints, fx::Mat34{});
     skeleton::rest_locals(rig_, locals);
     skeleton::locals_to_model(rig_, locals, rest_model_);
+    bind_pose();
     frames_.resize(joints);
     for (uint32_t j = 0; j < joints; ++j) {
       Frame& f = frames_[j];
@@ -105,7 +137,12 @@ class Builder {
 
   fx::Vec3 bone_point(const BoneAttachment& a) const {
     const BoneSize& b = spec_.bones[static_cast<size_t>(a.bone)];
-    return to_vec({a.param[0] * b.length, a.param[1] * b.radius, a.param[2] * b.radius});
+    const P3 third{b.axis[1] * b.side[2] - b.axis[2] * b.side[1], b.axis[2] * b.side[0] - b.axis[0] * b.side[2],
+                   b.axis[0] * b.side[1] - b.axis[1] * b.side[0]};
+    P3 local;
+    for (size_t i = 0; i < 3; ++i)
+      local[i] = a.param[0] * b.length * b.axis[i] + a.param[1] * b.radius * b.side[i] + a.param[2] * b.radius * third[i];
+    return to_vec(local);
   }
   bool bone_ok(int bone) const { return bone >= 0 && static_cast<uint32_t>(bone) < rig_.joint_count(); }
 
@@ -212,7 +249,8 @@ class Builder {
     for (uint32_t j = 0; j < rig_.joint_count(); ++j) {
       const Frame& f = frames_[j];
       const BoneSize& b = spec_.bones[j];
-      const P3 dir = {f.m[0][0] * b.length, f.m[1][0] * b.length, f.m[2][0] * b.length};
+      const P3 along = apply(f.m, b.axis);
+      const P3 dir = {along[0] * b.length, along[1] * b.length, along[2] * b.length};
       const P3 rel = sub(p, f.t);
       const double dd = dot(dir, dir);
       double t = dd > 0 ? dot(rel, dir) / dd : 0;

@@ -19,9 +19,15 @@ using rigc::Vec3d;
 // attachments are given in units of it, so one muscle description fits
 // bones of any size: a point (px, py, pz) is (px * length, py * radius,
 // pz * radius) in the joint's frame.
+// The bone runs along `axis` of its joint's frame (X for the built-in
+// rigs; glTF skeletons often use Y) and `side` (perpendicular to it) is the
+// point's second coordinate: (px, py, pz) is px * length * axis +
+// py * radius * side + pz * radius * (axis x side).
 struct BoneSize {
   double length = 0.1;
   double radius = 0.01;
+  Vec3d axis{1, 0, 0};
+  Vec3d side{0, 1, 0};
 };
 
 struct BoneAttachment {

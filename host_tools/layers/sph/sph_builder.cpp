@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
+#include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/quantize.hpp"
+#include "sim_core/engine/engine.hpp"
 #include "sim_core/fixed/trig.hpp"
 #include "sim_core/sph/sph_grid.hpp"
 #include "sim_core/sph/sph_state.hpp"
@@ -27,15 +30,7 @@ struct Rng {
   }
 };
 
-double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec3d axpy(const Vec3d& p, double s, const Vec3d& d) { return {p[0] + s * d[0], p[1] + s * d[1], p[2] + s * d[2]}; }
-Vec3d normalized(const Vec3d& v) {
-  const double l = std::sqrt(dot(v, v));
-  return {v[0] / l, v[1] / l, v[2] / l};
-}
-Vec3d cross(const Vec3d& a, const Vec3d& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
 
 // Cube root by Newton's method (no libm cbrt: it differs between platforms).
 double cube_root(double v) {
@@ -113,23 +108,44 @@ sph::SphModel SphBuilt::model() const {
   return m;
 }
 
+bool identity_rest(const rigc::RigSpec& spec) {
+  for (const rigc::JointSpec& js : spec.joints)
+    if (js.rotation != rigc::Quatd{1, 0, 0, 0} || js.scale != Vec3d{1, 1, 1}) return false;
+  return true;
+}
+
 bool rest_transforms(const rigc::RigSpec& spec, int32_t e, std::vector<fx::Mat34>* out, std::string* error) {
   out->assign(spec.joints.size(), fx::mat34_identity());
   for (size_t j = 0; j < spec.joints.size(); ++j) {
     const rigc::JointSpec& js = spec.joints[j];
-    if (js.rotation != rigc::Quatd{1, 0, 0, 0} || js.scale != Vec3d{1, 1, 1})
-      return *error = "sph builder: joint " + js.name + " has a rest rotation or scale (not supported)", false;
-    // As the engine composes them: identity linear parts, so translations add exactly.
-    for (int a = 0; a < 3; ++a) {
-      const int32_t t = rigc::to_len(js.translation[static_cast<size_t>(a)], e);
-      (*out)[j].t[a] = js.parent >= 0 ? (*out)[static_cast<size_t>(js.parent)].t[a] + t : t;
+    if (identity_rest(spec)) {
+      // As the engine composes them: identity linear parts, so translations add exactly.
+      for (int a = 0; a < 3; ++a) {
+        const int32_t t = rigc::to_len(js.translation[static_cast<size_t>(a)], e);
+        (*out)[j].t[a] = js.parent >= 0 ? (*out)[static_cast<size_t>(js.parent)].t[a] + t : t;
+      }
+      continue;
     }
+    // Rest rotations and scales: the engine's own composition of the
+    // quantised local transforms (skeleton::locals_to_model at rest).
+    const double n = std::sqrt(js.rotation[0] * js.rotation[0] + js.rotation[1] * js.rotation[1] +
+                               js.rotation[2] * js.rotation[2] + js.rotation[3] * js.rotation[3]);
+    if (!(n > 0)) return *error = "sph builder: joint " + js.name + " has a zero rest rotation", false;
+    const fx::Quat q{rigc::to_fixed(js.rotation[0] / n, 30), rigc::to_fixed(js.rotation[1] / n, 30),
+                     rigc::to_fixed(js.rotation[2] / n, 30), rigc::to_fixed(js.rotation[3] / n, 30)};
+    const fx::Mat34 local = fx::mat34_from_trs(
+        {rigc::to_len(js.translation[0], e), rigc::to_len(js.translation[1], e), rigc::to_len(js.translation[2], e)},
+        q, {rigc::to_fixed(js.scale[0], 24), rigc::to_fixed(js.scale[1], 24), rigc::to_fixed(js.scale[2], 24)});
+    (*out)[j] = js.parent < 0 ? local : fx::mul((*out)[static_cast<size_t>(js.parent)], local);
   }
   return true;
 }
 
 bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* out, std::string* error) {
-  const int prox = rigc::joint_index(spec, o.proximal_joint), dist = rigc::joint_index(spec, o.distal_joint);
+  const int prox = o.proximal_index >= 0 ? o.proximal_index : rigc::joint_index(spec, o.proximal_joint);
+  const int dist = o.distal_index >= 0 ? o.distal_index : rigc::joint_index(spec, o.distal_joint);
+  if (prox >= static_cast<int>(spec.joints.size()) || dist >= static_cast<int>(spec.joints.size()))
+    return *error = "sph builder: joint index beyond the rig's joints", false;
   if (prox < 0) return *error = "sph builder: proximal_joint '" + o.proximal_joint + "' is not in the rig", false;
   if (dist < 0) return *error = "sph builder: distal_joint '" + o.distal_joint + "' is not in the rig", false;
   if (spec.joints[static_cast<size_t>(dist)].dofs.empty())
@@ -145,7 +161,16 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   SphBuilt b;
   b.length_exponent = rigc::choose_length_exponent(spec);
   const int32_t e = b.length_exponent;
-  const std::vector<Vec3d> jp = joint_positions(spec);
+  // Joint frames: with identity rest rotations the historical exact path
+  // (translations add); otherwise the full rest transforms.
+  const bool identity = identity_rest(spec);
+  RigGeometry geometry;
+  if (!identity && !rig_geometry(spec, &geometry, error)) return *error = "sph builder: " + *error, false;
+  const std::vector<Vec3d> jp = identity ? joint_positions(spec) : [&] {
+    std::vector<Vec3d> t;
+    for (const RestFrame& f : geometry.frame) t.push_back(f.t);
+    return t;
+  }();
   const Vec3d c = jp[static_cast<size_t>(dist)];
   const Vec3d u = normalized({c[0] - jp[static_cast<size_t>(prox)][0], c[1] - jp[static_cast<size_t>(prox)][1],
                               c[2] - jp[static_cast<size_t>(prox)][2]});
@@ -162,16 +187,51 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   b.spacing_metres = s;
   b.h_metres = o.kernel_ratio * s;
 
+  // The general path takes the rest pose from the engine itself: joint
+  // transforms and skinned vertices exactly as the runtime has them, so the
+  // particles' rest positions agree with the skin whatever the file's bind
+  // pose is (particles are placed in the mesh's bind space).
+  std::vector<fx::Mat34> engine_rest;
+  std::array<std::vector<fx::Len>, 3> skinned_rest;
+  if (!identity) {
+    std::vector<uint8_t> blob;
+    rigc::CompileReport report;
+    if (!rigc::compile_rig(spec, &blob, &report, error)) return false;
+    std::vector<uint64_t> aligned(blob.size() / 8 + 1), arena, engine_arena;
+    std::memcpy(aligned.data(), blob.data(), blob.size());
+    const auto* data = reinterpret_cast<const uint8_t*>(aligned.data());
+    size_t bytes = 0;
+    rig::Rig rig;
+    rig::LoadStatus st = rig::rig_validate(data, blob.size(), &bytes);
+    arena.assign(bytes / 8 + 1, 0);
+    if (st.ok()) st = rig::rig_init(data, blob.size(), arena.data(), arena.size() * 8, &rig);
+    if (!st.ok()) return *error = std::string("sph builder: ") + st.message, false;
+    engine_arena.assign(engine::engine_arena_bytes(rig) / 8 + 1, 0);
+    engine::Engine eng;
+    if (!engine::engine_init(rig, engine_arena.data(), engine_arena.size() * 8, &eng))
+      return *error = "sph builder: engine init failed", false;
+    engine_rest.assign(eng.model.begin(), eng.model.end());
+    for (size_t a = 0; a < 3; ++a) skinned_rest[a].assign(eng.vertices.position[a].begin(), eng.vertices.position[a].end());
+  }
+
   const uint32_t n = o.particle_count;
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3d& p = lat.points[i];
     const bool distal = lat.axial[i] >= 0;
     const Vec3d& origin = jp[static_cast<size_t>(distal ? dist : prox)];
     b.bone.push_back(static_cast<uint8_t>(distal ? sph::Bone::kDistal : sph::Bone::kProximal));
-    for (size_t a = 0; a < 3; ++a) {
-      b.rest_model[a].push_back(rigc::to_len(p[a], e));
-      b.rest_local[a].push_back(rigc::to_len(p[a] - origin[a], e));
-    }
+    const Vec3d local = identity ? Vec3d{p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]}
+                                 : to_local(geometry.frame[static_cast<size_t>(distal ? dist : prox)], p);
+    const fx::Vec3 local_len{rigc::to_len(local[0], e), rigc::to_len(local[1], e), rigc::to_len(local[2], e)};
+    const fx::Vec3 at_rest =
+        identity ? fx::Vec3{rigc::to_len(p[0], e), rigc::to_len(p[1], e), rigc::to_len(p[2], e)}
+                 : fx::transform_point(engine_rest[static_cast<size_t>(distal ? dist : prox)], local_len);
+    b.rest_model[0].push_back(at_rest.x);
+    b.rest_model[1].push_back(at_rest.y);
+    b.rest_model[2].push_back(at_rest.z);
+    b.rest_local[0].push_back(local_len.x);
+    b.rest_local[1].push_back(local_len.y);
+    b.rest_local[2].push_back(local_len.z);
   }
   // Skin vertices within h of a particle take the particles' displacement.
   const double h2 = b.h_metres * b.h_metres;
@@ -184,7 +244,7 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
     }
     if (!near) continue;
     b.skin_vertex.push_back(static_cast<uint32_t>(v));
-    for (size_t a = 0; a < 3; ++a) b.skin_rest[a].push_back(rigc::to_len(pv[a], e));
+    for (size_t a = 0; a < 3; ++a) b.skin_rest[a].push_back(identity ? rigc::to_len(pv[a], e) : skinned_rest[a][v]);
   }
 
   const double dt = 1.0 / (o.tick_hz * o.substeps), unit = std::ldexp(1.0, e), mass = o.tissue_mass / n;
@@ -207,8 +267,9 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   b.joint.distal_joint = static_cast<uint32_t>(dist);
   const Vec3d axis = normalized(spec.joints[static_cast<size_t>(dist)].dofs[0].axis);
   b.joint.axis = {rigc::to_fixed(axis[0], 30), rigc::to_fixed(axis[1], 30), rigc::to_fixed(axis[2], 30)};
-  b.joint.load_point = {rigc::to_len(u[0] * o.load_distance, e), rigc::to_len(u[1] * o.load_distance, e),
-                        rigc::to_len(u[2] * o.load_distance, e)};
+  const Vec3d load = identity ? Vec3d{u[0] * o.load_distance, u[1] * o.load_distance, u[2] * o.load_distance}
+                              : to_local(geometry.frame[static_cast<size_t>(dist)], axpy(c, o.load_distance, u));
+  b.joint.load_point = {rigc::to_len(load[0], e), rigc::to_len(load[1], e), rigc::to_len(load[2], e)};
   if (o.override_h >= 0) p.h = static_cast<fx::Len>(o.override_h);
 
   // Tresca limit (§5): "the pressure of the maximum bendable angle as the
@@ -216,7 +277,11 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   // density rise of the tissue rigidly flexed to yield_angle, computed with
   // sim_core's own density so that run time sees the same numbers.
   std::vector<fx::Mat34> rest;
-  if (!rest_transforms(spec, e, &rest, error)) return false;
+  if (identity) {
+    if (!rest_transforms(spec, e, &rest, error)) return false;
+  } else {
+    rest = engine_rest;
+  }
   {
     const sph::SphModel m = b.model();
     const sph::SphStatus st =

@@ -25,6 +25,7 @@ struct SphBuildOptions {
   uint32_t particle_count = 1000;
   std::string proximal_joint = "shoulder";  // bone carrying the particles before the joint
   std::string distal_joint = "elbow";       // the driven joint (its first DOF axis is the flexion axis)
+  int proximal_index = -1, distal_index = -1;  // >= 0: the joints by index (names are then ignored)
   double capsule_half_length = 0.08;        // metres along the bone on each side of the joint
   double capsule_radius = 0.036;            // metres (inside the arm's skin)
   double kernel_ratio = 2.0;                // h / lattice spacing

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
 
   using namespace sinew::rigc;
   RigSpec spec;
+  sinew::layers::LayerSpecs layer_specs;
+  std::vector<std::string> layer_report;
   std::string error;
   const SkinChoice method = skinning == "dqs" ? SkinChoice::kDualQuaternion : SkinChoice::kLinear;
   bool ok = false;
@@ -28,7 +30,7 @@ int main(int argc, char** argv) {
     ok = builtin_rig(input.substr(8), method, &spec);
     if (!ok) error = input + ": unknown built-in rig (arm, hand)";
   } else if (input.size() > 5 && input.substr(input.size() - 5) == ".toml") {
-    ok = load_toml_spec(input, &spec, &error);
+    ok = load_toml_rig(input, &spec, &layer_specs, &error);
   } else {
     GltfRig gltf;
     ok = import_gltf(input, &gltf, &error);
@@ -36,12 +38,16 @@ int main(int argc, char** argv) {
   }
   std::vector<uint8_t> blob;
   CompileReport report;
+  if (ok) ok = sinew::layers::add_layer_dofs(&spec, layer_specs, &layer_report, &error);
   if (ok) ok = compile_rig(spec, &blob, &report, &error);
+  if (ok) ok = sinew::layers::compile_layers(spec, layer_specs, &blob, &layer_report, &error);
   if (!ok) {
     std::fprintf(stderr, "rigc: %s\n", error.c_str());
     return 1;
   }
   std::printf("rigc: %s\n", format_report(report).c_str());
+  for (const std::string& line : layer_report) std::printf("rigc: layer %s\n", line.c_str());
+  if (!layer_report.empty()) std::printf("rigc: blob with layers %zu B\n", blob.size());
   if (report.renormalized_vertices > 0)
     std::printf("rigc: %u vertices had weights not summing to 1; renormalised\n", report.renormalized_vertices);
   if (!output.empty()) {

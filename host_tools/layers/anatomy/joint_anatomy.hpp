@@ -1,0 +1,36 @@
+// Muscles and an elastic skin for any rig, from the bones a spec names
+// (anatomically-based-modeling §4.1: attachments in units of the bone's
+// "bounding box", so one description fits bones of any size). Every bone's
+// box comes from the rig's geometry (layers/common/rig_geometry.hpp): its
+// length, and a bone radius of 0.27 x the skin radius (the arm's 1.2 cm in 4.5 cm) around it; a muscle's
+// attachments, slice profile, belly primitive and rubber band are the
+// built-in arm's biceps proportions scaled to those boxes.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "anatomy_spec.hpp"
+#include "host_tools/layers/common/rig_geometry.hpp"
+
+namespace sinew::anatomy_build {
+
+struct MuscleRequest {
+  std::string name;
+  int origin = -1, insertion = -1;  // joints: the origin must be the insertion or one of its ancestors
+  Vec3d side{0, 0, 0};              // model-space side the belly lies on; zero: the inner side of the bend
+  double thickness = 1.0;           // multiplies the derived slice radii
+};
+
+struct SkinRequest {
+  int iterations = 10;
+  bool warm_start = true;
+  double anchor_coefficient = 0.1;
+};
+
+// Fails, naming the muscle and the problem, when the bones cannot carry it.
+bool joint_anatomy(const rigc::RigSpec& rig, const layers::RigGeometry& geometry,
+                   const std::vector<MuscleRequest>& muscles, const SkinRequest& skin, AnatomySpec* out,
+                   std::string* error);
+
+}  // namespace sinew::anatomy_build

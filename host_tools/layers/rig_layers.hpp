@@ -1,0 +1,99 @@
+// The physical layers a rig spec asks for ([[sph]], [metaballs], [[muscle]],
+// [skin], [[barnet]], [[external_input]]; docs/rig-format.md lists every
+// key), built for any skeleton by the offline builders and written into the
+// rig blob as layer sections. A table holding only its required keys works
+// on any model: every other parameter derives from the rig's geometry
+// (layers/common/rig_geometry.hpp). Runs on the host only; the board loads
+// the fixed-point results.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "host_tools/rigc/rig_spec.hpp"
+
+namespace sinew::layers {
+
+// A joint named in a spec: by name, or by glTF node index where the model's
+// nodes have no names. `where` ("file:line: key") prefixes every message.
+struct JointRef {
+  std::string name;
+  int node = -1;  // >= 0: by glTF node index
+  std::string where;
+};
+
+struct SphTable {
+  JointRef joint;  // the joint whose bend the tissue carries; its parent's bone is the other side
+  uint32_t particles = 500;
+  double radius = 0;       // capsule radius; 0: 0.8 x the skin radius around the joint
+  double half_length = 0;  // capsule half length; 0: min(2.2 x radius, 0.4 x the shorter bone)
+  double tissue_mass = 0;  // kg; 0: 1000 kg/m^3 x the capsule volume (model units read as metres)
+  double yield_angle_deg = 60;
+  std::string force_input;  // external input of the force at the distal bone's end; "" -> "<joint>.force"
+};
+
+struct MetaballsTable {
+  bool on = false;
+  std::string where;
+  double ball_spacing = 0;  // 0: 0.22 x the mean skin radius (at most 3000 balls along the bones)
+};
+
+struct MuscleTable {
+  std::string name;
+  JointRef origin, insertion;
+  rigc::Vec3d side{0, 0, 0};  // model-space side of the belly; zero: the inner side of the bend
+  double thickness = 1.0;
+  std::string where;
+};
+
+struct SkinTable {
+  bool on = false;
+  std::string where;
+  int iterations = 10;     // relaxations per tick
+  bool warm_start = true;  // start each tick from the last one's skin (LEMAN)
+};
+
+struct BarnetTable {
+  JointRef joint;
+  int segments = 8, rings = 7;
+  double ring_step = 0;  // 0: 0.65 x the skin radius
+  double force = 0;      // 0: 1.1 x the skin radius (q x model units)
+};
+
+struct ExternalInputTable {
+  std::string name, unit = "N", quantity = "force";
+  double min = -40, max = 40;
+  std::string where;
+};
+
+struct LayerSpecs {
+  uint32_t rate_hz = 1000;  // tick rate the rate-dependent layers (SPH) are built for
+  std::vector<SphTable> sph;
+  MetaballsTable metaballs;
+  std::vector<MuscleTable> muscles;
+  SkinTable skin;
+  std::vector<BarnetTable> barnets;
+  std::vector<ExternalInputTable> external;
+  bool empty() const {
+    return sph.empty() && !metaballs.on && muscles.empty() && !skin.on && barnets.empty() && external.empty();
+  }
+};
+
+// Gives every joint a layer drives through an angle ([[sph]], [[barnet]])
+// and that has no rotational DOF (glTF joints have none) one rotational DOF
+// about its bend axis: the normal of the plane of its parent's bone and its
+// own, or a perpendicular of the parent's bone where they are collinear;
+// limits +-150 degrees. Run before compile_rig; one report line per joint.
+bool add_layer_dofs(rigc::RigSpec* spec, const LayerSpecs& layers, std::vector<std::string>* report,
+                    std::string* error);
+
+// Appends the layer sections to `blob` (compile_rig's output for `spec`).
+// `report` gets one line per layer. Errors name the spec line and the problem.
+bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::vector<uint8_t>* blob,
+                    std::vector<std::string>* report, std::string* error);
+
+// The joint index a reference names, or -1 with a message.
+int resolve_joint(const rigc::RigSpec& spec, const JointRef& ref, std::string* error);
+
+}  // namespace sinew::layers

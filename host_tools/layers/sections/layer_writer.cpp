@@ -1,0 +1,178 @@
+#include "layer_writer.hpp"
+
+#include <cstring>
+
+#include "sim_core/pipeline/layer_set.hpp"
+#include "sim_core/rig/crc32c.hpp"
+#include "sim_core/rig/rig.hpp"
+
+namespace sinew::layers {
+namespace {
+
+constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
+
+// Header, params, array table, then each array at a multiple of 8.
+class SectionBuilder {
+ public:
+  SectionBuilder(uint32_t id, uint32_t rate_hz, const void* params, uint32_t params_size, uint32_t array_count)
+      : id_(id), array_count_(array_count) {
+    pipeline::LayerSectionHeader h{};
+    h.layer_version = pipeline::kLayerSectionVersion;
+    h.params_size = params_size;
+    h.array_count = array_count;
+    h.rate_hz = rate_hz;
+    put(&h, sizeof(h));
+    put(params, params_size);
+    table_ = bytes_.size();
+    bytes_.resize(table_ + size_t{array_count} * sizeof(pipeline::LayerArrayEntry), 0);
+  }
+  template <typename T>
+  SectionBuilder& array(std::span<const T> values) {
+    bytes_.resize(align8(bytes_.size()), 0);
+    pipeline::LayerArrayEntry e{static_cast<uint32_t>(bytes_.size()), static_cast<uint32_t>(values.size()),
+                                static_cast<uint32_t>(sizeof(T)), 0};
+    std::memcpy(bytes_.data() + table_ + next_++ * sizeof(e), &e, sizeof(e));
+    put(values.data(), values.size_bytes());
+    return *this;
+  }
+  LayerSection finish() {
+    bytes_.resize(align8(bytes_.size()), 0);
+    return {id_, std::move(bytes_)};
+  }
+
+ private:
+  void put(const void* data, size_t size) {
+    const size_t at = align8(bytes_.size());
+    bytes_.resize(at + align8(size), 0);
+    if (size > 0) std::memcpy(bytes_.data() + at, data, size);
+  }
+  uint32_t id_;
+  uint32_t array_count_;
+  std::vector<uint8_t> bytes_;
+  size_t table_ = 0;
+  size_t next_ = 0;
+};
+
+template <typename P>
+SectionBuilder builder(uint32_t id, uint32_t rate_hz, const P& params, uint32_t arrays) {
+  return SectionBuilder(id, rate_hz, &params, sizeof(P), arrays);
+}
+
+}  // namespace
+
+LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t force_input) {
+  pipeline::SphSectionParams p{};
+  p.params = m.params;
+  p.joint = m.joint;
+  p.force_input = force_input;
+  SectionBuilder b = builder(pipeline::kSectionSphJoint, rate_hz, p, pipeline::kSphArrays);
+  for (int a = 0; a < 3; ++a) b.array(m.rest_local[a]);
+  for (int a = 0; a < 3; ++a) b.array(m.rest_model[a]);
+  b.array(m.bone).array(m.skin_vertex);
+  for (int a = 0; a < 3; ++a) b.array(m.skin_rest[a]);
+  return b.finish();
+}
+
+LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
+  const pipeline::MetaballsSectionParams p{m.joint_count,    m.vertex_count,     m.pbd_iterations,
+                                           m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
+  SectionBuilder b = builder(pipeline::kSectionMetaballs, 0, p, pipeline::kMetaballsArrays);
+  b.array(m.inverse_bind).array(m.ball_rest).array(m.ball_radius).array(m.ball_bone).array(m.ball_joint);
+  b.array(m.ball_weight).array(m.ball_jiggle).array(m.pairs).array(m.bulges);
+  b.array(m.vertex_ball).array(m.vertex_weight).array(m.vertex_disp);
+  b.array(m.joint_balls).array(m.jv_vertex).array(m.jv_ball).array(m.jv_alpha).array(m.jv_blend);
+  b.array(m.jv_disp).array(m.jv_laplacian).array(m.jv_neighbour_begin).array(m.jv_neighbours).array(m.jv_inv_count);
+  b.array(m.overlaps).array(m.overlap_vertices).array(m.overlap_balls);
+  return b.finish();
+}
+
+LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
+  const pipeline::MusclesSectionParams p{m.joint_count, m.ring_vertices};
+  SectionBuilder b = builder(pipeline::kSectionMuscles, 0, p, pipeline::kMusclesArrays);
+  b.array(m.muscles).array(m.primitives);
+  return b.finish();
+}
+
+LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m) {
+  pipeline::SkinSectionParams p{};
+  p.joint_count = m.joint_count;
+  p.vertex_count = m.vertex_count;
+  p.params = m.params;
+  SectionBuilder b = builder(pipeline::kSectionElasticSkin, 0, p, pipeline::kSkinArrays);
+  b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
+  return b.finish();
+}
+
+LayerSection barnet_section(const ::sinew::barnet::BarnetModel& m) {
+  const pipeline::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, 0};
+  SectionBuilder b = builder(pipeline::kSectionBarnet, 0, p, pipeline::kBarnetArrays);
+  b.array(m.inverse_bind).array(m.nodes).array(m.bars).array(m.loads).array(m.triangles).array(m.wrap);
+  return b.finish();
+}
+
+LayerSection external_inputs_section(std::span<const pipeline::ExternalInputRecord> inputs) {
+  SectionBuilder b(pipeline::kSectionExternalInputs, 0, nullptr, 0, pipeline::kExternalInputArrays);
+  b.array(inputs);
+  return b.finish();
+}
+
+bool append_layer_sections(std::vector<uint8_t>* blob, const std::vector<LayerSection>& sections, std::string* error) {
+  namespace fmt = sinew::rig;
+  if (sections.empty()) return true;
+  fmt::FileHeader h;
+  if (blob->size() < sizeof(h)) return *error = "internal: core blob too short", false;
+  std::memcpy(&h, blob->data(), sizeof(h));
+  std::vector<fmt::SectionEntry> table(h.section_count);
+  std::memcpy(table.data(), blob->data() + h.section_table_offset, table.size() * sizeof(fmt::SectionEntry));
+  const size_t count = table.size() + sections.size();
+  if (count > fmt::kMaxSections)
+    return *error = "rig has " + std::to_string(count) + " sections, more than the format's " +
+                    std::to_string(fmt::kMaxSections),
+           false;
+  // New layout: header, the longer table, the core payloads, the layer payloads.
+  std::vector<uint8_t> out(sizeof(fmt::FileHeader) + count * sizeof(fmt::SectionEntry), 0);
+  std::vector<fmt::SectionEntry> new_table;
+  for (const fmt::SectionEntry& e : table) {
+    const size_t at = align8(out.size());
+    out.resize(at + e.size, 0);
+    std::memcpy(out.data() + at, blob->data() + e.offset, e.size);
+    new_table.push_back({e.id, static_cast<uint32_t>(at), e.size, 0});
+  }
+  for (const LayerSection& s : sections) {
+    const size_t at = align8(out.size());
+    out.resize(at + s.payload.size(), 0);
+    std::memcpy(out.data() + at, s.payload.data(), s.payload.size());
+    new_table.push_back({s.id, static_cast<uint32_t>(at), static_cast<uint32_t>(s.payload.size()), 0});
+  }
+  out.resize(align8(out.size()), 0);
+  if (out.size() > UINT32_MAX) return *error = "rig blob larger than 4 GiB", false;
+  h.version_minor = 1;  // layer sections: format 1.1
+  h.total_size = static_cast<uint32_t>(out.size());
+  h.section_count = static_cast<uint32_t>(count);
+  h.section_table_offset = sizeof(fmt::FileHeader);
+  h.crc32c = 0;
+  std::memcpy(out.data(), &h, sizeof(h));
+  std::memcpy(out.data() + sizeof(h), new_table.data(), count * sizeof(fmt::SectionEntry));
+  const uint32_t crc = fmt::crc32c(0, out.data(), out.size());
+  std::memcpy(out.data() + offsetof(fmt::FileHeader, crc32c), &crc, 4);
+
+  // Round trip through the runtime loaders: the compiler never emits a blob
+  // the board would reject.
+  std::vector<uint64_t> aligned(out.size() / 8 + 1);
+  std::memcpy(aligned.data(), out.data(), out.size());
+  const auto* data = reinterpret_cast<const uint8_t*>(aligned.data());
+  size_t rig_bytes = 0, layer_bytes = 0;
+  fmt::LoadStatus st = fmt::rig_validate(data, out.size(), &rig_bytes);
+  std::vector<uint64_t> rig_arena(rig_bytes / 8 + 1);
+  fmt::Rig rig;
+  if (st.ok()) st = fmt::rig_init(data, out.size(), rig_arena.data(), rig_arena.size() * 8, &rig);
+  if (st.ok()) st = pipeline::layers_validate(rig, data, out.size(), &layer_bytes);
+  std::vector<uint64_t> layer_arena(layer_bytes / 8 + 1);
+  pipeline::LayerSet set;
+  if (st.ok()) st = pipeline::layers_init(rig, data, out.size(), layer_arena.data(), layer_arena.size() * 8, &set);
+  if (!st.ok()) return *error = std::string("compiled layers rejected by the runtime loader: ") + st.message, false;
+  *blob = std::move(out);
+  return true;
+}
+
+}  // namespace sinew::layers

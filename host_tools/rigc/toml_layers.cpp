@@ -1,0 +1,210 @@
+#include "toml_layers.hpp"
+
+#include <cmath>
+#include <initializer_list>
+
+namespace sinew::rigc {
+namespace {
+
+std::string at(const std::string& path, const toml::node* n, const std::string& key) {
+  std::string s = path;
+  if (n != nullptr) s += ":" + std::to_string(n->source().begin.line);
+  return s + ": " + key;
+}
+
+// Refuses keys a table does not know (a typo would otherwise fall back to a default).
+bool known_keys(const std::string& path, const toml::table& t, const std::string& table,
+                std::initializer_list<const char*> keys, std::string* error) {
+  for (const auto& [key, node] : t) {
+    bool ok = false;
+    for (const char* k : keys) ok |= key.str() == k;
+    if (!ok) return *error = at(path, &node, table + " " + std::string(key.str())) + ": unknown key", false;
+  }
+  return true;
+}
+
+bool read_number(const std::string& path, const toml::table& t, const std::string& table, const char* key, double* out,
+                 std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return true;
+  const auto v = n->value<double>();
+  if (!v || !std::isfinite(*v)) return *error = at(path, n, table + " " + key) + " must be a finite number", false;
+  *out = *v;
+  return true;
+}
+
+template <typename Int>
+bool read_int(const std::string& path, const toml::table& t, const std::string& table, const char* key, int64_t lo,
+              int64_t hi, Int* out, std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return true;
+  const auto v = n->value_exact<int64_t>();
+  if (!v || *v < lo || *v > hi)
+    return *error = at(path, n, table + " " + key) + " must be an integer in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "]",
+           false;
+  *out = static_cast<Int>(*v);
+  return true;
+}
+
+bool read_string(const std::string& path, const toml::table& t, const std::string& table, const char* key,
+                 std::string* out, std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return true;
+  const auto v = n->value_exact<std::string>();
+  if (!v) return *error = at(path, n, table + " " + key) + " must be a string", false;
+  *out = *v;
+  return true;
+}
+
+bool read_bool(const std::string& path, const toml::table& t, const std::string& table, const char* key, bool* out,
+               std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return true;
+  const auto v = n->value_exact<bool>();
+  if (!v) return *error = at(path, n, table + " " + key) + " must be true or false", false;
+  *out = *v;
+  return true;
+}
+
+// `joint = "name"` or `joint = 12` (a glTF node index).
+bool read_joint(const std::string& path, const toml::table& t, const std::string& table, const char* key,
+                layers::JointRef* out, std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return *error = at(path, &t, table + " " + key) + " is required", false;
+  out->where = at(path, n, table + " " + key);
+  if (const auto name = n->value_exact<std::string>()) return out->name = *name, true;
+  if (const auto node = n->value_exact<int64_t>(); node && *node >= 0 && *node < (int64_t{1} << 30))
+    return out->node = static_cast<int>(*node), true;
+  return *error = out->where + " must be a joint name or a glTF node index", false;
+}
+
+const toml::table* table_of(const toml::node& n) { return n.as_table(); }
+
+}  // namespace
+
+bool read_toml_layers(const std::string& path, const toml::table& t, layers::LayerSpecs* out, std::string* error) {
+  layers::LayerSpecs s;
+  if (const toml::table* rig = t["rig"].as_table())
+    if (!read_int(path, *rig, "[rig]", "rate_hz", 13, 100000, &s.rate_hz, error)) return false;
+  auto each = [&](const char* name, auto&& read) -> bool {
+    const toml::node* n = t.get(name);
+    if (n == nullptr) return true;
+    const toml::array* a = n->as_array();
+    if (a == nullptr)
+      return *error = at(path, n, std::string("[[") + name + "]]") + " must be an array of tables", false;
+    for (const toml::node& e : *a) {
+      const toml::table* tt = table_of(e);
+      if (tt == nullptr) return *error = at(path, &e, std::string("[[") + name + "]]") + " must be a table", false;
+      if (!read(*tt)) return false;
+    }
+    return true;
+  };
+  auto single = [&](const char* name, bool* on, std::string* where, auto&& read) -> bool {
+    const toml::node* n = t.get(name);
+    if (n == nullptr) return true;
+    const toml::table* tt = n->as_table();
+    if (tt == nullptr) return *error = at(path, n, std::string("[") + name + "]") + " must be a table", false;
+    *on = true;
+    *where = at(path, n, std::string("[") + name + "]");
+    return read(*tt);
+  };
+  const bool ok =
+      each("sph",
+           [&](const toml::table& e) {
+             layers::SphTable x;
+             const std::string n = "[[sph]]";
+             if (!known_keys(
+                     path, e, n,
+                     {"joint", "particles", "radius", "half_length", "tissue_mass", "yield_angle", "force_input"},
+                     error) ||
+                 !read_joint(path, e, n, "joint", &x.joint, error) ||
+                 !read_int(path, e, n, "particles", 8, 8192, &x.particles, error) ||
+                 !read_number(path, e, n, "radius", &x.radius, error) ||
+                 !read_number(path, e, n, "half_length", &x.half_length, error) ||
+                 !read_number(path, e, n, "tissue_mass", &x.tissue_mass, error) ||
+                 !read_number(path, e, n, "yield_angle", &x.yield_angle_deg, error) ||
+                 !read_string(path, e, n, "force_input", &x.force_input, error))
+               return false;
+             if (x.radius < 0 || x.half_length < 0 || x.tissue_mass < 0 ||
+                 !(x.yield_angle_deg > 0 && x.yield_angle_deg < 180))
+               return *error =
+                          x.joint.where + ": radius, half_length, tissue_mass must be >= 0 and yield_angle in (0, 180)",
+                      false;
+             s.sph.push_back(x);
+             return true;
+           }) &&
+      single("metaballs", &s.metaballs.on, &s.metaballs.where,
+             [&](const toml::table& e) {
+               return known_keys(path, e, "[metaballs]", {"ball_spacing"}, error) &&
+                      read_number(path, e, "[metaballs]", "ball_spacing", &s.metaballs.ball_spacing, error);
+             }) &&
+      each("muscle",
+           [&](const toml::table& e) {
+             layers::MuscleTable x;
+             const std::string n = "[[muscle]]";
+             x.where = at(path, &e, n);
+             const toml::node* side = e.get("side");
+             if (!known_keys(path, e, n, {"name", "origin", "insertion", "side", "thickness"}, error) ||
+                 !read_string(path, e, n, "name", &x.name, error) ||
+                 !read_joint(path, e, n, "origin", &x.origin, error) ||
+                 !read_joint(path, e, n, "insertion", &x.insertion, error) ||
+                 !read_number(path, e, n, "thickness", &x.thickness, error))
+               return false;
+             if (side != nullptr) {
+               const toml::array* a = side->as_array();
+               bool good = a != nullptr && a->size() == 3;
+               for (size_t i = 0; good && i < 3; ++i) {
+                 const auto v = a->get(i)->value<double>();
+                 good = v && std::isfinite(*v);
+                 if (good) x.side[i] = *v;
+               }
+               if (!good) return *error = at(path, side, n + " side") + " must be an array of 3 numbers", false;
+             }
+             if (!(x.thickness > 0)) return *error = x.where + " thickness must be > 0", false;
+             if (x.name.empty()) x.name = "muscle" + std::to_string(s.muscles.size());
+             s.muscles.push_back(x);
+             return true;
+           }) &&
+      single("skin", &s.skin.on, &s.skin.where,
+             [&](const toml::table& e) {
+               return known_keys(path, e, "[skin]", {"iterations", "warm_start"}, error) &&
+                      read_int(path, e, "[skin]", "iterations", 1, 256, &s.skin.iterations, error) &&
+                      read_bool(path, e, "[skin]", "warm_start", &s.skin.warm_start, error);
+             }) &&
+      each("barnet",
+           [&](const toml::table& e) {
+             layers::BarnetTable x;
+             const std::string n = "[[barnet]]";
+             if (!known_keys(path, e, n, {"joint", "segments", "rings", "ring_step", "force"}, error) ||
+                 !read_joint(path, e, n, "joint", &x.joint, error) ||
+                 !read_int(path, e, n, "segments", 3, 32, &x.segments, error) ||
+                 !read_int(path, e, n, "rings", 5, 15, &x.rings, error) ||
+                 !read_number(path, e, n, "ring_step", &x.ring_step, error) ||
+                 !read_number(path, e, n, "force", &x.force, error))
+               return false;
+             if (x.ring_step < 0 || x.force < 0)
+               return *error = x.joint.where + ": ring_step and force must be >= 0", false;
+             s.barnets.push_back(x);
+             return true;
+           }) &&
+      each("external_input", [&](const toml::table& e) {
+        layers::ExternalInputTable x;
+        const std::string n = "[[external_input]]";
+        x.where = at(path, &e, n);
+        if (!known_keys(path, e, n, {"name", "unit", "quantity", "min", "max"}, error) ||
+            !read_string(path, e, n, "name", &x.name, error) || !read_string(path, e, n, "unit", &x.unit, error) ||
+            !read_string(path, e, n, "quantity", &x.quantity, error) ||
+            !read_number(path, e, n, "min", &x.min, error) || !read_number(path, e, n, "max", &x.max, error))
+          return false;
+        if (x.name.empty() || !e.contains("min") || !e.contains("max"))
+          return *error = x.where + ": name, unit, min and max are required", false;
+        s.external.push_back(x);
+        return true;
+      });
+  if (!ok) return false;
+  *out = std::move(s);
+  return true;
+}
+
+}  // namespace sinew::rigc

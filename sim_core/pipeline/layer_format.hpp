@@ -1,0 +1,140 @@
+// Layer sections of the binary rig format, version 1.1 (docs/rig-format.md,
+// "Layer sections"): the physical layers a rig compiler built offline, in
+// fixed point, so the board only loads and validates them.
+//
+// A 1.0 loader skips these sections (unknown ids). Every layer section has
+// the same shape, so one reader bounds-checks all of them:
+//
+//   LayerSectionHeader   32 bytes
+//   params               params_size bytes, the layer's fixed record below,
+//                        padded with zeros to a multiple of 8
+//   LayerArrayEntry[n]   16 bytes each: where each of the layer's arrays is
+//   arrays               each at a multiple of 8 from the section start
+//
+// Records are the runtime models' own plain structs (little-endian, int32
+// based, no pointers); their sizes are pinned by static_asserts here so a
+// layout change cannot go unnoticed.
+#pragma once
+
+#include <cstdint>
+
+#include "sim_core/barnet/barnet_model.hpp"
+#include "sim_core/elastic_skin/skin_model.hpp"
+#include "sim_core/metaballs/model.hpp"
+#include "sim_core/muscle/muscle_model.hpp"
+#include "sim_core/rig/rig_format.hpp"
+#include "sim_core/sph/sph_model.hpp"
+
+namespace sinew::pipeline {
+
+enum LayerSectionId : uint32_t {
+  kSectionSphJoint = 0x4A485053u,        // "SPHJ": one SPH elastic joint; may repeat
+  kSectionMetaballs = 0x4C41424Du,       // "MBAL": the metaballs skin; at most one
+  kSectionMuscles = 0x4353554Du,         // "MUSC": every muscle and primitive; at most one
+  kSectionElasticSkin = 0x4E494B53u,     // "SKIN": the elastic skin; needs MUSC; at most one
+  kSectionBarnet = 0x54454E42u,          // "BNET": one bar-net; may repeat
+  kSectionExternalInputs = 0x49545845u,  // "EXTI": ExternalInputRecord[]; at most one
+};
+
+inline constexpr uint32_t kLayerSectionVersion = 1;
+inline constexpr uint32_t kMaxSphJoints = 8;
+inline constexpr uint32_t kMaxBarnets = 8;
+inline constexpr uint32_t kMaxExternalInputs = 64;
+inline constexpr uint32_t kMaxLayerArrays = 32;
+inline constexpr uint32_t kUnitBytes = 16;
+
+struct LayerSectionHeader {  // 32 bytes at the start of every layer section
+  uint32_t layer_version;    // kLayerSectionVersion
+  uint32_t params_size;      // bytes of the params record (unpadded); must equal the loader's
+  uint32_t array_count;      // entries of the array table; must equal the layer's
+  uint32_t rate_hz;          // tick rate the gains were built for; 0 when they do not depend on it
+  uint32_t reserved[4];      // 0 written; not checked
+};
+static_assert(sizeof(LayerSectionHeader) == 32);
+
+struct LayerArrayEntry {  // 16 bytes
+  uint32_t offset;        // from the section start, a multiple of 8
+  uint32_t count;         // elements
+  uint32_t element_size;  // bytes per element; must equal the loader's
+  uint32_t reserved;
+};
+static_assert(sizeof(LayerArrayEntry) == 16);
+
+// What an external input measures; its values are Q16.16 in that unit.
+enum class InputQuantity : uint32_t {
+  kForce = 0,   // newtons
+  kLength = 1,  // metres
+  kAngle = 2,   // degrees
+  kScalar = 3,  // dimensionless
+};
+
+// An input the rig's layers read besides its joint DOFs (e.g. a force
+// sensor): fed, health-checked, held and logged like a joint input; only the
+// layer that names it reads it. Its index in the runtime's input array is the
+// rig's input_count plus its position in EXTI.
+struct ExternalInputRecord {   // 64 bytes
+  char name[rig::kNameBytes];  // NUL-terminated, unique, not a joint DOF name
+  char unit[kUnitBytes];       // NUL-terminated, e.g. "N"
+  uint32_t quantity;           // InputQuantity
+  int32_t min, max;            // accepted range, Q16.16 in the unit; min < max
+  uint32_t reserved;
+};
+static_assert(sizeof(ExternalInputRecord) == 64);
+
+inline constexpr uint32_t kNoExternalInput = 0xFFFFFFFFu;
+
+// SPHJ params. Arrays, in order: rest_local x, y, z (Len), rest_model x, y, z
+// (Len), bone (u8), skin_vertex (u32), skin_rest x, y, z (Len).
+struct SphSectionParams {
+  sph::SphParams params;
+  sph::SphJoint joint;
+  uint32_t force_input;  // index into EXTI of the force at the load point, or kNoExternalInput
+  uint32_t reserved;
+};
+static_assert(sizeof(sph::SphParams) == 44 && sizeof(sph::SphJoint) == 32);
+inline constexpr uint32_t kSphArrays = 11;
+
+// MBAL params. Arrays, in order: inverse_bind, ball_rest, ball_radius,
+// ball_bone, ball_joint, ball_weight, ball_jiggle, pairs, bulges,
+// vertex_ball, vertex_weight, vertex_disp, joint_balls, jv_vertex, jv_ball,
+// jv_alpha, jv_blend, jv_disp, jv_laplacian, jv_neighbour_begin,
+// jv_neighbours, jv_inv_count, overlaps, overlap_vertices, overlap_balls.
+struct MetaballsSectionParams {
+  uint32_t joint_count, vertex_count;
+  uint32_t pbd_iterations;
+  fx::Unit jiggle_damping;
+  uint32_t smoothing_passes;
+  fx::Unit smoothing_rate;
+};
+static_assert(sizeof(metaballs::BallPair) == 20 && sizeof(metaballs::BulgeRecord) == 12 &&
+              sizeof(metaballs::JointBall) == 24 && sizeof(metaballs::OverlapRecord) == 64);
+inline constexpr uint32_t kMetaballsArrays = 25;
+
+// MUSC params. Arrays: muscles (MuscleRecord), primitives (PrimitiveRecord).
+struct MusclesSectionParams {
+  uint32_t joint_count, ring_vertices;
+};
+static_assert(sizeof(muscle::MuscleRecord) == 184 && sizeof(muscle::PrimitiveRecord) == 36);
+inline constexpr uint32_t kMusclesArrays = 2;
+
+// SKIN params. Arrays: anchors, anchor_stiffness, fat, edges, bands.
+struct SkinSectionParams {
+  uint32_t joint_count, vertex_count;
+  elastic_skin::SkinParams params;
+};
+static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anchor) == 80 &&
+              sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20);
+inline constexpr uint32_t kSkinArrays = 5;
+
+// BNET params. Arrays: inverse_bind, nodes, bars, loads, triangles, wrap.
+struct BarnetSectionParams {
+  uint32_t joint_count, input_count, vertex_count, reserved;
+};
+static_assert(sizeof(barnet::NodeRecord) == 40 && sizeof(barnet::BarRecord) == 12 && sizeof(barnet::LoadRecord) == 28 &&
+              sizeof(barnet::ControlTriangle) == 12 && sizeof(barnet::WrapRecord) == 24);
+inline constexpr uint32_t kBarnetArrays = 6;
+
+// EXTI params: none (params_size 0). Array: ExternalInputRecord[].
+inline constexpr uint32_t kExternalInputArrays = 1;
+
+}  // namespace sinew::pipeline

@@ -1,0 +1,503 @@
+// Loading of the layer sections (layer_format.hpp). Two passes, as the core
+// loader: the structure of every section is checked against the blob before
+// anything is read through a span (header, params size, array table, each
+// array's alignment, element size, count and bounds); then each section is
+// copied into the arena and its model handed to the layer's own validator,
+// which checks every index and parameter against the rig.
+#include <cstring>
+
+#include "layer_set.hpp"
+#include "sim_core/barnet/barnet_validate.hpp"
+#include "sim_core/elastic_skin/skin_validate.hpp"
+#include "sim_core/metaballs/validate.hpp"
+#include "sim_core/muscle/muscle_validate.hpp"
+#include "sim_core/rig/message.hpp"
+
+namespace sinew::pipeline {
+namespace {
+
+using rig::LoadError;
+using rig::LoadStatus;
+
+constexpr uint64_t align8(uint64_t v) { return (v + 7u) & ~uint64_t{7}; }
+
+const char* section_name(uint32_t id) {
+  switch (id) {
+    case kSectionSphJoint:
+      return "SPHJ";
+    case kSectionMetaballs:
+      return "MBAL";
+    case kSectionMuscles:
+      return "MUSC";
+    case kSectionElasticSkin:
+      return "SKIN";
+    case kSectionBarnet:
+      return "BNET";
+    case kSectionExternalInputs:
+      return "EXTI";
+    default:
+      return nullptr;
+  }
+}
+
+// "rig blob: <SECT>#<instance>.<field>[<index>]: <problem> (<value>)"
+LoadStatus fail(LoadError e, uint32_t id, uint32_t instance, const char* field, int64_t index, const char* what,
+                int64_t value = 0, bool show_value = false) {
+  LoadStatus s;
+  s.error = e;
+  rig::MessageBuilder m(s.message, sizeof(s.message));
+  m.text("rig blob: ").text(section_name(id)).text("#").number(instance);
+  if (field != nullptr && *field != '\0') m.text(".").text(field);
+  if (index >= 0) m.text("[").number(index).text("]");
+  m.text(": ").text(what);
+  if (show_value) m.text(" (").number(value).text(")");
+  return s;
+}
+
+LoadStatus from_layer(LoadError e, uint32_t id, uint32_t instance, const char* message) {
+  LoadStatus s;
+  s.error = e;
+  rig::MessageBuilder m(s.message, sizeof(s.message));
+  m.text("rig blob: ").text(section_name(id)).text("#").number(instance).text(": ").text(message);
+  return s;
+}
+
+struct ArraySpec {
+  uint32_t element_size;
+  uint32_t max_count;
+  const char* name;
+};
+
+// The arrays of each layer, in section order (layer_format.hpp), with the
+// maxima of the layer's model header.
+constexpr uint32_t kLen = sizeof(fx::Len), kVec = sizeof(fx::Vec3), kMat = sizeof(fx::Mat34);
+constexpr ArraySpec kSphSpec[kSphArrays] = {
+    {kLen, sph::kMaxParticles, "rest_local_x"},
+    {kLen, sph::kMaxParticles, "rest_local_y"},
+    {kLen, sph::kMaxParticles, "rest_local_z"},
+    {kLen, sph::kMaxParticles, "rest_model_x"},
+    {kLen, sph::kMaxParticles, "rest_model_y"},
+    {kLen, sph::kMaxParticles, "rest_model_z"},
+    {1, sph::kMaxParticles, "bone"},
+    {4, sph::kMaxSkinVertices, "skin_vertex"},
+    {kLen, sph::kMaxSkinVertices, "skin_rest_x"},
+    {kLen, sph::kMaxSkinVertices, "skin_rest_y"},
+    {kLen, sph::kMaxSkinVertices, "skin_rest_z"},
+};
+constexpr uint32_t kMbVerts = metaballs::kMaxVertices;
+constexpr ArraySpec kMetaballsSpec[kMetaballsArrays] = {
+    {kMat, metaballs::kMaxJoints, "inverse_bind"},
+    {kVec, metaballs::kMaxBalls, "ball_rest"},
+    {kLen, metaballs::kMaxBalls, "ball_radius"},
+    {2, metaballs::kMaxBalls, "ball_bone"},
+    {2, metaballs::kMaxBalls* metaballs::kBallInfluences, "ball_joint"},
+    {4, metaballs::kMaxBalls* metaballs::kBallInfluences, "ball_weight"},
+    {4, metaballs::kMaxBalls, "ball_jiggle"},
+    {sizeof(metaballs::BallPair), metaballs::kMaxPairs, "pairs"},
+    {sizeof(metaballs::BulgeRecord), metaballs::kMaxBalls, "bulges"},
+    {2, kMbVerts* metaballs::kVertexBalls, "vertex_ball"},
+    {4, kMbVerts* metaballs::kVertexBalls, "vertex_weight"},
+    {kVec, kMbVerts* metaballs::kVertexBalls, "vertex_disp"},
+    {sizeof(metaballs::JointBall), metaballs::kMaxJointBalls, "joint_balls"},
+    {4, kMbVerts, "jv_vertex"},
+    {2, kMbVerts, "jv_ball"},
+    {4, kMbVerts, "jv_alpha"},
+    {4, kMbVerts, "jv_blend"},
+    {kVec, kMbVerts, "jv_disp"},
+    {kVec, kMbVerts, "jv_laplacian"},
+    {4, kMbVerts + 1, "jv_neighbour_begin"},
+    {4, kMbVerts* metaballs::kMaxNeighbours, "jv_neighbours"},
+    {4, kMbVerts, "jv_inv_count"},
+    {sizeof(metaballs::OverlapRecord), metaballs::kMaxJointBalls, "overlaps"},
+    {4, kMbVerts, "overlap_vertices"},
+    {2, metaballs::kMaxBalls, "overlap_balls"},
+};
+constexpr ArraySpec kMusclesSpec[kMusclesArrays] = {
+    {sizeof(muscle::MuscleRecord), muscle::kMaxMuscles, "muscles"},
+    {sizeof(muscle::PrimitiveRecord), muscle::kMaxPrimitives, "primitives"},
+};
+constexpr ArraySpec kSkinSpec[kSkinArrays] = {
+    {sizeof(elastic_skin::Anchor), elastic_skin::kMaxVertices, "anchors"},
+    {4, elastic_skin::kMaxVertices, "anchor_stiffness"},
+    {kLen, elastic_skin::kMaxVertices, "fat"},
+    {sizeof(elastic_skin::Edge), 4 * elastic_skin::kMaxVertices, "edges"},
+    {sizeof(elastic_skin::RubberBand), elastic_skin::kMaxVertices, "bands"},
+};
+constexpr ArraySpec kBarnetSpec[kBarnetArrays] = {
+    {kMat, barnet::kMaxJoints, "inverse_bind"},
+    {sizeof(barnet::NodeRecord), barnet::kMaxNodes, "nodes"},
+    {sizeof(barnet::BarRecord), barnet::kMaxBars, "bars"},
+    {sizeof(barnet::LoadRecord), barnet::kMaxLoads, "loads"},
+    {sizeof(barnet::ControlTriangle), barnet::kMaxTriangles, "triangles"},
+    {sizeof(barnet::WrapRecord), barnet::kMaxWrapVertices, "wrap"},
+};
+constexpr ArraySpec kExternalSpec[kExternalInputArrays] = {
+    {sizeof(ExternalInputRecord), kMaxExternalInputs, "inputs"},
+};
+
+struct Layout {
+  uint32_t params_size;
+  uint32_t array_count;
+  const ArraySpec* arrays;
+};
+
+bool layout_of(uint32_t id, Layout* out) {
+  switch (id) {
+    case kSectionSphJoint:
+      *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
+      return true;
+    case kSectionMetaballs:
+      *out = {sizeof(MetaballsSectionParams), kMetaballsArrays, kMetaballsSpec};
+      return true;
+    case kSectionMuscles:
+      *out = {sizeof(MusclesSectionParams), kMusclesArrays, kMusclesSpec};
+      return true;
+    case kSectionElasticSkin:
+      *out = {sizeof(SkinSectionParams), kSkinArrays, kSkinSpec};
+      return true;
+    case kSectionBarnet:
+      *out = {sizeof(BarnetSectionParams), kBarnetArrays, kBarnetSpec};
+      return true;
+    case kSectionExternalInputs:
+      *out = {0, kExternalInputArrays, kExternalSpec};
+      return true;
+    default:
+      return false;
+  }
+}
+
+// A structurally checked layer section: where its params and arrays are.
+struct SectionView {
+  uint32_t id = 0, instance = 0;
+  const uint8_t* base = nullptr;  // section start (in the blob, then in the arena)
+  uint32_t size = 0;
+  LayerSectionHeader header{};
+  LayerArrayEntry arrays[kMaxLayerArrays] = {};
+};
+
+LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, uint32_t size, SectionView* out) {
+  Layout layout{};
+  layout_of(id, &layout);
+  out->id = id;
+  out->instance = instance;
+  out->base = base;
+  out->size = size;
+  if (size < sizeof(LayerSectionHeader))
+    return fail(LoadError::kSectionSize, id, instance, "size", -1, "shorter than the 32-byte layer header", size, true);
+  std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
+  const LayerSectionHeader& h = out->header;
+  if (h.layer_version != kLayerSectionVersion)
+    return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
+                h.layer_version, true);
+  if (h.params_size != layout.params_size)
+    return fail(LoadError::kSectionSize, id, instance, "params_size", -1, "does not match this layer's record",
+                h.params_size, true);
+  if (h.array_count != layout.array_count)
+    return fail(LoadError::kSectionSize, id, instance, "array_count", -1, "does not match this layer's arrays",
+                h.array_count, true);
+  const uint64_t table = sizeof(LayerSectionHeader) + align8(h.params_size);
+  const uint64_t data = table + uint64_t{h.array_count} * sizeof(LayerArrayEntry);
+  if (data > size)
+    return fail(LoadError::kSectionSize, id, instance, "array_count", -1, "array table runs past the section",
+                h.array_count, true);
+  for (uint32_t i = 0; i < h.array_count; ++i) {
+    LayerArrayEntry e;
+    std::memcpy(&e, base + table + uint64_t{i} * sizeof(LayerArrayEntry), sizeof(e));
+    const ArraySpec& spec = layout.arrays[i];
+    if (e.element_size != spec.element_size)
+      return fail(LoadError::kSectionSize, id, instance, spec.name, -1, "element size differs from this loader's",
+                  e.element_size, true);
+    if (e.count > spec.max_count)
+      return fail(LoadError::kLimit, id, instance, spec.name, -1, "count exceeds the documented maximum", e.count,
+                  true);
+    const uint64_t end = uint64_t{e.offset} + uint64_t{e.count} * e.element_size;
+    if (e.count > 0 && ((e.offset & 7u) != 0 || e.offset < data || end > size))
+      return fail(LoadError::kSectionSize, id, instance, spec.name, -1, "outside the section or misaligned", e.offset,
+                  true);
+    out->arrays[i] = e;
+  }
+  return {};
+}
+
+template <typename T>
+std::span<const T> array_of(const SectionView& v, uint32_t i) {
+  static_assert(alignof(T) <= 8, "arrays are 8-byte aligned");
+  const LayerArrayEntry& e = v.arrays[i];
+  if (e.count == 0) return {};
+  // The arena bytes were written by memcpy, which creates implicit objects.
+  return {static_cast<const T*>(static_cast<const void*>(v.base + e.offset)), e.count};
+}
+
+template <typename P>
+P params_of(const SectionView& v) {
+  P p{};
+  std::memcpy(&p, v.base + sizeof(LayerSectionHeader), sizeof(P));
+  return p;
+}
+
+// Walks the section table (already checked by rig_validate) and calls
+// visit(id, instance, offset, size) for every layer section; enforces the
+// instance limits.
+template <typename Visit>
+LoadStatus for_each_layer_section(const uint8_t* blob, Visit visit) {
+  rig::FileHeader h;
+  std::memcpy(&h, blob, sizeof(h));
+  uint32_t seen[6] = {};
+  const uint32_t ids[6] = {kSectionSphJoint,    kSectionMetaballs, kSectionMuscles,
+                           kSectionElasticSkin, kSectionBarnet,    kSectionExternalInputs};
+  const uint32_t limits[6] = {kMaxSphJoints, 1, 1, 1, kMaxBarnets, 1};
+  for (uint32_t i = 0; i < h.section_count; ++i) {
+    rig::SectionEntry e;
+    std::memcpy(&e, blob + h.section_table_offset + size_t{i} * sizeof(e), sizeof(e));
+    int kind = -1;
+    for (int k = 0; k < 6; ++k)
+      if (ids[k] == e.id) kind = k;
+    if (kind < 0) continue;
+    if (seen[kind] >= limits[kind])
+      return fail(LoadError::kSectionTable, e.id, seen[kind], "", -1, "more instances than the format allows",
+                  limits[kind], true);
+    LoadStatus st = visit(e.id, seen[kind]++, e.offset, e.size);
+    if (!st.ok()) return st;
+  }
+  return {};
+}
+
+LoadStatus check_external(const SectionView& v, std::span<const ExternalInputRecord> inputs, const rig::Rig& rig) {
+  for (uint32_t i = 0; i < inputs.size(); ++i) {
+    const ExternalInputRecord& r = inputs[i];
+    if (std::memchr(r.name, 0, sizeof(r.name)) == nullptr || r.name[0] == '\0')
+      return fail(LoadError::kBadValue, v.id, v.instance, "name", i, "empty or not NUL-terminated");
+    if (std::memchr(r.unit, 0, sizeof(r.unit)) == nullptr)
+      return fail(LoadError::kBadValue, v.id, v.instance, "unit", i, "not NUL-terminated");
+    if (r.quantity > static_cast<uint32_t>(InputQuantity::kScalar))
+      return fail(LoadError::kBadValue, v.id, v.instance, "quantity", i, "unknown quantity", r.quantity, true);
+    if (r.min >= r.max) return fail(LoadError::kBadValue, v.id, v.instance, "min", i, "must be below max", r.min, true);
+    for (uint32_t k = 0; k < i; ++k)
+      if (std::strcmp(inputs[k].name, r.name) == 0)
+        return fail(LoadError::kBadValue, v.id, v.instance, "name", i, "duplicate external input name");
+    for (const auto& joint : rig.names)
+      if (std::strcmp(joint, r.name) == 0)
+        return fail(LoadError::kBadValue, v.id, v.instance, "name", i, "clashes with a joint name");
+  }
+  return {};
+}
+
+LoadStatus load_sph(const SectionView& v, const rig::Rig& rig, uint32_t external_count, SphJointLayer* out) {
+  const SphSectionParams p = params_of<SphSectionParams>(v);
+  sph::SphModel& m = out->model;
+  m.params = p.params;
+  m.joint = p.joint;
+  for (uint32_t c = 0; c < 3; ++c) {
+    m.rest_local[c] = array_of<fx::Len>(v, c);
+    m.rest_model[c] = array_of<fx::Len>(v, 3 + c);
+    m.skin_rest[c] = array_of<fx::Len>(v, 8 + c);
+  }
+  m.bone = array_of<uint8_t>(v, 6);
+  m.skin_vertex = array_of<uint32_t>(v, 7);
+  if (v.header.rate_hz == 0)
+    return fail(LoadError::kBadValue, v.id, v.instance, "rate_hz", -1, "an SPH joint's gains need its tick rate");
+  const sph::SphStatus st = sph::sph_validate(m, rig.joint_count(), rig.vertex_count());
+  if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
+  if (rig.joints[m.joint.distal_joint].dof_count == 0 ||
+      rig.joints[m.joint.distal_joint].dof_kind != static_cast<uint8_t>(rig::DofKind::kRotation))
+    return fail(LoadError::kBadValue, v.id, v.instance, "distal_joint", -1,
+                "the driven joint needs a rotational DOF to bend", m.joint.distal_joint, true);
+  if (p.force_input != kNoExternalInput && p.force_input >= external_count)
+    return fail(LoadError::kBadIndex, v.id, v.instance, "force_input", -1, "names no external input", p.force_input,
+                true);
+  out->force_input = p.force_input;
+  return {};
+}
+
+LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::MetaballModel* out) {
+  const MetaballsSectionParams p = params_of<MetaballsSectionParams>(v);
+  metaballs::MetaballModel& m = *out;
+  m.joint_count = p.joint_count;
+  m.vertex_count = p.vertex_count;
+  m.pbd_iterations = p.pbd_iterations;
+  m.jiggle_damping = p.jiggle_damping;
+  m.smoothing_passes = p.smoothing_passes;
+  m.smoothing_rate = p.smoothing_rate;
+  m.inverse_bind = array_of<fx::Mat34>(v, 0);
+  m.ball_rest = array_of<fx::Vec3>(v, 1);
+  m.ball_radius = array_of<fx::Len>(v, 2);
+  m.ball_bone = array_of<uint16_t>(v, 3);
+  m.ball_joint = array_of<uint16_t>(v, 4);
+  m.ball_weight = array_of<fx::Unit>(v, 5);
+  m.ball_jiggle = array_of<fx::Unit>(v, 6);
+  m.pairs = array_of<metaballs::BallPair>(v, 7);
+  m.bulges = array_of<metaballs::BulgeRecord>(v, 8);
+  m.vertex_ball = array_of<uint16_t>(v, 9);
+  m.vertex_weight = array_of<fx::Unit>(v, 10);
+  m.vertex_disp = array_of<fx::Vec3>(v, 11);
+  m.joint_balls = array_of<metaballs::JointBall>(v, 12);
+  m.jv_vertex = array_of<uint32_t>(v, 13);
+  m.jv_ball = array_of<uint16_t>(v, 14);
+  m.jv_alpha = array_of<fx::Unit>(v, 15);
+  m.jv_blend = array_of<fx::Unit>(v, 16);
+  m.jv_disp = array_of<fx::Vec3>(v, 17);
+  m.jv_laplacian = array_of<fx::Vec3>(v, 18);
+  m.jv_neighbour_begin = array_of<uint32_t>(v, 19);
+  m.jv_neighbours = array_of<uint32_t>(v, 20);
+  m.jv_inv_count = array_of<fx::Unit>(v, 21);
+  m.overlaps = array_of<metaballs::OverlapRecord>(v, 22);
+  m.overlap_vertices = array_of<uint32_t>(v, 23);
+  m.overlap_balls = array_of<uint16_t>(v, 24);
+  if (m.joint_count != rig.joint_count())
+    return fail(LoadError::kBadValue, v.id, v.instance, "joint_count", -1, "differs from the rig's", m.joint_count,
+                true);
+  if (m.vertex_count != rig.vertex_count())
+    return fail(LoadError::kBadValue, v.id, v.instance, "vertex_count", -1, "differs from the rig's", m.vertex_count,
+                true);
+  const metaballs::Status st = metaballs::validate(m);
+  if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
+  return {};
+}
+
+LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::MuscleModel* out) {
+  const MusclesSectionParams p = params_of<MusclesSectionParams>(v);
+  *out = {p.joint_count, p.ring_vertices, array_of<muscle::MuscleRecord>(v, 0),
+          array_of<muscle::PrimitiveRecord>(v, 1)};
+  const muscle::LayerStatus st = muscle::muscle_validate(rig, *out);
+  if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
+  return {};
+}
+
+LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::MuscleModel& muscles,
+                     elastic_skin::SkinModel* out) {
+  const SkinSectionParams p = params_of<SkinSectionParams>(v);
+  *out = {p.joint_count,
+          p.vertex_count,
+          array_of<elastic_skin::Anchor>(v, 0),
+          array_of<elastic_skin::Stiffness>(v, 1),
+          array_of<fx::Len>(v, 2),
+          array_of<elastic_skin::Edge>(v, 3),
+          array_of<elastic_skin::RubberBand>(v, 4),
+          p.params};
+  if (out->vertex_count != rig.vertex_count())
+    return fail(LoadError::kBadValue, v.id, v.instance, "vertex_count", -1, "differs from the rig's", out->vertex_count,
+                true);
+  const muscle::LayerStatus st = elastic_skin::skin_validate(rig, muscles, *out);
+  if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
+  return {};
+}
+
+LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, barnet::BarnetModel* out) {
+  const BarnetSectionParams p = params_of<BarnetSectionParams>(v);
+  *out = {p.joint_count,
+          p.input_count,
+          p.vertex_count,
+          array_of<fx::Mat34>(v, 0),
+          array_of<barnet::NodeRecord>(v, 1),
+          array_of<barnet::BarRecord>(v, 2),
+          array_of<barnet::LoadRecord>(v, 3),
+          array_of<barnet::ControlTriangle>(v, 4),
+          array_of<barnet::WrapRecord>(v, 5)};
+  if (p.joint_count != rig.joint_count() || p.input_count != rig.input_count || p.vertex_count != rig.vertex_count())
+    return fail(LoadError::kBadValue, v.id, v.instance, "joint_count", -1,
+                "joint, input or vertex count differs from the rig's", p.joint_count, true);
+  const barnet::Status st = barnet::barnet_validate(*out);
+  if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
+  return {};
+}
+
+}  // namespace
+
+LoadStatus layers_validate(const rig::Rig& rig, const uint8_t* blob, size_t size, size_t* arena_bytes) {
+  (void)rig;
+  size_t core_bytes = 0;
+  LoadStatus st = rig::rig_validate(blob, size, &core_bytes);
+  if (!st.ok()) return st;
+  uint64_t bytes = 0;
+  bool muscles = false, skin = false;
+  st = for_each_layer_section(blob, [&](uint32_t id, uint32_t instance, uint32_t offset, uint32_t sz) {
+    SectionView v;
+    LoadStatus s = check_section(id, instance, blob + offset, sz, &v);
+    muscles |= id == kSectionMuscles;
+    skin |= id == kSectionElasticSkin;
+    bytes += align8(sz);
+    return s;
+  });
+  if (!st.ok()) return st;
+  if (skin && !muscles)
+    return fail(LoadError::kMissingSection, kSectionMuscles, 0, "", -1, "the elastic skin (SKIN) needs MUSC");
+  *arena_bytes = static_cast<size_t>(bytes);
+  return {};
+}
+
+LoadStatus layers_init(const rig::Rig& rig, const uint8_t* blob, size_t size, void* arena, size_t arena_bytes,
+                       LayerSet* out) {
+  size_t needed = 0;
+  LoadStatus st = layers_validate(rig, blob, size, &needed);
+  if (!st.ok()) return st;
+  if ((needed > 0 && arena == nullptr) || arena_bytes < needed || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0) {
+    LoadStatus s;
+    s.error = LoadError::kArenaTooSmall;
+    rig::MessageBuilder m(s.message, sizeof(s.message));
+    m.text("rig blob: layer arena: smaller than layers_validate's bytes or misaligned (")
+        .number(static_cast<int64_t>(needed))
+        .text(")");
+    return s;
+  }
+  LayerSet set;
+  uint8_t* a = static_cast<uint8_t*>(arena);
+  size_t used = 0;
+  // Copy every layer section first, keeping its view: the external inputs and
+  // the muscles are needed by the SPH and skin sections whatever their order.
+  SectionView views[kMaxSphJoints + kMaxBarnets + 4];
+  uint32_t view_count = 0;
+  st = for_each_layer_section(blob, [&](uint32_t id, uint32_t instance, uint32_t offset, uint32_t sz) {
+    uint8_t* dst = a + used;
+    if (sz > 0) std::memcpy(dst, blob + offset, sz);
+    used += static_cast<size_t>(align8(sz));
+    return check_section(id, instance, dst, sz, &views[view_count++]);
+  });
+  if (!st.ok()) return st;
+  for (uint32_t i = 0; i < view_count; ++i)
+    if (views[i].id == kSectionExternalInputs) {
+      set.external = array_of<ExternalInputRecord>(views[i], 0);
+      if (!(st = check_external(views[i], set.external, rig)).ok()) return st;
+    }
+  for (uint32_t i = 0; i < view_count; ++i)
+    if (views[i].id == kSectionMuscles) {
+      set.has_muscles = true;
+      if (!(st = load_muscles(views[i], rig, &set.muscles)).ok()) return st;
+    }
+  for (uint32_t i = 0; i < view_count; ++i) {
+    const SectionView& v = views[i];
+    switch (v.id) {
+      case kSectionSphJoint:
+        st = load_sph(v, rig, set.external_count(), &set.sph[set.sph_count]);
+        if (st.ok() && set.rate_hz != 0 && set.rate_hz != v.header.rate_hz)
+          st = fail(LoadError::kBadValue, v.id, v.instance, "rate_hz", -1, "differs from another SPH joint's",
+                    v.header.rate_hz, true);
+        set.rate_hz = v.header.rate_hz;
+        ++set.sph_count;
+        break;
+      case kSectionMetaballs:
+        set.has_metaballs = true;
+        st = load_metaballs(v, rig, &set.metaballs);
+        break;
+      case kSectionElasticSkin:
+        set.has_skin = true;
+        st = load_skin(v, rig, set.muscles, &set.skin);
+        break;
+      case kSectionBarnet:
+        st = load_barnet(v, rig, &set.barnet[set.barnet_count++]);
+        break;
+      default:
+        break;
+    }
+    if (!st.ok()) return st;
+  }
+  *out = set;
+  return {};
+}
+
+uint32_t find_external_input(const LayerSet& layers, const char* name) {
+  for (uint32_t i = 0; i < layers.external.size(); ++i)
+    if (std::strcmp(layers.external[i].name, name) == 0) return i;
+  return kNoExternalInput;
+}
+
+}  // namespace sinew::pipeline

@@ -1,0 +1,377 @@
+#include "pipeline.hpp"
+
+#include <algorithm>
+
+#include "sim_core/barnet/barnet_step.hpp"
+#include "sim_core/elastic_skin/skin_step.hpp"
+#include "sim_core/fixed/arena.hpp"
+#include "sim_core/fixed/quat.hpp"
+#include "sim_core/fixed/trig.hpp"
+#include "sim_core/metaballs/step.hpp"
+#include "sim_core/muscle/muscle_step.hpp"
+#include "sim_core/rig/message.hpp"
+#include "sim_core/sph/sph_step.hpp"
+
+namespace sinew::pipeline {
+namespace {
+
+PipelineStatus fail(PipelineError e, const char* what, const char* detail = nullptr, int64_t index = -1) {
+  PipelineStatus s;
+  s.error = e;
+  rig::MessageBuilder m(s.message, sizeof(s.message));
+  m.text(what);
+  if (index >= 0) m.text("[").number(index).text("]");
+  if (detail != nullptr) m.text(": ").text(detail);
+  return s;
+}
+
+uint32_t largest_barnet_nodes(const LayerSet& layers) {
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < layers.barnet_count; ++i)
+    n = std::max(n, static_cast<uint32_t>(layers.barnet[i].nodes.size()));
+  return n;
+}
+
+uint32_t largest_barnet_wrap(const LayerSet& layers) {
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < layers.barnet_count; ++i)
+    n = std::max(n, static_cast<uint32_t>(layers.barnet[i].wrap.size()));
+  return n;
+}
+
+// One layout for counting and carving. Sub-arenas of the layers are raw
+// blocks; each layer carves its own state inside with the same carver.
+struct Blocks {
+  uint8_t* engine = nullptr;
+  uint8_t* sph[kMaxSphJoints] = {};
+  uint8_t* metaballs = nullptr;
+  uint8_t* muscles = nullptr;
+  uint8_t* skin = nullptr;
+  uint8_t* barnet[kMaxBarnets] = {};
+};
+
+fx::ArenaCarver layout(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& o, void* base, size_t size,
+                       Pipeline* p, Blocks* b) {
+  fx::ArenaCarver c(base, size);
+  const size_t n = rig.vertex_count();
+  b->engine = c.raw(engine::engine_arena_bytes(rig));
+  const uint32_t sph_count = o.sph ? layers.sph_count : 0;
+  for (uint32_t i = 0; i < sph_count; ++i) b->sph[i] = c.raw(sph::sph_state_bytes(layers.sph[i].model));
+  if (o.metaballs && layers.has_metaballs) b->metaballs = c.raw(metaballs::state_bytes(layers.metaballs));
+  if (o.anatomy && layers.has_muscles) {
+    b->muscles = c.raw(muscle::muscle_state_bytes(layers.muscles));
+    if (layers.has_skin) b->skin = c.raw(elastic_skin::skin_state_bytes(layers.skin));
+  }
+  const uint32_t barnet_count = o.barnet ? layers.barnet_count : 0;
+  for (uint32_t i = 0; i < barnet_count; ++i) b->barnet[i] = c.raw(barnet::barnet_state_bytes(layers.barnet[i]));
+  p->flexed = c.take<int32_t>(sph_count > 0 ? rig.input_count : 0);
+  p->bent = c.take<skeleton::LocalPose>(sph_count > 0 ? rig.joint_count() : 0);
+  p->measured = c.take<int32_t>(rig.input_count + layers.external_count());
+  const bool displaced = sph_count > 0 || b->metaballs != nullptr || b->skin != nullptr || barnet_count > 0;
+  const size_t wrap = barnet_count > 0 ? largest_barnet_wrap(layers) : 0;
+  for (int a = 0; a < 3; ++a) {
+    p->reference[a] = c.take<fx::Len>(displaced ? n : 0);
+    p->scratch[a] = c.take<fx::Len>(std::max(b->metaballs != nullptr ? n : size_t{0}, wrap));
+    p->barnet_nodes[a] = c.take<fx::Len>(barnet_count > 0 ? largest_barnet_nodes(layers) : 0);
+  }
+  return c;
+}
+
+// out = out + (layer - reference), saturated: the superposition rule.
+void add_displacement(Pipeline* p, int axis, uint32_t v, fx::Len layer) {
+  fx::Len& out = p->engine.vertices.position[axis][v];
+  const int64_t sum = int64_t{out} + (int64_t{layer} - p->reference[axis][v]);
+  const int32_t clamped = fx::sat_i32(sum);
+  if (clamped != sum) ++p->saturated;
+  out = clamped;
+}
+
+PipelineStatus run_skinning(Pipeline* p, std::span<const int32_t> inputs) {
+  if (!engine::engine_step(&p->engine, inputs.first(p->rig->input_count)))
+    return fail(PipelineError::kBadInput, "skinning", "engine step refused its inputs");
+  if (!p->reference[0].empty())
+    for (int a = 0; a < 3; ++a)
+      std::copy_n(p->engine.vertices.position[a].begin(), p->reference[a].size(), p->reference[a].begin());
+  return {};
+}
+
+PipelineStatus run_sph(Pipeline* p, std::span<const int32_t> inputs) {
+  const rig::Rig& rig = *p->rig;
+  PipelineStatus first;
+  // The particles were initialised at the rest pose; the first commanded pose
+  // may be far from it: start them at rest in that pose, not with a jump.
+  for (uint32_t i = 0; i < p->sph_count; ++i) {
+    const SphJointLayer& layer = p->layers->sph[i];
+    sph::SphInputs in;
+    in.transforms = p->engine.model;
+    in.tresca = p->options.tresca;
+    if (layer.force_input != kNoExternalInput &&
+        !sph::sph_flexion_force(layer.model, p->engine.model, inputs[rig.input_count + layer.force_input], &in.force))
+      in.force = {0, 0, 0};
+    if (!p->sph_started && !sph::sph_reset(&p->sph[i], p->engine.model).ok() && first.ok())
+      first = fail(PipelineError::kLayer, "sph", "reset failed", i);
+    const sph::SphStatus st = sph::sph_step(&p->sph[i], in);
+    if (!st.ok() && first.ok()) first = fail(PipelineError::kLayer, "sph", st.message, i);
+  }
+  p->sph_started = true;
+  // The particles' bends flex the driven joints (docs/sph.md).
+  if (!p->pose_driven) {
+    // Commanded DOFs: the bend adds to the driven DOF, saturated at the
+    // angle range rather than wrapped: past its limit the engine clamps the
+    // joint and flags it; a wrapped angle would swing it back.
+    std::copy_n(inputs.begin(), p->flexed.size(), p->flexed.begin());
+    for (uint32_t i = 0; i < p->sph_count; ++i) {
+      const uint32_t driven = rig.joints[p->layers->sph[i].model.joint.distal_joint].first_input;
+      const int64_t bent = int64_t{p->flexed[driven]} + static_cast<int32_t>(p->sph[i].bend);
+      p->flexed[driven] = static_cast<int32_t>(std::clamp<int64_t>(bent, INT32_MIN, INT32_MAX));
+    }
+    engine::engine_step(&p->engine, p->flexed);
+  } else {
+    // A sampled pose: the bend turns the driven joint's local rotation about
+    // the SPH axis (in that joint's frame), after the sampled rotation.
+    std::copy(p->engine.locals.begin(), p->engine.locals.end(), p->bent.begin());
+    for (uint32_t i = 0; i < p->sph_count; ++i) {
+      const sph::SphJoint& joint = p->layers->sph[i].model.joint;
+      skeleton::LocalPose& l = p->bent[joint.distal_joint];
+      l.rotation = fx::mul(l.rotation, fx::quat_from_axis_angle(joint.axis, p->sph[i].bend));
+    }
+    engine::engine_step_locals(&p->engine, p->bent);
+  }
+  if (!p->reference[0].empty())
+    for (int a = 0; a < 3; ++a)
+      std::copy_n(p->engine.vertices.position[a].begin(), p->reference[a].size(), p->reference[a].begin());
+  for (uint32_t i = 0; i < p->sph_count; ++i) sph::sph_apply_skin(p->sph[i], p->engine.vertices.position);
+  return first;
+}
+
+PipelineStatus run_metaballs(Pipeline* p) {
+  skin::SkinnedVertices out;
+  for (int a = 0; a < 3; ++a) out.position[a] = p->scratch[a].first(p->rig->vertex_count());
+  const metaballs::Status st = metaballs::step(&p->metaballs, p->engine.model, out);
+  if (!st.ok()) return fail(PipelineError::kLayer, "metaballs", st.message);
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t v = 0; v < p->rig->vertex_count(); ++v) add_displacement(p, a, v, p->scratch[a][v]);
+  return {};
+}
+
+PipelineStatus run_barnet(Pipeline* p, std::span<const int32_t> inputs) {
+  PipelineStatus first;
+  for (uint32_t i = 0; i < p->barnet_count; ++i) {
+    const barnet::BarnetModel& m = p->layers->barnet[i];
+    barnet::StepOutputs out;
+    for (int a = 0; a < 3; ++a) {
+      out.node[a] = p->barnet_nodes[a];
+      out.skin[a] = p->scratch[a];
+    }
+    const barnet::Status st =
+        barnet::barnet_step(&p->barnet[i], {p->engine.model, inputs.first(p->rig->input_count)}, out);
+    if (!st.ok()) {
+      if (first.ok()) first = fail(PipelineError::kLayer, "barnet", st.message, i);
+      continue;
+    }
+    for (size_t k = 0; k < m.wrap.size(); ++k)
+      for (int a = 0; a < 3; ++a) add_displacement(p, a, m.wrap[k].vertex, p->scratch[a][k]);
+  }
+  return first;
+}
+
+PipelineStatus run_anatomy(Pipeline* p) {
+  const muscle::LayerStatus ms = muscle::muscle_step(p->layers->muscles, p->engine.model, &p->muscles);
+  if (!ms.ok()) return fail(PipelineError::kLayer, "muscles", ms.message);
+  if (!p->layers->has_skin) return {};
+  elastic_skin::SkinModel model = p->layers->skin;
+  if (p->options.skin_iterations != 0) model.params.iterations = p->options.skin_iterations;
+  const muscle::LayerStatus ss =
+      elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, &p->skin);
+  if (!ss.ok()) return fail(PipelineError::kLayer, "elastic skin", ss.message);
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t v = 0; v < model.vertex_count; ++v) add_displacement(p, a, v, p->skin.position[a][v]);
+  return {};
+}
+
+}  // namespace
+
+const char* stage_name(Stage s) {
+  switch (s) {
+    case Stage::kSkinning:
+      return "skinning";
+    case Stage::kSph:
+      return "sph";
+    case Stage::kMetaballs:
+      return "metaballs";
+    case Stage::kBarnet:
+      return "barnet";
+    case Stage::kAnatomy:
+      return "anatomy";
+  }
+  return "unknown";
+}
+
+size_t pipeline_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options) {
+  Pipeline probe;
+  Blocks blocks;
+  return layout(rig, layers, options, nullptr, 0, &probe, &blocks).needed();
+}
+
+PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options, void* arena,
+                             size_t arena_bytes, Pipeline* out) {
+  if (!fx::aligned8(arena)) return fail(PipelineError::kArena, "pipeline", "arena missing or misaligned");
+  if (options.skin_iterations > elastic_skin::kMaxIterations)
+    return fail(PipelineError::kBadModel, "pipeline", "skin_iterations beyond the elastic skin's maximum (256)");
+  Pipeline p;
+  p.rig = &rig;
+  p.layers = &layers;
+  p.options = options;
+  Blocks b;
+  const fx::ArenaCarver c = layout(rig, layers, options, arena, arena_bytes, &p, &b);
+  if (c.failed()) return fail(PipelineError::kArena, "pipeline", "arena smaller than pipeline_state_bytes");
+  if (!engine::engine_init(rig, b.engine, engine::engine_arena_bytes(rig), &p.engine))
+    return fail(PipelineError::kArena, "skinning", "engine arena");
+  p.input_count = rig.input_count + layers.external_count();
+  p.sph_count = options.sph ? layers.sph_count : 0;
+  for (uint32_t i = 0; i < p.sph_count; ++i) {
+    const sph::SphModel& m = layers.sph[i].model;
+    const sph::SphStatus st = sph::sph_init(m, p.engine.model, b.sph[i], sph::sph_state_bytes(m), &p.sph[i]);
+    if (!st.ok()) return fail(PipelineError::kBadModel, "sph", st.message, i);
+  }
+  p.metaballs_on = b.metaballs != nullptr;
+  if (p.metaballs_on) {
+    const metaballs::Status st =
+        metaballs::init(layers.metaballs, b.metaballs, metaballs::state_bytes(layers.metaballs), &p.metaballs);
+    if (!st.ok()) return fail(PipelineError::kBadModel, "metaballs", st.message);
+  }
+  p.anatomy_on = b.muscles != nullptr;
+  if (p.anatomy_on) {
+    muscle::LayerStatus st =
+        muscle::muscle_state_init(layers.muscles, b.muscles, muscle::muscle_state_bytes(layers.muscles), &p.muscles);
+    if (st.ok() && layers.has_skin)
+      st = elastic_skin::skin_state_init(layers.skin, b.skin, elastic_skin::skin_state_bytes(layers.skin), &p.skin);
+    if (!st.ok()) return fail(PipelineError::kBadModel, "anatomy", st.message);
+  }
+  p.barnet_count = options.barnet ? layers.barnet_count : 0;
+  for (uint32_t i = 0; i < p.barnet_count; ++i) {
+    const barnet::Status st =
+        barnet::barnet_init(layers.barnet[i], b.barnet[i], barnet::barnet_state_bytes(layers.barnet[i]), &p.barnet[i]);
+    if (!st.ok()) return fail(PipelineError::kBadModel, "barnet", st.message, i);
+  }
+  // The states hold pointers to the models (in `layers`), never into `p`,
+  // so the pipeline can be copied out.
+  *out = p;
+  return {};
+}
+
+bool pipeline_stage_on(const Pipeline& p, Stage s) {
+  switch (s) {
+    case Stage::kSkinning:
+      return true;
+    case Stage::kSph:
+      return p.sph_count > 0;
+    case Stage::kMetaballs:
+      return p.metaballs_on;
+    case Stage::kBarnet:
+      return p.barnet_count > 0;
+    case Stage::kAnatomy:
+      return p.anatomy_on;
+  }
+  return false;
+}
+
+PipelineStatus pipeline_run_stage(Pipeline* p, Stage s, std::span<const int32_t> inputs) {
+  if (p == nullptr || p->rig == nullptr) return fail(PipelineError::kArena, "pipeline", "not initialised");
+  if (inputs.size() < p->input_count)
+    return fail(PipelineError::kBadInput, "pipeline", "fewer inputs than the rig's and its external inputs");
+  if (s == Stage::kSkinning) {
+    p->saturated = 0;
+    p->pose_driven = false;
+  }
+  if (!pipeline_stage_on(*p, s)) return {};
+  switch (s) {
+    case Stage::kSkinning:
+      return run_skinning(p, inputs);
+    case Stage::kSph:
+      return run_sph(p, inputs);
+    case Stage::kMetaballs:
+      return run_metaballs(p);
+    case Stage::kBarnet:
+      return run_barnet(p, inputs);
+    case Stage::kAnatomy:
+      return run_anatomy(p);
+  }
+  return {};
+}
+
+PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs) {
+  PipelineStatus first = pipeline_run_stage(p, Stage::kSkinning, inputs);
+  if (!first.ok()) return first;
+  for (uint32_t s = 1; s < kStageCount; ++s) {
+    const PipelineStatus st = pipeline_run_stage(p, static_cast<Stage>(s), inputs);
+    if (!st.ok() && first.ok()) first = st;
+  }
+  return first;
+}
+
+namespace {
+
+// Twist of q about a unit axis: 2 atan2(q.v . axis, q.w), a binary angle.
+fx::Angle twist_angle(const fx::Quat& q, const fx::Unit axis[3]) {
+  const int64_t along = int64_t{q.x} * axis[0] + int64_t{q.y} * axis[1] + int64_t{q.z} * axis[2];
+  const int32_t y = fx::sat_i32(fx::round_shift(along, fx::kUnitFracBits));
+  return static_cast<fx::Angle>(2u * fx::atan2_angle(y, q.w));
+}
+
+void measure_dofs(Pipeline* p) {
+  const rig::Rig& rig = *p->rig;
+  for (uint32_t j = 0; j < rig.joint_count(); ++j) {
+    const rig::JointRecord& r = rig.joints[j];
+    const skeleton::LocalPose& l = p->engine.locals[j];
+    const fx::Quat rest{r.rest_rotation[0], r.rest_rotation[1], r.rest_rotation[2], r.rest_rotation[3]};
+    const fx::Quat relative = fx::mul(fx::conjugate(rest), l.rotation);
+    for (uint32_t d = 0; d < r.dof_count; ++d) {
+      int32_t value = 0;
+      if (r.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation)) {
+        value = static_cast<int32_t>(twist_angle(relative, r.dof_axis[d]));
+      } else {
+        const int64_t offset = (int64_t{l.translation.x} - r.rest_translation[0]) * r.dof_axis[d][0] +
+                               (int64_t{l.translation.y} - r.rest_translation[1]) * r.dof_axis[d][1] +
+                               (int64_t{l.translation.z} - r.rest_translation[2]) * r.dof_axis[d][2];
+        value = fx::sat_i32(fx::round_shift(offset, fx::kUnitFracBits));
+      }
+      p->measured[r.first_input + d] = value;
+    }
+  }
+}
+
+}  // namespace
+
+PipelineStatus pipeline_step_locals(Pipeline* p, std::span<const skeleton::LocalPose> locals,
+                                    std::span<const int32_t> external) {
+  if (p == nullptr || p->rig == nullptr) return fail(PipelineError::kArena, "pipeline", "not initialised");
+  if (!engine::engine_step_locals(&p->engine, locals))
+    return fail(PipelineError::kBadInput, "skinning", "one local pose per joint is needed");
+  p->pose_driven = true;
+  p->saturated = 0;
+  measure_dofs(p);
+  const uint32_t rig_inputs = p->rig->input_count;
+  for (uint32_t i = rig_inputs; i < p->input_count; ++i)
+    p->measured[i] = i - rig_inputs < external.size() ? external[i - rig_inputs] : 0;
+  const std::span<const int32_t> inputs = p->measured;
+  if (!p->reference[0].empty())
+    for (int a = 0; a < 3; ++a)
+      std::copy_n(p->engine.vertices.position[a].begin(), p->reference[a].size(), p->reference[a].begin());
+  PipelineStatus first;
+  for (uint32_t s = 1; s < kStageCount; ++s) {
+    const PipelineStatus st = pipeline_run_stage(p, static_cast<Stage>(s), inputs);
+    if (!st.ok() && first.ok()) first = st;
+  }
+  p->pose_driven = false;
+  return first;
+}
+
+bool pipeline_input_yielded(const Pipeline& p, uint32_t input) {
+  for (uint32_t i = 0; i < p.sph_count; ++i)
+    if (p.sph[i].joint_yielded && p.rig->joints[p.layers->sph[i].model.joint.distal_joint].first_input == input)
+      return true;
+  return false;
+}
+
+}  // namespace sinew::pipeline
