@@ -150,6 +150,9 @@ bool check_nodes(const tinygltf::Model& model, std::string* error) {
     const tinygltf::Node& n = model.nodes[i];
     const std::string what = "node " + std::to_string(i) + (n.name.empty() ? "" : " (" + n.name + ")");
     if (!n.matrix.empty() && n.matrix.size() != 16) return *error = what + ": matrix needs 16 numbers", false;
+    if ((!n.translation.empty() && n.translation.size() != 3) || (!n.rotation.empty() && n.rotation.size() != 4) ||
+        (!n.scale.empty() && n.scale.size() != 3))
+      return *error = what + ": translation and scale need 3 numbers, rotation 4", false;
     if (!finite(n.matrix) || !finite(n.translation) || !finite(n.rotation) || !finite(n.scale))
       return *error = what + ": matrix, translation, rotation or scale is not finite", false;
     if (n.matrix.size() == 16) {

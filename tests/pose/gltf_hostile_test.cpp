@@ -372,6 +372,13 @@ TEST(GltfHostile, NonFiniteDataIsRefused) {
     EXPECT_TRUE(hostile_contains(error, "node 2 (tip)")) << error;
     std::printf("node matrix 1e300: %s\n", error.c_str());
   }
+  // A translation with two numbers was ignored.
+  {
+    GltfBuilder b = hostile_skin();
+    b.doc["nodes"][2]["translation"] = {1, 0};
+    const std::string error = hostile_open_error(b.write("short_translation.gltf"));
+    EXPECT_TRUE(hostile_contains(error, "node 2 (tip)")) << error;
+  }
   // --time nan on the command line.
   const std::string out = temp_path("nan_time.csv");
   EXPECT_EQ(hostile_run(std::string(SINEW_POSE_EXE) + " " + hostile_skin().write("time.gltf") + " --time nan --out " +
