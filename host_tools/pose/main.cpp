@@ -1,53 +1,96 @@
 // sinew-pose MODEL.gltf|.glb --animation N --time SECONDS [--time ...] --out FILE.csv
-// Samples a glTF animation and writes the deformed vertex positions of every
-// skinned primitive (glTF document order, glTF vertex order, glTF units,
-// skinned world space) computed by sinew's fixed-point pipeline.
+// sinew-pose MODEL.gltf|.glb --bind-pose --out FILE.csv
+// Samples a glTF animation (or takes the bind pose: every node at its default
+// transform) and writes the deformed vertex positions of every skinned
+// primitive (glTF document order, glTF vertex order, glTF units, skinned world
+// space) computed by sinew's fixed-point pipeline. The CSV is written whole or
+// not at all.
 #include <CLI/CLI.hpp>
-
+#include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <exception>
+#include <string>
 
 #include "host_tools/rigc/gltf_poser.hpp"
+#include "host_tools/rigc/output_file.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "sinew-pose: %s\n", message.c_str());
+  return 1;
+}
+
+void append_positions(const std::vector<std::array<double, 3>>& positions, std::string* csv) {
+  char line[96];
+  for (const auto& p : positions) {
+    std::snprintf(line, sizeof(line), "%.9g,%.9g,%.9g\n", p[0], p[1], p[2]);
+    *csv += line;
+  }
+}
+
+int run(int argc, char** argv) {
   CLI::App app{"sinew-pose: deformed vertex positions of a glTF skin, through the fixed-point pipeline"};
   std::string model, out_path;
   int animation = 0;
+  bool bind_pose = false;
   std::vector<double> times;
   app.add_option("model", model, "glTF 2.0 file (.gltf or .glb) with a skin")->required();
-  app.add_option("--animation", animation, "animation index (0-based)")->check(CLI::NonNegativeNumber);
-  app.add_option("--time", times, "time in seconds (repeatable; clamped to the animation's range)")->required();
+  auto* anim_opt = app.add_option("--animation", animation, "animation index (0-based)")->check(CLI::NonNegativeNumber);
+  auto* time_opt =
+      app.add_option("--time", times, "time in seconds (repeatable; clamped to the animation's range; finite)");
+  app.add_flag("--bind-pose", bind_pose, "write the bind pose (every node at its default transform), no animation")
+      ->excludes(anim_opt)
+      ->excludes(time_opt);
   app.add_option("--out", out_path, "output CSV file")->required();
   CLI11_PARSE(app, argc, argv);
+  if (!bind_pose && times.empty()) return fail("give --time SECONDS (repeatable) or --bind-pose");
+  for (double t : times)
+    if (!std::isfinite(t)) return fail("--time " + std::to_string(t) + " is not a finite number of seconds");
 
   sinew::rigc::GltfPoser poser;
   std::string error;
-  if (!poser.open(model, &error)) {
-    std::fprintf(stderr, "sinew-pose: %s\n", error.c_str());
-    return 1;
+  if (!poser.open(model, &error)) return fail(error);
+  const sinew::rigc::CompileReport& report = poser.report();
+  if (report.length_exponent_clamped)
+    std::fprintf(stderr,
+                 "sinew-pose: warning: the largest coordinate (%g) is outside what the rig unit can represent; "
+                 "the unit was clamped to 2^%d and positions are saturated or coarse\n",
+                 report.extent, report.length_exponent);
+  if (!bind_pose && poser.model().animations.empty())
+    return fail(model + " has no animations; use --bind-pose for its bind pose");
+
+  // Every pose first, so that a failure leaves no partial CSV behind.
+  std::string csv = "# sinew-pose " + model + (bind_pose ? " bind pose" : " animation " + std::to_string(animation)) +
+                    "\n# " + sinew::rigc::format_report(report) + "\n";
+  std::vector<std::array<double, 3>> positions;
+  if (bind_pose) {
+    if (!poser.pose(-1, 0.0, &positions, &error)) return fail(error);
+    csv += "# bind pose, " + std::to_string(positions.size()) + " vertices: x,y,z\n";
+    append_positions(positions, &csv);
   }
-  std::ofstream out(out_path);
-  if (!out) {
-    std::fprintf(stderr, "sinew-pose: cannot write %s\n", out_path.c_str());
-    return 1;
-  }
-  out << "# sinew-pose " << model << " animation " << animation << "\n";
-  out << "# " << sinew::rigc::format_report(poser.report()) << "\n";
   for (double t : times) {
-    std::vector<std::array<double, 3>> positions;
-    if (!poser.pose(animation, t, &positions, &error)) {
-      std::fprintf(stderr, "sinew-pose: %s\n", error.c_str());
-      return 1;
-    }
-    out << "# time " << t << " s, " << positions.size() << " vertices: x,y,z\n";
-    char line[96];
-    for (const auto& p : positions) {
-      std::snprintf(line, sizeof(line), "%.9g,%.9g,%.9g\n", p[0], p[1], p[2]);
-      out << line;
-    }
+    if (!poser.pose(animation, t, &positions, &error)) return fail(error);
+    char head[96];
+    std::snprintf(head, sizeof(head), "# time %g s, %zu vertices: x,y,z\n", t, positions.size());
+    csv += head;
+    append_positions(positions, &csv);
   }
-  if (poser.report().renormalized_vertices > 0)
+  if (!sinew::rigc::write_output_file(out_path, csv, &error)) return fail(error);
+  if (report.renormalized_vertices > 0)
     std::fprintf(stderr, "sinew-pose: note: %u vertices had weights not summing to 1; renormalised\n",
-                 poser.report().renormalized_vertices);
-  return out.good() ? 0 : 1;
+                 report.renormalized_vertices);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail("internal error");
+  }
 }

@@ -50,19 +50,24 @@ int32_t limit_angle(double degrees) { return to_fixed(std::clamp(degrees, -180.0
 
 }  // namespace
 
-int32_t choose_length_exponent(const RigSpec& spec) {
+int32_t unclamped_length_exponent(const RigSpec& spec, double* extent_out) {
   double extent = spec.extra_extent;
   for (const VertexSpec& v : spec.vertices) extent = std::max(extent, max_abs(v.position));
   for (const JointSpec& j : spec.joints) extent = std::max(extent, max_abs(j.translation));
   for (const PaletteSpec& p : spec.palette)
-    extent = std::max({extent, std::fabs(p.inverse_bind[12]), std::fabs(p.inverse_bind[13]), std::fabs(p.inverse_bind[14])});
-  if (!(extent > 0)) return 0;
+    extent =
+        std::max({extent, std::fabs(p.inverse_bind[12]), std::fabs(p.inverse_bind[13]), std::fabs(p.inverse_bind[14])});
+  if (extent_out != nullptr) *extent_out = extent;
+  if (!(extent > 0) || !std::isfinite(extent)) return 0;
   // Largest magnitude at most 256 rig units (1/8 of Q12.20's range):
   // e = ceil(log2(extent / 256)), exactly, via frexp (no libm rounding).
   int k = 0;
   const double m = std::frexp(extent / 256.0, &k);  // extent / 256 = m * 2^k, m in [0.5, 1)
-  const int32_t e = m == 0.5 ? k - 1 : k;
-  return std::clamp(e, fmt::kMinLengthExponent, fmt::kMaxLengthExponent);
+  return m == 0.5 ? k - 1 : k;
+}
+
+int32_t choose_length_exponent(const RigSpec& spec) {
+  return std::clamp(unclamped_length_exponent(spec), fmt::kMinLengthExponent, fmt::kMaxLengthExponent);
 }
 
 bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport* report, std::string* error) {
@@ -91,7 +96,8 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
     r = {};
     r.parent = s.parent;
     r.dof_count = static_cast<uint8_t>(s.dofs.size());
-    r.dof_kind = static_cast<uint8_t>(s.dof_kind == DofKind::kRotation ? fmt::DofKind::kRotation : fmt::DofKind::kTranslation);
+    r.dof_kind =
+        static_cast<uint8_t>(s.dof_kind == DofKind::kRotation ? fmt::DofKind::kRotation : fmt::DofKind::kTranslation);
     r.first_input = static_cast<uint16_t>(inputs);
     inputs += r.dof_count;
     for (int c = 0; c < 3; ++c) {
@@ -121,8 +127,8 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
     const SynergySpec& s = spec.synergies[i];
     if (s.source_input < 0 || static_cast<uint32_t>(s.source_input) >= inputs)
       return *error = at("synergy", i, "source_input", "no such input"), false;
-    if (s.target_joint < 0 || static_cast<size_t>(s.target_joint) >= nj ||
-        s.target_dof < 0 || static_cast<size_t>(s.target_dof) >= spec.joints[static_cast<size_t>(s.target_joint)].dofs.size())
+    if (s.target_joint < 0 || static_cast<size_t>(s.target_joint) >= nj || s.target_dof < 0 ||
+        static_cast<size_t>(s.target_dof) >= spec.joints[static_cast<size_t>(s.target_joint)].dofs.size())
       return *error = at("synergy", i, "target", "no such joint DOF"), false;
     if (!(std::fabs(s.gain) < 1.99)) return *error = at("synergy", i, "gain", "outside (-2, 2)"), false;
     fmt::SynergyRecord r{};
@@ -137,12 +143,14 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
   std::vector<fmt::PaletteRecord> palette(np);
   for (size_t p = 0; p < np; ++p) {
     const PaletteSpec& s = spec.palette[p];
-    if (s.joint < 0 || static_cast<size_t>(s.joint) >= nj) return *error = at("palette", p, "joint", "no such joint"), false;
+    if (s.joint < 0 || static_cast<size_t>(s.joint) >= nj)
+      return *error = at("palette", p, "joint", "no such joint"), false;
     palette[p].joint = static_cast<uint32_t>(s.joint);
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) {
         const double v = s.inverse_bind[static_cast<size_t>(c * 4 + r)];
-        if (!(std::fabs(v) < 64.0)) return *error = at("palette", p, "inverse_bind", "linear entry outside +-64 or not finite"), false;
+        if (!(std::fabs(v) < 64.0))
+          return *error = at("palette", p, "inverse_bind", "linear entry outside +-64 or not finite"), false;
         palette[p].inverse_bind.m[r][c] = to_fixed(v, 24);
       }
       palette[p].inverse_bind.t[r] = to_len(s.inverse_bind[static_cast<size_t>(12 + r)], e);
@@ -171,13 +179,16 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
     }
     const double nn = std::sqrt(s.normal[0] * s.normal[0] + s.normal[1] * s.normal[1] + s.normal[2] * s.normal[2]);
     for (int c = 0; c < 3; ++c)
-      nrm[static_cast<size_t>(c) * nv + v] = nn > 0 && std::isfinite(nn) ? to_fixed(s.normal[static_cast<size_t>(c)] / nn, 30) : 0;
+      nrm[static_cast<size_t>(c) * nv + v] =
+          nn > 0 && std::isfinite(nn) ? to_fixed(s.normal[static_cast<size_t>(c)] / nn, 30) : 0;
     std::vector<Influence> in;
     double sum = 0;
     for (const Influence& i : s.influences) {
-      if (!(i.weight >= 0) || !std::isfinite(i.weight)) return *error = at("vertex", v, "weight", "negative or not finite"), false;
+      if (!(i.weight >= 0) || !std::isfinite(i.weight))
+        return *error = at("vertex", v, "weight", "negative or not finite"), false;
       if (i.weight == 0) continue;
-      if (i.palette < 0 || static_cast<size_t>(i.palette) >= np) return *error = at("vertex", v, "joint", "no such palette entry"), false;
+      if (i.palette < 0 || static_cast<size_t>(i.palette) >= np)
+        return *error = at("vertex", v, "joint", "no such palette entry"), false;
       in.push_back(i);
       sum += i.weight;
     }
@@ -221,7 +232,9 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
   w.section(fmt::kSectionPrimitives, prims.data(), prims.size() * sizeof(fmt::PrimitiveRecord));
   if (!spec.has_normals) {
     // An empty VNRM entry would fail the size check: drop it from the table.
-    w.table.erase(std::remove_if(w.table.begin(), w.table.end(), [](const fmt::SectionEntry& s) { return s.id == fmt::kSectionNormals; }), w.table.end());
+    w.table.erase(std::remove_if(w.table.begin(), w.table.end(),
+                                 [](const fmt::SectionEntry& s) { return s.id == fmt::kSectionNormals; }),
+                  w.table.end());
   }
   w.bytes.resize(align8(w.bytes.size()));
   fmt::FileHeader h{};
@@ -262,6 +275,7 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
   report->influences_per_vertex = static_cast<uint32_t>(k);
   report->renormalized_vertices = renormalized;
   report->length_exponent = e;
+  report->length_exponent_clamped = unclamped_length_exponent(spec, &report->extent) != e;
   report->blob_bytes = w.bytes.size();
   report->rig_arena_bytes = arena;
   report->engine_arena_bytes = engine::engine_arena_bytes(rig);
@@ -273,8 +287,8 @@ std::string format_report(const CompileReport& r) {
   std::ostringstream s;
   s << "joints " << r.joints << ", inputs " << r.inputs << ", vertices " << r.vertices << ", triangles " << r.triangles
     << ", palette " << r.palette << ", influences/vertex " << r.influences_per_vertex << ", renormalised weights "
-    << r.renormalized_vertices << ", rig unit 2^" << r.length_exponent << ", blob " << r.blob_bytes
-    << " B, rig arena " << r.rig_arena_bytes << " B, engine arena " << r.engine_arena_bytes << " B";
+    << r.renormalized_vertices << ", rig unit 2^" << r.length_exponent << ", blob " << r.blob_bytes << " B, rig arena "
+    << r.rig_arena_bytes << " B, engine arena " << r.engine_arena_bytes << " B";
   return s.str();
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "gltf_accessor.hpp"
@@ -22,7 +23,8 @@ NodeTrs decompose(const std::vector<double>& m) {
   t.translation = {m[12], m[13], m[14]};
   double col[3][3];
   for (int c = 0; c < 3; ++c) {
-    const double sx = std::sqrt(m[static_cast<size_t>(c * 4)] * m[static_cast<size_t>(c * 4)] + m[static_cast<size_t>(c * 4 + 1)] * m[static_cast<size_t>(c * 4 + 1)] +
+    const double sx = std::sqrt(m[static_cast<size_t>(c * 4)] * m[static_cast<size_t>(c * 4)] +
+                                m[static_cast<size_t>(c * 4 + 1)] * m[static_cast<size_t>(c * 4 + 1)] +
                                 m[static_cast<size_t>(c * 4 + 2)] * m[static_cast<size_t>(c * 4 + 2)]);
     t.scale[static_cast<size_t>(c)] = sx;
     for (int r = 0; r < 3; ++r) col[c][r] = sx > 0 ? m[static_cast<size_t>(c * 4 + r)] / sx : (r == c ? 1 : 0);
@@ -83,19 +85,85 @@ Quatd slerp(Quatd a, Quatd b, double u) {
   return normalized({wa * a[0] + wb * b[0], wa * a[1] + wb * b[1], wa * a[2] + wb * b[2], wa * a[3] + wb * b[3]});
 }
 
+// tinygltf's image callback: accepts every image without decoding it.
+bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+std::string trimmed(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+// Animation key times: finite (read_accessor) and never decreasing.
+bool read_key_times(const tinygltf::Model& model, int anim, int accessor, std::vector<double>* in, std::string* error) {
+  int comps = 0;
+  if (!read_accessor(model, accessor, kMaxAnimationKeys, in, &comps, error))
+    return *error = "animation " + std::to_string(anim) + ": " + *error, false;
+  if (comps != 1)
+    return *error = "animation " + std::to_string(anim) + ": accessor " + std::to_string(accessor) +
+                    ": sampler input must be SCALAR",
+           false;
+  for (size_t k = 1; k < in->size(); ++k)
+    if ((*in)[k] < (*in)[k - 1])
+      return *error = "animation " + std::to_string(anim) + ": accessor " + std::to_string(accessor) +
+                      ": key times decrease at key " + std::to_string(k),
+             false;
+  return true;
+}
+
 }  // namespace
 
 bool load_gltf_model(const std::string& path, tinygltf::Model* model, std::string* error) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return *error = path + ": cannot open", false;
-  char magic[4] = {0, 0, 0, 0};
-  f.read(magic, 4);
-  const bool binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
-  tinygltf::TinyGLTF loader;
-  std::string err, warn;
-  const bool ok = binary ? loader.LoadBinaryFromFile(model, &err, &warn, path)
-                         : loader.LoadASCIIFromFile(model, &err, &warn, path);
-  if (!ok) return *error = path + ": " + (err.empty() ? "not a valid glTF file" : err), false;
+  try {
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(st)) return *error = path + ": no such file", false;
+    if (!std::filesystem::is_regular_file(st)) return *error = path + ": not a regular file", false;
+    std::ifstream f(path, std::ios::binary);
+    if (!f) return *error = path + ": cannot open", false;
+    char magic[4] = {0, 0, 0, 0};
+    f.read(magic, 4);
+    const bool binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    tinygltf::TinyGLTF loader;
+    // Images are never decoded: sinew reads geometry, skins and animations.
+    // Without a loader tinygltf refuses every file that embeds an image.
+    loader.SetImageLoader(ignore_image, nullptr);
+    std::string err, warn;
+    const bool ok = binary ? loader.LoadBinaryFromFile(model, &err, &warn, path)
+                           : loader.LoadASCIIFromFile(model, &err, &warn, path);
+    if (!ok) return *error = path + ": " + (err.empty() ? "not a valid glTF file" : trimmed(err)), false;
+    for (const std::string& ext : model->extensionsRequired)
+      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
+        return *error = path + ": requires " + ext + " (compressed geometry is not supported)", false;
+    return true;
+  } catch (const std::exception& e) {
+    return *error = path + ": not a valid glTF file (" + e.what() + ")", false;
+  }
+}
+
+bool check_nodes(const tinygltf::Model& model, std::string* error) {
+  const auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
+  for (size_t i = 0; i < model.nodes.size(); ++i) {
+    const tinygltf::Node& n = model.nodes[i];
+    const std::string what = "node " + std::to_string(i) + (n.name.empty() ? "" : " (" + n.name + ")");
+    if (!n.matrix.empty() && n.matrix.size() != 16) return *error = what + ": matrix needs 16 numbers", false;
+    if ((!n.translation.empty() && n.translation.size() != 3) || (!n.rotation.empty() && n.rotation.size() != 4) ||
+        (!n.scale.empty() && n.scale.size() != 3))
+      return *error = what + ": translation and scale need 3 numbers, rotation 4", false;
+    if (!finite(n.matrix) || !finite(n.translation) || !finite(n.rotation) || !finite(n.scale))
+      return *error = what + ": matrix, translation, rotation or scale is not finite", false;
+    if (n.matrix.size() == 16) {
+      const NodeTrs t = decompose(n.matrix);
+      for (size_t c = 0; c < 3; ++c)
+        if (!std::isfinite(t.translation[c]) || !std::isfinite(t.scale[c]))
+          return *error = what + ": matrix does not decompose into finite TRS", false;
+      for (double q : t.rotation)
+        if (!std::isfinite(q)) return *error = what + ": matrix does not decompose into finite TRS", false;
+    }
+  }
   return true;
 }
 
@@ -108,7 +176,8 @@ std::vector<NodeTrs> rest_node_trs(const tinygltf::Model& model) {
       continue;
     }
     if (n.translation.size() == 3) out[i].translation = {n.translation[0], n.translation[1], n.translation[2]};
-    if (n.rotation.size() == 4) out[i].rotation = normalized({n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]});
+    if (n.rotation.size() == 4)
+      out[i].rotation = normalized({n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]});
     if (n.scale.size() == 3) out[i].scale = {n.scale[0], n.scale[1], n.scale[2]};
   }
   return out;
@@ -117,13 +186,13 @@ std::vector<NodeTrs> rest_node_trs(const tinygltf::Model& model) {
 bool animation_range(const tinygltf::Model& model, int index, double* start, double* end, std::string* error) {
   if (index < 0 || static_cast<size_t>(index) >= model.animations.size())
     return *error = "animation " + std::to_string(index) + ": no such animation (the file has " +
-                    std::to_string(model.animations.size()) + ")", false;
+                    std::to_string(model.animations.size()) + ")",
+           false;
   *start = 1e300;
   *end = -1e300;
   for (const tinygltf::AnimationSampler& s : model.animations[static_cast<size_t>(index)].samplers) {
     std::vector<double> in;
-    int comps = 0;
-    if (!read_accessor(model, s.input, &in, &comps, error)) return false;
+    if (!read_key_times(model, index, s.input, &in, error)) return false;
     if (in.empty()) continue;
     *start = std::min(*start, in.front());
     *end = std::max(*end, in.back());
@@ -136,18 +205,24 @@ bool sample_animation(const tinygltf::Model& model, int index, double time, std:
                       std::string* error) {
   if (index < 0 || static_cast<size_t>(index) >= model.animations.size())
     return *error = "animation " + std::to_string(index) + ": no such animation (the file has " +
-                    std::to_string(model.animations.size()) + ")", false;
+                    std::to_string(model.animations.size()) + ")",
+           false;
+  if (!std::isfinite(time)) return *error = "animation time " + std::to_string(time) + " is not finite", false;
   const tinygltf::Animation& anim = model.animations[static_cast<size_t>(index)];
-  for (const tinygltf::AnimationChannel& ch : anim.channels) {
+  for (size_t ci = 0; ci < anim.channels.size(); ++ci) {
+    const tinygltf::AnimationChannel& ch = anim.channels[ci];
     if (ch.target_node < 0 || static_cast<size_t>(ch.target_node) >= trs->size()) continue;
-    const bool is_t = ch.target_path == "translation", is_r = ch.target_path == "rotation", is_s = ch.target_path == "scale";
+    const bool is_t = ch.target_path == "translation", is_r = ch.target_path == "rotation",
+               is_s = ch.target_path == "scale";
     if (!is_t && !is_r && !is_s) continue;  // morph weights do not move joints
     if (ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= anim.samplers.size())
       return *error = "animation " + std::to_string(index) + ": channel sampler out of range", false;
     const tinygltf::AnimationSampler& s = anim.samplers[static_cast<size_t>(ch.sampler)];
     std::vector<double> in, out;
-    int ci = 0, co = 0;
-    if (!read_accessor(model, s.input, &in, &ci, error) || !read_accessor(model, s.output, &out, &co, error)) return false;
+    int co = 0;
+    if (!read_key_times(model, index, s.input, &in, error)) return false;
+    if (!read_accessor(model, s.output, 3 * kMaxAnimationKeys, &out, &co, error))
+      return *error = "animation " + std::to_string(index) + ": " + *error, false;
     const size_t width = is_r ? 4 : 3;
     const bool cubic = s.interpolation == "CUBICSPLINE";
     const size_t per_key = cubic ? 3 : 1;
@@ -177,6 +252,12 @@ bool sample_animation(const tinygltf::Model& model, int index, double time, std:
     } else {
       for (size_t c = 0; c < width; ++c) v[c] = (1 - u) * value(k, 0, c) + u * value(k1, 0, c);
     }
+    for (size_t c = 0; c < width; ++c)
+      if (!std::isfinite(v[c]))
+        return *error = "animation " + std::to_string(index) + " channel " + std::to_string(ci) + ": the " +
+                        ch.target_path + " of node " + std::to_string(ch.target_node) + " is not finite at time " +
+                        std::to_string(time),
+               false;
     NodeTrs& node = (*trs)[static_cast<size_t>(ch.target_node)];
     if (is_t) node.translation = {v[0], v[1], v[2]};
     if (is_s) node.scale = {v[0], v[1], v[2]};

@@ -5,9 +5,10 @@
 // glTF document order (nodes order, then primitives order).
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -27,14 +28,28 @@ struct GltfRig {
   std::vector<int> joint_node;  // rig joint -> glTF node
 };
 
+// Limits checked before anything is allocated: a rig's vertex attributes,
+// indices and inverse bind matrices by sim_core/rig/rig_format.hpp; animation
+// keys per sampler by this importer.
+inline constexpr size_t kMaxAnimationKeys = size_t{1} << 22;
+// Deepest node hierarchy accepted (every ancestor of a joint is a rig joint).
+inline constexpr size_t kMaxNodeDepth = 1024;
+
+// Loads a .gltf or .glb (regular files only; images are ignored, not decoded).
+// Never throws: every failure is a message naming the file.
 bool load_gltf_model(const std::string& path, tinygltf::Model* model, std::string* error);
+// Loads and converts; never throws. Refuses non-finite data, node cycles,
+// hierarchies deeper than kMaxNodeDepth and negative weights.
 bool import_gltf(const std::string& path, GltfRig* out, std::string* error);
+
+// Every node's matrix/TRS is finite (and a matrix decomposes into finite TRS).
+bool check_nodes(const tinygltf::Model& model, std::string* error);
 
 // Default TRS of every node (matrix nodes decomposed).
 std::vector<NodeTrs> rest_node_trs(const tinygltf::Model& model);
 
 // Samples animation `index` at `time` (clamped to each sampler's range) over
-// `trs` (start from rest_node_trs): LINEAR (slerp for rotations), STEP and
+// `trs` (start from rest_node_trs); `time` must be finite. LINEAR (slerp for rotations), STEP and
 // CUBICSPLINE, as the glTF 2.0 specification defines them.
 bool sample_animation(const tinygltf::Model& model, int index, double time, std::vector<NodeTrs>* trs,
                       std::string* error);

@@ -1,10 +1,11 @@
 // glTF skins -> RigSpec (see gltf_import.hpp for the joint and vertex order).
 #include <algorithm>
 #include <cmath>
-#include <functional>
+#include <set>
 
 #include "gltf_accessor.hpp"
 #include "gltf_import.hpp"
+#include "sim_core/rig/rig_format.hpp"
 
 namespace sinew::rigc {
 namespace {
@@ -20,21 +21,93 @@ bool attribute(const tinygltf::Primitive& p, const char* name, int* accessor) {
   return true;
 }
 
-}  // namespace
+std::string node_name(const tinygltf::Model& m, size_t n) {
+  const std::string& name = m.nodes[n].name;
+  return "node " + std::to_string(n) + (name.empty() ? "" : " (" + name + ")");
+}
 
-bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
+// Truncates to what the rig's name table holds, without splitting a UTF-8 sequence.
+std::string fit_name(std::string s, size_t max_bytes) {
+  if (s.size() <= max_bytes) return s;
+  size_t n = max_bytes;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0u) == 0x80u) --n;
+  s.resize(n);
+  return s;
+}
+
+// Unique, stable joint names: a node's own name when no earlier joint took it
+// (after truncation to the rig's name size), "node<index>" for unnamed nodes,
+// and "<name>~<index>" (then "~<index>.<k>") for the rest.
+void assign_joint_names(const tinygltf::Model& m, const std::vector<int>& joint_node, std::vector<JointSpec>* joints) {
+  const size_t max_bytes = rig::kNameBytes - 1;
+  std::set<std::string> used;
+  std::vector<bool> named(joints->size(), false);
+  for (size_t j = 0; j < joints->size(); ++j) {
+    const std::string& own = m.nodes[static_cast<size_t>(joint_node[j])].name;
+    if (own.empty()) continue;
+    const std::string name = fit_name(own, max_bytes);
+    if (!used.insert(name).second) continue;
+    (*joints)[j].name = name;
+    named[j] = true;
+  }
+  for (size_t j = 0; j < joints->size(); ++j) {
+    if (named[j]) continue;
+    const size_t n = static_cast<size_t>(joint_node[j]);
+    const std::string& own = m.nodes[n].name;
+    std::string name = own.empty() ? "node" + std::to_string(n) : fit_name(own, max_bytes);
+    for (size_t k = 0; !used.insert(name).second; ++k) {
+      const std::string suffix = "~" + std::to_string(n) + (k == 0 ? "" : "." + std::to_string(k));
+      name = fit_name(own.empty() ? "node" + std::to_string(n) : own, max_bytes - suffix.size()) + suffix;
+    }
+    (*joints)[j].name = name;
+  }
+}
+
+bool import_model(const std::string& path, GltfRig* out, std::string* error) {
   if (!load_gltf_model(path, &out->model, error)) return false;
   const tinygltf::Model& m = out->model;
   const size_t node_count = m.nodes.size();
+  if (!check_nodes(m, error)) return *error = path + ": " + *error, false;
 
   // Parents, and the skinned nodes in document order.
   std::vector<int> parent(node_count, -1);
   for (size_t i = 0; i < node_count; ++i)
     for (int c : m.nodes[i].children) {
-      if (c < 0 || static_cast<size_t>(c) >= node_count) return *error = path + ": node child index out of range", false;
-      if (parent[static_cast<size_t>(c)] != -1) return *error = path + ": node " + std::to_string(c) + " has two parents", false;
+      if (c < 0 || static_cast<size_t>(c) >= node_count)
+        return *error = path + ": node child index out of range", false;
+      if (static_cast<size_t>(c) == i)
+        return *error = path + ": " + node_name(m, i) + " lists itself as a child", false;
+      if (parent[static_cast<size_t>(c)] != -1)
+        return *error = path + ": node " + std::to_string(c) + " has two parents", false;
       parent[static_cast<size_t>(c)] = static_cast<int>(i);
     }
+  // Depth of every node, iteratively; a node met again on its own ancestor
+  // chain is in a cycle.
+  std::vector<size_t> depth(node_count, 0);  // 0: not yet known; roots have depth 1
+  std::vector<bool> on_chain(node_count, false);
+  std::vector<size_t> chain;
+  for (size_t i = 0; i < node_count; ++i) {
+    chain.clear();
+    size_t a = i;
+    while (depth[a] == 0) {
+      if (on_chain[a])
+        return *error = path + ": " + node_name(m, a) + " is its own ancestor (a cycle in the node hierarchy)", false;
+      on_chain[a] = true;
+      chain.push_back(a);
+      if (parent[a] < 0) break;
+      a = static_cast<size_t>(parent[a]);
+    }
+    size_t d = depth[a];  // 0 when the walk ended at a root (the last node of `chain`)
+    for (size_t k = chain.size(); k-- > 0;) {
+      const size_t node = chain[k];
+      depth[node] = ++d;
+      on_chain[node] = false;
+      if (d > kMaxNodeDepth)
+        return *error = path + ": " + node_name(m, node) + " is nested " + std::to_string(d) +
+                        " levels deep (at most " + std::to_string(kMaxNodeDepth) + ")",
+               false;
+    }
+  }
   std::vector<size_t> skinned;
   for (size_t i = 0; i < node_count; ++i)
     if (m.nodes[i].mesh >= 0 && m.nodes[i].skin >= 0) skinned.push_back(i);
@@ -45,23 +118,36 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
   std::vector<int> skins_used;
   for (size_t n : skinned) {
     const int s = m.nodes[n].skin;
-    if (static_cast<size_t>(s) >= m.skins.size()) return *error = path + ": node " + std::to_string(n) + " skin index out of range", false;
+    if (static_cast<size_t>(s) >= m.skins.size())
+      return *error = path + ": node " + std::to_string(n) + " skin index out of range", false;
     if (std::find(skins_used.begin(), skins_used.end(), s) == skins_used.end()) skins_used.push_back(s);
   }
   for (int s : skins_used) {
-    if (m.skins[static_cast<size_t>(s)].joints.empty()) return *error = path + ": skin " + std::to_string(s) + " has no joints", false;
-    for (int j : m.skins[static_cast<size_t>(s)].joints) {
-      if (j < 0 || static_cast<size_t>(j) >= node_count) return *error = path + ": skin " + std::to_string(s) + " joint index out of range", false;
-      for (int a = j; a >= 0; a = parent[static_cast<size_t>(a)]) wanted[static_cast<size_t>(a)] = true;
+    const std::vector<int>& joints = m.skins[static_cast<size_t>(s)].joints;
+    if (joints.empty()) return *error = path + ": skin " + std::to_string(s) + " has no joints", false;
+    if (joints.size() > rig::kMaxPalette)
+      return *error = path + ": skin " + std::to_string(s) + " has " + std::to_string(joints.size()) +
+                      " joints (at most " + std::to_string(rig::kMaxPalette) + ")",
+             false;
+    for (int j : joints) {
+      if (j < 0 || static_cast<size_t>(j) >= node_count)
+        return *error = path + ": skin " + std::to_string(s) + " joint index out of range", false;
+      // The hierarchy is acyclic and at most kMaxNodeDepth deep (checked above).
+      for (int a = j; a >= 0 && !wanted[static_cast<size_t>(a)]; a = parent[static_cast<size_t>(a)])
+        wanted[static_cast<size_t>(a)] = true;
     }
   }
   std::vector<int> node_joint(node_count, -1);
   const std::vector<NodeTrs> rest = rest_node_trs(m);
   RigSpec& spec = out->spec;
-  std::function<void(size_t)> visit = [&](size_t n) {
+  std::vector<size_t> stack;
+  for (size_t r = node_count; r-- > 0;)
+    if (parent[r] == -1) stack.push_back(r);
+  while (!stack.empty()) {  // preorder, children in document order
+    const size_t n = stack.back();
+    stack.pop_back();
     if (wanted[n]) {
       JointSpec j;
-      j.name = m.nodes[n].name.empty() ? "node" + std::to_string(n) : m.nodes[n].name;
       j.parent = parent[n] >= 0 ? node_joint[static_cast<size_t>(parent[n])] : -1;
       j.translation = rest[n].translation;
       j.rotation = rest[n].rotation;
@@ -69,11 +155,13 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
       node_joint[n] = static_cast<int>(spec.joints.size());
       out->joint_node.push_back(static_cast<int>(n));
       spec.joints.push_back(j);
+      if (spec.joints.size() > rig::kMaxJoints)
+        return *error = path + ": more than " + std::to_string(rig::kMaxJoints) + " joints", false;
     }
-    for (int c : m.nodes[n].children) visit(static_cast<size_t>(c));
-  };
-  for (size_t i = 0; i < node_count; ++i)
-    if (parent[i] == -1) visit(i);
+    const std::vector<int>& children = m.nodes[n].children;
+    for (size_t c = children.size(); c-- > 0;) stack.push_back(static_cast<size_t>(children[c]));
+  }
+  assign_joint_names(m, out->joint_node, &spec.joints);
 
   // Palette: one entry per (skin, joint).
   std::vector<int> palette_base(m.skins.size(), -1);
@@ -83,7 +171,8 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
     std::vector<double> ibm;
     if (skin.inverseBindMatrices >= 0) {
       int comps = 0;
-      if (!read_accessor(m, skin.inverseBindMatrices, &ibm, &comps, error)) return *error = path + ": " + *error, false;
+      if (!read_accessor(m, skin.inverseBindMatrices, rig::kMaxPalette, &ibm, &comps, error))
+        return *error = path + ": skin " + std::to_string(s) + " inverseBindMatrices: " + *error, false;
       if (comps != 16 || ibm.size() < skin.joints.size() * 16)
         return *error = path + ": skin " + std::to_string(s) + " has fewer inverse bind matrices than joints", false;
     }
@@ -100,7 +189,8 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
   double extent = 0;
   for (size_t n : skinned) {
     const tinygltf::Node& node = m.nodes[n];
-    if (static_cast<size_t>(node.mesh) >= m.meshes.size()) return *error = path + ": node mesh index out of range", false;
+    if (static_cast<size_t>(node.mesh) >= m.meshes.size())
+      return *error = path + ": node mesh index out of range", false;
     const tinygltf::Skin& skin = m.skins[static_cast<size_t>(node.skin)];
     const int base = palette_base[static_cast<size_t>(node.skin)];
     const auto& prims = m.meshes[static_cast<size_t>(node.mesh)].primitives;
@@ -110,11 +200,18 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
       int acc = -1, comps = 0;
       std::vector<double> pos, nrm, joints[2], weights[2];
       if (!attribute(p, "POSITION", &acc)) return *error = where + " has no POSITION", false;
-      if (!read_accessor(m, acc, &pos, &comps, error) || comps != 3) return *error = where + ": POSITION: " + *error, false;
+      if (!read_accessor(m, acc, rig::kMaxVertices, &pos, &comps, error))
+        return *error = where + ": POSITION: " + *error, false;
+      if (comps != 3) return *error = where + ": POSITION must be VEC3", false;
       const size_t count = pos.size() / 3;
+      if (spec.vertices.size() + count > rig::kMaxVertices)
+        return *error = where + ": more than " + std::to_string(rig::kMaxVertices) + " vertices in the rig", false;
+      if (spec.primitives.size() >= rig::kMaxPrimitives)
+        return *error = where + ": more than " + std::to_string(rig::kMaxPrimitives) + " skinned primitives", false;
       if (attribute(p, "NORMAL", &acc)) {
-        if (!read_accessor(m, acc, &nrm, &comps, error) || comps != 3 || nrm.size() != pos.size())
-          return *error = where + ": NORMAL does not match POSITION", false;
+        if (!read_accessor(m, acc, rig::kMaxVertices, &nrm, &comps, error))
+          return *error = where + ": NORMAL: " + *error, false;
+        if (comps != 3 || nrm.size() != pos.size()) return *error = where + ": NORMAL does not match POSITION", false;
       } else {
         all_normals = false;
       }
@@ -124,10 +221,16 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
         const bool has_j = attribute(p, set == 0 ? "JOINTS_0" : "JOINTS_1", &ja);
         const bool has_w = attribute(p, set == 0 ? "WEIGHTS_0" : "WEIGHTS_1", &wa);
         if (!has_j && !has_w) continue;
-        if (has_j != has_w) return *error = where + ": JOINTS_" + std::to_string(set) + " and WEIGHTS_" + std::to_string(set) + " must come together", false;
+        if (has_j != has_w)
+          return *error = where + ": JOINTS_" + std::to_string(set) + " and WEIGHTS_" + std::to_string(set) +
+                          " must come together",
+                 false;
         int cj = 0, cw = 0;
-        if (!read_accessor(m, ja, &joints[set], &cj, error) || !read_accessor(m, wa, &weights[set], &cw, error))
+        if (!read_accessor(m, ja, rig::kMaxVertices, &joints[set], &cj, error) ||
+            !read_accessor(m, wa, rig::kMaxVertices, &weights[set], &cw, error))
           return *error = where + ": " + *error, false;
+        if (m.accessors[static_cast<size_t>(ja)].normalized)
+          return *error = where + ": JOINTS_" + std::to_string(set) + " must not be normalized", false;
         if (cj != 4 || cw != 4 || joints[set].size() != count * 4 || weights[set].size() != count * 4)
           return *error = where + ": JOINTS/WEIGHTS accessors do not match POSITION", false;
         ++sets;
@@ -136,8 +239,10 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
       int extra = -1;
       if (attribute(p, "WEIGHTS_2", &extra)) {
         std::vector<double> w2;
-        if (read_accessor(m, extra, &w2, &comps, error) && std::any_of(w2.begin(), w2.end(), [](double w) { return w > 0; }))
-          return *error = where + ": more than 8 influences per vertex (WEIGHTS_2 is used); sinew supports at most 8", false;
+        if (read_accessor(m, extra, rig::kMaxVertices, &w2, &comps, error) &&
+            std::any_of(w2.begin(), w2.end(), [](double w) { return w > 0; }))
+          return *error = where + ": more than 8 influences per vertex (WEIGHTS_2 is used); sinew supports at most 8",
+                 false;
       }
       const uint32_t first = static_cast<uint32_t>(spec.vertices.size());
       for (size_t v = 0; v < count; ++v) {
@@ -149,32 +254,49 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
           if (joints[set].empty()) continue;
           for (size_t c = 0; c < 4; ++c) {
             const double w = weights[set][v * 4 + c];
+            if (w < 0)
+              return *error = where + ": vertex " + std::to_string(v) + " has a negative weight (" + std::to_string(w) +
+                              ") in WEIGHTS_" + std::to_string(set),
+                     false;
             if (!(w > 0)) continue;
             const double j = joints[set][v * 4 + c];
-            if (!(j >= 0) || static_cast<size_t>(j) >= skin.joints.size())
-              return *error = where + ": vertex " + std::to_string(v) + " uses joint " + std::to_string(static_cast<long long>(j)) +
-                              " but the skin has " + std::to_string(skin.joints.size()), false;
+            if (!(j >= 0) || j != std::floor(j) || j >= static_cast<double>(skin.joints.size()))
+              return *error = where + ": vertex " + std::to_string(v) + " uses joint " + std::to_string(j) +
+                              " but the skin has " + std::to_string(skin.joints.size()),
+                     false;
             vs.influences.push_back({base + static_cast<int>(j), w});
           }
         }
-        if (vs.influences.empty()) return *error = where + ": vertex " + std::to_string(v) + " has no non-zero weight", false;
+        if (vs.influences.empty())
+          return *error = where + ": vertex " + std::to_string(v) + " has no non-zero weight", false;
         spec.vertices.push_back(vs);
       }
       spec.primitives.push_back({first, static_cast<uint32_t>(count)});
       if (p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == -1) {
         std::vector<double> idx;
         if (p.indices >= 0) {
-          if (!read_accessor(m, p.indices, &idx, &comps, error)) return *error = where + ": indices: " + *error, false;
+          const int type = accessor_component_type(m, p.indices);
+          if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+              type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            return *error = where + ": indices must be unsigned integers", false;
+          if (!read_accessor(m, p.indices, 3 * size_t{rig::kMaxTriangles}, &idx, &comps, error))
+            return *error = where + ": indices: " + *error, false;
+          if (comps != 1 || m.accessors[static_cast<size_t>(p.indices)].normalized)
+            return *error = where + ": indices must be a SCALAR, not normalized", false;
         } else {
           for (size_t v = 0; v < count; ++v) idx.push_back(static_cast<double>(v));
         }
         for (size_t t = 0; t + 2 < idx.size(); t += 3) {
           std::array<uint32_t, 3> tri{};
           for (size_t c = 0; c < 3; ++c) {
-            if (!(idx[t + c] >= 0) || idx[t + c] >= static_cast<double>(count)) return *error = where + ": index beyond the vertex count", false;
+            if (!(idx[t + c] >= 0) || idx[t + c] >= static_cast<double>(count))
+              return *error = where + ": index beyond the vertex count", false;
             tri[c] = first + static_cast<uint32_t>(idx[t + c]);
           }
           spec.triangles.push_back(tri);
+          if (spec.triangles.size() > rig::kMaxTriangles)
+            return *error = where + ": more than " + std::to_string(rig::kMaxTriangles) + " triangles in the rig",
+                   false;
         }
       }
     }
@@ -184,15 +306,28 @@ bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
   // Animated translations must fit the chosen length unit too.
   for (size_t a = 0; a < m.animations.size(); ++a)
     for (const auto& ch : m.animations[a].channels) {
-      if (ch.target_path != "translation" || ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= m.animations[a].samplers.size()) continue;
+      if (ch.target_path != "translation" || ch.sampler < 0 ||
+          static_cast<size_t>(ch.sampler) >= m.animations[a].samplers.size())
+        continue;
       std::vector<double> out_values;
       int comps = 0;
       std::string ignored;
-      if (read_accessor(m, m.animations[a].samplers[static_cast<size_t>(ch.sampler)].output, &out_values, &comps, &ignored))
+      if (read_accessor(m, m.animations[a].samplers[static_cast<size_t>(ch.sampler)].output, 3 * kMaxAnimationKeys,
+                        &out_values, &comps, &ignored))
         for (double v : out_values) extent = std::max(extent, std::fabs(v));
     }
   spec.extra_extent = extent;
   return true;
+}
+
+}  // namespace
+
+bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
+  try {
+    return import_model(path, out, error);
+  } catch (const std::exception& e) {
+    return *error = path + ": cannot import (" + e.what() + ")", false;
+  }
 }
 
 }  // namespace sinew::rigc

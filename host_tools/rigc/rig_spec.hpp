@@ -11,13 +11,13 @@
 namespace sinew::rigc {
 
 using Vec3d = std::array<double, 3>;
-using Quatd = std::array<double, 4>;      // w, x, y, z
-using Mat4d = std::array<double, 16>;     // column-major, as glTF
+using Quatd = std::array<double, 4>;   // w, x, y, z
+using Mat4d = std::array<double, 16>;  // column-major, as glTF
 
 enum class DofKind { kRotation, kTranslation };
 
 struct DofSpec {
-  Vec3d axis{1, 0, 0};         // unit axis in the joint's rest frame
+  Vec3d axis{1, 0, 0};           // unit axis in the joint's rest frame
   double min = -180, max = 180;  // degrees (rotation) or model units (translation)
 };
 
@@ -76,6 +76,10 @@ struct CompileReport {
   uint32_t influences_per_vertex = 0;
   uint32_t renormalized_vertices = 0;  // weight sums that were not 1 (beyond 1e-6)
   int32_t length_exponent = 0;
+  // The exponent the extent asked for lay outside the format's range, so it
+  // was clamped: coordinates saturate (too large) or lose precision (too small).
+  bool length_exponent_clamped = false;
+  double extent = 0;  // the largest magnitude considered, in model units
   size_t blob_bytes = 0, rig_arena_bytes = 0, engine_arena_bytes = 0;
 };
 
@@ -85,6 +89,8 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
 // The length exponent compile_rig chooses: one rig unit = 2^e model units, so
 // the largest magnitude uses at most 1/8 of the Q12.20 range.
 int32_t choose_length_exponent(const RigSpec& spec);
+// The same before clamping to the format's range (0 for an empty rig).
+int32_t unclamped_length_exponent(const RigSpec& spec, double* extent = nullptr);
 
 std::string format_report(const CompileReport& r);
 

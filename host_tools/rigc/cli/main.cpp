@@ -3,15 +3,24 @@
 //   rigc builtin:arm -o arm.rig
 //   rigc model.glb -o model.rig
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
-#include <fstream>
+#include <exception>
+#include <string>
+#include <string_view>
 
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/gltf_import.hpp"
+#include "host_tools/rigc/output_file.hpp"
 #include "host_tools/rigc/toml_spec.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "rigc: %s\n", message.c_str());
+  return 1;
+}
+
+int run(int argc, char** argv) {
   CLI::App app{"rigc: compile a rig (TOML spec, glTF 2.0 skin or built-in) into a sinew rig blob"};
   std::string input, output, skinning = "dqs";
   app.add_option("input", input, "SPEC.toml, MODEL.gltf/.glb, builtin:arm or builtin:hand")->required();
@@ -41,23 +50,34 @@ int main(int argc, char** argv) {
   if (ok) ok = sinew::layers::add_layer_dofs(&spec, layer_specs, &layer_report, &error);
   if (ok) ok = compile_rig(spec, &blob, &report, &error);
   if (ok) ok = sinew::layers::compile_layers(spec, layer_specs, &blob, &layer_report, &error);
-  if (!ok) {
-    std::fprintf(stderr, "rigc: %s\n", error.c_str());
-    return 1;
-  }
+  if (!ok) return fail(error);
   std::printf("rigc: %s\n", format_report(report).c_str());
+  if (report.length_exponent_clamped)
+    std::fprintf(stderr,
+                 "rigc: warning: the largest coordinate (%g) is outside what the rig unit can represent; "
+                 "the unit was clamped to 2^%d and positions are saturated or coarse\n",
+                 report.extent, report.length_exponent);
   for (const std::string& line : layer_report) std::printf("rigc: layer %s\n", line.c_str());
   if (!layer_report.empty()) std::printf("rigc: blob with layers %zu B\n", blob.size());
   if (report.renormalized_vertices > 0)
     std::printf("rigc: %u vertices had weights not summing to 1; renormalised\n", report.renormalized_vertices);
   if (!output.empty()) {
-    std::ofstream f(output, std::ios::binary);
-    f.write(reinterpret_cast<const char*>(blob.data()), static_cast<std::streamsize>(blob.size()));
-    if (!f) {
-      std::fprintf(stderr, "rigc: cannot write %s\n", output.c_str());
-      return 1;
-    }
+    const std::string_view bytes(reinterpret_cast<const char*>(blob.data()), blob.size());
+    if (!write_output_file(output, bytes, &error)) return fail(error);
     std::printf("rigc: wrote %s\n", output.c_str());
   }
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) return fail("cannot write the summary to standard output");
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail("internal error");
+  }
 }
