@@ -99,33 +99,24 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       return *error = at(origin, (*loop)["mode"].node(), "[loop] mode") + ": must be live, replay or offline", false;
   }
   if (const toml::table* layers = t["layers"].as_table()) {
-    if (!known_keys_only(*layers, "layers",
-                         {"metaballs", "barnet", "anatomy_iterations", "sph_particles", "sph_force_max_n"}, origin,
-                         error) ||
-        !read_flag(*layers, "metaballs", &c.layer_metaballs, origin, error) ||
-        !read_flag(*layers, "barnet", &c.layer_barnet, origin, error))
-      return false;
-    if (!read_number(*layers, "anatomy_iterations", 0, 64, &c.layer_anatomy_iterations, origin, error)) return false;
-    if (c.layer_anatomy_iterations > 0 && c.rig_builtin != "arm")
-      return *error = at(origin, (*layers)["anatomy_iterations"].node(), "[layers] anatomy_iterations") +
-                      ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
-             false;
-    if (!read_number(*layers, "sph_particles", 0, 8192, &c.layer_sph_particles, origin, error)) return false;
-    if (!read_number(*layers, "sph_force_max_n", 1.0, 16000.0, &c.layer_sph_force_max_n, origin, error)) return false;
-    if (c.layer_sph_particles > 0 && c.rig_builtin != "arm")
-      return *error = at(origin, (*layers)["sph_particles"].node(), "[layers] sph_particles") +
-                      ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
-             false;
-    for (const char* layer : {"metaballs", "barnet"})
-      if ((*layers)[layer].value_or(false) && c.rig_builtin != "arm")
-        return *error = at(origin, (*layers)[layer].node(), std::string("[layers] ") + layer) +
-                        ": needs [rig] builtin = \"arm\" (rig blobs carry no layer sections yet)",
+    // The layers are compiled into the rig (rigc, docs/rig-format.md); here
+    // they are only switched on or off and given run-time options.
+    for (const char* old : {"anatomy_iterations", "sph_particles", "sph_force_max_n"})
+      if (layers->contains(old))
+        return *error = at(origin, (*layers)[old].node(), std::string("[layers] ") + old) +
+                        ": layers are compiled into the rig now: set their parameters in the rig spec "
+                        "([[sph]] particles, [skin] iterations, [[external_input]] min/max) and switch them "
+                        "on here with sph, metaballs, barnet, anatomy = true",
                false;
-    if (int{c.layer_metaballs} + int{c.layer_barnet} + int{c.layer_anatomy_iterations > 0} +
-            int{c.layer_sph_particles > 0} >
-        1)
-      return *error = origin + ": [layers]: metaballs, barnet, anatomy and sph each reshape the elbow; enable one",
-             false;
+    if (!known_keys_only(*layers, "layers", {"sph", "metaballs", "barnet", "anatomy", "skin_iterations", "tresca"},
+                         origin, error) ||
+        !read_flag(*layers, "sph", &c.layer_sph, origin, error) ||
+        !read_flag(*layers, "metaballs", &c.layer_metaballs, origin, error) ||
+        !read_flag(*layers, "barnet", &c.layer_barnet, origin, error) ||
+        !read_flag(*layers, "anatomy", &c.layer_anatomy, origin, error) ||
+        !read_flag(*layers, "tresca", &c.layer_tresca, origin, error) ||
+        !read_number(*layers, "skin_iterations", 0, 256, &c.layer_skin_iterations, origin, error))
+      return false;
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!known_keys_only(*rt, "realtime", {"fifo_priority", "cpu", "lock_memory"}, origin, error)) return false;

@@ -39,11 +39,13 @@ struct DaemonConfig {
   double range_margin_deg = 10.0;   // accepted beyond a DOF limit (then clamped); further is a fault
   std::vector<SourceConfig> sources;
   std::vector<SinkConfig> sinks;
-  bool layer_metaballs = false;       // [layers] metaballs: volume-preserving skin on the built-in arm
-  int layer_anatomy_iterations = 0;   // [layers] anatomy: muscles + elastic skin, relaxations per tick (0 = off)
-  bool layer_barnet = false;          // [layers] barnet: the elbow bar-net bulge on the built-in arm
-  int layer_sph_particles = 0;        // [layers] sph_particles: SPH elastic elbow on the built-in arm (0 = off)
-  double layer_sph_force_max_n = 40;  // [layers] sph_force_max_n: range of its elbow.force input, newtons
+  // [layers]: which of the rig's compiled layers run (all off by default).
+  bool layer_sph = false;         // SPH elastic joints with the Tresca yield (docs/sph.md)
+  bool layer_metaballs = false;   // volume-preserving metaballs skin (docs/metaballs.md)
+  bool layer_barnet = false;      // force-density bar-nets (docs/barnet.md)
+  bool layer_anatomy = false;     // muscles + elastic skin (docs/anatomy.md)
+  bool layer_tresca = true;       // the SPH yield condition, eqs. (3)-(4)
+  int layer_skin_iterations = 0;  // elastic-skin relaxations per tick; 0: the rig's
 };
 
 // Reads and validates a config file; errors name the file, line and key.

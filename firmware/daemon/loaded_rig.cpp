@@ -1,50 +1,66 @@
 #include "loaded_rig.hpp"
 
-#include <cstring>
-#include <fstream>
-#include <iterator>
-
-#include "host_tools/rigc/builtin_rigs.hpp"
+#include "firmware/builtin/builtin_rigs.hpp"
 
 namespace sinew::firmware {
 
-bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRig* out, std::string* error) {
-  std::vector<uint8_t> bytes;
-  if (!builtin.empty()) {
-    rigc::RigSpec spec;
-    if (!rigc::builtin_rig(builtin, rigc::SkinChoice::kDualQuaternion, &spec))
-      return *error = "unknown built-in rig " + builtin, false;
-    rigc::CompileReport report;
-    if (!rigc::compile_rig(spec, &bytes, &report, error)) return false;
-  } else {
-    std::ifstream f(blob_path, std::ios::binary);
-    if (!f) return *error = blob_path + ": cannot open", false;
-    bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  }
-  out->blob.assign(bytes.size() / 8 + 1, 0);
-  if (!bytes.empty()) std::memcpy(out->blob.data(), bytes.data(), bytes.size());
-  const auto* data = reinterpret_cast<const uint8_t*>(out->blob.data());
-  size_t arena_bytes = 0;
-  rig::LoadStatus st = rig::rig_validate(data, bytes.size(), &arena_bytes);
+namespace {
+
+std::string joint_name(const rig::Rig& rig, uint32_t j) {
+  return rig.names.empty() ? "joint" + std::to_string(j) : std::string(rig.names[j]);
+}
+
+}  // namespace
+
+bool load_rig_bytes(hal::BlobBytes bytes, const std::string& origin, LoadedRig* out, std::string* error) {
+  LoadedRig r;
+  r.blob = std::move(bytes);
+  size_t arena_bytes = 0, layer_bytes = 0;
+  rig::LoadStatus st = rig::rig_validate(r.blob.data(), r.blob.size, &arena_bytes);
   if (st.ok()) {
-    out->arena.assign(arena_bytes / 8 + 1, 0);
-    st = rig::rig_init(data, bytes.size(), out->arena.data(), out->arena.size() * 8, &out->rig);
+    r.arena.assign(arena_bytes / 8 + 1, 0);
+    st = rig::rig_init(r.blob.data(), r.blob.size, r.arena.data(), r.arena.size() * 8, &r.rig);
   }
-  if (!st.ok()) return *error = (blob_path.empty() ? builtin : blob_path) + ": " + st.message, false;
-  out->input_names.clear();
-  out->external.clear();
-  for (uint32_t j = 0; j < out->rig.joint_count(); ++j) {
-    const std::string joint = out->rig.names.empty() ? "joint" + std::to_string(j) : std::string(out->rig.names[j]);
-    for (uint32_t d = 0; d < out->rig.joints[j].dof_count; ++d)
-      out->input_names.push_back(joint + "." + std::to_string(d));
+  if (st.ok()) st = pipeline::layers_validate(r.rig, r.blob.data(), r.blob.size, &layer_bytes);
+  if (st.ok()) {
+    r.layer_arena.assign(layer_bytes / 8 + 1, 0);
+    st = pipeline::layers_init(r.rig, r.blob.data(), r.blob.size, r.layer_arena.data(), r.layer_arena.size() * 8,
+                               &r.layers);
   }
+  if (!st.ok()) return *error = origin + ": " + st.message, false;
+  for (uint32_t j = 0; j < r.rig.joint_count(); ++j)
+    for (uint32_t d = 0; d < r.rig.joints[j].dof_count; ++d)
+      r.input_names.push_back(joint_name(r.rig, j) + "." + std::to_string(d));
+  for (const pipeline::ExternalInputRecord& e : r.layers.external) {
+    r.input_names.push_back(e.name);
+    r.external.push_back(
+        {e.name, e.unit, e.min, e.max, e.quantity == static_cast<uint32_t>(pipeline::InputQuantity::kForce)});
+  }
+  // The spans of `rig` and `layers` point into the arenas' heap blocks,
+  // which moving the vectors keeps in place.
+  *out = std::move(r);
   return true;
 }
 
-uint32_t LoadedRig::add_external(ExternalInput input) {
-  input_names.push_back(input.name);
-  external.push_back(std::move(input));
-  return input_count() - 1;
+bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRig* out, std::string* error) {
+  if (!builtin.empty()) {
+    const std::span<const uint8_t> blob = builtin_rig_blob(builtin);
+    if (blob.empty()) return *error = "unknown built-in rig " + builtin + " (arm, hand)", false;
+    return load_rig_bytes(hal::blob_from_bytes(blob.data(), blob.size()), "built-in " + builtin, out, error);
+  }
+  hal::BlobBytes bytes;
+  if (!hal::read_blob_file(blob_path, kMaxRigFileBytes, &bytes, error)) return false;
+  return load_rig_bytes(std::move(bytes), blob_path, out, error);
+}
+
+std::string describe_layers(const LoadedRig& r) {
+  std::string s;
+  for (uint32_t i = 0; i < r.layers.sph_count; ++i)
+    s += " sph(" + joint_name(r.rig, r.layers.sph[i].model.joint.distal_joint) + ")";
+  if (r.layers.has_metaballs) s += " metaballs";
+  if (r.layers.has_muscles) s += r.layers.has_skin ? " anatomy(muscles, skin)" : " anatomy(muscles)";
+  for (uint32_t i = 0; i < r.layers.barnet_count; ++i) s += " barnet";
+  return s.empty() ? "none" : s.substr(1);
 }
 
 }  // namespace sinew::firmware

@@ -50,12 +50,13 @@ int main(int argc, char** argv) {
   // the first tick late (a late tick is skipped, not burst).
   const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() + 50000000u : 0;
   Runtime runtime;
-  if (!add_layers(config, &rig, &runtime, &error)) {
+  sinew::pipeline::PipelineOptions options;
+  if (!layer_options(config, rig, &options, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
-  if (!runtime.init(rig.rig, limits, start, &error) || !add_sources(config, rig, period, start, &runtime, &error) ||
+  if (!runtime.init(rig.rig, rig.layers, options, limits, start, &error) || !add_sources(config, rig, period, start, &runtime, &error) ||
       !add_sinks(config, rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
@@ -68,6 +69,15 @@ int main(int argc, char** argv) {
     const std::string rt = apply_realtime(config.realtime);
     if (!rt.empty()) std::printf("%s", rt.c_str());
   }
+  const auto running = [&](bool on, bool compiled, const char* name) {
+    return on && compiled ? std::string(" ") + name : std::string();
+  };
+  std::string layers = running(options.sph, rig.layers.sph_count > 0, "sph") +
+                       running(options.metaballs, rig.layers.has_metaballs, "metaballs") +
+                       running(options.barnet, rig.layers.barnet_count > 0, "barnet") +
+                       running(options.anatomy, rig.layers.has_muscles, "anatomy");
+  std::printf("sinewd: layers in the rig: %s; running: %s\n", describe_layers(rig).c_str(),
+              layers.empty() ? "skinning only" : layers.c_str() + 1);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 

@@ -3,15 +3,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "anatomy_layer.hpp"
-#include "barnet_layer.hpp"
 #include "bus_sources.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/udp_sender.hpp"
-#include "metaballs_layer.hpp"
-#include "sph_layer.hpp"
 
 namespace sinew::firmware {
 
@@ -63,33 +59,49 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
   return true;
 }
 
-bool add_layers(const DaemonConfig& config, LoadedRig* loaded, Runtime* runtime, std::string* error) {
-  const LoadedRig& rig = *loaded;
-  if (config.layer_metaballs) {
-    std::unique_ptr<PoseLayer> layer = make_arm_metaballs_layer(rig.rig, error);
-    if (!layer) return false;
-    runtime->add_layer(std::move(layer));
-  }
-  if (config.layer_anatomy_iterations > 0) {
-    std::unique_ptr<PoseLayer> layer = make_arm_anatomy_layer(rig.rig, config.layer_anatomy_iterations, error);
-    if (!layer) return false;
-    runtime->add_layer(std::move(layer));
-  }
-  if (config.layer_barnet) {
-    std::unique_ptr<PoseLayer> layer = make_arm_barnet_layer(rig.rig, error);
-    if (!layer) return false;
-    runtime->add_layer(std::move(layer));
-  }
-  if (config.layer_sph_particles > 0) {
-    SphLayerOptions options;
-    options.particles = static_cast<uint32_t>(config.layer_sph_particles);
-    options.tick_hz = config.rate_hz;
-    options.force_max_n = config.layer_sph_force_max_n;
-    std::unique_ptr<PoseLayer> layer = make_arm_sph_layer(loaded, options, error);
-    if (!layer) return false;
-    runtime->add_layer(std::move(layer));
-  }
+bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::PipelineOptions* out,
+                   std::string* error) {
+  const pipeline::LayerSet& l = rig.layers;
+  struct Switch {
+    bool on, compiled;
+    const char* key;
+    const char* table;
+  };
+  const Switch switches[] = {{config.layer_sph, l.sph_count > 0, "sph", "[[sph]]"},
+                             {config.layer_metaballs, l.has_metaballs, "metaballs", "[metaballs]"},
+                             {config.layer_barnet, l.barnet_count > 0, "barnet", "[[barnet]]"},
+                             {config.layer_anatomy, l.has_muscles, "anatomy", "[[muscle]] and [skin]"}};
+  for (const Switch& s : switches)
+    if (s.on && !s.compiled)
+      return *error = std::string("[layers] ") + s.key + " = true, but the rig carries no such layer (compile it with " +
+                      s.table + " in the rig's spec; this rig has: " + describe_layers(rig) + ")",
+             false;
+  pipeline::PipelineOptions o;
+  o.sph = config.layer_sph;
+  o.metaballs = config.layer_metaballs;
+  o.barnet = config.layer_barnet;
+  o.anatomy = config.layer_anatomy;
+  o.tresca = config.layer_tresca;
+  o.skin_iterations = static_cast<uint32_t>(config.layer_skin_iterations);
+  o.tick_hz = config.rate_hz;
+  *out = o;
   return true;
+}
+
+void print_layer_costs(const Runtime& runtime) {
+  const StageTimes& t = runtime.stage_times();
+  if (t.ticks == 0) return;
+  uint64_t total = 0;
+  for (uint64_t ns : t.total_ns) total += ns;
+  std::printf("  tick by stage (mean, share, max):");
+  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
+    if (!pipeline::pipeline_stage_on(runtime.pipeline(), static_cast<pipeline::Stage>(s))) continue;
+    std::printf(" %s %.1f us %.0f%% %.1f us;", pipeline::stage_name(static_cast<pipeline::Stage>(s)),
+                static_cast<double>(t.total_ns[s]) / static_cast<double>(t.ticks) / 1000.0,
+                total > 0 ? 100.0 * static_cast<double>(t.total_ns[s]) / static_cast<double>(total) : 0.0,
+                static_cast<double>(t.max_ns[s]) / 1000.0);
+  }
+  std::printf("\n");
 }
 
 bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
@@ -144,9 +156,10 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
       static_cast<unsigned long long>(runtime.dropped_frames()));
   for (const auto& s : runtime.sources())
     std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
+  print_layer_costs(runtime);
   if (runtime.layer_errors() > 0)
-    std::printf("  layer errors %llu (the skinned pose was kept)\n",
-                static_cast<unsigned long long>(runtime.layer_errors()));
+    std::printf("  layer errors %llu (the last: %s)\n", static_cast<unsigned long long>(runtime.layer_errors()),
+                runtime.last_layer_error());
   for (const auto& s : runtime.sinks()) std::printf("  sink   %-10s %s\n", s->name(), s->status_line().c_str());
   if (final_report) {
     // Per-reason totals, one line the tests (and log scrapers) can parse.

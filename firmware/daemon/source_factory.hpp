@@ -19,10 +19,11 @@ std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& 
 
 bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t tick_period_ns, uint64_t start_ns,
                  Runtime* runtime, std::string* error);
-// Physical layers named in [layers] (built at start-up, applied every tick).
-// A layer may add external inputs to the rig (the SPH elbow's force): call
-// before input_limits, Runtime::init and add_sources.
-bool add_layers(const DaemonConfig& config, LoadedRig* rig, Runtime* runtime, std::string* error);
+// The pipeline options from [layers] and [loop]: which of the rig's compiled
+// layers run. A layer switched on that the rig does not carry is refused
+// with the layers it does carry.
+bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::PipelineOptions* out,
+                   std::string* error);
 bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error);
 
 void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report);

@@ -1,16 +1,24 @@
 #include "runtime.hpp"
 
+#include <cstring>
+
+#include "hal/common/monotonic_clock.hpp"
+
 namespace sinew::firmware {
 
-bool Runtime::init(const rig::Rig& rig, std::span<const InputLimits> limits, uint64_t start_ns, std::string* error) {
-  // The rig's inputs first, then any external inputs (layer signals such as
-  // a measured force): fed, checked and logged alike; the engine reads only
+bool Runtime::init(const rig::Rig& rig, const pipeline::LayerSet& layers, const pipeline::PipelineOptions& options,
+                   std::span<const InputLimits> limits, uint64_t start_ns, std::string* error) {
+  // The rig's inputs first, then its external inputs (layer signals such as
+  // a measured force): fed, checked and logged alike; the skeleton reads only
   // the rig's.
-  if (limits.size() < rig.input_count) return *error = "one input limit per rig input is required", false;
+  if (limits.size() < rig.input_count + layers.external_count())
+    return *error = "one input limit per rig input and per external input is required", false;
   rig_ = &rig;
-  engine_arena_.assign(engine::engine_arena_bytes(rig) / 8 + 1, 0);
-  if (!engine::engine_init(rig, engine_arena_.data(), engine_arena_.size() * 8, &engine_))
-    return *error = "engine arena", false;
+  pipeline_arena_.assign(pipeline::pipeline_state_bytes(rig, layers, options) / 8 + 1, 0);
+  const pipeline::PipelineStatus ps =
+      pipeline::pipeline_init(rig, layers, options, pipeline_arena_.data(), pipeline_arena_.size() * 8, &pipeline_);
+  if (!ps.ok()) return *error = std::string("layers: ") + ps.message, false;
+  const engine::Engine& engine = pipeline_.engine;
   const std::vector<int32_t> rest(limits.size(), 0);
   health_.init(limits, rest, start_ns);
   samples_.assign(kMaxSamplesPerTick, hal::JointSample{});
@@ -19,8 +27,8 @@ bool Runtime::init(const rig::Rig& rig, std::span<const InputLimits> limits, uin
   frame_.length_exponent = rig.length_exponent;
   frame_.vertex_count = rig.vertex_count();
   for (int c = 0; c < 3; ++c) {
-    frame_.position[c] = engine_.vertices.position[c].data();
-    frame_.normal[c] = engine_.vertices.normal[c].empty() ? nullptr : engine_.vertices.normal[c].data();
+    frame_.position[c] = engine.vertices.position[c].data();
+    frame_.normal[c] = engine.vertices.normal[c].empty() ? nullptr : engine.vertices.normal[c].data();
   }
   frame_.input_count = static_cast<uint32_t>(limits.size());
   frame_.input_value = health_.values().data();
@@ -35,18 +43,35 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
     health_.apply(std::span<const hal::JointSample>(samples_.data(), n));
   }
   health_.end_tick(tick_ns);
-  engine::engine_step(&engine_, health_.values());
-  for (const auto& layer : layers_)
-    if (!layer->apply(engine_, health_.values())) ++layer_errors_;
+  // The pipeline stage by stage, each timed: the statistics show every
+  // layer's share of the tick. A failing layer keeps the pose it was given.
+  const std::span<const int32_t> inputs = health_.values();
+  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
+    const auto stage = static_cast<pipeline::Stage>(s);
+    if (!pipeline::pipeline_stage_on(pipeline_, stage)) continue;
+    const uint64_t t0 = hal::monotonic_ns();
+    const pipeline::PipelineStatus st = pipeline::pipeline_run_stage(&pipeline_, stage, inputs);
+    const uint64_t dt = hal::monotonic_ns() - t0;
+    stage_times_.total_ns[s] += dt;
+    if (dt > stage_times_.max_ns[s]) stage_times_.max_ns[s] = dt;
+    if (!st.ok()) {
+      ++layer_errors_;
+      static_assert(sizeof(last_layer_error_) == sizeof(st.message));
+      std::memcpy(last_layer_error_, st.message, sizeof(last_layer_error_));
+    }
+  }
+  ++stage_times_.ticks;
+  const engine::Engine& engine = pipeline_.engine;
   // Per-input status: health bits plus "clamped" from the joint that owns the input.
   const std::span<const uint8_t> hs = health_.status();
   for (size_t i = 0; i < input_status_.size(); ++i) input_status_[i] = hs[i];
   for (uint32_t j = 0; j < rig_->joint_count(); ++j) {
-    if ((engine_.joint_flags[j] & skeleton::kJointClamped) == 0) continue;
+    if ((engine.joint_flags[j] & skeleton::kJointClamped) == 0) continue;
     const rig::JointRecord& r = rig_->joints[j];
     for (uint32_t d = 0; d < r.dof_count; ++d) input_status_[r.first_input + d] |= hal::kJointClampedStatus;
   }
-  for (const auto& layer : layers_) layer->flag_inputs(input_status_);
+  for (uint32_t i = 0; i < rig_->input_count; ++i)
+    if (pipeline::pipeline_input_yielded(pipeline_, i)) input_status_[i] |= hal::kJointYielded;
   frame_.tick = tick_index;
   ++tick_;
   frame_.timestamp_ns = tick_ns;

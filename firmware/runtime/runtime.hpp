@@ -9,32 +9,34 @@
 #include <vector>
 
 #include "io.hpp"
-#include "sim_core/engine/engine.hpp"
+#include "sim_core/pipeline/pipeline.hpp"
 #include "step_timing.hpp"
 
 namespace sinew::firmware {
 
-// A physical layer applied after the engine's skinning each tick (metaballs,
-// bar-nets, ...): it reads the engine's joint transforms (and the held inputs) and rewrites its
-// vertex positions in place. Must not allocate; returns false on an error,
-// which the runtime counts (the skinned pose is kept for that tick).
-class PoseLayer {
- public:
-  virtual ~PoseLayer() = default;
-  virtual const char* name() const = 0;
-  virtual bool apply(engine::Engine& engine, std::span<const int32_t> inputs) = 0;
-  // ORs the layer's per-input flags (e.g. hal::kJointYieldedStatus) into the
-  // tick's input status, after the health and clamp bits.
-  virtual void flag_inputs(std::span<uint8_t> /*status*/) const {}
+// Time spent in each pipeline stage (sim_core/pipeline), summed over the
+// ticks since start: the statistics show each layer's share of the tick.
+struct StageTimes {
+  uint64_t total_ns[pipeline::kStageCount] = {};
+  uint64_t max_ns[pipeline::kStageCount] = {};
+  uint64_t ticks = 0;
 };
 
 class Runtime {
  public:
-  // rig must outlive the runtime. limits: one per rig input.
-  bool init(const rig::Rig& rig, std::span<const InputLimits> limits, uint64_t start_ns, std::string* error);
+  // rig and layers must outlive the runtime. limits: one per rig input,
+  // then one per external input. options: which compiled layers run.
+  bool init(const rig::Rig& rig, const pipeline::LayerSet& layers, const pipeline::PipelineOptions& options,
+            std::span<const InputLimits> limits, uint64_t start_ns, std::string* error);
+  // A rig without layers (tests): plain skinning.
+  bool init(const rig::Rig& rig, std::span<const InputLimits> limits, uint64_t start_ns, std::string* error) {
+    return init(rig, no_layers_, {}, limits, start_ns, error);
+  }
   void add_source(std::unique_ptr<InputSource> s) { sources_.push_back(std::move(s)); }
-  void add_layer(std::unique_ptr<PoseLayer> l) { layers_.push_back(std::move(l)); }
   uint64_t layer_errors() const { return layer_errors_; }
+  const char* last_layer_error() const { return last_layer_error_; }
+  const StageTimes& stage_times() const { return stage_times_; }
+  const pipeline::Pipeline& pipeline() const { return pipeline_; }
   void add_sink(std::unique_ptr<OutputSink> s) { sinks_.push_back(std::move(s)); }
 
   // Runs the tick whose nominal time is tick_ns. Returns the frame written.
@@ -47,7 +49,7 @@ class Runtime {
   void flush();
 
   const InputHealth& health() const { return health_; }
-  const engine::Engine& engine() const { return engine_; }
+  const engine::Engine& engine() const { return pipeline_.engine; }
   StepTiming& timing() { return timing_; }
   uint64_t ticks() const { return tick_; }
   uint64_t dropped_frames() const { return dropped_frames_; }
@@ -56,8 +58,11 @@ class Runtime {
 
  private:
   const rig::Rig* rig_ = nullptr;
-  std::vector<uint64_t> engine_arena_;
-  engine::Engine engine_;
+  std::vector<uint64_t> pipeline_arena_;
+  pipeline::Pipeline pipeline_;
+  pipeline::LayerSet no_layers_;
+  StageTimes stage_times_;
+  char last_layer_error_[192] = {};
   InputHealth health_;
   std::vector<hal::JointSample> samples_;
   std::vector<uint8_t> input_status_;
@@ -67,7 +72,6 @@ class Runtime {
   StepTiming timing_;
   uint64_t tick_ = 0;
   uint64_t dropped_frames_ = 0;
-  std::vector<std::unique_ptr<PoseLayer>> layers_;
   uint64_t layer_errors_ = 0;
 };
 

@@ -59,7 +59,13 @@ int resolve_joint(const rigc::RigSpec& spec, const JointRef& ref, std::string* e
          error);
     return -1;
   }
-  const int j = rigc::joint_index(spec, ref.name);
+  int j = rigc::joint_index(spec, ref.name);
+  // A glTF name longer than the rig's 31 name bytes was truncated at import.
+  if (j < 0 && ref.name.size() >= rig::kNameBytes) {
+    size_t n = rig::kNameBytes - 1;
+    while (n > 0 && (static_cast<unsigned char>(ref.name[n]) & 0xC0u) == 0x80u) --n;
+    j = rigc::joint_index(spec, ref.name.substr(0, n));
+  }
   if (j < 0) fail(ref.where, "no joint named '" + ref.name + "'", error);
   return j;
 }

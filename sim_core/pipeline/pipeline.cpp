@@ -56,6 +56,7 @@ fx::ArenaCarver layout(const rig::Rig& rig, const LayerSet& layers, const Pipeli
   const size_t n = rig.vertex_count();
   b->engine = c.raw(engine::engine_arena_bytes(rig));
   const uint32_t sph_count = o.sph ? layers.sph_count : 0;
+  // The state size does not depend on the gains (nor on the rate).
   for (uint32_t i = 0; i < sph_count; ++i) b->sph[i] = c.raw(sph::sph_state_bytes(layers.sph[i].model));
   if (o.metaballs && layers.has_metaballs) b->metaballs = c.raw(metaballs::state_bytes(layers.metaballs));
   if (o.anatomy && layers.has_muscles) {
@@ -67,11 +68,14 @@ fx::ArenaCarver layout(const rig::Rig& rig, const LayerSet& layers, const Pipeli
   p->flexed = c.take<int32_t>(sph_count > 0 ? rig.input_count : 0);
   p->bent = c.take<skeleton::LocalPose>(sph_count > 0 ? rig.joint_count() : 0);
   p->measured = c.take<int32_t>(rig.input_count + layers.external_count());
-  const bool displaced = sph_count > 0 || b->metaballs != nullptr || b->skin != nullptr || barnet_count > 0;
+  // Sizes from the options, never from the blocks (null when only counting).
+  const bool metaballs_on = o.metaballs && layers.has_metaballs;
+  const bool skin_on = o.anatomy && layers.has_muscles && layers.has_skin;
+  const bool displaced = sph_count > 0 || metaballs_on || skin_on || barnet_count > 0;
   const size_t wrap = barnet_count > 0 ? largest_barnet_wrap(layers) : 0;
   for (int a = 0; a < 3; ++a) {
     p->reference[a] = c.take<fx::Len>(displaced ? n : 0);
-    p->scratch[a] = c.take<fx::Len>(std::max(b->metaballs != nullptr ? n : size_t{0}, wrap));
+    p->scratch[a] = c.take<fx::Len>(std::max(metaballs_on ? n : size_t{0}, wrap));
     p->barnet_nodes[a] = c.take<fx::Len>(barnet_count > 0 ? largest_barnet_nodes(layers) : 0);
   }
   return c;
@@ -106,7 +110,7 @@ PipelineStatus run_sph(Pipeline* p, std::span<const int32_t> inputs) {
     in.transforms = p->engine.model;
     in.tresca = p->options.tresca;
     if (layer.force_input != kNoExternalInput &&
-        !sph::sph_flexion_force(layer.model, p->engine.model, inputs[rig.input_count + layer.force_input], &in.force))
+        !sph::sph_flexion_force(p->sph_model[i], p->engine.model, inputs[rig.input_count + layer.force_input], &in.force))
       in.force = {0, 0, 0};
     if (!p->sph_started && !sph::sph_reset(&p->sph[i], p->engine.model).ok() && first.ok())
       first = fail(PipelineError::kLayer, "sph", "reset failed", i);
@@ -213,12 +217,43 @@ size_t pipeline_state_bytes(const rig::Rig& rig, const LayerSet& layers, const P
   return layout(rig, layers, options, nullptr, 0, &probe, &blocks).needed();
 }
 
+PipelineStatus sph_gains_for_rate(const sph::SphParams& c, uint32_t compiled_hz, uint32_t tick_hz,
+                                  sph::SphParams* out) {
+  *out = c;
+  if (tick_hz == 0 || tick_hz == compiled_hz) return {};
+  const uint32_t substeps = std::max<uint32_t>(2, (200 + tick_hz - 1) / tick_hz);
+  if (substeps > sph::kMaxSubsteps)
+    return fail(PipelineError::kBadModel, "sph", "the loop rate needs more than 16 substeps (at least 13 Hz)");
+  const int64_t num = int64_t{compiled_hz} * c.substeps, den = int64_t{tick_hz} * substeps;
+  // v x N / D, rounded half up (v >= 0, v N < 2^53: no overflow).
+  const auto scale = [num, den](int64_t v) { return (v * num + den / 2) / den; };
+  const auto gain = [](int64_t v, const char* name, fx::Unit* g) {
+    if (v < 0 || v >= fx::kUnitOne) return fail(PipelineError::kBadModel, "sph", name);
+    *g = static_cast<fx::Unit>(v);
+    return PipelineStatus{};
+  };
+  PipelineStatus st;
+  out->substeps = substeps;
+  if (!(st = gain(scale(scale(c.elastic_gain)), "elastic gain k_e dt^2 out of [0, 1) at this rate", &out->elastic_gain)).ok() ||
+      !(st = gain(scale(scale(c.pressure_gain)), "pressure gain out of [0, 1) at this rate", &out->pressure_gain)).ok() ||
+      !(st = gain(scale(scale(c.load_gain)), "load gain out of range at this rate", &out->load_gain)).ok() ||
+      !(st = gain(scale(c.viscosity_gain), "viscosity gain mu dt out of [0, 1) at this rate", &out->viscosity_gain)).ok())
+    return st;
+  const int64_t loss = scale(int64_t{fx::kUnitOne} - c.damping);
+  if (loss < 0 || loss >= fx::kUnitOne) return fail(PipelineError::kBadModel, "sph", "damping c dt out of [0, 1) at this rate");
+  out->damping = static_cast<fx::Unit>(fx::kUnitOne - loss);
+  return {};
+}
+
 PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options, void* arena,
                              size_t arena_bytes, Pipeline* out) {
+  if (out == nullptr) return fail(PipelineError::kArena, "pipeline", "no pipeline to initialise");
   if (!fx::aligned8(arena)) return fail(PipelineError::kArena, "pipeline", "arena missing or misaligned");
   if (options.skin_iterations > elastic_skin::kMaxIterations)
     return fail(PipelineError::kBadModel, "pipeline", "skin_iterations beyond the elastic skin's maximum (256)");
-  Pipeline p;
+  // Built in place: the layer states keep pointers to p.sph_model.
+  Pipeline& p = *out;
+  p = Pipeline{};
   p.rig = &rig;
   p.layers = &layers;
   p.options = options;
@@ -230,8 +265,13 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
   p.input_count = rig.input_count + layers.external_count();
   p.sph_count = options.sph ? layers.sph_count : 0;
   for (uint32_t i = 0; i < p.sph_count; ++i) {
-    const sph::SphModel& m = layers.sph[i].model;
-    const sph::SphStatus st = sph::sph_init(m, p.engine.model, b.sph[i], sph::sph_state_bytes(m), &p.sph[i]);
+    p.sph_model[i] = layers.sph[i].model;
+    PipelineStatus rate = sph_gains_for_rate(layers.sph[i].model.params, layers.rate_hz, options.tick_hz,
+                                             &p.sph_model[i].params);
+    if (!rate.ok()) return rate;
+    const sph::SphModel& m = p.sph_model[i];
+    sph::SphStatus st = sph::sph_validate(m, rig.joint_count(), rig.vertex_count());
+    if (st.ok()) st = sph::sph_init(m, p.engine.model, b.sph[i], sph::sph_state_bytes(m), &p.sph[i]);
     if (!st.ok()) return fail(PipelineError::kBadModel, "sph", st.message, i);
   }
   p.metaballs_on = b.metaballs != nullptr;
@@ -254,9 +294,6 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
         barnet::barnet_init(layers.barnet[i], b.barnet[i], barnet::barnet_state_bytes(layers.barnet[i]), &p.barnet[i]);
     if (!st.ok()) return fail(PipelineError::kBadModel, "barnet", st.message, i);
   }
-  // The states hold pointers to the models (in `layers`), never into `p`,
-  // so the pipeline can be copied out.
-  *out = p;
   return {};
 }
 

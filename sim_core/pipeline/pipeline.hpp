@@ -44,7 +44,11 @@ struct PipelineOptions {
   bool sph = true, metaballs = true, barnet = true, anatomy = true;
   bool tresca = true;            // the SPH yield condition, eqs. (3)-(4)
   uint32_t skin_iterations = 0;  // elastic-skin relaxations per tick; 0 keeps the rig's
+  // The loop's tick rate; 0: the rate the rig's SPH joints were compiled
+  // for. Another rate converts their gains at init (sph_gains_for_rate).
+  uint32_t tick_hz = 0;
 };
+
 
 enum class PipelineError : uint8_t {
   kNone = 0,
@@ -60,11 +64,24 @@ struct PipelineStatus {
   bool ok() const { return error == PipelineError::kNone; }
 };
 
+// The SPH gains of a joint compiled for compiled_hz, converted for tick_hz:
+// substeps max(2, ceil(200 / tick_hz)) (dt <= 5 ms, as rigc picks them);
+// with rho = dt_new / dt_compiled = (compiled_hz x s_compiled) /
+// (tick_hz x s_new) as the exact fraction N / D, the gains scale as their
+// definitions in docs/sph.md do: k_e dt^2, k_p dt^2 / h and the load gain by
+// rho^2 (two roundings of x N / D, half up), mu dt by rho, and the kept
+// velocity 1 - c dt as 1 - (1 - damping) rho. The particles, h and the
+// Tresca limit do not depend on the rate. Fails (kBadModel, naming the
+// gain) when the rate needs more than 16 substeps or a gain leaves its range.
+PipelineStatus sph_gains_for_rate(const sph::SphParams& compiled, uint32_t compiled_hz, uint32_t tick_hz,
+                                  sph::SphParams* out);
+
 struct Pipeline {
   const rig::Rig* rig = nullptr;
   const LayerSet* layers = nullptr;
   PipelineOptions options;
   engine::Engine engine;  // skeleton, palette and the output vertices
+  sph::SphModel sph_model[kMaxSphJoints];  // the layers' SPH models, gains for the loop's rate
   sph::SphState sph[kMaxSphJoints];
   uint32_t sph_count = 0;  // SPH joints running (0 when switched off)
   bool sph_started = false;
@@ -88,7 +105,9 @@ struct Pipeline {
 size_t pipeline_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options);
 
 // Carves the arena (8-byte aligned, >= pipeline_state_bytes) and sets every
-// layer at the rig's rest pose. rig and layers must outlive the pipeline.
+// layer at the rig's rest pose. rig and layers must outlive the pipeline,
+// and the pipeline must stay where it was initialised (its layer states
+// point at its own models).
 PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options, void* arena,
                              size_t arena_bytes, Pipeline* out);
 
