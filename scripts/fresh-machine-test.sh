@@ -93,8 +93,10 @@ mirror="${mirror%/}"
 
 # Everything mounted or created below is undone on exit, pass or fail.
 work_dirs=()
+run_pid=""
 cleanup() {
   local status=$? d proc_dir proc_root m
+  if [ -n "${run_pid:-}" ]; then kill "$run_pid" 2>/dev/null || true; fi
   for d in "${work_dirs[@]}"; do
     [ -d "$d" ] || continue
     # Processes still running inside the root (e.g. after a timeout).
@@ -117,8 +119,8 @@ cleanup() {
   exit "$status"
 }
 trap cleanup EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
+trap 'echo "fresh-machine-test: FAIL: interrupted"; exit 130' INT
+trap 'echo "fresh-machine-test: FAIL: terminated"; exit 143' TERM
 
 if ! command -v debootstrap >/dev/null; then
   echo "fresh-machine-test: installing debootstrap"
@@ -195,13 +197,15 @@ fi
 echo "fresh-machine-test: running '$command_in_root' in a fresh $suite root (HEAD ${head:0:12})"
 log="$root/fresh-machine-test.log"
 start=$SECONDS
-set +e
+# In the background so that a signal to this script cleans up at once.
 timeout --kill-after=10 "${SINEW_FRESH_TIMEOUT:-1800}" \
   chroot "$root" /usr/bin/env -i HOME=/root TERM=dumb LANG=C.UTF-8 \
   PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-  /bin/bash -c "cd /src/sinew && $command_in_root" > "$log" 2>&1
-status=$?
-set -e
+  /bin/bash -c "cd /src/sinew && $command_in_root" > "$log" 2>&1 < /dev/null &
+run_pid=$!
+status=0
+wait "$run_pid" || status=$?
+run_pid=""
 elapsed=$((SECONDS - start))
 cp "$log" "$cache_dir/fresh-machine-test.log"
 sed 's/^/  | /' "$log" | tail -n 40
