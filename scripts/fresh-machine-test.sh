@@ -8,10 +8,11 @@
 # Usage: scripts/fresh-machine-test.sh [--deps PROFILE] [--skip-if-unsupported]
 #   --deps PROFILE         instead of run.sh, run `scripts/install-deps.sh PROFILE`
 #                          in the fresh root (e.g. `--deps test`)
-#   --skip-if-unsupported  exit 0 with SKIP when not root (and no sudo), or
-#                          when debootstrap or chroot cannot work here
+#   --skip-if-unsupported  exit 0 with SKIP when not root, or when debootstrap,
+#                          mount or chroot cannot work here (scripts/test.sh)
 #
-# Needs root (re-runs itself with sudo otherwise). The debootstrap result is
+# Needs root (re-runs itself with sudo otherwise, except with
+# --skip-if-unsupported). The debootstrap result is
 # cached as a tarball in ${XDG_CACHE_HOME:-~/.cache}/sinew, keyed by suite and
 # architecture, so only the first run downloads the base system; every run
 # still downloads the packages install-deps.sh installs. Environment:
@@ -42,6 +43,7 @@ unsupported() {
 }
 
 if [ "$(id -u)" -ne 0 ]; then
+  [ "$skip_unsupported" = 1 ] && unsupported "not root (run scripts/fresh-machine-test.sh as root)"
   if command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
     exec sudo -n --preserve-env=SINEW_FRESH_MIRROR,SINEW_FRESH_TIMEOUT,SINEW_FRESH_REFRESH,XDG_CACHE_HOME \
       "$0" "$@"
