@@ -153,6 +153,7 @@ if [ ! -s "$tarball" ] || [ "${SINEW_FRESH_REFRESH:-0}" = 1 ]; then
   rm -rf "$stage/root/var/lib/apt/lists/"* "$stage/root/var/cache/apt/archives/"*.deb
   tar -C "$stage/root" --numeric-owner -czf "$stage/root.tar.gz" .
   mv "$stage/root.tar.gz" "$tarball"
+  rm -rf --one-file-system "$stage"
   echo "fresh-machine-test: base root cached in $tarball ($(du -h "$tarball" | cut -f1), $((SECONDS - start)) s)"
 else
   echo "fresh-machine-test: cached base root $tarball"
@@ -210,6 +211,7 @@ wait "$run_pid" || status=$?
 run_pid=""
 elapsed=$((SECONDS - start))
 cp "$log" "$cache_dir/fresh-machine-test.log"
+echo "fresh-machine-test: '$command_in_root' exited with status $status after $elapsed s"
 sed 's/^/  | /' "$log" | tail -n 40
 echo "fresh-machine-test: full output in $cache_dir/fresh-machine-test.log"
 

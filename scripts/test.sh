@@ -40,8 +40,8 @@ cat "$hash_log"
 scripts/compare-hashes.sh "$hash_log"
 
 # The README's first command on a fresh machine: the main job must build and
-# run with only the runtime packages (about 1 min with the cached base root,
-# 3 min without).
+# run with only the runtime packages (1–1.5 min with the cached base root,
+# up to 3.5 min without).
 echo "=== fresh Debian 12 root: scripts/run.sh"
 if [ "${SINEW_SKIP_FRESH_MACHINE:-0}" = 1 ]; then
   echo "fresh-machine-test: SKIP: SINEW_SKIP_FRESH_MACHINE=1"
