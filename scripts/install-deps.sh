@@ -19,6 +19,7 @@ test_pkgs=(
   clang libgtest-dev googletest libbenchmark-dev librapidcheck-dev libeigen3-dev
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user-static
   can-utils
+  debootstrap
 )
 # The aarch64 preset cross-builds hal/ and the firmware: their libraries as
 # arm64 multiarch packages, pkgconf:arm64 for aarch64-linux-gnu-pkg-config, and
