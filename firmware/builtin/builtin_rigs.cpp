@@ -3,7 +3,7 @@
 // .incbin keeps the megabytes of the blobs out of the compiler: the
 // assembler copies the files (SINEW_ARM_RIG_PATH, SINEW_HAND_RIG_PATH, set by
 // CMake) into .rodata, 8-byte aligned, between a start and an end symbol.
-#define SINEW_EMBED(symbol, path)                                                                               \
+#define SINEW_EMBED(symbol, path)                                                                              \
   asm(".section .rodata\n.balign 8\n.global " #symbol "\n" #symbol ":\n.incbin \"" path "\"\n.global " #symbol \
       "_end\n" #symbol "_end:\n.byte 0\n.previous\n")
 

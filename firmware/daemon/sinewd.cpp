@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
-  if (!runtime.init(rig.rig, rig.layers, options, limits, start, &error) || !add_sources(config, rig, period, start, &runtime, &error) ||
-      !add_sinks(config, rig, &runtime, &error)) {
+  if (!runtime.init(rig.rig, rig.layers, options, limits, start, &error) ||
+      !add_sources(config, rig, period, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }

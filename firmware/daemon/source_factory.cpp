@@ -73,8 +73,9 @@ bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::P
                              {config.layer_anatomy, l.has_muscles, "anatomy", "[[muscle]] and [skin]"}};
   for (const Switch& s : switches)
     if (s.on && !s.compiled)
-      return *error = std::string("[layers] ") + s.key + " = true, but the rig carries no such layer (compile it with " +
-                      s.table + " in the rig's spec; this rig has: " + describe_layers(rig) + ")",
+      return *error = std::string("[layers] ") + s.key +
+                      " = true, but the rig carries no such layer (compile it with " + s.table +
+                      " in the rig's spec; this rig has: " + describe_layers(rig) + ")",
              false;
   pipeline::PipelineOptions o;
   o.sph = config.layer_sph;

@@ -36,8 +36,11 @@ bool read_blob_file(const std::string& path, size_t max_bytes, BlobBytes* out, s
     while (ok && done < size) {
       const ssize_t n = ::read(fd, dst + done, size - done);
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) ok = false, *error = path + ": read failed" + (n < 0 ? std::string(": ") + std::strerror(errno) : " (file shrank)");
-      else done += static_cast<size_t>(n);
+      if (n <= 0)
+        ok = false,
+        *error = path + ": read failed" + (n < 0 ? std::string(": ") + std::strerror(errno) : " (file shrank)");
+      else
+        done += static_cast<size_t>(n);
     }
     b.size = size;
   }

@@ -110,7 +110,8 @@ PipelineStatus run_sph(Pipeline* p, std::span<const int32_t> inputs) {
     in.transforms = p->engine.model;
     in.tresca = p->options.tresca;
     if (layer.force_input != kNoExternalInput &&
-        !sph::sph_flexion_force(p->sph_model[i], p->engine.model, inputs[rig.input_count + layer.force_input], &in.force))
+        !sph::sph_flexion_force(p->sph_model[i], p->engine.model, inputs[rig.input_count + layer.force_input],
+                                &in.force))
       in.force = {0, 0, 0};
     if (!p->sph_started && !sph::sph_reset(&p->sph[i], p->engine.model).ok() && first.ok())
       first = fail(PipelineError::kLayer, "sph", "reset failed", i);
@@ -234,13 +235,19 @@ PipelineStatus sph_gains_for_rate(const sph::SphParams& c, uint32_t compiled_hz,
   };
   PipelineStatus st;
   out->substeps = substeps;
-  if (!(st = gain(scale(scale(c.elastic_gain)), "elastic gain k_e dt^2 out of [0, 1) at this rate", &out->elastic_gain)).ok() ||
-      !(st = gain(scale(scale(c.pressure_gain)), "pressure gain out of [0, 1) at this rate", &out->pressure_gain)).ok() ||
-      !(st = gain(scale(scale(c.load_gain)), "load gain out of range at this rate", &out->load_gain)).ok() ||
-      !(st = gain(scale(c.viscosity_gain), "viscosity gain mu dt out of [0, 1) at this rate", &out->viscosity_gain)).ok())
+  if (!(st = gain(scale(scale(c.elastic_gain)), "elastic gain k_e dt^2 out of [0, 1) at this rate", &out->elastic_gain))
+           .ok() ||
+      !(st = gain(scale(scale(c.pressure_gain)), "pressure gain out of [0, 1) at this rate", &out->pressure_gain))
+           .ok() ||
+      !(st = gain(scale(c.viscosity_gain), "viscosity gain mu dt out of [0, 1) at this rate", &out->viscosity_gain))
+           .ok())
     return st;
+  // The load gain (dt^2 / (m unit), Q2.30) saturates at 2.0 as rigc's builder
+  // saturates it: a long tick on a light tissue.
+  out->load_gain = fx::sat_i32(scale(scale(c.load_gain)));
   const int64_t loss = scale(int64_t{fx::kUnitOne} - c.damping);
-  if (loss < 0 || loss >= fx::kUnitOne) return fail(PipelineError::kBadModel, "sph", "damping c dt out of [0, 1) at this rate");
+  if (loss < 0 || loss >= fx::kUnitOne)
+    return fail(PipelineError::kBadModel, "sph", "damping c dt out of [0, 1) at this rate");
   out->damping = static_cast<fx::Unit>(fx::kUnitOne - loss);
   return {};
 }
@@ -266,8 +273,8 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
   p.sph_count = options.sph ? layers.sph_count : 0;
   for (uint32_t i = 0; i < p.sph_count; ++i) {
     p.sph_model[i] = layers.sph[i].model;
-    PipelineStatus rate = sph_gains_for_rate(layers.sph[i].model.params, layers.rate_hz, options.tick_hz,
-                                             &p.sph_model[i].params);
+    PipelineStatus rate =
+        sph_gains_for_rate(layers.sph[i].model.params, layers.rate_hz, options.tick_hz, &p.sph_model[i].params);
     if (!rate.ok()) return rate;
     const sph::SphModel& m = p.sph_model[i];
     sph::SphStatus st = sph::sph_validate(m, rig.joint_count(), rig.vertex_count());

@@ -49,7 +49,6 @@ struct PipelineOptions {
   uint32_t tick_hz = 0;
 };
 
-
 enum class PipelineError : uint8_t {
   kNone = 0,
   kArena,     // memory missing, misaligned or too small
@@ -69,7 +68,8 @@ struct PipelineStatus {
 // with rho = dt_new / dt_compiled = (compiled_hz x s_compiled) /
 // (tick_hz x s_new) as the exact fraction N / D, the gains scale as their
 // definitions in docs/sph.md do: k_e dt^2, k_p dt^2 / h and the load gain by
-// rho^2 (two roundings of x N / D, half up), mu dt by rho, and the kept
+// rho^2 (two roundings of x N / D, half up; the load gain saturates at its
+// Q2.30 limit, as rigc's builder saturates it), mu dt by rho, and the kept
 // velocity 1 - c dt as 1 - (1 - damping) rho. The particles, h and the
 // Tresca limit do not depend on the rate. Fails (kBadModel, naming the
 // gain) when the rate needs more than 16 substeps or a gain leaves its range.
@@ -80,7 +80,7 @@ struct Pipeline {
   const rig::Rig* rig = nullptr;
   const LayerSet* layers = nullptr;
   PipelineOptions options;
-  engine::Engine engine;  // skeleton, palette and the output vertices
+  engine::Engine engine;                   // skeleton, palette and the output vertices
   sph::SphModel sph_model[kMaxSphJoints];  // the layers' SPH models, gains for the loop's rate
   sph::SphState sph[kMaxSphJoints];
   uint32_t sph_count = 0;  // SPH joints running (0 when switched off)

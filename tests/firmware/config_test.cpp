@@ -94,24 +94,27 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
   EXPECT_NE(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << error;
 }
 
-// The SPH elbow's keys, and the one-elbow-layer rule.
-TEST(DaemonConfig, SphLayerKeys) {
+// [layers] switches compiled layers on and sets run-time options; the old
+// build-at-start-up keys are refused with the way to the rig spec.
+TEST(DaemonConfig, LayerSwitches) {
   DaemonConfig c;
   std::string error;
-  ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 1000\nsph_force_max_n = 60\n", "t.toml",
-                           &c, &error))
+  ASSERT_TRUE(
+      parse_config("[rig]\nbuiltin = \"arm\"\n[layers]\nsph = true\nanatomy = true\nskin_iterations = 8\n"
+                   "tresca = false\n",
+                   "t.toml", &c, &error))
       << error;
-  EXPECT_EQ(c.layer_sph_particles, 1000);
-  EXPECT_DOUBLE_EQ(c.layer_sph_force_max_n, 60.0);
-  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 9000\n").find("test.toml:4: sph_particles"),
+  EXPECT_TRUE(c.layer_sph);
+  EXPECT_TRUE(c.layer_anatomy);
+  EXPECT_FALSE(c.layer_metaballs);
+  EXPECT_FALSE(c.layer_tresca);
+  EXPECT_EQ(c.layer_skin_iterations, 8);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\n")
+                .find("test.toml:4: [layers] sph_particles: layers are compiled into the rig"),
             std::string::npos);
-  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\nsph_force_max_n = 0\n")
-                .find("sph_force_max_n"),
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_iterations = 300\n").find("skin_iterations"),
             std::string::npos);
-  EXPECT_NE(
-      error_of("[rig]\nbuiltin = \"hand\"\n[layers]\nsph_particles = 500\n").find("needs [rig] builtin = \"arm\""),
-      std::string::npos);
-  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\nbarnet = true\n").find("enable one"),
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nanatomy = 1\n").find("must be true or false"),
             std::string::npos);
 }
 

@@ -6,7 +6,6 @@
 #include <cstring>
 
 #include "firmware/daemon/loaded_rig.hpp"
-#include "firmware/daemon/sph_layer.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/soak.hpp"
@@ -146,17 +145,14 @@ TEST(Runtime, ClampedJointsAreFlaggedInTheFrame) {
   EXPECT_FALSE(f.input_status[0] & hal::kJointClampedStatus);
 }
 
-// The SPH elbow as a runtime layer, fed by an external force input: 1000
-// ticks (300 under qemu) without a heap call, the force logged in the frame, and the joint's
-// yield flagged on the elbow's input once the ramp passes the Tresca limit.
+// The built-in arm's compiled SPH elbow in the runtime, fed by the rig's
+// external force input: 1000 ticks (300 under qemu) without a heap call, the
+// force logged in the frame, and the joint's yield flagged on the elbow's
+// input once the ramp passes the Tresca limit.
 TEST(Runtime, SphLayerOnAnExternalForceInputNeverAllocates) {
   fw::LoadedRig rig;
   std::string error;
   ASSERT_TRUE(fw::load_rig("arm", "", &rig, &error)) << error;
-  fw::SphLayerOptions options;
-  options.particles = 128;
-  std::unique_ptr<fw::PoseLayer> layer = fw::make_arm_sph_layer(&rig, options, &error);
-  ASSERT_NE(layer, nullptr) << error;
   ASSERT_EQ(rig.input_count(), rig.rig.input_count + 1);
   ASSERT_EQ(rig.input_names.back(), "elbow.force");
   const auto force = static_cast<uint16_t>(rig.input_count() - 1);
@@ -166,9 +162,10 @@ TEST(Runtime, SphLayerOnAnExternalForceInputNeverAllocates) {
   for (uint64_t t = 1; t <= ticks; ++t)
     samples.push_back({force, static_cast<int32_t>(std::min(t, ramp) * 40 * 65536 / ramp), t * kMs, 0});
   fw::Runtime rt;
-  rt.add_layer(std::move(layer));
+  sinew::pipeline::PipelineOptions options;
+  options.metaballs = options.barnet = options.anatomy = false;
   const std::vector<fw::InputLimits> limits(rig.input_count(), fw::InputLimits{INT32_MIN, INT32_MAX, 0});
-  ASSERT_TRUE(rt.init(rig.rig, limits, 0, &error)) << error;
+  ASSERT_TRUE(rt.init(rig.rig, rig.layers, options, limits, 0, &error)) << error;
   rt.add_source(std::make_unique<ScriptedSource>(std::move(samples)));
   auto sink = std::make_unique<FingerprintSink>();
   FingerprintSink* fingerprint = sink.get();
@@ -192,4 +189,28 @@ TEST(Runtime, SphLayerOnAnExternalForceInputNeverAllocates) {
   EXPECT_EQ(frame->input_value[force], 40 * 65536);
   EXPECT_GT(first_yield_tick, 0u) << "40 N is past the elbow's Tresca limit";
   EXPECT_TRUE(fingerprint->last_status_[3] & hal::kJointYielded);
+}
+
+// Every layer the built-in arm carries, at once, in the runtime: no heap
+// call across the ticks, no layer error.
+TEST(Runtime, AllLayersAtOnceNeverAllocate) {
+  fw::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(fw::load_rig("arm", "", &rig, &error)) << error;
+  fw::Runtime rt;
+  const std::vector<fw::InputLimits> limits(rig.input_count(), fw::InputLimits{INT32_MIN, INT32_MAX, 0});
+  ASSERT_TRUE(rt.init(rig.rig, rig.layers, {}, limits, 0, &error)) << error;
+  const uint64_t ticks = sinew::test::emulated() ? 20 : 100;
+  std::vector<hal::JointSample> samples;  // the elbow flexes 0 -> 90 degrees
+  for (uint64_t t = 1; t <= ticks; ++t)
+    samples.push_back(
+        {3, static_cast<int32_t>(static_cast<double>(t) / static_cast<double>(ticks) * 1073741824.0), t * kMs, 0});
+  rt.add_source(std::make_unique<ScriptedSource>(std::move(samples)));
+  rt.step(kMs);  // first tick outside the count: sources may size buffers lazily
+  sinew::test::AllocationCounter allocations;
+  for (uint64_t t = 2; t <= ticks; ++t) rt.step(t * kMs);
+  EXPECT_EQ(allocations.allocations(), 0u);
+  EXPECT_EQ(rt.layer_errors(), 0u) << rt.last_layer_error();
+  for (uint32_t s = 0; s < sinew::pipeline::kStageCount; ++s)
+    EXPECT_TRUE(sinew::pipeline::pipeline_stage_on(rt.pipeline(), static_cast<sinew::pipeline::Stage>(s)));
 }

@@ -58,11 +58,11 @@ TEST(BusEndToEnd, EveryFaultHasItsDocumentedEffect) {
                        "[loop]\nrate_hz = 50\nduration_s = 4.0\nstats_interval_s = 0\nmode = \"offline\"\n"
                        "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\n";
   const char* faults[] = {
-      "kind = \"corrupt\"\nfrom_s = 0.2\nto_s = 0.3",                             // 10 steps x 7 inputs: bad CRC
-      "kind = \"duplicate\"\ninput = \"elbow.0\"\nfrom_s = 0.5\nto_s = 0.6",      // 10 repeated counters
-      "kind = \"stuck-counter\"\ninput = \"wrist.0\"\nfrom_s = 0.8\nto_s = 0.9",  // 10 repeated counters
-      "kind = \"out-of-range\"\ninput = \"elbow.0\"\nfrom_s = 1.1\nto_s = 1.2",   // 10 out of range
-      "kind = \"drop\"\ninput = \"shoulder.0\"\nfrom_s = 1.5\nto_s = 1.8",        // stale after 15 ms
+      "kind = \"corrupt\"\nfrom_s = 0.2\nto_s = 0.3",  // 10 steps x 8 inputs (7 DOFs, elbow.force): bad CRC
+      "kind = \"duplicate\"\ninput = \"elbow.0\"\nfrom_s = 0.5\nto_s = 0.6",               // 10 repeated counters
+      "kind = \"stuck-counter\"\ninput = \"wrist.0\"\nfrom_s = 0.8\nto_s = 0.9",           // 10 repeated counters
+      "kind = \"out-of-range\"\ninput = \"elbow.0\"\nfrom_s = 1.1\nto_s = 1.2",            // 10 out of range
+      "kind = \"drop\"\ninput = \"shoulder.0\"\nfrom_s = 1.5\nto_s = 1.8",                 // stale after 15 ms
       "kind = \"delay\"\ninput = \"wrist.1\"\nfrom_s = 2.0\nto_s = 2.2\ndelay_ms = 40.0",  // a 50 ms gap: stale once
       "kind = \"bus-off\"\nfrom_s = 2.6\nto_s = 2.9",  // every input stale, source down
   };
@@ -72,13 +72,13 @@ TEST(BusEndToEnd, EveryFaultHasItsDocumentedEffect) {
   std::printf("%s", r.out.c_str());
 
   ASSERT_EQ(r.poses.size(), 200u) << "a frame for every tick";
-  EXPECT_EQ(counter(r.out, "bad-crc"), 70u);
+  EXPECT_EQ(counter(r.out, "bad-crc"), 80u);
   EXPECT_EQ(counter(r.out, "repeated-counter"), 20u);
   EXPECT_EQ(counter(r.out, "out-of-range"), 10u);
   EXPECT_EQ(counter(r.out, "counter-jump"), 0u);
-  // Stale (no valid sample for 15 ms): all 7 in the 100 ms of corrupt frames,
-  // wrist.0 with its stuck counter, shoulder.0 (drop), wrist.1 (delay), all 7 in bus-off.
-  EXPECT_EQ(counter(r.out, "events"), 17u);
+  // Stale (no valid sample for 15 ms): all 8 in the 100 ms of corrupt frames,
+  // wrist.0 with its stuck counter, shoulder.0 (drop), wrist.1 (delay), all 8 in bus-off.
+  EXPECT_EQ(counter(r.out, "events"), 19u);
   EXPECT_NE(r.out.find("bus-off 1"), std::string::npos);
 
   // Per-frame flags: the elbow held its last good value while out of range.

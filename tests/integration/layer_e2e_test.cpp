@@ -11,6 +11,7 @@
 #include <string>
 
 #include "hal/output/frame_log_reader.hpp"
+#include "host_tools/rigc/builtin_rigs.hpp"
 #include "tests/integration/daemon_harness.hpp"
 
 namespace {
@@ -58,13 +59,24 @@ TEST(LayerEndToEnd, MetaballsLayerChangesTheSkinWithinBounds) {
   EXPECT_LT(largest_m, 0.05) << "the layer reshapes the skin, it does not tear it";
 }
 
-TEST(LayerEndToEnd, MetaballsNeedTheBuiltInArm) {
+// [layers] only switches on what the rig carries: a layer asked of a blob
+// compiled without layer tables (the core arm) is refused, naming the
+// layers the rig does carry.
+TEST(LayerEndToEnd, ALayerTheRigLacksIsRefused) {
   const std::string dir = testing::TempDir();
-  const std::string config = dir + "/hand-balls.toml";
-  std::ofstream(config) << "[rig]\nbuiltin = \"hand\"\n[layers]\nmetaballs = true\n";
-  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, dir + "/hb.out");
+  const std::string blob = dir + "/core-arm.rig", config = dir + "/core-balls.toml";
+  std::vector<uint8_t> bytes;
+  sinew::rigc::CompileReport report;
+  std::string error;
+  ASSERT_TRUE(sinew::rigc::compile_rig(sinew::rigc::builtin_arm(), &bytes, &report, &error)) << error;
+  std::ofstream(blob, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(config) << "[rig]\nblob = \"" << blob << "\"\n[loop]\nduration_s = 1\nmode = \"offline\"\n"
+                        << "[layers]\nmetaballs = true\n";
+  const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, dir + "/cb.out");
   EXPECT_EQ(WEXITSTATUS(daemon.status), 2);
-  EXPECT_NE(daemon.out.find("[layers] metaballs"), std::string::npos) << daemon.out;
+  EXPECT_NE(daemon.out.find("[layers] metaballs = true, but the rig carries no such layer"), std::string::npos)
+      << daemon.out;
 }
 
 // The largest skin move against plain skinning at the straightest and the
@@ -109,7 +121,7 @@ TEST(LayerEndToEnd, BarnetBulgeGrowsWithElbowFlexion) {
 // the rig's fast swing (about 110 mm off at 4 per tick, 55 mm at 12, seen
 // here), so the bound only rules out a blow-up.
 TEST(LayerEndToEnd, AnatomyBulgeGrowsWithElbowFlexion) {
-  const BulgeAtFlexion b = bulge_at_flexion("anatomy", "anatomy_iterations = 4");
+  const BulgeAtFlexion b = bulge_at_flexion("anatomy", "anatomy = true");
   EXPECT_GT(b.deep_mm, b.straight_mm + 1.0);
   EXPECT_LT(b.deep_mm, 200.0);
 }
