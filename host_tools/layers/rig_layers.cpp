@@ -232,15 +232,43 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     skin.iterations = layers.skin.iterations;
     skin.warm_start = layers.skin.warm_start;
     anatomy_build::AnatomySpec anatomy;
+    std::vector<anatomy_build::MusclePath> paths;
     const std::string& where = layers.muscles.front().where;
-    if (!anatomy_build::joint_anatomy(spec, g, requests, skin, &anatomy, error)) return fail(where, *error, error);
+    if (!anatomy_build::joint_anatomy(spec, g, requests, skin, &anatomy, &paths, error))
+      return fail(where, *error, error);
     anatomy_build::AnatomyModel model;
     if (!anatomy_build::build_anatomy(rig, anatomy, &model, error)) return fail(where, *error, error);
     sections.push_back(muscles_section(model.muscle_model()));
     report->push_back("muscles: " + std::to_string(model.muscles.size()) + " with " +
                       std::to_string(model.primitives.size()) + " primitives");
     if (layers.skin.on) {
-      sections.push_back(skin_section(model.skin_model()));
+      // The skin's support region: full weight within one skin radius of a
+      // muscle's surface, none beyond 2.5 (a smoothstep between), so the
+      // skin far from every muscle keeps the skinned pose bit for bit.
+      std::vector<uint32_t> region;
+      std::vector<fx::Unit> weight;
+      double mean_radius = 0;
+      int radii = 0;
+      for (double r : g.skin_radius)
+        if (r > 0) mean_radius += r, ++radii;
+      mean_radius /= std::max(radii, 1);
+      for (size_t v = 0; v < spec.vertices.size(); ++v) {
+        double w = 0;
+        for (const anatomy_build::MusclePath& m : paths) {
+          const Vec3d axis = sub(m.insertion, m.origin), rel = sub(spec.vertices[v].position, m.origin);
+          const double len2 = dot(axis, axis);
+          const double t = len2 > 0 ? std::clamp(dot(rel, axis) / len2, 0.0, 1.0) : 0.0;
+          const double d = norm(sub(rel, scaled(axis, t))) - m.half_width;
+          const double inner = mean_radius, outer = 2.5 * mean_radius;
+          const double x = std::clamp((d - inner) / (outer - inner), 0.0, 1.0);
+          w = std::max(w, 1 - x * x * (3 - 2 * x));
+        }
+        const fx::Unit q = static_cast<fx::Unit>(std::floor(w * 1073741824.0 + 0.5));
+        if (q > 0) region.push_back(static_cast<uint32_t>(v)), weight.push_back(q);
+      }
+      sections.push_back(skin_section(model.skin_model(), region, weight));
+      report->push_back("elastic skin region: " + std::to_string(region.size()) + " of " +
+                        std::to_string(spec.vertices.size()) + " vertices");
       report->push_back("elastic skin: " + std::to_string(model.report.muscle_anchors) + " muscle anchors, " +
                         std::to_string(model.report.bone_anchors) + " bone anchors, " +
                         std::to_string(model.report.edges) + " springs, " + std::to_string(model.report.bands) +

@@ -117,14 +117,18 @@ struct MusclesSectionParams {
 static_assert(sizeof(muscle::MuscleRecord) == 184 && sizeof(muscle::PrimitiveRecord) == 36);
 inline constexpr uint32_t kMusclesArrays = 2;
 
-// SKIN params. Arrays: anchors, anchor_stiffness, fat, edges, bands.
+// SKIN params. Arrays: anchors, anchor_stiffness, fat, edges, bands, then
+// the skin's support region: region_vertex (u32, ascending) and
+// region_weight (Unit, (0, 1]): the relaxed skin displaces those vertices by
+// weight x (relaxed - skinned); every other vertex keeps its skinned
+// position bit for bit. Both empty: the whole skin, weight 1.
 struct SkinSectionParams {
   uint32_t joint_count, vertex_count;
   elastic_skin::SkinParams params;
 };
 static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anchor) == 80 &&
               sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20);
-inline constexpr uint32_t kSkinArrays = 5;
+inline constexpr uint32_t kSkinArrays = 7;
 
 // BNET params. Arrays: inverse_bind, nodes, bars, loads, triangles, wrap.
 struct BarnetSectionParams {

@@ -122,6 +122,8 @@ constexpr ArraySpec kSkinSpec[kSkinArrays] = {
     {kLen, elastic_skin::kMaxVertices, "fat"},
     {sizeof(elastic_skin::Edge), 4 * elastic_skin::kMaxVertices, "edges"},
     {sizeof(elastic_skin::RubberBand), elastic_skin::kMaxVertices, "bands"},
+    {4, elastic_skin::kMaxVertices, "region_vertex"},
+    {4, elastic_skin::kMaxVertices, "region_weight"},
 };
 constexpr ArraySpec kBarnetSpec[kBarnetArrays] = {
     {kMat, barnet::kMaxJoints, "inverse_bind"},
@@ -364,7 +366,8 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
 }
 
 LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::MuscleModel& muscles,
-                     elastic_skin::SkinModel* out) {
+                     elastic_skin::SkinModel* out, std::span<const uint32_t>* region,
+                     std::span<const fx::Unit>* region_weight) {
   const SkinSectionParams p = params_of<SkinSectionParams>(v);
   *out = {p.joint_count,
           p.vertex_count,
@@ -374,9 +377,22 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
           array_of<elastic_skin::Edge>(v, 3),
           array_of<elastic_skin::RubberBand>(v, 4),
           p.params};
+  *region = array_of<uint32_t>(v, 5);
+  *region_weight = array_of<fx::Unit>(v, 6);
   if (out->vertex_count != rig.vertex_count())
     return fail(LoadError::kBadValue, v.id, v.instance, "vertex_count", -1, "differs from the rig's", out->vertex_count,
                 true);
+  if (region->size() != region_weight->size())
+    return fail(LoadError::kSectionSize, v.id, v.instance, "region_weight", -1, "count differs from region_vertex",
+                static_cast<int64_t>(region_weight->size()), true);
+  for (uint32_t i = 0; i < region->size(); ++i) {
+    if ((*region)[i] >= rig.vertex_count() || (i > 0 && (*region)[i] <= (*region)[i - 1]))
+      return fail(LoadError::kBadIndex, v.id, v.instance, "region_vertex", i,
+                  "not an ascending vertex index of the rig", (*region)[i], true);
+    if ((*region_weight)[i] <= 0 || (*region_weight)[i] > fx::kUnitOne)
+      return fail(LoadError::kBadValue, v.id, v.instance, "region_weight", i, "outside (0, 1]", (*region_weight)[i],
+                  true);
+  }
   const muscle::LayerStatus st = elastic_skin::skin_validate(rig, muscles, *out);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
@@ -480,7 +496,7 @@ LoadStatus layers_init(const rig::Rig& rig, const uint8_t* blob, size_t size, vo
         break;
       case kSectionElasticSkin:
         set.has_skin = true;
-        st = load_skin(v, rig, set.muscles, &set.skin);
+        st = load_skin(v, rig, set.muscles, &set.skin, &set.skin_region, &set.skin_region_weight);
         break;
       case kSectionBarnet:
         st = load_barnet(v, rig, &set.barnet[set.barnet_count++]);

@@ -29,6 +29,8 @@ struct LayerSet {
   muscle::MuscleModel muscles;
   bool has_skin = false;
   elastic_skin::SkinModel skin;
+  std::span<const uint32_t> skin_region;         // vertices the skin displaces (empty: all)
+  std::span<const fx::Unit> skin_region_weight;  // their weights, Q2.30 in (0, 1]
   barnet::BarnetModel barnet[kMaxBarnets];
   uint32_t barnet_count = 0;
   // The tick rate the rate-dependent sections were built for (SPH); 0 when

@@ -189,8 +189,21 @@ PipelineStatus run_anatomy(Pipeline* p) {
   const muscle::LayerStatus ss =
       elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, &p->skin);
   if (!ss.ok()) return fail(PipelineError::kLayer, "elastic skin", ss.message);
-  for (int a = 0; a < 3; ++a)
-    for (uint32_t v = 0; v < model.vertex_count; ++v) add_displacement(p, a, v, p->skin.position[a][v]);
+  const std::span<const uint32_t> region = p->layers->skin_region;
+  if (region.empty()) {
+    for (int a = 0; a < 3; ++a)
+      for (uint32_t v = 0; v < model.vertex_count; ++v) add_displacement(p, a, v, p->skin.position[a][v]);
+    return {};
+  }
+  // The support region: weight x (relaxed - reference), Q2.30 weights.
+  for (size_t i = 0; i < region.size(); ++i) {
+    const uint32_t v = region[i];
+    const fx::Unit w = p->layers->skin_region_weight[i];
+    for (int a = 0; a < 3; ++a) {
+      const int64_t delta = int64_t{p->skin.position[a][v]} - p->reference[a][v];
+      add_displacement(p, a, v, fx::sat_i32(p->reference[a][v] + fx::round_shift(delta * w, fx::kUnitFracBits)));
+    }
+  }
   return {};
 }
 

@@ -49,7 +49,8 @@ BoneAttachment attach(const RigGeometry& g, const Box& b, int j, const Vec3d& p)
 }  // namespace
 
 bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::vector<MuscleRequest>& requests,
-                   const SkinRequest& skin, AnatomySpec* out, std::string* error) {
+                   const SkinRequest& skin, AnatomySpec* out, std::vector<MusclePath>* paths, std::string* error) {
+  paths->clear();
   const size_t nj = rig.joints.size();
   double mean_radius = 0;
   int radii = 0;
@@ -124,6 +125,8 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
       thickest = std::max(thickest, s.half_thickness[static_cast<size_t>(k)]);
     }
     a.muscles.push_back(s);
+    paths->push_back(
+        {layers::add(o0, layers::scaled(side, 2.0 * ro)), layers::add(i0, layers::scaled(s_ins, 1.2 * r_ins)), widest});
     PrimitiveSpec belly;  // a boxy superellipsoid (p = 4) in the belly, as the arm's biceps
     belly.kind = 2;
     belly.attach = 1;

@@ -28,9 +28,17 @@ struct SkinRequest {
   double anchor_coefficient = 0.1;
 };
 
+// A muscle's rest path in the mesh's bind space (origin and insertion
+// midpoints) and its widest slice: what the skin's support region is
+// measured from.
+struct MusclePath {
+  Vec3d origin{0, 0, 0}, insertion{0, 0, 0};
+  double half_width = 0;
+};
+
 // Fails, naming the muscle and the problem, when the bones cannot carry it.
 bool joint_anatomy(const rigc::RigSpec& rig, const layers::RigGeometry& geometry,
                    const std::vector<MuscleRequest>& muscles, const SkinRequest& skin, AnatomySpec* out,
-                   std::string* error);
+                   std::vector<MusclePath>* paths, std::string* error);
 
 }  // namespace sinew::anatomy_build

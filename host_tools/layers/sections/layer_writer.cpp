@@ -93,13 +93,15 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
   return b.finish();
 }
 
-LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m) {
+LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<const uint32_t> region,
+                          std::span<const fx::Unit> region_weight) {
   pipeline::SkinSectionParams p{};
   p.joint_count = m.joint_count;
   p.vertex_count = m.vertex_count;
   p.params = m.params;
   SectionBuilder b = builder(pipeline::kSectionElasticSkin, 0, p, pipeline::kSkinArrays);
   b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
+  b.array(region).array(region_weight);
   return b.finish();
 }
 

@@ -21,7 +21,8 @@ struct LayerSection {
 LayerSection sph_section(const ::sinew::sph::SphModel& model, uint32_t rate_hz, uint32_t force_input);
 LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& model);
 LayerSection muscles_section(const ::sinew::muscle::MuscleModel& model);
-LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& model);
+LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& model, std::span<const uint32_t> region = {},
+                          std::span<const fx::Unit> region_weight = {});
 LayerSection barnet_section(const ::sinew::barnet::BarnetModel& model);
 LayerSection external_inputs_section(std::span<const pipeline::ExternalInputRecord> inputs);
 

@@ -1,0 +1,10 @@
+// Committed golden hashes of the pipeline workload. A numerics change
+// updates these on purpose, in a commit of its own that says why.
+#pragma once
+
+#include <cstdint>
+
+namespace sinew::test::golden {
+inline constexpr uint64_t kArmLayersBlob = 0x37eff3df23287b0eu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x4e739052eb86e67bu;
+}  // namespace sinew::test::golden

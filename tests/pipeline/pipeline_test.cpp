@@ -1,0 +1,242 @@
+// The runtime pipeline (sim_core/pipeline/pipeline.hpp) on the built-in arm:
+// each layer changes the skin inside its support and leaves every vertex
+// outside it bit-identical to plain skinning; pose-driven steps read the DOFs
+// back from the pose; SPH gains convert with the loop rate; no heap calls.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "sim_core/skeleton/pose.hpp"
+#include "tests/pipeline/pipeline_fixture.hpp"
+#include "tests/support/alloc_guard.hpp"
+#include "tests/support/soak.hpp"
+
+namespace pl = sinew::pipeline;
+using sinew::test::degrees;
+using sinew::test::LoadedLayers;
+
+namespace {
+
+constexpr uint32_t kElbowInput = 3;  // shoulder 0..2, elbow 3, twist 4, wrist 5..6; then elbow.force
+
+pl::PipelineOptions only(bool sph, bool metaballs, bool barnet, bool anatomy) {
+  pl::PipelineOptions o;
+  o.sph = sph;
+  o.metaballs = metaballs;
+  o.barnet = barnet;
+  o.anatomy = anatomy;
+  return o;
+}
+
+// Steps the arm `steps` times towards a flexed elbow (with 20 N at the
+// wrist) and returns the final positions, SoA.
+std::array<std::vector<int32_t>, 3> run(LoadedLayers* arm, const pl::PipelineOptions& o, int steps) {
+  std::string error;
+  EXPECT_TRUE(arm->start(o, &error)) << error;
+  std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
+  for (int s = 1; s <= steps; ++s) {
+    inputs[kElbowInput] = degrees(90.0 * s / steps);
+    inputs[0] = degrees(20.0 * s / steps);
+    inputs[arm->rig.input_count] = 20 * 65536;
+    const pl::PipelineStatus st = pl::pipeline_step(&arm->pipeline, inputs);
+    EXPECT_TRUE(st.ok()) << st.message;
+  }
+  std::array<std::vector<int32_t>, 3> out;
+  for (int a = 0; a < 3; ++a)
+    out[static_cast<size_t>(a)].assign(arm->pipeline.engine.vertices.position[a].begin(),
+                                       arm->pipeline.engine.vertices.position[a].end());
+  return out;
+}
+
+struct Comparison {
+  size_t inside_moved = 0, outside_moved = 0;
+  double largest_inside_mm = 0;
+};
+
+Comparison compare(const LoadedLayers& arm, const std::array<std::vector<int32_t>, 3>& plain,
+                   const std::array<std::vector<int32_t>, 3>& layered, const std::set<uint32_t>& support) {
+  Comparison c;
+  const double mm = std::ldexp(1.0, arm.rig.length_exponent - 20) * 1e3;
+  for (uint32_t v = 0; v < arm.rig.vertex_count(); ++v) {
+    double d = 0;
+    for (size_t a = 0; a < 3; ++a) d = std::max(d, std::abs(static_cast<double>(plain[a][v]) - layered[a][v]));
+    if (support.count(v) != 0) {
+      c.inside_moved += d > 0 ? 1 : 0;
+      c.largest_inside_mm = std::max(c.largest_inside_mm, d * mm);
+    } else {
+      c.outside_moved += d > 0 ? 1 : 0;
+    }
+  }
+  return c;
+}
+
+// Vertices skinned to the shoulder joint alone (the upper arm): an SPH bend
+// of the elbow cannot move them.
+std::set<uint32_t> not_upper_arm(const LoadedLayers& arm) {
+  std::set<uint32_t> s;
+  const uint32_t k = arm.rig.influences_per_vertex;
+  for (uint32_t v = 0; v < arm.rig.vertex_count(); ++v)
+    for (uint32_t i = 0; i < k; ++i)
+      if (arm.rig.influence_weight[v * k + i] > 0 && arm.rig.palette[arm.rig.influence_palette[v * k + i]].joint != 0)
+        s.insert(v);
+  return s;
+}
+
+}  // namespace
+
+TEST(Pipeline, BarnetMovesOnlyItsWrappedVertices) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const auto plain = run(arm.get(), only(false, false, false, false), 20);
+  const auto net = run(arm.get(), only(false, false, true, false), 20);
+  std::set<uint32_t> support;
+  for (const auto& w : arm->layers.barnet[0].wrap) support.insert(w.vertex);
+  const Comparison c = compare(*arm, plain, net, support);
+  std::printf("bar-net: %zu of %zu wrapped vertices moved (largest %.2f mm), %zu others moved\n", c.inside_moved,
+              support.size(), c.largest_inside_mm, c.outside_moved);
+  EXPECT_EQ(c.outside_moved, 0u);
+  EXPECT_GT(c.inside_moved, support.size() / 4);
+  EXPECT_GT(c.largest_inside_mm, 1.0) << "the loads raise a bulge at 90 degrees";
+}
+
+TEST(Pipeline, SphMovesItsSkinAndTheDistalBoneOnly) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const int steps = sinew::test::emulated() ? 10 : 40;
+  const auto plain = run(arm.get(), only(false, false, false, false), steps);
+  const auto sph = run(arm.get(), only(true, false, false, false), steps);
+  std::set<uint32_t> support = not_upper_arm(*arm);
+  for (uint32_t v : arm->layers.sph[0].model.skin_vertex) support.insert(v);
+  const Comparison c = compare(*arm, plain, sph, support);
+  std::printf("sph: %zu of %zu vertices (tissue skin and distal bones) moved (largest %.2f mm), %zu others moved\n",
+              c.inside_moved, support.size(), c.largest_inside_mm, c.outside_moved);
+  EXPECT_EQ(c.outside_moved, 0u);
+  EXPECT_GT(c.inside_moved, 0u);
+}
+
+TEST(Pipeline, ElasticSkinMovesOnlyItsSupportRegion) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const int steps = sinew::test::emulated() ? 4 : 20;
+  const auto plain = run(arm.get(), only(false, false, false, false), steps);
+  const auto skin = run(arm.get(), only(false, false, false, true), steps);
+  ASSERT_FALSE(arm->layers.skin_region.empty());
+  const std::set<uint32_t> support(arm->layers.skin_region.begin(), arm->layers.skin_region.end());
+  const Comparison c = compare(*arm, plain, skin, support);
+  std::printf("elastic skin: %zu of %zu region vertices moved (largest %.2f mm), %zu others moved\n", c.inside_moved,
+              support.size(), c.largest_inside_mm, c.outside_moved);
+  EXPECT_EQ(c.outside_moved, 0u);
+  EXPECT_LT(support.size(), arm->rig.vertex_count()) << "the region is bounded: the hand is far from the biceps";
+  EXPECT_GT(c.inside_moved, support.size() / 4);
+}
+
+// The metaballs skin is a whole-skin method ([metaballs] covers every
+// vertex); it must reshape the skin and stay near it.
+TEST(Pipeline, MetaballsReshapeTheWholeSkin) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const auto plain = run(arm.get(), only(false, false, false, false), 10);
+  const auto balls = run(arm.get(), only(false, true, false, false), 10);
+  std::set<uint32_t> all;
+  for (uint32_t v = 0; v < arm->rig.vertex_count(); ++v) all.insert(v);
+  const Comparison c = compare(*arm, plain, balls, all);
+  std::printf("metaballs: %zu of %zu vertices moved, largest %.2f mm\n", c.inside_moved, all.size(),
+              c.largest_inside_mm);
+  EXPECT_GT(c.inside_moved, all.size() / 2);
+  EXPECT_LT(c.largest_inside_mm, 50.0);
+}
+
+// Pose-driven steps (a sampled animation) read each DOF back from the pose:
+// the measured values match the commanded ones, and the bar-net's loads
+// (activated by the elbow's angle) give the same skin within a fraction of a
+// millimetre.
+TEST(Pipeline, PoseDrivenStepsMeasureTheDofsTheyCarry) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  std::string error;
+  ASSERT_TRUE(arm->start(only(false, false, true, false), &error)) << error;
+  std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
+  inputs[0] = degrees(30);
+  inputs[1] = degrees(-20);
+  inputs[kElbowInput] = degrees(100);
+  inputs[4] = degrees(45);
+  inputs[5] = degrees(-30);
+  ASSERT_TRUE(pl::pipeline_step(&arm->pipeline, inputs).ok());
+  const std::vector<sinew::skeleton::LocalPose> locals(arm->pipeline.engine.locals.begin(),
+                                                       arm->pipeline.engine.locals.end());
+  const std::vector<int32_t> commanded(arm->pipeline.engine.vertices.position[1].begin(),
+                                       arm->pipeline.engine.vertices.position[1].end());
+  ASSERT_TRUE(pl::pipeline_step_locals(&arm->pipeline, locals, {}).ok());
+  double worst_deg = 0;
+  for (uint32_t d : {0u, kElbowInput, 4u}) {  // single-axis twists of each joint's first DOF
+    const double measured = static_cast<double>(arm->pipeline.measured[d]) * 360.0 / 4294967296.0;
+    const double wanted = static_cast<double>(inputs[d]) * 360.0 / 4294967296.0;
+    if (d != 0) worst_deg = std::max(worst_deg, std::abs(measured - wanted));
+  }
+  double worst_mm = 0;
+  const double mm = std::ldexp(1.0, arm->rig.length_exponent - 20) * 1e3;
+  for (uint32_t v = 0; v < arm->rig.vertex_count(); ++v)
+    worst_mm = std::max(
+        worst_mm, std::abs(static_cast<double>(commanded[v]) - arm->pipeline.engine.vertices.position[1][v]) * mm);
+  std::printf("pose-driven: DOF read back within %.6f deg; skin within %.4f mm of the commanded step\n", worst_deg,
+              worst_mm);
+  EXPECT_LT(worst_deg, 0.001) << "a single-axis joint's twist is its DOF";
+  EXPECT_LT(worst_mm, 0.1);
+}
+
+// SPH gains compiled for 1 kHz, converted for other loop rates
+// (sph_gains_for_rate): dt^2 gains scale by rho^2, dt gains by rho, the
+// damping's loss by rho; rates needing more than 16 substeps are refused.
+TEST(Pipeline, SphGainsConvertWithTheLoopRate) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const sinew::sph::SphParams& c = arm->layers.sph[0].model.params;
+  sinew::sph::SphParams same, slow;
+  ASSERT_TRUE(pl::sph_gains_for_rate(c, 1000, 1000, &same).ok());
+  EXPECT_EQ(same.elastic_gain, c.elastic_gain);
+  ASSERT_TRUE(pl::sph_gains_for_rate(c, 1000, 100, &slow).ok());
+  // 1000 Hz x 2 substeps -> 100 Hz x 2 substeps: rho = 10.
+  EXPECT_EQ(slow.substeps, 2u);
+  EXPECT_NEAR(slow.elastic_gain, 100.0 * c.elastic_gain, 100.0);
+  EXPECT_NEAR(slow.pressure_gain, 100.0 * c.pressure_gain, 100.0);
+  EXPECT_NEAR(slow.viscosity_gain, 10.0 * c.viscosity_gain, 1.0);
+  EXPECT_NEAR(static_cast<double>(sinew::fx::kUnitOne - slow.damping), 10.0 * (sinew::fx::kUnitOne - c.damping), 1.0);
+  EXPECT_EQ(slow.tau_f, c.tau_f);
+  EXPECT_EQ(slow.h, c.h);
+  sinew::sph::SphParams too_slow;
+  const pl::PipelineStatus st = pl::sph_gains_for_rate(c, 1000, 5, &too_slow);
+  EXPECT_FALSE(st.ok());
+  EXPECT_NE(std::string(st.message).find("more than 16 substeps"), std::string::npos) << st.message;
+}
+
+TEST(Pipeline, ThousandsOfStepsWithoutAHeapCall) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  std::string error;
+  ASSERT_TRUE(arm->start(only(false, true, true, false), &error)) << error;
+  std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
+  const int steps = sinew::test::emulated() ? 300 : 2000;
+  sinew::test::AllocationCounter allocations;
+  for (int s = 0; s < steps; ++s) {
+    inputs[kElbowInput] = degrees(75.0 + 70.0 * std::sin(s * 0.01));
+    ASSERT_TRUE(pl::pipeline_step(&arm->pipeline, inputs).ok());
+  }
+  std::printf("pipeline (metaballs, bar-net): %llu heap calls in %d steps\n",
+              static_cast<unsigned long long>(allocations.allocations()), steps);
+  EXPECT_EQ(allocations.allocations(), 0u);
+}
+
+TEST(Pipeline, RefusesShortInputsAndTooManyRelaxations) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  std::string error;
+  ASSERT_TRUE(arm->start(only(false, false, false, false), &error)) << error;
+  std::vector<int32_t> short_inputs(arm->rig.input_count, 0);  // the external force is missing
+  EXPECT_EQ(pl::pipeline_step(&arm->pipeline, short_inputs).error, pl::PipelineError::kBadInput);
+  pl::PipelineOptions o;
+  o.skin_iterations = 300;
+  EXPECT_FALSE(arm->start(o, &error));
+  EXPECT_NE(error.find("skin_iterations"), std::string::npos) << error;
+}
