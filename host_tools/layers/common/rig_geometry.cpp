@@ -182,7 +182,8 @@ bool rig_geometry(const rigc::RigSpec& spec, RigGeometry* out, std::string* erro
 
 int anatomical_parent(const rigc::RigSpec& spec, const RigGeometry& g, int joint) {
   const int parent = spec.joints[static_cast<size_t>(joint)].parent;
-  if (parent >= 0 && !g.vertices_of[static_cast<size_t>(parent)].empty()) return parent;
+  if (parent < 0) return -1;  // a root: no bone meets it
+  if (!g.vertices_of[static_cast<size_t>(parent)].empty()) return parent;
   // A flat skeleton: the skinned joint whose bone ends nearest this joint.
   const Vec3d at = g.frame[static_cast<size_t>(joint)].t;
   int best = -1;
@@ -192,7 +193,7 @@ int anatomical_parent(const rigc::RigSpec& spec, const RigGeometry& g, int joint
     const double d = norm(sub(add(g.frame[k].t, scaled(g.bone_dir[k], g.bone_length[k])), at));
     if (best < 0 || d < best_d) best = static_cast<int>(k), best_d = d;
   }
-  return best >= 0 ? best : parent;
+  return best >= 0 ? best : parent;  // nothing skinned elsewhere: the (unskinned) parent
 }
 
 }  // namespace sinew::layers

@@ -1,0 +1,158 @@
+// Layer tables of rig specs (rigc): the committed specs compile every layer
+// kind on the built-in rigs and on real glTF models (unnamed joints by node
+// index, rest rotations and scales, a flat skeleton), the blob loads as the
+// board loads it, and a table naming something the model cannot give is
+// refused with the spec's line.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "host_tools/layers/builtin_layers.hpp"
+#include "host_tools/layers/rig_layers.hpp"
+#include "host_tools/rigc/toml_spec.hpp"
+#include "sim_core/pipeline/layer_set.hpp"
+
+namespace {
+
+const std::string kSource = SINEW_SOURCE_DIR;
+
+struct Compiled {
+  std::vector<uint8_t> blob;
+  std::vector<std::string> report;
+  std::string error;
+  bool ok = false;
+};
+
+Compiled compile_spec(const std::string& path) {
+  Compiled c;
+  sinew::rigc::RigSpec spec;
+  sinew::layers::LayerSpecs layers;
+  sinew::rigc::CompileReport core;
+  c.ok = sinew::rigc::load_toml_rig(path, &spec, &layers, &c.error) &&
+         sinew::layers::add_layer_dofs(&spec, layers, &c.report, &c.error) &&
+         sinew::rigc::compile_rig(spec, &c.blob, &core, &c.error) &&
+         sinew::layers::compile_layers(spec, layers, &c.blob, &c.report, &c.error);
+  return c;
+}
+
+struct Loaded {
+  std::vector<uint64_t> blob, arena, layer_arena;
+  sinew::rig::Rig rig;
+  sinew::pipeline::LayerSet layers;
+};
+
+bool load(const std::vector<uint8_t>& bytes, Loaded* l, std::string* error) {
+  l->blob.assign(bytes.size() / 8 + 1, 0);
+  std::memcpy(l->blob.data(), bytes.data(), bytes.size());
+  const auto* p = reinterpret_cast<const uint8_t*>(l->blob.data());
+  size_t a = 0, b = 0;
+  sinew::rig::LoadStatus st = sinew::rig::rig_validate(p, bytes.size(), &a);
+  l->arena.assign(a / 8 + 1, 0);
+  if (st.ok()) st = sinew::rig::rig_init(p, bytes.size(), l->arena.data(), l->arena.size() * 8, &l->rig);
+  if (st.ok()) st = sinew::pipeline::layers_validate(l->rig, p, bytes.size(), &b);
+  l->layer_arena.assign(b / 8 + 1, 0);
+  if (st.ok())
+    st = sinew::pipeline::layers_init(l->rig, p, bytes.size(), l->layer_arena.data(), l->layer_arena.size() * 8,
+                                      &l->layers);
+  if (!st.ok()) *error = st.message;
+  return st.ok();
+}
+
+std::string spec_error(const std::string& name, const std::string& text) {
+  const std::string path = kSource + "/tests/data/" + name;  // beside the models its [rig] source names
+  std::ofstream(path) << text;
+  const Compiled c = compile_spec(path);
+  std::remove(path.c_str());
+  EXPECT_FALSE(c.ok) << name;
+  return c.error;
+}
+
+}  // namespace
+
+TEST(RigSpecs, CommittedSpecsCompileEveryLayerKind) {
+  for (const char* spec : {"rigs/arm.toml", "rigs/hand.toml", "tests/data/rigged_figure_layers.toml",
+                           "tests/data/generic_hand_layers.toml", "tests/data/rigged_simple_layers.toml"}) {
+    const Compiled c = compile_spec(kSource + "/" + spec);
+    ASSERT_TRUE(c.ok) << spec << ": " << c.error;
+    Loaded l;
+    std::string error;
+    ASSERT_TRUE(load(c.blob, &l, &error)) << spec << ": " << error;
+    std::printf("%s: %zu bytes, %u joints, %u vertices;", spec, c.blob.size(), l.rig.joint_count(),
+                l.rig.vertex_count());
+    for (const std::string& line : c.report) std::printf(" [%s]", line.c_str());
+    std::printf("\n");
+    EXPECT_EQ(l.layers.sph_count, 1u) << spec;
+    EXPECT_TRUE(l.layers.has_metaballs) << spec;
+    EXPECT_TRUE(l.layers.has_muscles) << spec;
+    EXPECT_TRUE(l.layers.has_skin) << spec;
+    EXPECT_EQ(l.layers.barnet_count, 1u) << spec;
+    EXPECT_EQ(l.layers.external_count(), 1u) << spec << ": the SPH joint's force input";
+  }
+}
+
+// rigs/arm.toml is the built-in arm's commented spec: its layer sections
+// are the ones the daemon embeds, byte for byte.
+TEST(RigSpecs, ArmSpecGivesTheBuiltInLayers) {
+  const Compiled spec = compile_spec(kSource + "/rigs/arm.toml");
+  ASSERT_TRUE(spec.ok) << spec.error;
+  std::vector<uint8_t> builtin;
+  std::vector<std::string> report;
+  std::string error;
+  ASSERT_TRUE(sinew::layers::compile_builtin("arm", &builtin, &report, &error)) << error;
+  const auto layer_sections = [](const std::vector<uint8_t>& b) {
+    sinew::rig::FileHeader h;
+    std::memcpy(&h, b.data(), sizeof(h));
+    std::vector<std::vector<uint8_t>> out;
+    for (uint32_t i = 0; i < h.section_count; ++i) {
+      sinew::rig::SectionEntry e;
+      std::memcpy(&e, b.data() + h.section_table_offset + i * sizeof(e), sizeof(e));
+      if (i >= 11) out.emplace_back(b.begin() + e.offset, b.begin() + e.offset + e.size);  // after the core's 11
+    }
+    return out;
+  };
+  const auto a = layer_sections(spec.blob), b = layer_sections(builtin);
+  ASSERT_EQ(a.size(), 6u);
+  EXPECT_EQ(a, b);
+}
+
+TEST(RigSpecs, LayerTableErrorsNameTheLine) {
+  const std::string arm = "[rig]\nsource = \"builtin:arm\"\n";
+  const std::string figure = "[rig]\nsource = \"RiggedFigure.glb\"\n";
+  struct Case {
+    std::string text, expected;
+  };
+  const Case cases[] = {
+      {arm + "[[sph]]\njont = \"elbow\"\n", ":4: [[sph]] jont: unknown key"},
+      {arm + "[[sph]]\njoint = \"nope\"\n", ":4: [[sph]] joint: no joint named 'nope'"},
+      {arm + "[[sph]]\njoint = \"shoulder\"\n", "'shoulder' is a root"},
+      {arm + "[[sph]]\njoint = 2\n", "joint by node index needs a glTF source"},
+      {figure + "[[barnet]]\njoint = 99\n", ":4: [[barnet]] joint: no joint of the rig comes from glTF node 99"},
+      {arm + "[[sph]]\njoint = \"elbow\"\nparticles = 0\n", ":5: [[sph]] particles must be an integer in [8, 8192]"},
+      {arm + "[[muscle]]\norigin = \"wrist\"\ninsertion = \"shoulder\"\n",
+       "must be the insertion bone or one of its ancestors"},
+      {arm + "[skin]\n", "[skin]: the elastic skin needs at least one [[muscle]]"},
+      {arm + "[sphh]\n", ":3: sphh: unknown table"},
+      {arm + "[metaballs]\nball_spacing = \"fine\"\n", "[metaballs] ball_spacing must be a finite number"},
+      {"[rig]\nsource = \"builtin:arm\"\nrate_hz = 5\n", "[rig] rate_hz must be an integer in [13, 100000]"},
+      {arm + "[[external_input]]\nname = \"grip\"\n", "name, unit, min and max are required"},
+  };
+  int i = 0;
+  for (const Case& c : cases) {
+    const std::string error = spec_error("bad_layers_" + std::to_string(i++) + ".toml", c.text);
+    EXPECT_NE(error.find(c.expected), std::string::npos) << "spec:\n" << c.text << "\ngot: " << error;
+  }
+}
+
+// The committed fuzz seeds are what rigc makes today (a format change must
+// regenerate them: rigc tests/data/rigged_simple_layers.toml -o ...).
+TEST(RigSpecs, FuzzSeedsAreCurrent) {
+  const Compiled c = compile_spec(kSource + "/tests/data/rigged_simple_layers.toml");
+  ASSERT_TRUE(c.ok) << c.error;
+  std::ifstream f(kSource + "/tests/fuzz/corpus/rig/rigged_simple_layers.rig", std::ios::binary);
+  const std::vector<uint8_t> seed((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(seed, c.blob) << "regenerate tests/fuzz/corpus/rig/rigged_simple_layers.rig with rigc";
+}
