@@ -1,5 +1,7 @@
 // sinew-pose MODEL.gltf|.glb --animation N --time SECONDS [--time ...] --out FILE.csv
 // sinew-pose MODEL.gltf|.glb --bind-pose --out FILE.csv
+// sinew-pose --spec SPEC.toml --animation N --time SECONDS --out FILE.csv
+//   (the spec's [rig] source is the model; its layer tables run too)
 // Samples a glTF animation (or takes the bind pose: every node at its default
 // transform) and writes the deformed vertex positions of every skinned
 // primitive (glTF document order, glTF vertex order, glTF units, skinned world
@@ -31,11 +33,19 @@ void append_positions(const std::vector<std::array<double, 3>>& positions, std::
 
 int run(int argc, char** argv) {
   CLI::App app{"sinew-pose: deformed vertex positions of a glTF skin, through the fixed-point pipeline"};
-  std::string model, out_path;
+  std::string model, out_path, spec;
+  uint32_t tick_hz = 100;
   int animation = 0;
   bool bind_pose = false;
   std::vector<double> times;
-  app.add_option("model", model, "glTF 2.0 file (.gltf or .glb) with a skin")->required();
+  auto* model_opt = app.add_option("model", model, "glTF 2.0 file (.gltf or .glb) with a skin");
+  app.add_option("--spec", spec,
+                 "rig spec (TOML) whose [rig] source is the model: the animation is played through every layer "
+                 "its tables ask for")
+      ->excludes(model_opt);
+  app.add_option("--rate", tick_hz,
+                 "with --spec: tick rate (Hz) the animation is simulated at, from its start to each time")
+      ->check(CLI::Range(13u, 100000u));
   auto* anim_opt = app.add_option("--animation", animation, "animation index (0-based)")->check(CLI::NonNegativeNumber);
   auto* time_opt =
       app.add_option("--time", times, "time in seconds (repeatable; clamped to the animation's range; finite)");
@@ -48,9 +58,11 @@ int run(int argc, char** argv) {
   for (double t : times)
     if (!std::isfinite(t)) return fail("--time " + std::to_string(t) + " is not a finite number of seconds");
 
+  if (model.empty() && spec.empty()) return fail("give a MODEL.gltf|.glb or --spec SPEC.toml");
   sinew::rigc::GltfPoser poser;
   std::string error;
-  if (!poser.open(model, &error)) return fail(error);
+  if (!(spec.empty() ? poser.open(model, &error) : poser.open_spec(spec, tick_hz, &error))) return fail(error);
+  if (!spec.empty()) model = spec;
   const sinew::rigc::CompileReport& report = poser.report();
   if (report.length_exponent_clamped)
     std::fprintf(stderr,
@@ -63,6 +75,7 @@ int run(int argc, char** argv) {
   // Every pose first, so that a failure leaves no partial CSV behind.
   std::string csv = "# sinew-pose " + model + (bind_pose ? " bind pose" : " animation " + std::to_string(animation)) +
                     "\n# " + sinew::rigc::format_report(report) + "\n";
+  for (const std::string& line : poser.layer_report()) csv += "# layer " + line + "\n";
   std::vector<std::array<double, 3>> positions;
   if (bind_pose) {
     if (!poser.pose(-1, 0.0, &positions, &error)) return fail(error);

@@ -11,12 +11,23 @@
 
 #include "gltf_import.hpp"
 #include "sim_core/engine/engine.hpp"
+#include "sim_core/pipeline/pipeline.hpp"
 
 namespace sinew::rigc {
 
 class GltfPoser {
  public:
   bool open(const std::string& path, std::string* error);
+  // A rig spec whose [rig] source is a glTF model: the spec's joints, DOFs
+  // and layer tables are compiled (as rigc does), and every pose then runs
+  // through the whole pipeline with every layer the spec asks for.
+  // The animation is then simulated tick by tick at tick_hz from its start
+  // to each requested time (the layers are dynamic: a lone sample would be
+  // one huge step); a time earlier than the last restarts from the start.
+  bool open_spec(const std::string& spec_path, uint32_t tick_hz, std::string* error);
+  // One line per compiled layer (empty without --spec).
+  const std::vector<std::string>& layer_report() const { return layer_report_; }
+  const pipeline::LayerSet& layers() const { return layers_; }
   // Skinned world-space positions of every skinned primitive (document
   // order), in glTF units.
   bool pose(int animation, double time, std::vector<std::array<double, 3>>* positions, std::string* error);
@@ -31,6 +42,17 @@ class GltfPoser {
   rig::Rig rig_;
   engine::Engine engine_;
   std::vector<skeleton::LocalPose> locals_;
+  // With a spec: the layers and the pipeline that runs them.
+  bool with_layers_ = false;
+  uint32_t tick_hz_ = 100;
+  int sim_animation_ = -2;  // the animation simulated so far (-2: none)
+  double sim_time_ = 0;     // its time at the last tick
+  bool set_locals(int animation, double time, std::string* error);
+  bool restart_pipeline(std::string* error);
+  std::vector<std::string> layer_report_;
+  std::vector<uint64_t> layer_arena_, pipeline_arena_;
+  pipeline::LayerSet layers_;
+  pipeline::Pipeline pipeline_;
 };
 
 }  // namespace sinew::rigc

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "host_tools/rigc/builtin_rigs.hpp"
@@ -512,10 +513,39 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
   g.e = b.length_exponent = rigc::choose_length_exponent(spec);
   b.joint_count = static_cast<uint32_t>(nj);
   b.vertex_count = static_cast<uint32_t>(nv);
-  const std::vector<fx::Mat34> model = rest_model(spec, g.e);
+  std::vector<fx::Mat34> model = rest_model(spec, g.e);
+  // A file whose bind pose (its inverse bind matrices: the mesh's space)
+  // differs from its nodes' rest pose (e.g. a Z-up root): the balls live in
+  // the bind space, so T_j = model_j x IBM_j maps them like the skinning.
+  // Rigs whose rest pose is their bind pose keep the rest inverse exactly.
+  std::vector<bool> bound(nj, false);
+  std::vector<fx::Mat34> file_ibm(nj);
+  for (const rigc::PaletteSpec& p : spec.palette) {
+    if (p.joint < 0 || static_cast<size_t>(p.joint) >= nj || bound[static_cast<size_t>(p.joint)]) continue;
+    fx::Mat34& m = file_ibm[static_cast<size_t>(p.joint)];
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) m.m[r][c] = rigc::to_fixed(p.inverse_bind[static_cast<size_t>(c * 4 + r)], 24);
+      m.t[r] = rigc::to_len(p.inverse_bind[static_cast<size_t>(12 + r)], g.e);
+    }
+    bound[static_cast<size_t>(p.joint)] = true;
+  }
   for (size_t j = 0; j < nj; ++j) {
     fx::Mat34 inv;
     if (!invert(model[j], &inv)) return *error = named("joint", j, "rest transform", "singular"), false;
+    if (bound[j]) {
+      int64_t worst = 0;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c)
+          worst = std::max<int64_t>(worst, std::llabs(int64_t{inv.m[r][c]} - file_ibm[j].m[r][c]));
+        worst = std::max<int64_t>(worst, std::llabs(int64_t{inv.t[r]} - file_ibm[j].t[r]) << 4);
+      }
+      if (worst > (int64_t{1} << 12)) {  // beyond 2^-12: another pose, not rounding
+        fx::Mat34 bind;
+        if (!invert(file_ibm[j], &bind)) return *error = named("joint", j, "inverse bind", "singular"), false;
+        inv = file_ibm[j];
+        model[j] = bind;
+      }
+    }
     b.inverse_bind.push_back(inv);
     g.joint_len.push_back({model[j].t[0], model[j].t[1], model[j].t[2]});
     g.joint_pos.push_back(
