@@ -1,0 +1,2 @@
+#include "firmware/daemon/config.hpp"  // planted: not a public header
+#include "firmware/runtime/runtime.hpp"  // allowed
