@@ -1,10 +1,9 @@
-#include "sim_core/fixed/arena.hpp"
 #include "engine.hpp"
+
+#include "sim_core/fixed/arena.hpp"
 
 namespace sinew::engine {
 namespace {
-
-constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
 using Carver = fx::ArenaCarver;
 
@@ -17,7 +16,8 @@ Carver layout(const rig::Rig& rig, uint8_t* base, size_t size, Engine* e) {
   e->palette = c.take<fx::Mat34>(pal);
   e->dual = rig.any_dual_quaternion ? c.take<fx::DualQuat>(pal) : std::span<fx::DualQuat>{};
   for (int i = 0; i < 3; ++i) e->vertices.position[i] = c.take<fx::Len>(n);
-  for (int i = 0; i < 3; ++i) e->vertices.normal[i] = rig.normal[0].empty() ? std::span<fx::Unit>{} : c.take<fx::Unit>(n);
+  for (int i = 0; i < 3; ++i)
+    e->vertices.normal[i] = rig.normal[0].empty() ? std::span<fx::Unit>{} : c.take<fx::Unit>(n);
   return c;
 }
 

@@ -1,13 +1,11 @@
-#include "sim_core/fixed/arena.hpp"
 #include "state.hpp"
 
+#include "sim_core/fixed/arena.hpp"
 #include "sim_core/rig/message.hpp"
 #include "validate.hpp"
 
 namespace sinew::metaballs {
 namespace {
-
-constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
 using Carver = fx::ArenaCarver;
 

@@ -1,6 +1,6 @@
-#include "sim_core/fixed/arena.hpp"
 #include "sph_state.hpp"
 
+#include "sim_core/fixed/arena.hpp"
 #include "sim_core/rig/message.hpp"
 #include "sph_grid.hpp"
 #include "sph_kernels.hpp"
@@ -8,8 +8,6 @@
 
 namespace sinew::sph {
 namespace {
-
-constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
 using Carver = fx::ArenaCarver;
 
