@@ -55,6 +55,7 @@ struct NodeRecord {
   uint8_t kind = 0;             // NodeKind
   uint8_t influence_count = 0;  // 1..kMaxNodeInfluences
   uint16_t joint[kMaxNodeInfluences] = {};
+  uint16_t reserved = 0;  // explicit, zeroed: a record's bytes go into rig blobs as they are
   fx::Unit weight[kMaxNodeInfluences] = {};  // >= 0, sum 2^30
 };
 

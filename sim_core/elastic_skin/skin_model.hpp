@@ -81,6 +81,7 @@ struct SkinParams {
   fx::Unit reaction_gain = fx::kUnitOne / 2;  // (0, 1]
   uint32_t newton_steps = 3;                  // per push-out, 1..kMaxNewtonSteps
   uint8_t warm_start = 0;  // 1: start from the last step's skin (LEMAN); 0: from the virtual anchors (§5.1)
+  uint8_t reserved[3] = {};  // explicit, zeroed: the record's bytes go into rig blobs as they are
 };
 
 struct SkinModel {

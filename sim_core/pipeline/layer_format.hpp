@@ -12,8 +12,9 @@
 //   arrays               each at a multiple of 8 from the section start
 //
 // Records are the runtime models' own plain structs (little-endian, int32
-// based, no pointers); their sizes are pinned by static_asserts here so a
-// layout change cannot go unnoticed.
+// based, no pointers, no implicit padding: every byte is a zero-initialised
+// member, so a blob's bytes are the same from every compiler); their sizes
+// are pinned by static_asserts here so a layout change cannot go unnoticed.
 #pragma once
 
 #include <cstdint>

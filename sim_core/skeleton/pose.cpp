@@ -1,5 +1,7 @@
 #include "pose.hpp"
 
+#include <algorithm>
+
 #include "sim_core/fixed/sqrt.hpp"
 
 namespace sinew::skeleton {
@@ -67,10 +69,15 @@ void locals_to_model(const rig::Rig& rig, std::span<const LocalPose> locals, std
 }
 
 fx::Quat quat_from_linear(const fx::Lin m[3][3]) {
-  // Work in Q30 (entries of a rotation are within [-1, 1]).
+  // Work in Q30 (entries of a rotation are within [-1, 1]). A linear part
+  // with scale (any rest_scale the format accepts) may hold entries up to
+  // +-128: they are clamped to +-2 first, which leaves every rotation and
+  // mild scale unchanged and keeps numerator x 2^30 below 2^63 and the
+  // Shepperd candidates below 2^34 (no overflow for any input).
+  const int64_t two = int64_t{2} << 30;
   int64_t r[3][3];
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) r[i][k] = int64_t{m[i][k]} * 64;
+    for (int k = 0; k < 3; ++k) r[i][k] = std::clamp<int64_t>(int64_t{m[i][k]} * 64, -two, two);
   const int64_t one = int64_t{1} << 30;
   const int64_t trace = r[0][0] + r[1][1] + r[2][2];
   // Shepperd: take the largest of 4w^2, 4x^2, 4y^2, 4z^2 for a stable divisor.
@@ -86,10 +93,18 @@ fx::Quat quat_from_linear(const fx::Lin m[3][3]) {
   const fx::Unit quarter_s = fx::sat_i32(s / 4);
   fx::Quat q{};
   switch (best) {
-    case 0: q = {quarter_s, q_of(r[2][1] - r[1][2]), q_of(r[0][2] - r[2][0]), q_of(r[1][0] - r[0][1])}; break;
-    case 1: q = {q_of(r[2][1] - r[1][2]), quarter_s, q_of(r[0][1] + r[1][0]), q_of(r[0][2] + r[2][0])}; break;
-    case 2: q = {q_of(r[0][2] - r[2][0]), q_of(r[0][1] + r[1][0]), quarter_s, q_of(r[1][2] + r[2][1])}; break;
-    default: q = {q_of(r[1][0] - r[0][1]), q_of(r[0][2] + r[2][0]), q_of(r[1][2] + r[2][1]), quarter_s}; break;
+    case 0:
+      q = {quarter_s, q_of(r[2][1] - r[1][2]), q_of(r[0][2] - r[2][0]), q_of(r[1][0] - r[0][1])};
+      break;
+    case 1:
+      q = {q_of(r[2][1] - r[1][2]), quarter_s, q_of(r[0][1] + r[1][0]), q_of(r[0][2] + r[2][0])};
+      break;
+    case 2:
+      q = {q_of(r[0][2] - r[2][0]), q_of(r[0][1] + r[1][0]), quarter_s, q_of(r[1][2] + r[2][1])};
+      break;
+    default:
+      q = {q_of(r[1][0] - r[0][1]), q_of(r[0][2] + r[2][0]), q_of(r[1][2] + r[2][1]), quarter_s};
+      break;
   }
   fx::normalize(&q);
   return q;

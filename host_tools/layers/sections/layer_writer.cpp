@@ -36,6 +36,9 @@ class SectionBuilder {
     return *this;
   }
   LayerSection finish() {
+    // A writer that filled fewer or more arrays than its table declares is a
+    // bug here: an empty section makes the round-trip load refuse it, named.
+    if (next_ != array_count_) bytes_.clear();
     bytes_.resize(align8(bytes_.size()), 0);
     return {id_, std::move(bytes_)};
   }
