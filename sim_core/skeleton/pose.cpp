@@ -71,13 +71,13 @@ void locals_to_model(const rig::Rig& rig, std::span<const LocalPose> locals, std
 fx::Quat quat_from_linear(const fx::Lin m[3][3]) {
   // Work in Q30 (entries of a rotation are within [-1, 1]). A linear part
   // with scale (any rest_scale the format accepts) may hold entries up to
-  // +-128: they are clamped to +-2 first, which leaves every rotation and
-  // mild scale unchanged and keeps numerator x 2^30 below 2^63 and the
-  // Shepperd candidates below 2^34 (no overflow for any input).
-  const int64_t two = int64_t{2} << 30;
+  // +-128: they are clamped to +-1.5 first, which leaves every rotation and
+  // mild scale unchanged and keeps |numerator x 2^30| <= 3 x 2^60, inside
+  // div_round's |n| < 2^62 (no overflow for any input).
+  const int64_t limit = (int64_t{3} << 30) / 2;
   int64_t r[3][3];
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) r[i][k] = std::clamp<int64_t>(int64_t{m[i][k]} * 64, -two, two);
+    for (int k = 0; k < 3; ++k) r[i][k] = std::clamp<int64_t>(int64_t{m[i][k]} * 64, -limit, limit);
   const int64_t one = int64_t{1} << 30;
   const int64_t trace = r[0][0] + r[1][1] + r[2][2];
   // Shepperd: take the largest of 4w^2, 4x^2, 4y^2, 4z^2 for a stable divisor.
