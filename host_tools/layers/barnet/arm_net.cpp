@@ -48,18 +48,7 @@ bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* ou
       n.influences = v.influences;
       s.nodes.push_back(n);
     }
-  // Control triangles wound so that cross(b - a, c - a) points outwards;
-  // their edges are the bars.
-  std::set<std::pair<uint32_t, uint32_t>> edges;
-  auto edge = [&edges](uint32_t a, uint32_t b) { edges.insert({a < b ? a : b, a < b ? b : a}); };
-  for (int c = 0; c + 1 < o.rings; ++c)
-    for (int k = 0; k < o.segments; ++k) {
-      const uint32_t a = node(c, k), b = node(c, k + 1), cc = node(c + 1, k), d = node(c + 1, k + 1);
-      s.triangles.push_back({a, b, cc});
-      s.triangles.push_back({b, d, cc});
-      edge(a, b), edge(a, cc), edge(b, cc), edge(b, d), edge(d, cc);
-    }
-  for (const auto& [a, b] : edges) s.bars.push_back({a, b, o.q});
+  add_tube_mesh(o.rings, o.segments, o.q, &s);
   // Radial loads on the loaded ring, heavier on the inner side (+y: the
   // elbow flexes about +z, folding the forearm towards +y), carried by the
   // upper arm and activated by elbow flexion.

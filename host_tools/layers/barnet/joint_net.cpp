@@ -100,18 +100,7 @@ bool joint_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const 
     }
   }
   auto node = [&](int ring, int k) { return static_cast<uint32_t>(ring * o.segments + (k % o.segments)); };
-  // Control triangles wound so that cross(b - a, c - a) points outwards
-  // (rings advance along u, nodes turn from v to w); their edges are the bars.
-  std::set<std::pair<uint32_t, uint32_t>> edges;
-  auto edge = [&edges](uint32_t a, uint32_t b) { edges.insert({a < b ? a : b, a < b ? b : a}); };
-  for (int r = 0; r + 1 < o.rings; ++r)
-    for (int k = 0; k < o.segments; ++k) {
-      const uint32_t a = node(r, k), b = node(r, k + 1), cc = node(r + 1, k), d = node(r + 1, k + 1);
-      s.triangles.push_back({a, b, cc});
-      s.triangles.push_back({b, d, cc});
-      edge(a, b), edge(a, cc), edge(b, cc), edge(b, d), edge(d, cc);
-    }
-  for (const auto& [a, b] : edges) s.bars.push_back({a, b, o.q});
+  add_tube_mesh(o.rings, o.segments, o.q, &s);
   // Radial loads on the middle ring, carried by the parent bone, heavier on
   // the inner side of the bend: a positive turn about the DOF axis a moves
   // the distal bone towards a x u.

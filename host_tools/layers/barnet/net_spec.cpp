@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <utility>
 #include <sstream>
 
 #include "host_tools/rigc/quantize.hpp"
@@ -211,6 +213,20 @@ bn::BarnetModel BarnetBuild::model() const {
   m.triangles = triangles;
   m.wrap = wrap;
   return m;
+}
+
+void add_tube_mesh(int rings, int segments, double q, NetSpec* net) {
+  auto node = [segments](int ring, int k) { return static_cast<uint32_t>(ring * segments + (k % segments)); };
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  auto edge = [&edges](uint32_t a, uint32_t b) { edges.insert({a < b ? a : b, a < b ? b : a}); };
+  for (int r = 0; r + 1 < rings; ++r)
+    for (int k = 0; k < segments; ++k) {
+      const uint32_t a = node(r, k), b = node(r, k + 1), c = node(r + 1, k), d = node(r + 1, k + 1);
+      net->triangles.push_back({a, b, c});
+      net->triangles.push_back({b, d, c});
+      edge(a, b), edge(a, c), edge(b, c), edge(b, d), edge(d, c);
+    }
+  for (const auto& [a, b] : edges) net->bars.push_back({a, b, q});
 }
 
 bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* out, std::string* error) {

@@ -61,6 +61,13 @@ struct BarnetBuild {
   sinew::barnet::BarnetModel model() const;
 };
 
+// The control mesh of a tube whose nodes are numbered ring by ring
+// (node(ring, k) = ring x segments + k mod segments): two triangles per
+// quad, wound so that cross(b - a, c - a) points outwards when rings advance
+// along the axis and k turns counter-clockwise about it; their edges become
+// the bars, each with force density q.
+void add_tube_mesh(int rings, int segments, double q, NetSpec* net);
+
 // Returns false with a message naming the spec record and field.
 bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* out, std::string* error);
 
