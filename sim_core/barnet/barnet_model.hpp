@@ -16,6 +16,7 @@
 #include <span>
 
 #include "sim_core/fixed/mat34.hpp"
+#include "sim_core/fixed/status.hpp"
 
 namespace sinew::barnet {
 
@@ -55,7 +56,7 @@ struct NodeRecord {
   uint8_t kind = 0;             // NodeKind
   uint8_t influence_count = 0;  // 1..kMaxNodeInfluences
   uint16_t joint[kMaxNodeInfluences] = {};
-  uint16_t reserved = 0;  // explicit, zeroed: a record's bytes go into rig blobs as they are
+  uint16_t reserved = 0;                     // explicit, zeroed: a record's bytes go into rig blobs as they are
   fx::Unit weight[kMaxNodeInfluences] = {};  // >= 0, sum 2^30
 };
 
@@ -116,11 +117,7 @@ enum class Error : uint8_t {
   kBadSpan,  // a step input or output of the wrong size
 };
 
-struct Status {
-  Error error = Error::kNone;
-  char message[160] = {};  // names the offending record and field
-  bool ok() const { return error == Error::kNone; }
-};
+using Status = fx::Status<Error>;  // the message names the offending record and field
 
 const char* error_name(Error e);
 

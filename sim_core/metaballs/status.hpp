@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "sim_core/fixed/status.hpp"
+
 namespace sinew::metaballs {
 
 enum class Error : uint8_t {
@@ -16,11 +18,7 @@ enum class Error : uint8_t {
   kNotReady,  // state not initialised for this model
 };
 
-struct Status {
-  Error error = Error::kNone;
-  char message[160] = {};
-  bool ok() const { return error == Error::kNone; }
-};
+using Status = fx::Status<Error>;
 
 const char* error_name(Error e);
 

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "sim_core/fixed/status.hpp"
 #include "sim_core/rig/message.hpp"
 
 namespace sinew::muscle {
@@ -16,11 +17,7 @@ enum class LayerError : uint8_t {
   kMemory,    // caller memory missing, misaligned or too small
 };
 
-struct LayerStatus {
-  LayerError error = LayerError::kNone;
-  char message[192] = {};
-  bool ok() const { return error == LayerError::kNone; }
-};
+using LayerStatus = fx::Status<LayerError>;
 
 // "<what>[index].<field>: <problem> (value)"; value shown when show_value.
 inline LayerStatus layer_fail(LayerError e, const char* what, int64_t index, const char* field, const char* problem,

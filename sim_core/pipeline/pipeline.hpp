@@ -29,6 +29,7 @@
 #include "sim_core/barnet/barnet_state.hpp"
 #include "sim_core/elastic_skin/skin_state.hpp"
 #include "sim_core/engine/engine.hpp"
+#include "sim_core/fixed/status.hpp"
 #include "sim_core/metaballs/state.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "sim_core/sph/sph_state.hpp"
@@ -57,11 +58,7 @@ enum class PipelineError : uint8_t {
   kLayer,     // a layer step failed (message names it); the skinned pose is kept
 };
 
-struct PipelineStatus {
-  PipelineError error = PipelineError::kNone;
-  char message[192] = {};
-  bool ok() const { return error == PipelineError::kNone; }
-};
+using PipelineStatus = fx::Status<PipelineError>;
 
 // The SPH gains of a joint compiled for compiled_hz, converted for tick_hz:
 // substeps max(2, ceil(200 / tick_hz)) (dt <= 5 ms, as rigc picks them);

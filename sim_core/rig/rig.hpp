@@ -8,6 +8,7 @@
 #include <span>
 
 #include "rig_format.hpp"
+#include "sim_core/fixed/status.hpp"
 
 namespace sinew::rig {
 
@@ -18,8 +19,8 @@ struct Rig {
   std::span<const char[kNameBytes]> names;  // empty if the blob has none
   std::span<const SynergyRecord> synergies;
   std::span<const PaletteRecord> palette;
-  std::span<const fx::Len> position[3];  // rest positions, SoA
-  std::span<const fx::Unit> normal[3];   // rest normals, SoA (empty if none)
+  std::span<const fx::Len> position[3];         // rest positions, SoA
+  std::span<const fx::Unit> normal[3];          // rest normals, SoA (empty if none)
   std::span<const uint16_t> influence_palette;  // [vertex * K + k]
   std::span<const fx::Unit> influence_weight;   // [vertex * K + k], sums to 2^30
   std::span<const uint8_t> method;              // SkinMethod per vertex
@@ -34,26 +35,22 @@ struct Rig {
 
 enum class LoadError : uint8_t {
   kNone = 0,
-  kTruncated,        // blob shorter than its header or its declared size
-  kMisaligned,       // blob pointer not 8-byte aligned
+  kTruncated,   // blob shorter than its header or its declared size
+  kMisaligned,  // blob pointer not 8-byte aligned
   kBadMagic,
   kBadVersion,
-  kBadHeader,        // inconsistent header fields
-  kChecksum,         // CRC-32C mismatch
-  kSectionTable,     // table out of bounds, misaligned or overlapping entries
+  kBadHeader,     // inconsistent header fields
+  kChecksum,      // CRC-32C mismatch
+  kSectionTable,  // table out of bounds, misaligned or overlapping entries
   kMissingSection,
-  kSectionSize,      // a section's size disagrees with its count
-  kLimit,            // a count beyond the documented maxima
-  kBadIndex,         // an index out of range (parent, palette, joint, vertex, input)
-  kBadValue,         // a value out of its documented range (weights, axes, limits)
+  kSectionSize,  // a section's size disagrees with its count
+  kLimit,        // a count beyond the documented maxima
+  kBadIndex,     // an index out of range (parent, palette, joint, vertex, input)
+  kBadValue,     // a value out of its documented range (weights, axes, limits)
   kArenaTooSmall,
 };
 
-struct LoadStatus {
-  LoadError error = LoadError::kNone;
-  char message[192] = {};  // names the offending section and field
-  bool ok() const { return error == LoadError::kNone; }
-};
+using LoadStatus = fx::Status<LoadError>;  // the message names the offending section and field
 
 // Validates a blob completely and reports the arena bytes rig_init needs.
 LoadStatus rig_validate(const uint8_t* blob, size_t size, size_t* arena_bytes);

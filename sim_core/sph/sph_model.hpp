@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <span>
 
+#include "sim_core/fixed/status.hpp"
 #include "sim_core/fixed/vec3.hpp"
 
 namespace sinew::sph {
@@ -83,11 +84,7 @@ enum class SphError : uint8_t {
   kBadInput,      // step inputs: transform span too short, force out of range
 };
 
-struct SphStatus {
-  SphError error = SphError::kNone;
-  char message[160] = {};  // names the offending field
-  bool ok() const { return error == SphError::kNone; }
-};
+using SphStatus = fx::Status<SphError>;  // the message names the offending field
 
 // Checks every count, index and parameter against the ranges above.
 // joint_count / vertex_count: the rig the model was built for (0 skips that check).
