@@ -11,9 +11,11 @@
 #include "hal/can/socketcan_source.hpp"
 #include "hal/gpio/gpio_source.hpp"
 #include "hal/modbus/modbus_source.hpp"
-#include "host_tools/rigsim/modbus_feeder.hpp"
-#include "host_tools/rigsim/simulated_encoders.hpp"
-#include "host_tools/rigsim/simulated_rig_bus.hpp"
+#if SINEW_SIMULATED_DEVICES
+#include "hal/can/sim/simulated_rig_bus.hpp"
+#include "hal/gpio/sim/simulated_encoders.hpp"
+#include "hal/modbus/sim/modbus_feeder.hpp"
+#endif
 
 namespace sinew::firmware {
 
@@ -36,30 +38,38 @@ bool read_ms(const SourceConfig& s, const char* key, double fallback, double lo,
   return true;
 }
 
+// Per-input kind: true for a joint's rotation DOF (the simulated rig's
+// Modbus layout sends those in hundredths of a degree).
+std::vector<bool> rig_rotation(const LoadedRig& rig) {
+  std::vector<bool> rotation(rig.input_count(), false);
+  for (const rig::JointRecord& j : rig.rig.joints)
+    for (uint32_t d = 0; d < j.dof_count; ++d)
+      rotation[j.first_input + d] = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
+  return rotation;
+}
+
+#if SINEW_SIMULATED_DEVICES
 // Per-input range and kind from the rig and its external inputs (the
 // simulator's motion and layout): the simulated rig swings an external force
 // across its range like a joint.
-void rig_inputs(const LoadedRig& rig, std::vector<rigsim::InputRange>* ranges, std::vector<bool>* rotation) {
+void rig_inputs(const LoadedRig& rig, std::vector<hal::sim::InputRange>* ranges, std::vector<bool>* rotation) {
   ranges->assign(rig.input_count(), {});
-  rotation->assign(rig.input_count(), false);
+  *rotation = rig_rotation(rig);
   for (const rig::JointRecord& j : rig.rig.joints)
-    for (uint32_t d = 0; d < j.dof_count; ++d) {
-      (*ranges)[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
-      (*rotation)[j.first_input + d] = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
-    }
+    for (uint32_t d = 0; d < j.dof_count; ++d) (*ranges)[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
   for (size_t k = 0; k < rig.external.size(); ++k)
     (*ranges)[rig.rig.input_count + k] = {rig.external[k].min, rig.external[k].max};
 }
 
-bool read_faults(const SourceConfig& s, const LoadedRig& rig, rigsim::FaultPlan* plan, std::string* error) {
+bool read_faults(const SourceConfig& s, const LoadedRig& rig, hal::sim::FaultPlan* plan, std::string* error) {
   const toml::array* faults = s.table["fault"].as_array();
   if (faults == nullptr) return true;
   for (const toml::node& node : *faults) {
     const toml::table* t = node.as_table();
     if (t == nullptr) return *error = where(s, "fault") + " entries must be tables", false;
-    rigsim::Fault f;
+    hal::sim::Fault f;
     const std::string kind = (*t)["kind"].value_or<std::string>("");
-    if (!rigsim::parse_fault_kind(kind, &f.kind))
+    if (!hal::sim::parse_fault_kind(kind, &f.kind))
       return *error = where(s, "fault.kind") + " '" + kind +
                       "' unknown (drop, delay, duplicate, corrupt, stuck-counter, out-of-range, bus-off, "
                       "modbus-timeout, modbus-exception, encoder-glitch)",
@@ -79,6 +89,7 @@ bool read_faults(const SourceConfig& s, const LoadedRig& rig, rigsim::FaultPlan*
   }
   return true;
 }
+#endif  // SINEW_SIMULATED_DEVICES
 
 std::unique_ptr<hal::InputSource> can_source(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
                                              std::unique_ptr<FrameSource> frames, uint64_t start_ns,
@@ -101,6 +112,7 @@ std::unique_ptr<hal::InputSource> can_source(const SourceConfig& s, const Loaded
   return source;
 }
 
+#if SINEW_SIMULATED_DEVICES
 // A source that also keeps a helper alive (the simulated Modbus device).
 class KeepAlive final : public hal::InputSource {
  public:
@@ -120,31 +132,32 @@ class KeepAlive final : public hal::InputSource {
 
 std::unique_ptr<hal::InputSource> simulated_rig(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
                                                 uint64_t start_ns, std::string* error) {
-  rigsim::SimulatedRigOptions options;
+  hal::sim::SimulatedRigOptions options;
   if (!read_ms(s, "period_ms", config.default_period_ms, 0.01, 60000, &options.period_ns, error) ||
       !read_ms(s, "offset_ms", options.period_ns / 2e6, 0, 60000, &options.offset_ns, error) ||
       !read_faults(s, rig, &options.faults, error))
     return nullptr;
   options.period_ns = options.period_ns / 1000 * 1000;
   options.offset_ns = options.offset_ns / 1000 * 1000;
-  std::vector<rigsim::InputRange> ranges;
+  std::vector<hal::sim::InputRange> ranges;
   std::vector<bool> rotation;
   rig_inputs(rig, &ranges, &rotation);
-  if (!rigsim::SimulatedRigBus::validate(options, ranges.size(), error)) return nullptr;
-  const rigsim::FaultPlan faults = options.faults;
-  auto bus = std::make_unique<rigsim::SimulatedRigBus>(rigsim::RigMotion(ranges), std::move(options), start_ns);
+  if (!hal::sim::SimulatedRigBus::validate(options, ranges.size(), error)) return nullptr;
+  const hal::sim::FaultPlan faults = options.faults;
+  auto bus = std::make_unique<hal::sim::SimulatedRigBus>(hal::sim::RigMotion(ranges), std::move(options), start_ns);
   auto source = can_source(s, rig, config, std::move(bus), start_ns, error);
   if (!source) return nullptr;
   const int64_t port = s.table["modbus_port"].value_or(int64_t{-1});
   if (port < 0) return source;
   if (port > 65535) return *error = where(s, "modbus_port") + " must be 0..65535", nullptr;
-  auto feeder = std::make_shared<rigsim::ModbusFeeder>();
+  auto feeder = std::make_shared<hal::sim::ModbusFeeder>();
   // The device refreshes its registers at 1 kHz on its own clock (not the ticks).
-  if (!feeder->start(rigsim::RigMotion(ranges), rotation, faults, start_ns, 1000000, static_cast<uint16_t>(port),
+  if (!feeder->start(hal::sim::RigMotion(ranges), rotation, faults, start_ns, 1000000, static_cast<uint16_t>(port),
                      error))
     return *error = "source " + s.name + ": " + *error, nullptr;
   return std::make_unique<KeepAlive>(std::move(source), std::move(feeder));
 }
+#endif  // SINEW_SIMULATED_DEVICES
 
 std::unique_ptr<hal::InputSource> candump(const SourceConfig& s, const LoadedRig& rig, const DaemonConfig& config,
                                           uint64_t start_ns, std::string* error) {
@@ -201,10 +214,9 @@ std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig&
   const std::string layout = s.table["layout"].value_or<std::string>("");
   if (layout == "simulated-rig") {
     // The simulated rig's device: input i at holding 2i..2i+1, 0.01 degree or 1 um.
-    std::vector<rigsim::InputRange> ranges;
-    std::vector<bool> rotation;
-    rig_inputs(rig, &ranges, &rotation);
-    for (size_t i = 0; i < ranges.size(); ++i) {
+    // A register map only: it reads any device laid out so, simulated or not.
+    const std::vector<bool> rotation = rig_rotation(rig);
+    for (size_t i = 0; i < rotation.size(); ++i) {
       hal::modbus::ChannelConfig ch;
       ch.name = rig.input_names[i];
       ch.input = static_cast<uint16_t>(i);
@@ -291,12 +303,13 @@ bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& ri
   return true;
 }
 
+#if SINEW_SIMULATED_DEVICES
 // A GPIO source on the simulated rig's chip: each latch first plays the
 // encoders' motion up to the tick onto the lines, then reads them as the
 // real chip would be read.
 class SimulatedGpioRig final : public hal::InputSource {
  public:
-  SimulatedGpioRig(std::unique_ptr<rigsim::SimulatedEncoders> rig, std::unique_ptr<hal::gpio::GpioSource> source)
+  SimulatedGpioRig(std::unique_ptr<hal::sim::SimulatedEncoders> rig, std::unique_ptr<hal::gpio::GpioSource> source)
       : rig_(std::move(rig)), source_(std::move(source)) {}
   const char* name() const override { return source_->name(); }
   size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, hal::InputHealth& health) override {
@@ -309,38 +322,45 @@ class SimulatedGpioRig final : public hal::InputSource {
   }
 
  private:
-  std::unique_ptr<rigsim::SimulatedEncoders> rig_;  // the wire outlives the source's chip
+  std::unique_ptr<hal::sim::SimulatedEncoders> rig_;  // the wire outlives the source's chip
   std::unique_ptr<hal::gpio::GpioSource> source_;
 };
 
 std::unique_ptr<hal::InputSource> simulated_gpio(const SourceConfig& s, const LoadedRig& rig,
                                                  hal::gpio::GpioSourceConfig c, uint64_t start_ns, std::string* error) {
-  rigsim::SimulatedEncoderOptions options;
+  hal::sim::SimulatedEncoderOptions options;
   if (!read_ms(s, "update_ms", 1.0, 0.01, 1000, &options.update_ns, error) ||
       !read_faults(s, rig, &options.faults, error))
     return nullptr;
-  for (const rigsim::Fault& f : options.faults.faults)
-    if (f.kind != rigsim::FaultKind::kEncoderGlitch)
-      return *error = where(s, "fault.kind") + " '" + rigsim::fault_kind_name(f.kind) +
+  for (const hal::sim::Fault& f : options.faults.faults)
+    if (f.kind != hal::sim::FaultKind::kEncoderGlitch)
+      return *error = where(s, "fault.kind") + " '" + hal::sim::fault_kind_name(f.kind) +
                       "' does not apply to GPIO (encoder-glitch)",
              nullptr;
   if (!c.limits.empty() || c.sync.line != hal::gpio::kNoLine)
     return *error = where(s, "chip") + " \"simulated-rig\" drives encoders only (no limit or sync lines)", nullptr;
   const int64_t lines = s.table["lines"].value_or(int64_t{64});
   if (lines < 1 || lines > 65536) return *error = where(s, "lines") + " must be 1..65536", nullptr;
-  std::vector<rigsim::InputRange> ranges;
+  std::vector<hal::sim::InputRange> ranges;
   std::vector<bool> rotation;
   rig_inputs(rig, &ranges, &rotation);
-  rigsim::RigMotion motion(ranges);
+  hal::sim::RigMotion motion(ranges);
   const auto line_count = static_cast<uint32_t>(lines);
-  if (!rigsim::SimulatedEncoders::validate(c.encoders, options, motion, rotation, line_count, error))
+  if (!hal::sim::SimulatedEncoders::validate(c.encoders, options, motion, rotation, line_count, error))
     return *error = "source " + s.name + ": " + *error, nullptr;
-  auto encoders = std::make_unique<rigsim::SimulatedEncoders>(std::move(motion), c.encoders, std::move(options),
-                                                              line_count, start_ns);
+  auto encoders = std::make_unique<hal::sim::SimulatedEncoders>(std::move(motion), c.encoders, std::move(options),
+                                                                line_count, start_ns);
   auto source = hal::gpio::GpioSource::create(std::move(c), encoders->wire().chip(), error);
   if (!source) return *error = "source " + s.name + ": " + *error, nullptr;
   return std::make_unique<SimulatedGpioRig>(std::move(encoders), std::move(source));
 }
+#else
+// Why a simulated-rig source or chip is refused in a build without them.
+std::string no_simulated_devices(const SourceConfig& s, const std::string& what) {
+  return "source " + s.name + ": " + what +
+         " is unavailable: built without simulated devices (SINEW_SIMULATED_DEVICES=OFF)";
+}
+#endif  // SINEW_SIMULATED_DEVICES
 
 std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& rig, uint64_t start_ns,
                                        std::string* error) {
@@ -413,7 +433,14 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
     c.fault.active_low = (*fault)["active_low"].value_or(false);
   }
   // The simulated rig's encoders instead of a kernel chip (CI, demos).
-  if (c.chip == "simulated-rig") return simulated_gpio(s, rig, std::move(c), start_ns, error);
+  if (c.chip == "simulated-rig") {
+#if SINEW_SIMULATED_DEVICES
+    return simulated_gpio(s, rig, std::move(c), start_ns, error);
+#else
+    (void)start_ns;
+    return *error = no_simulated_devices(s, "chip \"simulated-rig\""), nullptr;
+#endif
+  }
   auto source = hal::gpio::GpioSource::create(std::move(c), error);
   if (!source) *error = "source " + s.name + ": " + *error;
   return source;
@@ -425,7 +452,13 @@ std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const L
                                                   const DaemonConfig& config, uint64_t start_ns, std::string* error) {
   if (s.type == "can") return socketcan(s, rig, config, start_ns, error);
   if (s.type == "candump") return candump(s, rig, config, start_ns, error);
-  if (s.type == "simulated-rig") return simulated_rig(s, rig, config, start_ns, error);
+  if (s.type == "simulated-rig") {
+#if SINEW_SIMULATED_DEVICES
+    return simulated_rig(s, rig, config, start_ns, error);
+#else
+    return *error = no_simulated_devices(s, "type 'simulated-rig'"), nullptr;
+#endif
+  }
   if (s.type == "modbus") return modbus(s, rig, error);
   if (s.type == "gpio") return gpio(s, rig, start_ns, error);
   *error =

@@ -1,6 +1,6 @@
 #include "trajectory_source.hpp"
 
-#include "host_tools/determinism/engine_workload.hpp"
+#include "hal/sim/sweep.hpp"
 
 namespace sinew::firmware {
 
@@ -15,8 +15,8 @@ TrajectorySource::TrajectorySource(std::vector<int32_t> min, std::vector<int32_t
 }
 
 int32_t TrajectorySource::value(uint32_t input, uint32_t k) const {
-  // trajectory_input sweeps +-2^30 (a third of a turn): rescale to the joint's range.
-  const int64_t unit = determinism::trajectory_input(input, k);
+  // The shared sweep spans +-2^30 (a third of a turn): rescale to the joint's range.
+  const int64_t unit = hal::sim::sweep_input(input, k);
   return static_cast<int32_t>(centre_[input] + ((unit * half_span_[input]) >> 30));
 }
 
@@ -24,16 +24,13 @@ size_t TrajectorySource::latch(uint64_t until_ns, std::span<hal::JointSample> ou
   size_t n = 0;
   while (next_ <= until_ns && n + inputs_ <= out.size()) {
     const auto step = static_cast<uint32_t>((next_ - start_) / period_);
-    for (uint32_t i = 0; i < inputs_; ++i)
-      out[n++] = {static_cast<uint16_t>(i), value(i, step), next_, hal::kSampleOk};
+    for (uint32_t i = 0; i < inputs_; ++i) out[n++] = {static_cast<uint16_t>(i), value(i, step), next_, hal::kSampleOk};
     next_ += period_;
     ++sent_;
   }
   return n;
 }
 
-std::string TrajectorySource::status_line() const {
-  return "trajectory: " + std::to_string(sent_) + " sample sets";
-}
+std::string TrajectorySource::status_line() const { return "trajectory: " + std::to_string(sent_) + " sample sets"; }
 
 }  // namespace sinew::firmware

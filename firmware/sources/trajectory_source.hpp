@@ -1,7 +1,8 @@
 // The simulated twin of a live rig, inside the daemon: every input sweeps its
 // joint's range (5 degrees past each limit, so clamping is exercised) along
-// the built-in deterministic trajectory, and is "received" once per period,
-// timestamped on that period's grid. Integer math only: identical everywhere.
+// the shared deterministic sweep (hal/sim/sweep.hpp), and is "received" once
+// per period, timestamped on that period's grid. Integer math only: identical
+// everywhere.
 #pragma once
 
 #include <cstdint>

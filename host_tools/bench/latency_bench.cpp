@@ -20,8 +20,8 @@
 #include "firmware/runtime/runtime.hpp"
 #include "hal/can/can_input_source.hpp"
 #include "hal/can/joint_stream_decoder.hpp"
+#include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/common/monotonic_clock.hpp"
-#include "host_tools/rigsim/simulated_rig_bus.hpp"
 
 namespace {
 
@@ -55,13 +55,13 @@ void run(const char* builtin, size_t ticks) {
     std::exit(1);
   }
   constexpr uint64_t kPeriod = 1'000'000;  // 1 kHz ticks
-  std::vector<rigsim::InputRange> ranges(rig.rig.input_count);
+  std::vector<hal::sim::InputRange> ranges(rig.rig.input_count);
   for (const rig::JointRecord& j : rig.rig.joints)
     for (uint32_t d = 0; d < j.dof_count; ++d) ranges[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
-  rigsim::SimulatedRigOptions options;
+  hal::sim::SimulatedRigOptions options;
   options.period_ns = 2'000'000;  // each input at 500 Hz
   options.offset_ns = 300'000;    // 0.3 ms after a tick: a frame waits 0.7 ms for the next
-  auto bus = std::make_unique<rigsim::SimulatedRigBus>(rigsim::RigMotion(ranges), options, 0);
+  auto bus = std::make_unique<hal::sim::SimulatedRigBus>(hal::sim::RigMotion(ranges), options, 0);
   auto decoder = std::make_unique<hal::can::JointStreamDecoder>();
   if (!decoder->configure(bus->stream_config(), &error)) std::exit(1);
   auto source = hal::can::CanInputSource::create("can", std::move(bus), std::move(decoder), 128, 0, &error);

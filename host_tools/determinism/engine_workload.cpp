@@ -4,19 +4,14 @@
 #include <cstring>
 #include <vector>
 
+#include "hal/sim/sweep.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "output_hash.hpp"
 #include "sim_core/engine/engine.hpp"
-#include "sim_core/fixed/trig.hpp"
 
 namespace sinew::determinism {
 
-int32_t trajectory_input(uint32_t input, uint32_t step) {
-  // Amplitude 120 degrees, a different period per input (prime multiples).
-  const fx::Angle phase = static_cast<fx::Angle>(step * (2654435u + 977u * input) + input * 0x3C6EF372u);
-  const int64_t amplitude = int64_t{1} << 30;  // one third of a turn, ~120 degrees
-  return static_cast<int32_t>((amplitude * fx::sin_unit(phase)) >> fx::kUnitFracBits);
-}
+int32_t trajectory_input(uint32_t input, uint32_t step) { return hal::sim::sweep_input(input, step); }
 
 bool run_engine_workload(const std::string& rig_name, int steps, EngineRun* out, std::string* error) {
   rigc::RigSpec spec;

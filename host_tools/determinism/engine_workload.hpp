@@ -22,7 +22,8 @@ struct EngineRun {
 bool run_engine_workload(const std::string& rig, int steps, EngineRun* out, std::string* error);
 
 // Deterministic trajectory: input i at step s, a signed binary angle sweeping
-// smoothly through (and past) each DOF's range.
+// smoothly through (and past) each DOF's range. The shared sweep
+// (hal/sim/sweep.hpp) the daemon's trajectory source also plays.
 int32_t trajectory_input(uint32_t input, uint32_t step);
 
 inline constexpr int kEngineSteps = 200;

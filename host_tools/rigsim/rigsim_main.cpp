@@ -22,10 +22,10 @@
 
 #include "firmware/daemon/loaded_rig.hpp"
 #include "hal/can/candump_writer.hpp"
+#include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/common/monotonic_clock.hpp"
+#include "hal/modbus/sim/modbus_feeder.hpp"
 #include "host_tools/motion/csv_tracks.hpp"
-#include "modbus_feeder.hpp"
-#include "simulated_rig_bus.hpp"
 
 namespace {
 
@@ -53,7 +53,7 @@ int open_can(const std::string& interface, std::string* error) {
   return fd;
 }
 
-bool parse_fault(const std::string& text, const sinew::firmware::LoadedRig& rig, sinew::rigsim::Fault* f,
+bool parse_fault(const std::string& text, const sinew::firmware::LoadedRig& rig, sinew::hal::sim::Fault* f,
                  std::string* error) {
   // kind:from_s:to_s[:input[:delay_ms]]
   std::vector<std::string> parts;
@@ -61,9 +61,9 @@ bool parse_fault(const std::string& text, const sinew::firmware::LoadedRig& rig,
   for (size_t at; (at = text.find(':', start)) != std::string::npos; start = at + 1)
     parts.push_back(text.substr(start, at - start));
   parts.push_back(text.substr(start));
-  if (parts.size() < 3 || !sinew::rigsim::parse_fault_kind(parts[0], &f->kind))
+  if (parts.size() < 3 || !sinew::hal::sim::parse_fault_kind(parts[0], &f->kind))
     return *error = "--fault " + text + ": expected kind:from_s:to_s[:input[:delay_ms]]", false;
-  if (f->kind == sinew::rigsim::FaultKind::kEncoderGlitch)
+  if (f->kind == sinew::hal::sim::FaultKind::kEncoderGlitch)
     return *error = "--fault " + text +
                     ": encoder glitches need the simulated GPIO chip, which lives inside sinewd "
                     "(a gpio source with chip = \"simulated-rig\")",
@@ -105,14 +105,14 @@ int main(int argc, char** argv) {
   firmware::LoadedRig rig;
   std::string error;
   if (!firmware::load_rig(rig_name, "", &rig, &error)) return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
-  std::vector<rigsim::InputRange> ranges(rig.rig.input_count);
+  std::vector<hal::sim::InputRange> ranges(rig.rig.input_count);
   std::vector<bool> rotation(rig.rig.input_count, true);
   for (const rig::JointRecord& j : rig.rig.joints)
     for (uint32_t d = 0; d < j.dof_count; ++d) {
       ranges[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
       rotation[j.first_input + d] = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
     }
-  rigsim::RigMotion motion(ranges);
+  hal::sim::RigMotion motion(ranges);
   if (!csv_path.empty()) {
     motion::JointTracks tracks;
     if (!motion::load_csv_tracks(csv_path, &tracks, &error))
@@ -135,25 +135,25 @@ int main(int argc, char** argv) {
             static_cast<int64_t>(std::llround(std::remainder(deg, 360.0) / 360.0 * 4294967296.0)))));
       }
     }
-    motion = rigsim::RigMotion::keyframed(ranges, std::move(times), std::move(values), std::move(has));
+    motion = hal::sim::RigMotion::keyframed(ranges, std::move(times), std::move(values), std::move(has));
   }
-  rigsim::SimulatedRigOptions options;
+  hal::sim::SimulatedRigOptions options;
   options.period_ns = static_cast<uint64_t>(period_ms * 1000) * 1000;
   options.offset_ns = 0;
   for (const std::string& t : fault_texts) {
-    rigsim::Fault f;
+    hal::sim::Fault f;
     if (!parse_fault(t, rig, &f, &error)) return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
     options.faults.faults.push_back(f);
   }
-  if (!rigsim::SimulatedRigBus::validate(options, ranges.size(), &error))
+  if (!hal::sim::SimulatedRigBus::validate(options, ranges.size(), &error))
     return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
   const uint64_t start = hal::monotonic_ns();
-  rigsim::ModbusFeeder feeder;
+  hal::sim::ModbusFeeder feeder;
   if (modbus_port >= 0 &&
       !feeder.start(motion, rotation, options.faults, start, 1000000, static_cast<uint16_t>(modbus_port), &error))
     return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
-  const rigsim::FaultPlan faults = options.faults;
-  rigsim::SimulatedRigBus bus(motion, options, start);
+  const hal::sim::FaultPlan faults = options.faults;
+  hal::sim::SimulatedRigBus bus(motion, options, start);
   int can_fd = -1;
   if (!can_interface.empty() && (can_fd = open_can(can_interface, &error)) < 0)
     return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;

@@ -55,6 +55,7 @@ TEST(DaemonConfig, CorruptRigBlobIsRejectedWithTheLoaderMessage) {
   EXPECT_NE(error.find("corrupt.rig: rig blob: header"), std::string::npos) << error;
 }
 
+#if SINEW_SIMULATED_DEVICES
 // A gpio source on the simulated rig's chip: encoders only, encoder-glitch
 // faults only, and the wiring checked like a real chip's.
 TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
@@ -93,6 +94,22 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
       << error;
   EXPECT_NE(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << error;
 }
+#else
+// A production image carries no simulated devices: their source and chip are
+// refused by name, not silently replaced.
+TEST(DaemonConfig, SimulatedRigRefusedWithoutSimulatedDevices) {
+  sinew::firmware::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(sinew::firmware::load_rig("arm", "", &rig, &error)) << error;
+  for (const std::string source :
+       {"type = \"simulated-rig\"\nname = \"rig\"\n", "type = \"gpio\"\nname = \"rig\"\nchip = \"simulated-rig\"\n"}) {
+    DaemonConfig c;
+    ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\n" + source, "t.toml", &c, &error)) << error;
+    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << source;
+    EXPECT_NE(error.find("built without simulated devices"), std::string::npos) << error;
+  }
+}
+#endif
 
 // [layers] switches compiled layers on and sets run-time options; the old
 // build-at-start-up keys are refused with the way to the rig spec.

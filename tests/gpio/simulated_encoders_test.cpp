@@ -2,7 +2,7 @@
 // chip: the decoded angle equals the motion's count at every tick (exactly,
 // not within a tolerance), index homing waits for the zero mark, glitches are
 // counted without moving the count, and ticks allocate nothing.
-#include "host_tools/rigsim/simulated_encoders.hpp"
+#include "hal/gpio/sim/simulated_encoders.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/time_units.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 namespace {
 
 using hal::gpio::EncoderConfig;
@@ -193,4 +193,4 @@ TEST(SimulatedEncoders, TicksNeverTouchTheHeap) {
 }
 
 }  // namespace
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

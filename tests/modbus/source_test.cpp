@@ -10,14 +10,14 @@
 
 #include "hal/common/input_health.hpp"
 #include "hal/modbus/modbus_source.hpp"
-#include "host_tools/rigsim/modbus_server.hpp"
+#include "hal/modbus/sim/modbus_server.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/time_units.hpp"
 
 namespace mb = sinew::hal::modbus;
 namespace hal = sinew::hal;
 namespace hal = sinew::hal;
-using sinew::rigsim::now_ns;
+using sinew::hal::sim::now_ns;
 
 namespace {
 
@@ -112,7 +112,7 @@ class Tick {
 }  // namespace
 
 TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
-  sinew::rigsim::ModbusServer server;
+  sinew::hal::sim::ModbusServer server;
   server.set_holding(10, 900);                                     // u16 x 0.1 = 90 deg
   server.set_holding(11, static_cast<uint16_t>(-200));             // s16 x 0.5 + 10 = -90 deg
   server.set_holding32(12, static_cast<uint32_t>(-450000), true);  // s32 ABCD x 1e-4 = -45 deg
@@ -172,7 +172,7 @@ TEST(ModbusSource, Decodes16And32BitValuesInBothWordOrders) {
 }
 
 TEST(ModbusSource, RejectsOutOfRangeValuesAndReportsThem) {
-  sinew::rigsim::ModbusServer server;
+  sinew::hal::sim::ModbusServer server;
   server.set_holding(0, 1000);  // 100 deg: outside [-90, 90]
   ASSERT_TRUE(server.start());
   std::vector<mb::ChannelConfig> channels{joint_channel(0, 0)};
@@ -203,11 +203,11 @@ TEST(ModbusSource, RejectsOutOfRangeValuesAndReportsThem) {
 }
 
 TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
-  sinew::rigsim::ModbusServer server;
+  sinew::hal::sim::ModbusServer server;
   server.set_holding(10, 300);  // 30 deg
   ASSERT_TRUE(server.start());
   // Input 1 reads an address the server does not map: "illegal data address".
-  const uint16_t unmapped = sinew::rigsim::ModbusServer::kRegisters + 44;
+  const uint16_t unmapped = sinew::hal::sim::ModbusServer::kRegisters + 44;
   std::vector<mb::ChannelConfig> channels{joint_channel(0, 10), joint_channel(1, unmapped)};
   channels[0].scale = 0.1;
   auto source = create(tcp_config(server.port(), channels));
@@ -247,7 +247,7 @@ TEST(ModbusSource, CountsExceptionResponsesAndHoldsTheJoint) {
 }
 
 TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
-  sinew::rigsim::ModbusServer server;
+  sinew::hal::sim::ModbusServer server;
   server.set_holding(0, 100);
   ASSERT_TRUE(server.start());
   const uint16_t port = server.port();
@@ -281,7 +281,7 @@ TEST(ModbusSource, GoesDownBacksOffAndRecoversWhenTheServerReturns) {
 }
 
 TEST(ModbusSource, SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits) {
-  sinew::rigsim::ModbusServer server;
+  sinew::hal::sim::ModbusServer server;
   server.set_mute(true);
   ASSERT_TRUE(server.start());
   auto config = tcp_config(server.port(), {joint_channel(0, 0)});
@@ -327,13 +327,13 @@ TEST(ModbusSource, SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits) {
 }
 
 TEST(ModbusSource, LatchDoesNotAllocate) {
-  sinew::rigsim::ModbusServer server;
+  sinew::hal::sim::ModbusServer server;
   for (uint16_t a = 0; a < 8; ++a) server.set_holding(a, static_cast<uint16_t>(10 * a));
   server.set_holding(8, 5000);  // out of range below
   ASSERT_TRUE(server.start());
   std::vector<mb::ChannelConfig> channels;
   for (uint16_t i = 0; i < 9; ++i) channels.push_back(joint_channel(i, i));
-  channels.push_back(joint_channel(9, sinew::rigsim::ModbusServer::kRegisters + 1));  // exception every cycle
+  channels.push_back(joint_channel(9, sinew::hal::sim::ModbusServer::kRegisters + 1));  // exception every cycle
   auto source = create(tcp_config(server.port(), channels));
   ASSERT_NE(source, nullptr);
   Tick tick(*source, 10, 0);

@@ -1,9 +1,9 @@
-#include "fault_plan.hpp"
+#include "hal/sim/fault_plan.hpp"
 
 #include <array>
 #include <utility>
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 namespace {
 
@@ -40,4 +40,4 @@ bool parse_fault_kind(const std::string& name, FaultKind* kind) {
   return false;
 }
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

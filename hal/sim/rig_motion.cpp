@@ -1,10 +1,10 @@
-#include "rig_motion.hpp"
+#include "hal/sim/rig_motion.hpp"
 
 #include <algorithm>
 
 #include "sim_core/fixed/trig.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 RigMotion::RigMotion(std::vector<InputRange> ranges, uint32_t overshoot_per_1024)
     : ranges_(std::move(ranges)), overshoot_(overshoot_per_1024) {}
@@ -49,4 +49,4 @@ int32_t RigMotion::swing(size_t input, uint64_t t_ns) const {
   return static_cast<int32_t>(v < INT32_MIN ? INT32_MIN : (v > INT32_MAX ? INT32_MAX : v));
 }
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 struct InputRange {
   int32_t min = 0;  // engine units: binary angle (rotation) or Q12.20 (translation)
@@ -41,4 +41,4 @@ class RigMotion {
   std::vector<bool> has_track_;
 };
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -1,4 +1,4 @@
-#include "modbus_server.hpp"
+#include "hal/modbus/sim/modbus_server.hpp"
 
 #include <modbus.h>
 #include <netinet/in.h>
@@ -10,7 +10,7 @@
 #include <cerrno>
 #include <ctime>
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 namespace {
 
@@ -173,4 +173,4 @@ void ModbusServer::drop(size_t client) {
   clients_.erase(clients_.begin() + static_cast<std::ptrdiff_t>(client));
 }
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -1,9 +1,9 @@
-#include "simulated_rig_bus.hpp"
+#include "hal/can/sim/simulated_rig_bus.hpp"
 
 #include "hal/can/joint_record.hpp"
 #include "hal/can/joint_stream_encoder.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 using hal::can::CanFrame;
 
@@ -77,4 +77,4 @@ size_t SimulatedRigBus::drain(std::span<CanFrame> out, uint64_t now_ns) {
   return bus_.drain(out, now_ns);
 }
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 enum class FaultKind : uint8_t {
   kDrop,             // CAN frames not sent (inputs go stale after their timeout)
@@ -41,4 +41,4 @@ const char* fault_kind_name(FaultKind kind);
 // "drop", "delay", ... (the names used in configs); false if unknown.
 bool parse_fault_kind(const std::string& name, FaultKind* kind);
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

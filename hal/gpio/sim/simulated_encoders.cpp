@@ -1,10 +1,10 @@
-#include "simulated_encoders.hpp"
+#include "hal/gpio/sim/simulated_encoders.hpp"
 
 #include <algorithm>
 
 #include "hal/gpio/quadrature.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 namespace {
 
@@ -127,4 +127,4 @@ void SimulatedEncoders::update(uint64_t t_ns, uint64_t from_ns, uint64_t to_ns) 
   }
 }
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

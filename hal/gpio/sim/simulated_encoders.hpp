@@ -29,12 +29,12 @@
 #include <string>
 #include <vector>
 
-#include "fault_plan.hpp"
 #include "hal/gpio/gpio_source_config.hpp"
 #include "hal/gpio/simulated_gpio.hpp"
-#include "rig_motion.hpp"
+#include "hal/sim/fault_plan.hpp"
+#include "hal/sim/rig_motion.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 struct SimulatedEncoderOptions {
   uint64_t update_ns = 1'000'000;  // how often the motion is sampled, 4 us .. 1 s
@@ -82,4 +82,4 @@ class SimulatedEncoders {
   uint64_t index_pulses_ = 0;
 };
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -12,11 +12,11 @@
 #include <thread>
 #include <vector>
 
-#include "fault_plan.hpp"
-#include "modbus_server.hpp"
-#include "rig_motion.hpp"
+#include "hal/modbus/sim/modbus_server.hpp"
+#include "hal/sim/fault_plan.hpp"
+#include "hal/sim/rig_motion.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 class ModbusFeeder {
  public:
@@ -43,4 +43,4 @@ class ModbusFeeder {
   std::thread thread_;
 };
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -14,7 +14,7 @@
 struct _modbus;
 struct _modbus_mapping_t;
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 class ModbusServer {
  public:
@@ -76,4 +76,4 @@ class ModbusServer {
 
 uint64_t now_ns();  // CLOCK_MONOTONIC
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "fault_plan.hpp"
 #include "hal/can/joint_stream_config.hpp"
 #include "hal/can/simulated_can_bus.hpp"
-#include "rig_motion.hpp"
+#include "hal/sim/fault_plan.hpp"
+#include "hal/sim/rig_motion.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 struct SimulatedRigOptions {
   uint64_t period_ns = 10'000'000;  // send period per input; whole microseconds
@@ -58,4 +58,4 @@ class SimulatedRigBus final : public hal::can::FrameSource {
   uint64_t sent_ = 0;
 };
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim

@@ -1,10 +1,10 @@
-#include "modbus_feeder.hpp"
+#include "hal/modbus/sim/modbus_feeder.hpp"
 
 #include <ctime>
 
 #include "hal/common/monotonic_clock.hpp"
 
-namespace sinew::rigsim {
+namespace sinew::hal::sim {
 
 bool ModbusFeeder::start(RigMotion motion, std::vector<bool> rotation, FaultPlan faults, uint64_t start_ns,
                          uint64_t update_period_ns, uint16_t port, std::string* error) {
@@ -51,4 +51,4 @@ void ModbusFeeder::run() {
   }
 }
 
-}  // namespace sinew::rigsim
+}  // namespace sinew::hal::sim
