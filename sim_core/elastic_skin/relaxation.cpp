@@ -1,6 +1,6 @@
 #include "relaxation.hpp"
 
-#include "hinted_sqrt.hpp"
+#include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
 
@@ -39,7 +39,7 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
   for (const Edge& e : model.edges) {
     const fx::Vec3 w = fx::sub(at(s->position, e.b), at(s->position, e.a));
     const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
-    const int64_t len = isqrt_hinted(wx * wx + wy * wy + wz * wz, static_cast<uint64_t>(e.rest));  // < 3 * 2^62
+    const int64_t len = fx::isqrt_hinted(wx * wx + wy * wy + wz * wz, static_cast<uint64_t>(e.rest));  // < 3 * 2^62
     const int64_t excess = len - e.rest;
     const int64_t k = effective_stiffness(model.params, e.k, excess, e.rest);
     // Elastic force on a: excess along w / |w| (towards b when stretched).

@@ -24,6 +24,25 @@ Mat34 mat34_identity();
 Rot3 rot3_from_quat(const Quat& q);
 
 // T * R * S: translation (Len), rotation, per-axis scale (Q8.24).
+// Rotation matrix entries from exact Q60 products rounded once (components
+// within a few LSB of unit length: no saturation needed).
+inline Rot3 rot3_of_unit(const Quat& q) {
+  const int64_t w = q.w, x = q.x, y = q.y, z = q.z;
+  const int64_t one = int64_t{1} << 60;
+  const auto e = [](int64_t v) { return sat_i32(round_shift(v, kUnitFracBits)); };
+  Rot3 r;
+  r.m[0][0] = e(one - 2 * (y * y + z * z));
+  r.m[0][1] = e(2 * (x * y - w * z));
+  r.m[0][2] = e(2 * (x * z + w * y));
+  r.m[1][0] = e(2 * (x * y + w * z));
+  r.m[1][1] = e(one - 2 * (x * x + z * z));
+  r.m[1][2] = e(2 * (y * z - w * x));
+  r.m[2][0] = e(2 * (x * z - w * y));
+  r.m[2][1] = e(2 * (y * z + w * x));
+  r.m[2][2] = e(one - 2 * (x * x + y * y));
+  return r;
+}
+
 Mat34 mat34_from_trs(Vec3 translation, const Quat& rotation, Vec3 scale_lin);
 inline Mat34 mat34_from_quat(const Quat& q, Vec3 translation) {
   return mat34_from_trs(translation, q, {kLinOne, kLinOne, kLinOne});

@@ -41,7 +41,7 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
     // vertices attached to different bones get different transformations.
     const fx::Mat34& joint = joint_model[jb.joint];
     const fx::Quat q = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], m.jv_blend[i]);
-    const fx::Rot3 r = rot3_of_unit(q);
+    const fx::Rot3 r = fx::rot3_of_unit(q);
     int64_t rd[3], rl[3];
     rotate_q50(r, m.jv_disp[i], rd);
     rotate_q50(r, m.jv_laplacian[i], rl);

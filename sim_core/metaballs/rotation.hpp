@@ -38,25 +38,6 @@ inline fx::Quat nlerp_fast(const fx::Quat& a, const fx::Quat& b, fx::Unit t) {
   return {n(q[0]), n(q[1]), n(q[2]), n(q[3])};
 }
 
-// Rotation matrix entries from exact Q60 products rounded once (components
-// within a few LSB of unit length: no saturation needed).
-inline fx::Rot3 rot3_of_unit(const fx::Quat& q) {
-  const int64_t w = q.w, x = q.x, y = q.y, z = q.z;
-  const int64_t one = int64_t{1} << 60;
-  const auto e = [](int64_t v) { return fx::sat_i32(fx::round_shift(v, fx::kUnitFracBits)); };
-  fx::Rot3 r;
-  r.m[0][0] = e(one - 2 * (y * y + z * z));
-  r.m[0][1] = e(2 * (x * y - w * z));
-  r.m[0][2] = e(2 * (x * z + w * y));
-  r.m[1][0] = e(2 * (x * y + w * z));
-  r.m[1][1] = e(one - 2 * (x * x + z * z));
-  r.m[1][2] = e(2 * (y * z - w * x));
-  r.m[2][0] = e(2 * (x * z - w * y));
-  r.m[2][1] = e(2 * (y * z + w * x));
-  r.m[2][2] = e(one - 2 * (x * x + y * y));
-  return r;
-}
-
 // R d for a Len vector d (|d| < 2^30), exact in Q50.
 inline void rotate_q50(const fx::Rot3& r, fx::Vec3 d, int64_t out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = int64_t{r.m[i][0]} * d.x + int64_t{r.m[i][1]} * d.y + int64_t{r.m[i][2]} * d.z;

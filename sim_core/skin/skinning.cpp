@@ -7,27 +7,6 @@ namespace {
 
 constexpr int64_t kLinearLimit = int64_t{1} << 30;  // +-64 in Q8.24
 
-// Rotation matrix of a quaternion normalised by normalize_fast (|c| <= 2^30
-// + a few LSB): products < 2^61 and the sums below stay far inside int64, so
-// the saturating forms of fx::rot3_from_quat are not needed on this path.
-// Same formula, same single rounding: identical results for unit inputs.
-inline fx::Rot3 rot3_of_unit(const fx::Quat& q) {
-  const int64_t w = q.w, x = q.x, y = q.y, z = q.z;
-  const int64_t one = int64_t{1} << 60;
-  const auto e = [](int64_t v) { return fx::sat_i32(fx::round_shift(v, fx::kUnitFracBits)); };
-  fx::Rot3 r;
-  r.m[0][0] = e(one - 2 * (y * y + z * z));
-  r.m[0][1] = e(2 * (x * y - w * z));
-  r.m[0][2] = e(2 * (x * z + w * y));
-  r.m[1][0] = e(2 * (x * y + w * z));
-  r.m[1][1] = e(one - 2 * (x * x + z * z));
-  r.m[1][2] = e(2 * (y * z - w * x));
-  r.m[2][0] = e(2 * (x * z - w * y));
-  r.m[2][1] = e(2 * (y * z + w * x));
-  r.m[2][2] = e(one - 2 * (x * x + y * y));
-  return r;
-}
-
 // R v for |R| <= 1 (+ rounding) and any int32 v: three products < 2^62 each.
 inline void rotate_into(const fx::Rot3& r, const int64_t v[3], int64_t out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = r.m[i][0] * v[0] + r.m[i][1] * v[1] + r.m[i][2] * v[2];
@@ -71,8 +50,8 @@ inline void skin_linear(const rig::Rig& rig, std::span<const fx::Mat34> palette,
     const int64_t n[3] = {rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]};
     int32_t r[3];
     for (int i = 0; i < 3; ++i)
-      r[i] = fx::sat_i32(fx::round_shift(lin[3 * i] * n[0] + lin[3 * i + 1] * n[1] + lin[3 * i + 2] * n[2],
-                                         fx::kLinFracBits));
+      r[i] = fx::sat_i32(
+          fx::round_shift(lin[3 * i] * n[0] + lin[3 * i + 1] * n[1] + lin[3 * i + 2] * n[2], fx::kLinFracBits));
     fx::Vec3 unit;
     fx::normalize_fast({r[0], r[1], r[2]}, &unit);
     out.normal[0][index] = unit.x;
@@ -107,7 +86,7 @@ inline void skin_dual(const rig::Rig& rig, std::span<const fx::DualQuat> dual, u
   fx::normalize_fast(&b);
   // One rotation matrix for point and normal; the translation in closed form,
   // t = 2 (w d_v - d_w r_v + r_v x d_v), from exact Q50 products rounded once.
-  const fx::Rot3 rot = rot3_of_unit(b.real);
+  const fx::Rot3 rot = fx::rot3_of_unit(b.real);  // normalize_fast leaves it within a few LSB of unit
   const int64_t rw = b.real.w, rx = b.real.x, ry = b.real.y, rz = b.real.z;
   const int64_t dw = b.dual.w, dx = b.dual.x, dy = b.dual.y, dz = b.dual.z;
   const int64_t t[3] = {rw * dx - dw * rx + (ry * dz - rz * dy), rw * dy - dw * ry + (rz * dx - rx * dz),
