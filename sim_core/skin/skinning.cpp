@@ -164,8 +164,10 @@ bool lbs_kernel_supported(LbsKernel kernel) {
   return false;
 }
 
-// The scalar specification until the AVX2 kernel matches it word for word.
-LbsKernel lbs_kernel_default() { return LbsKernel::kScalar; }
+// The fastest kernel this CPU runs: every kernel writes the same words.
+LbsKernel lbs_kernel_default() {
+  return lbs_kernel_supported(LbsKernel::kAvx2) ? LbsKernel::kAvx2 : LbsKernel::kScalar;
+}
 
 const char* lbs_kernel_name(LbsKernel kernel) {
   switch (kernel) {

@@ -228,4 +228,9 @@ TEST_F(SkinKernel, LargePaletteTakesTheScalarPathIdentically) {
   kernel_expect_identical(c, 4096, 0, c.vertices);
 }
 
+TEST_F(SkinKernel, DefaultIsAvx2WhereSupported) {
+  EXPECT_EQ(sinew::skin::lbs_kernel_default(), LbsKernel::kAvx2);
+  EXPECT_STREQ(sinew::skin::lbs_kernel_name(sinew::skin::lbs_kernel_default()), "avx2");
+}
+
 }  // namespace
