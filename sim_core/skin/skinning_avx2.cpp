@@ -17,7 +17,10 @@
 //     saturations are range-checked in the vector path; a vertex whose linear
 //     part might clamp is redone by the scalar specification (which counts
 //     it), and positions or normals out of int32 range are saturated exactly
-//     as sat_i32 does.
+//     as sat_i32 does;
+//   - normals are renormalised after each block of 64 vertices, four at a
+//     time (lanes = vertices) by the same integer steps as fx::normalize_fast,
+//     the last fewer than four by normalize_fast itself.
 // DQS vertices, palettes larger than the widened buffer and K outside 1..8
 // take the scalar specification.
 #include <immintrin.h>
@@ -81,6 +84,98 @@ inline __m256i apply_linear(const __m256i col[3], int32_t v0, int32_t v1, int32_
   return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi64x(v2)));
 }
 
+// Unnormalised normals of the fast-path vertices of one block, SoA, renormalised
+// after the block so that the renormalisations of many vertices overlap.
+constexpr uint32_t kBlock = 64;
+struct PendingNormals {
+  int32_t c[3][kBlock];
+  uint32_t index[kBlock];
+  uint32_t count = 0;
+};
+
+// count_leading_zeros(x) & ~1 and x shifted left by it, per lane, for x != 0:
+// binary search over even shifts with unsigned tests (x < 2^k iff x >> k == 0).
+inline __m256i even_normalise_shift(__m256i* x) {
+  __m256i shift = _mm256_setzero_si256();
+  const auto step = [&](int below, int64_t by) {
+    const __m256i small = _mm256_cmpeq_epi64(_mm256_srli_epi64(*x, below), _mm256_setzero_si256());
+    const __m256i s = _mm256_and_si256(small, _mm256_set1_epi64x(by));
+    *x = _mm256_sllv_epi64(*x, s);
+    shift = _mm256_add_epi64(shift, s);
+  };
+  step(32, 32);
+  step(48, 16);
+  step(56, 8);
+  step(60, 4);
+  step(62, 2);
+  return shift;
+}
+
+// fx::normalize_fast on 4 vectors at once (same words): rsqrt_fast's seed and
+// Newton steps on non-negative values below 2^32 (unsigned 32x32 products),
+// then round_shift by 31 - half_shift per lane and sat_i32.
+inline void normalize_fast_x4(__m256i x, __m256i y, __m256i z, __m256i out[3]) {
+  const __m256i zero = _mm256_setzero_si256();
+  // Sum of squares: each < 2^62 + 1, the sum < 2^64 (unsigned, wrapping adds exact).
+  __m256i n2 = _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(x, x), _mm256_mul_epi32(y, y)),
+                                _mm256_mul_epi32(z, z));
+  const __m256i is_zero = _mm256_cmpeq_epi64(n2, zero);
+  n2 = _mm256_blendv_epi8(n2, _mm256_set1_epi64x(1), is_zero);  // any valid lane; zeroed below
+  const __m256i s = even_normalise_shift(&n2);                  // n2 is now m in [2^62, 2^64)
+  const __m256i index = _mm256_sub_epi64(_mm256_srli_epi64(n2, 56), _mm256_set1_epi64x(64));
+  static_assert(sizeof(fx::detail::kRsqrtSeed[0]) == sizeof(int));
+  __m256i r = _mm256_cvtepu32_epi64(
+      _mm256_i64gather_epi32(reinterpret_cast<const int*>(fx::detail::kRsqrtSeed.data()), index, 4));
+  const __m256i v = _mm256_srli_epi64(n2, 32);  // Q30, [2^30, 2^32)
+  const __m256i three = _mm256_set1_epi64x(int64_t{3} << 30);
+  for (int i = 0; i < 2; ++i) {
+    // r < 2^31, r2 <= ~2^30, v r2 / 2^30 within 1% of 2^30: every operand is
+    // non-negative and below 2^32, every product below 2^63.
+    const __m256i r2 = _mm256_srli_epi64(_mm256_mul_epu32(r, r), 30);
+    const __m256i vr2 = _mm256_srli_epi64(_mm256_mul_epu32(v, r2), 30);
+    r = _mm256_srli_epi64(_mm256_mul_epu32(r, _mm256_sub_epi64(three, vr2)), 31);
+  }
+  // shift = 31 - s / 2 in [0, 31]; round_shift for shift > 0, none for 0.
+  const __m256i shift = _mm256_sub_epi64(_mm256_set1_epi64x(31), _mm256_srli_epi64(s, 1));
+  const __m256i bias = _mm256_add_epi64(_mm256_srli_epi64(_mm256_sllv_epi64(_mm256_set1_epi64x(1), shift), 1),
+                                        _mm256_set1_epi64x(INT64_MIN));
+  const __m256i offset = _mm256_srlv_epi64(_mm256_set1_epi64x(INT64_MIN), shift);  // 2^(63 - shift)
+  const __m256i c[3] = {x, y, z};
+  for (int i = 0; i < 3; ++i) {
+    const __m256i p = _mm256_mul_epi32(c[i], r);
+    const __m256i q = _mm256_sub_epi64(_mm256_srlv_epi64(_mm256_add_epi64(p, bias), shift), offset);
+    out[i] = _mm256_andnot_si256(is_zero, sat_i32_epi64(q));
+  }
+}
+
+inline __m256i load4_epi64(const int32_t* p) {
+  __m128i x;
+  std::memcpy(&x, p, sizeof(x));
+  return _mm256_cvtepi32_epi64(x);
+}
+
+void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {
+  uint32_t j = 0;
+  for (; j + 4 <= pending->count; j += 4) {
+    __m256i unit[3];
+    normalize_fast_x4(load4_epi64(pending->c[0] + j), load4_epi64(pending->c[1] + j), load4_epi64(pending->c[2] + j),
+                      unit);
+    for (int c = 0; c < 3; ++c) {
+      int64_t w[4];
+      lanes(unit[c], w);
+      for (uint32_t l = 0; l < 4; ++l) out.normal[c][pending->index[j + l]] = static_cast<int32_t>(w[l]);
+    }
+  }
+  for (; j < pending->count; ++j) {  // tail: fewer than 4 left, the scalar function
+    fx::Vec3 unit;
+    fx::normalize_fast({pending->c[0][j], pending->c[1][j], pending->c[2][j]}, &unit);
+    out.normal[0][pending->index[j]] = unit.x;
+    out.normal[1][pending->index[j]] = unit.y;
+    out.normal[2][pending->index[j]] = unit.z;
+  }
+  pending->count = 0;
+}
+
 struct Job {
   const rig::Rig* rig;
   std::span<const fx::Mat34> palette;
@@ -94,7 +189,7 @@ struct Job {
 // One LBS vertex; false if its blended linear part might clamp (then nothing
 // was written and the caller runs the scalar specification).
 template <uint32_t K>
-inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index) {
+inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index, PendingNormals* pending) {
   const rig::Rig& rig = *job.rig;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * K;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * K;
@@ -127,11 +222,9 @@ inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index) {
   if (job.normals) {
     const __m256i n = apply_linear(col, rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]);
     lanes(sat_i32_epi64(round_shift_epi64<fx::kLinFracBits>(n)), r);
-    fx::Vec3 unit;
-    fx::normalize_fast({static_cast<int32_t>(r[0]), static_cast<int32_t>(r[1]), static_cast<int32_t>(r[2])}, &unit);
-    out.normal[0][index] = unit.x;
-    out.normal[1][index] = unit.y;
-    out.normal[2][index] = unit.z;
+    const uint32_t slot = pending->count++;
+    for (int c = 0; c < 3; ++c) pending->c[c][slot] = static_cast<int32_t>(r[c]);
+    pending->index[slot] = index;
   }
   return true;
 }
@@ -140,13 +233,18 @@ template <uint32_t K>
 uint32_t run(const Job& job, uint32_t first, uint32_t count) {
   const rig::Rig& rig = *job.rig;
   uint32_t saturated = 0;
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t v = first + i;
-    if (job.dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-      skin_dual_vertex(rig, job.dual, v, *job.out, i);
-    } else if (!linear_vertex<K>(job, v, i)) {
-      skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+  PendingNormals pending;
+  for (uint32_t block = 0; block < count; block += kBlock) {
+    const uint32_t end = count - block < kBlock ? count : block + kBlock;
+    for (uint32_t i = block; i < end; ++i) {
+      const uint32_t v = first + i;
+      if (job.dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
+        skin_dual_vertex(rig, job.dual, v, *job.out, i);
+      } else if (!linear_vertex<K>(job, v, i, &pending)) {
+        skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+      }
     }
+    finish_normals(*job.out, &pending);
   }
   return saturated;
 }

@@ -6,6 +6,7 @@
 // seeds). Skipped where the CPU has no AVX2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -226,6 +227,39 @@ TEST_F(SkinKernel, LargePaletteTakesTheScalarPathIdentically) {
   c.palette = 4096;
   c.k = 8;
   kernel_expect_identical(c, 4096, 0, c.vertices);
+}
+
+// Identity palette and one-hot weights pass rest normals through unchanged, so
+// the renormalisation sees vectors of every magnitude from 1 LSB to int32 limits.
+TEST_F(SkinKernel, NormalsOfEveryMagnitude) {
+  for (uint32_t k : {1u, 3u, 8u}) {
+    KernelCase c;
+    c.k = k;
+    c.vertices = 4000 + k;
+    c.palette = 5;
+    c.weight_mode = 1;
+    KernelRig r;
+    kernel_make_rig(c, 7 + k, &r);
+    for (fx::Mat34& m : r.palette) m = fx::Mat34{{{1 << 24, 0, 0}, {0, 1 << 24, 0}, {0, 0, 1 << 24}}, {0, 0, 0}};
+    std::mt19937_64 rng(k);
+    for (uint32_t v = 0; v < c.vertices; ++v) {
+      const int e = static_cast<int>(v % 32);
+      for (int i = 0; i < 3; ++i) {
+        const int64_t span = int64_t{1} << e;
+        int64_t x = static_cast<int64_t>(rng() % static_cast<uint64_t>(2 * span + 1)) - span;
+        if (rng() % 7 == 0) x = kernel_pick(rng, {0, 1, -1, INT32_MAX, INT32_MIN});
+        r.normal[i][v] = static_cast<int32_t>(std::clamp<int64_t>(x, INT32_MIN, INT32_MAX));
+      }
+    }
+    const KernelOutput want = kernel_run(LbsKernel::kScalar, r, false, true, 0, c.vertices);
+    const KernelOutput got = kernel_run(LbsKernel::kAvx2, r, false, true, 0, c.vertices);
+    EXPECT_EQ(got.saturated, want.saturated);
+    for (int i = 0; i < 3; ++i)
+      for (uint32_t v = 0; v < c.vertices; ++v) {
+        ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "K=" << k << " normal " << i << " of vertex " << v;
+        ASSERT_EQ(got.position[i][v], want.position[i][v]) << "K=" << k << " position " << i << " of vertex " << v;
+      }
+  }
 }
 
 TEST_F(SkinKernel, DefaultIsAvx2WhereSupported) {
