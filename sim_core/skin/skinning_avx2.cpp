@@ -33,20 +33,19 @@
 namespace sinew::skin::detail {
 namespace {
 
-// Palettes up to this size are widened on the stack (64 bytes per entry).
+// Palettes up to this size are widened on the stack (128 bytes per entry).
 constexpr size_t kMaxWidePalette = 256;
 
-// Columns of one palette entry: lo holds the linear columns 0 and 1, hi the
-// linear column 2 and the translation, interleaved by 32-bit halves; lane r
-// of each column is row r, lane 3 is zero.
+// Columns of one palette entry, sign-extended to 64-bit lanes: the three
+// linear columns and the translation; lane r is row r, lane 3 is zero.
 struct WideEntry {
-  __m256i lo;
-  __m256i hi;
+  __m256i col[4];
 };
 
 inline WideEntry widen(const fx::Mat34& m) {
-  return {_mm256_setr_epi32(m.m[0][0], m.m[0][1], m.m[1][0], m.m[1][1], m.m[2][0], m.m[2][1], 0, 0),
-          _mm256_setr_epi32(m.m[0][2], m.t[0], m.m[1][2], m.t[1], m.m[2][2], m.t[2], 0, 0)};
+  return {{_mm256_setr_epi64x(m.m[0][0], m.m[1][0], m.m[2][0], 0),
+           _mm256_setr_epi64x(m.m[0][1], m.m[1][1], m.m[2][1], 0),
+           _mm256_setr_epi64x(m.m[0][2], m.m[1][2], m.m[2][2], 0), _mm256_setr_epi64x(m.t[0], m.t[1], m.t[2], 0)}};
 }
 
 // round_shift(x, s) of scalar.hpp on every int64 lane: ((x + 2^(s-1) + 2^63)
@@ -78,10 +77,11 @@ inline void lanes(__m256i x, int64_t out[4]) { std::memcpy(out, &x, sizeof(x)); 
 
 // Row-wise M v for a broadcast vector v and the blended columns (Q8.24), in
 // the vector's format times 2^24 (not yet rounded).
+// The broadcasts are 32-bit: vpmuldq reads only the low half of each lane.
 inline __m256i apply_linear(const __m256i col[3], int32_t v0, int32_t v1, int32_t v2) {
-  __m256i acc = _mm256_mul_epi32(col[0], _mm256_set1_epi64x(v0));
-  acc = _mm256_add_epi64(acc, _mm256_mul_epi32(col[1], _mm256_set1_epi64x(v1)));
-  return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi64x(v2)));
+  __m256i acc = _mm256_mul_epi32(col[0], _mm256_set1_epi32(v0));
+  acc = _mm256_add_epi64(acc, _mm256_mul_epi32(col[1], _mm256_set1_epi32(v1)));
+  return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi32(v2)));
 }
 
 // Unnormalised normals of the fast-path vertices of one block, SoA, renormalised
@@ -197,20 +197,24 @@ inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index, PendingNor
                     _mm256_setzero_si256()};
   for (uint32_t k = 0; k < K; ++k) {
     const WideEntry& e = job.wide[joints[k]];
-    const __m256i w = _mm256_set1_epi64x(weights[k]);
-    acc[0] = _mm256_add_epi64(acc[0], _mm256_mul_epi32(e.lo, w));
-    acc[1] = _mm256_add_epi64(acc[1], _mm256_mul_epi32(_mm256_srli_epi64(e.lo, 32), w));
-    acc[2] = _mm256_add_epi64(acc[2], _mm256_mul_epi32(e.hi, w));
-    acc[3] = _mm256_add_epi64(acc[3], _mm256_mul_epi32(_mm256_srli_epi64(e.hi, 32), w));
+    const __m256i w = _mm256_set1_epi32(weights[k]);  // vpmuldq reads the low half of each lane
+    for (int c = 0; c < 4; ++c) acc[c] = _mm256_add_epi64(acc[c], _mm256_mul_epi32(e.col[c], w));
   }
   // Q2.30 x Q8.24 -> Q8.24. The scalar path clamps to [-2^30, 2^30]; here
   // [-2^30, 2^30) is proven clamp-free, anything else (including exactly +64)
-  // goes back to the specification.
+  // goes back to the specification. col holds round_shift(acc, 30) + 2^33
+  // (the offset of round_shift_epi64 not yet subtracted): its low 32 bits are
+  // the entry itself, all vpmuldq reads.
+  const __m256i bias = _mm256_set1_epi64x(INT64_MIN + (int64_t{1} << (fx::kUnitFracBits - 1)));
+  const __m256i low = _mm256_set1_epi64x((int64_t{1} << 33) - (int64_t{1} << 30));
   __m256i col[3];
+  __m256i outside = _mm256_setzero_si256();
   for (int c = 0; c < 3; ++c) {
-    col[c] = round_shift_epi64<fx::kUnitFracBits>(acc[c]);
-    if (!all_in_window<31>(col[c], -(int64_t{1} << 30))) return false;
+    col[c] = _mm256_srli_epi64(_mm256_add_epi64(acc[c], bias), fx::kUnitFracBits);
+    outside = _mm256_or_si256(outside, _mm256_sub_epi64(col[c], low));
   }
+  outside = _mm256_srli_epi64(outside, 31);
+  if (!_mm256_testz_si256(outside, outside)) return false;
   // Translation in Q12.20 (any int64 value; the scalar product t * 2^24 is
   // defined for the same inputs as this shift).
   const __m256i t = _mm256_slli_epi64(round_shift_epi64<fx::kUnitFracBits>(acc[3]), 24);
