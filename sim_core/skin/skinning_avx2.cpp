@@ -4,9 +4,9 @@
 // the CPU reports AVX2 (skinning.cpp).
 //
 // One vertex per step, one 64-bit lane per row of the blended transform:
-//   - per call, the palette is rearranged ("widened") into columns, two
-//     columns interleaved per 256-bit word, so vpmuldq reads one column from
-//     the even 32-bit halves and the next one after a 32-bit shift;
+//   - per call, the palette is rearranged ("widened") into sign-extended
+//     64-bit columns on the stack (32 KiB for up to 256 entries), so the blend
+//     is one vpmuldq and one vpaddq per column and influence;
 //   - the blend is exact 32x32->64 products summed in 64-bit lanes, exactly
 //     the scalar int64 sums;
 //   - round half up is (x + 2^(s-1)) >> s; AVX2 has no 64-bit arithmetic
@@ -238,8 +238,8 @@ uint32_t run(const Job& job, uint32_t first, uint32_t count) {
   const rig::Rig& rig = *job.rig;
   uint32_t saturated = 0;
   PendingNormals pending;
-  for (uint32_t block = 0; block < count; block += kBlock) {
-    const uint32_t end = count - block < kBlock ? count : block + kBlock;
+  for (uint32_t block = 0; block < count;) {
+    const uint32_t end = block + (count - block < kBlock ? count - block : kBlock);  // <= count: no wrap
     for (uint32_t i = block; i < end; ++i) {
       const uint32_t v = first + i;
       if (job.dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
@@ -249,6 +249,7 @@ uint32_t run(const Job& job, uint32_t first, uint32_t count) {
       }
     }
     finish_normals(*job.out, &pending);
+    block = end;
   }
   return saturated;
 }
