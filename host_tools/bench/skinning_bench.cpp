@@ -1,6 +1,7 @@
 // Skinning throughput: sinew's fixed-point LBS and DQS beside a float Eigen
 // LBS baseline on the same mesh, 4 influences per vertex, positions and
-// normals, in the same run; prints vertices/s and the ratios.
+// normals, in the same run; prints vertices/s and the ratios, then fixed LBS
+// with each kernel (scalar specification, AVX2) side by side.
 //   sinew-bench-skinning [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
 
@@ -15,6 +16,7 @@
 
 #include "host_tools/rigc/rig_spec.hpp"
 #include "sim_core/engine/engine.hpp"
+#include "sim_core/skin/skinning.hpp"
 
 namespace {
 
@@ -105,6 +107,23 @@ void BM_FixedSkinning(benchmark::State& state, bool dual) {
   state.SetItemsProcessed(state.iterations() * n);
 }
 
+// Fixed LBS with an explicit kernel (the rows above use the default one).
+void BM_FixedLbsKernel(benchmark::State& state, sinew::skin::LbsKernel kernel) {
+  const int n = static_cast<int>(state.range(0));
+  if (!sinew::skin::lbs_kernel_supported(kernel)) {
+    state.SkipWithError("kernel not supported on this CPU");
+    return;
+  }
+  Fixture& f = fixture(n, false);
+  for (auto _ : state) {
+    const uint32_t sat = sinew::skin::skin_vertices(kernel, f.rig, f.engine.palette, f.engine.dual, 0,
+                                                    f.rig.vertex_count(), f.engine.vertices);
+    benchmark::DoNotOptimize(sat);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
 // Float baseline: the same blend-then-transform LBS in single precision with
 // Eigen, SoA inputs, positions and renormalised normals.
 struct FloatMesh {
@@ -184,6 +203,23 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (fl <= 0) continue;
       std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx\n", n, fl, lbs, dqs, lbs / fl, dqs / fl);
     }
+    const sinew::skin::LbsKernel in_use = sinew::skin::lbs_kernel_default();
+    std::printf("\nfixed LBS kernel in use: %s; per kernel (same outputs, word for word):\n",
+                sinew::skin::lbs_kernel_name(in_use));
+    std::printf("%10s %16s %16s %16s %10s %10s %10s\n", "vertices", "float LBS v/s", "scalar LBS v/s", "avx2 LBS v/s",
+                "scalar/fl", "avx2/fl", "avx2/scal");
+    for (int n : {1000, 10000, 100000}) {
+      const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
+      const double scalar = rate("BM_FixedLbsKernel/scalar/" + std::to_string(n));
+      const double avx2 = rate("BM_FixedLbsKernel/avx2/" + std::to_string(n));
+      if (fl <= 0 || scalar <= 0) continue;
+      if (avx2 <= 0) {
+        std::printf("%10d %16.3g %16.3g %16s %9.2fx %10s %10s\n", n, fl, scalar, "n/a", scalar / fl, "n/a", "n/a");
+        continue;
+      }
+      std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, avx2, scalar / fl, avx2 / fl,
+                  avx2 / scalar);
+    }
   }
 
  private:
@@ -199,6 +235,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
 BENCHMARK(BM_FloatEigenLbs)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedSkinning, lbs, false)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedSkinning, dqs, true)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedLbsKernel, scalar, sinew::skin::LbsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx2, sinew::skin::LbsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);

@@ -1,5 +1,7 @@
 #include "skinning.hpp"
 
+#include "skinning_detail.hpp"
+
 #include "sim_core/fixed/rsqrt_fast.hpp"
 
 namespace sinew::skin {
@@ -17,8 +19,10 @@ struct Blend {
   int64_t t[3];
 };
 
-inline void skin_linear(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v, const SkinnedVertices& out,
-                        uint32_t index, uint32_t* saturated) {
+}  // namespace
+
+void detail::skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v,
+                                const SkinnedVertices& out, uint32_t index, uint32_t* saturated) {
   const uint32_t k_count = rig.influences_per_vertex;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * k_count;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * k_count;
@@ -60,8 +64,8 @@ inline void skin_linear(const rig::Rig& rig, std::span<const fx::Mat34> palette,
   }
 }
 
-inline void skin_dual(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v, const SkinnedVertices& out,
-                      uint32_t index) {
+void detail::skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v,
+                              const SkinnedVertices& out, uint32_t index) {
   const uint32_t k_count = rig.influences_per_vertex;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * k_count;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * k_count;
@@ -105,9 +109,9 @@ inline void skin_dual(const rig::Rig& rig, std::span<const fx::DualQuat> dual, u
   }
 }
 
-}  // namespace
+namespace {
 
-uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
+uint32_t skin_vertices_scalar(const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out) {
   uint32_t saturated = 0;
@@ -115,12 +119,61 @@ uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
   for (uint32_t i = 0; i < count; ++i) {
     const uint32_t v = first + i;
     if (dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-      skin_dual(rig, dual_palette, v, out, i);
+      detail::skin_dual_vertex(rig, dual_palette, v, out, i);
     } else {
-      skin_linear(rig, palette, v, out, i, &saturated);
+      detail::skin_linear_vertex(rig, palette, v, out, i, &saturated);
     }
   }
   return saturated;
+}
+
+}  // namespace
+
+bool lbs_kernel_supported(LbsKernel kernel) {
+  switch (kernel) {
+    case LbsKernel::kScalar:
+      return true;
+    case LbsKernel::kAvx2:
+#if defined(__x86_64__)
+      return __builtin_cpu_supports("avx2") != 0;  // reads CPUID data, no OS call
+#else
+      return false;
+#endif
+  }
+  return false;
+}
+
+// The fastest kernel this CPU runs: every kernel writes the same words.
+LbsKernel lbs_kernel_default() {
+  return lbs_kernel_supported(LbsKernel::kAvx2) ? LbsKernel::kAvx2 : LbsKernel::kScalar;
+}
+
+const char* lbs_kernel_name(LbsKernel kernel) {
+  switch (kernel) {
+    case LbsKernel::kScalar:
+      return "scalar";
+    case LbsKernel::kAvx2:
+      return "avx2";
+  }
+  return "unknown";
+}
+
+uint32_t skin_vertices(LbsKernel kernel, const rig::Rig& rig, std::span<const fx::Mat34> palette,
+                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                       const SkinnedVertices& out) {
+#if defined(__x86_64__)
+  if (kernel == LbsKernel::kAvx2 && lbs_kernel_supported(LbsKernel::kAvx2))
+    return detail::skin_vertices_avx2(rig, palette, dual_palette, first, count, out);
+#else
+  (void)kernel;
+#endif
+  return skin_vertices_scalar(rig, palette, dual_palette, first, count, out);
+}
+
+uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
+                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                       const SkinnedVertices& out) {
+  return skin_vertices(lbs_kernel_default(), rig, palette, dual_palette, first, count, out);
 }
 
 }  // namespace sinew::skin

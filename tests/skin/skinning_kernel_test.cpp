@@ -1,0 +1,270 @@
+// The AVX2 LBS kernel writes exactly the scalar specification's words and
+// returns the same saturation count, on adversarial rigs: palette entries at
+// and beyond the limits, saturating positions, zero and huge normals, zero,
+// negative and oversized weights, every K from 1 to 8, counts and offsets that
+// are not multiples of anything, mixed DQS vertices and random rigs (fixed
+// seeds). Skipped where the CPU has no AVX2.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "sim_core/skin/skinning.hpp"
+
+namespace {
+
+using sinew::skin::LbsKernel;
+namespace fx = sinew::fx;
+namespace rig = sinew::rig;
+
+// How a generated rig stresses the kernel.
+struct KernelCase {
+  uint32_t k = 4;
+  uint32_t vertices = 1000;
+  uint32_t palette = 32;
+  int linear_mode = 0;    // 0 random within +-64, 1 at the limits, 2 beyond +-64 (clamps), 3 rotations
+  int weight_mode = 0;    // 0 convex, 1 zeros and one-hots, 2 signed (sum |w| <= 2^31), 3 huge single weight
+  int position_mode = 0;  // 0 rig-sized, 1 full int32 and extremes
+  int normal_mode = 0;    // 0 random, 1 zero and huge, 2 no normals
+  bool dual = false;      // some vertices DQS
+};
+
+struct KernelRig {
+  std::vector<int32_t> position[3], normal[3], weight;
+  std::vector<uint16_t> joint;
+  std::vector<uint8_t> method;
+  std::vector<fx::Mat34> palette;
+  std::vector<fx::DualQuat> dual;
+  rig::Rig rig;
+};
+
+int32_t kernel_pick(std::mt19937_64& rng, std::initializer_list<int32_t> values) {
+  return values.begin()[rng() % values.size()];
+}
+
+int32_t kernel_uniform(std::mt19937_64& rng, int64_t lo, int64_t hi) {
+  return static_cast<int32_t>(std::uniform_int_distribution<int64_t>(lo, hi)(rng));
+}
+
+void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
+  std::mt19937_64 rng(seed);
+  constexpr int64_t kL = int64_t{1} << 30;  // 64 in Q8.24, 1 in Q2.30
+  for (uint32_t j = 0; j < c.palette; ++j) {
+    fx::Mat34 m{};
+    for (int i = 0; i < 3; ++i) {
+      for (int e = 0; e < 3; ++e) {
+        switch (c.linear_mode) {
+          case 0: m.m[i][e] = kernel_uniform(rng, -kL, kL); break;
+          case 1: m.m[i][e] = kernel_pick(rng, {-(1 << 30), 1 << 30, (1 << 30) - 1, -(1 << 30) + 1, 0}); break;
+          case 2: m.m[i][e] = kernel_pick(rng, {INT32_MIN, INT32_MAX, 1 << 30, -(1 << 30), (1 << 30) + 1, 7}); break;
+          default: m.m[i][e] = i == e ? (1 << 24) : kernel_uniform(rng, -(1 << 20), 1 << 20); break;
+        }
+      }
+      m.t[i] = rng() % 3 == 0 ? kernel_pick(rng, {INT32_MAX, -INT32_MAX, INT32_MIN, 0})
+                              : kernel_uniform(rng, INT32_MIN, INT32_MAX);
+    }
+    r->palette.push_back(m);
+    fx::DualQuat d{};
+    d.real = {kernel_pick(rng, {1 << 30, -(1 << 30), 0}), 0, 0, 0};
+    if (d.real.w == 0) d.real.x = 1 << 30;
+    d.dual = {kernel_uniform(rng, -(1 << 28), 1 << 28), kernel_uniform(rng, -(1 << 28), 1 << 28),
+              kernel_uniform(rng, -(1 << 28), 1 << 28), kernel_uniform(rng, -(1 << 28), 1 << 28)};
+    r->dual.push_back(d);
+  }
+  for (uint32_t v = 0; v < c.vertices; ++v) {
+    for (int i = 0; i < 3; ++i) {
+      r->position[i].push_back(c.position_mode == 0 ? kernel_uniform(rng, -(1 << 22), 1 << 22)
+                               : rng() % 2        ? kernel_pick(rng, {INT32_MIN, INT32_MAX, INT32_MIN + 1, 0, -1})
+                                                  : kernel_uniform(rng, INT32_MIN, INT32_MAX));
+      if (c.normal_mode == 0) r->normal[i].push_back(kernel_uniform(rng, -(1 << 30), 1 << 30));
+      if (c.normal_mode == 1)
+        r->normal[i].push_back(rng() % 3 == 0 ? 0 : kernel_pick(rng, {INT32_MIN, INT32_MAX, 0, 1, -1, 1 << 30}));
+    }
+    if (c.normal_mode == 1 && v % 5 == 0)
+      for (int i = 0; i < 3; ++i) r->normal[i].back() = 0;  // zero normal
+    r->method.push_back(static_cast<uint8_t>(c.dual && rng() % 3 == 0 ? rig::SkinMethod::kDualQuaternion
+                                                                      : rig::SkinMethod::kLinear));
+    int64_t left = kL;
+    const uint32_t hot = static_cast<uint32_t>(rng() % c.k);
+    for (uint32_t k = 0; k < c.k; ++k) {
+      r->joint.push_back(static_cast<uint16_t>(rng() % c.palette));
+      int32_t w = 0;
+      switch (c.weight_mode) {
+        case 0:
+          w = static_cast<int32_t>(k + 1 == c.k ? left : kernel_uniform(rng, 0, left));
+          left -= w;
+          break;
+        case 1:
+          w = rng() % 4 == 0 ? 0 : (k == hot ? (1 << 30) : 0);
+          break;
+        case 2:
+          w = kernel_uniform(rng, -(int64_t{1} << 31) / 8, (int64_t{1} << 31) / 8);
+          break;
+        default:
+          w = k == hot ? kernel_pick(rng, {INT32_MAX, INT32_MIN + 1, (1 << 30) + 1}) : 0;
+          break;
+      }
+      r->weight.push_back(w);
+    }
+  }
+  r->rig.influences_per_vertex = c.k;
+  for (int i = 0; i < 3; ++i) {
+    r->rig.position[i] = r->position[i];
+    r->rig.normal[i] = r->normal[i];
+  }
+  r->rig.influence_palette = r->joint;
+  r->rig.influence_weight = r->weight;
+  r->rig.method = r->method;
+  r->rig.any_dual_quaternion = c.dual;
+}
+
+struct KernelOutput {
+  std::vector<int32_t> position[3], normal[3];
+  uint32_t saturated = 0;
+};
+
+KernelOutput kernel_run(LbsKernel kernel, const KernelRig& r, bool dual, bool normals, uint32_t first, uint32_t count) {
+  KernelOutput o;
+  sinew::skin::SkinnedVertices out;
+  for (int i = 0; i < 3; ++i) {
+    o.position[i].assign(count, 0x5A5A5A5A);
+    o.normal[i].assign(count, 0x5A5A5A5A);
+    out.position[i] = o.position[i];
+    if (normals) out.normal[i] = o.normal[i];
+  }
+  const std::span<const fx::DualQuat> dual_palette = dual ? std::span<const fx::DualQuat>(r.dual)
+                                                         : std::span<const fx::DualQuat>();
+  o.saturated = sinew::skin::skin_vertices(kernel, r.rig, r.palette, dual_palette, first, count, out);
+  return o;
+}
+
+// Runs both kernels on [first, first + count) and compares every word.
+void kernel_expect_identical(const KernelCase& c, uint64_t seed, uint32_t first, uint32_t count) {
+  KernelRig r;
+  kernel_make_rig(c, seed, &r);
+  const bool normals = c.normal_mode != 2;
+  const KernelOutput want = kernel_run(LbsKernel::kScalar, r, c.dual, normals, first, count);
+  const KernelOutput got = kernel_run(LbsKernel::kAvx2, r, c.dual, normals, first, count);
+  SCOPED_TRACE(testing::Message() << "K=" << c.k << " palette=" << c.palette << " linear=" << c.linear_mode
+                                  << " weights=" << c.weight_mode << " positions=" << c.position_mode
+                                  << " normals=" << c.normal_mode << " dual=" << c.dual << " seed=" << seed
+                                  << " first=" << first << " count=" << count);
+  EXPECT_EQ(got.saturated, want.saturated);
+  for (int i = 0; i < 3; ++i) {
+    for (uint32_t v = 0; v < count; ++v) {
+      ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
+      ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
+    }
+  }
+}
+
+class SkinKernel : public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sinew::skin::lbs_kernel_supported(LbsKernel::kAvx2)) GTEST_SKIP() << "CPU without AVX2";
+  }
+};
+
+TEST_F(SkinKernel, EveryKAndEveryStressMode) {
+  uint64_t seed = 1;
+  for (uint32_t k = 1; k <= 8; ++k)
+    for (int lin = 0; lin < 4; ++lin)
+      for (int w = 0; w < 4; ++w)
+        for (int pos = 0; pos < 2; ++pos)
+          for (int nor = 0; nor < 3; ++nor) {
+            KernelCase c;
+            c.k = k;
+            c.vertices = 67;
+            c.palette = 1 + static_cast<uint32_t>(seed % 40);
+            c.linear_mode = lin;
+            c.weight_mode = w;
+            c.position_mode = pos;
+            c.normal_mode = nor;
+            c.dual = seed % 2 == 0;
+            kernel_expect_identical(c, seed++, 0, c.vertices);
+          }
+}
+
+TEST_F(SkinKernel, SaturationIsCountedTheSame) {
+  KernelCase c;
+  c.linear_mode = 2;
+  c.weight_mode = 3;
+  KernelRig r;
+  kernel_make_rig(c, 99, &r);
+  const KernelOutput want = kernel_run(LbsKernel::kScalar, r, false, true, 0, c.vertices);
+  EXPECT_GT(want.saturated, 0u);  // the case really clamps
+  kernel_expect_identical(c, 99, 0, c.vertices);
+}
+
+TEST_F(SkinKernel, CountsAndOffsetsNotMultiplesOfAnyWidth) {
+  KernelCase c;
+  c.vertices = 300;
+  for (uint32_t count : {0u, 1u, 2u, 3u, 5u, 7u, 8u, 9u, 15u, 17u, 31u, 33u, 131u})
+    for (uint32_t first : {0u, 1u, 3u, 7u, 100u}) kernel_expect_identical(c, 1000 + count, first, count);
+}
+
+TEST_F(SkinKernel, RandomRigs) {
+  std::mt19937_64 rng(20240611);
+  for (int i = 0; i < 200; ++i) {
+    KernelCase c;
+    c.k = 1 + static_cast<uint32_t>(rng() % 8);
+    c.vertices = 1 + static_cast<uint32_t>(rng() % 500);
+    c.palette = 1 + static_cast<uint32_t>(rng() % 300);  // also beyond the widened buffer
+    c.linear_mode = static_cast<int>(rng() % 4);
+    c.weight_mode = static_cast<int>(rng() % 4);
+    c.position_mode = static_cast<int>(rng() % 2);
+    c.normal_mode = static_cast<int>(rng() % 3);
+    c.dual = rng() % 2 == 0;
+    const uint32_t first = static_cast<uint32_t>(rng() % c.vertices);
+    kernel_expect_identical(c, rng(), first, c.vertices - first);
+  }
+}
+
+TEST_F(SkinKernel, LargePaletteTakesTheScalarPathIdentically) {
+  KernelCase c;
+  c.palette = 4096;
+  c.k = 8;
+  kernel_expect_identical(c, 4096, 0, c.vertices);
+}
+
+// Identity palette and one-hot weights pass rest normals through unchanged, so
+// the renormalisation sees vectors of every magnitude from 1 LSB to int32 limits.
+TEST_F(SkinKernel, NormalsOfEveryMagnitude) {
+  for (uint32_t k : {1u, 3u, 8u}) {
+    KernelCase c;
+    c.k = k;
+    c.vertices = 4000 + k;
+    c.palette = 5;
+    c.weight_mode = 1;
+    KernelRig r;
+    kernel_make_rig(c, 7 + k, &r);
+    for (fx::Mat34& m : r.palette) m = fx::Mat34{{{1 << 24, 0, 0}, {0, 1 << 24, 0}, {0, 0, 1 << 24}}, {0, 0, 0}};
+    std::mt19937_64 rng(k);
+    for (uint32_t v = 0; v < c.vertices; ++v) {
+      const int e = static_cast<int>(v % 32);
+      for (int i = 0; i < 3; ++i) {
+        const int64_t span = int64_t{1} << e;
+        int64_t x = static_cast<int64_t>(rng() % static_cast<uint64_t>(2 * span + 1)) - span;
+        if (rng() % 7 == 0) x = kernel_pick(rng, {0, 1, -1, INT32_MAX, INT32_MIN});
+        r.normal[i][v] = static_cast<int32_t>(std::clamp<int64_t>(x, INT32_MIN, INT32_MAX));
+      }
+    }
+    const KernelOutput want = kernel_run(LbsKernel::kScalar, r, false, true, 0, c.vertices);
+    const KernelOutput got = kernel_run(LbsKernel::kAvx2, r, false, true, 0, c.vertices);
+    EXPECT_EQ(got.saturated, want.saturated);
+    for (int i = 0; i < 3; ++i)
+      for (uint32_t v = 0; v < c.vertices; ++v) {
+        ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "K=" << k << " normal " << i << " of vertex " << v;
+        ASSERT_EQ(got.position[i][v], want.position[i][v]) << "K=" << k << " position " << i << " of vertex " << v;
+      }
+  }
+}
+
+TEST_F(SkinKernel, DefaultIsAvx2WhereSupported) {
+  EXPECT_EQ(sinew::skin::lbs_kernel_default(), LbsKernel::kAvx2);
+  EXPECT_STREQ(sinew::skin::lbs_kernel_name(sinew::skin::lbs_kernel_default()), "avx2");
+}
+
+}  // namespace
