@@ -188,7 +188,7 @@ TEST(LayerLoader, RandomCorruptionNeverCrashes) {
   for (int t = 0; t < trials; ++t) {
     std::vector<uint8_t> bytes = arm->bytes;
     for (int k = 0; k < 4; ++k) {
-      const size_t at = first + rng() % (bytes.size() - first);
+      const size_t at = first + static_cast<size_t>(rng() % (bytes.size() - first));
       bytes[at] = static_cast<uint8_t>(rng());
     }
     sinew::test::fix_crc(&bytes);
