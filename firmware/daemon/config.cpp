@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <span>
 #include <sstream>
@@ -333,6 +334,10 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       }
       if (!check_keys(*e, table, it->keys, origin, error)) return false;
       const std::string name = (*e)["name"].value_or<std::string>(std::string(*type));
+      // Sources and sinks are reported, and their errors given, by name.
+      for (const auto& other : *list)
+        if (other.name == name)
+          return *error = at(origin, &n, table + " name") + ": '" + name + "' is used twice (give each a name)", false;
       list->push_back({*type, name, *e});
     }
     return true;
@@ -343,6 +348,8 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
 }
 
 bool load_config(const std::string& path, DaemonConfig* out, std::string* error) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return *error = path + ": is a directory, not a config file", false;
   std::ifstream f(path);
   if (!f) return *error = path + ": cannot open", false;
   std::stringstream s;

@@ -1,6 +1,9 @@
 #include "firmware/daemon/config.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstdio>
 
 #include "firmware/daemon/bus_sources.hpp"
 #include "firmware/daemon/loaded_rig.hpp"
@@ -234,4 +237,46 @@ TEST(DaemonConfig, SourceAndSinkKeysAreKnownTypedAndRangeChecked) {
             std::string::npos);
   EXPECT_NE(error_of(rig + "[loop]\nmode = 3\n").find("test.toml:4: [loop] mode: must be live, replay or offline"),
             std::string::npos);
+}
+
+// Sources and sinks are reported and their errors given by name: two with
+// one name would be indistinguishable.
+TEST(DaemonConfig, DuplicateSourceAndSinkNamesAreRefused) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n";
+  EXPECT_NE(error_of(rig + "[[source]]\ntype = \"trajectory\"\n[[source]]\ntype = \"trajectory\"\n")
+                .find("test.toml:5: [[source]] name: 'trajectory' is used twice"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[[sink]]\ntype = \"udp\"\nname = \"out\"\nport = 1\n[[sink]]\ntype = \"log\"\n"
+                           "name = \"out\"\npath = \"f.log\"\n")
+                .find("[[sink]] name: 'out' is used twice"),
+            std::string::npos);
+}
+
+TEST(DaemonConfig, ADirectoryIsNamedAsSuchNotAParseError) {
+  DaemonConfig c;
+  std::string error;
+  EXPECT_FALSE(sinew::firmware::load_config(testing::TempDir(), &c, &error));
+  EXPECT_NE(error.find("is a directory"), std::string::npos) << error;
+}
+
+// A candump log is read whole at start-up: a FIFO or a device would block
+// it (or never end), so only regular files are accepted.
+TEST(DaemonConfig, CandumpPathMustBeARegularFile) {
+  sinew::firmware::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(sinew::firmware::load_rig("arm", "", &rig, &error)) << error;
+  const std::string fifo = testing::TempDir() + "/candump.fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {std::string("/dev/null"), fifo}) {
+    DaemonConfig c;
+    std::string e;
+    ASSERT_TRUE(parse_config(
+        "[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"candump\"\nname = \"log\"\npath = \"" + path + "\"\n", "t.toml",
+        &c, &e))
+        << e;
+    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << path;
+    EXPECT_NE(e.find("is not a regular file"), std::string::npos) << e;
+  }
+  std::remove(fifo.c_str());
 }
