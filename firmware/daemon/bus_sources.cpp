@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "hal/can/can_input_source.hpp"
 #include "hal/can/candump_replay_source.hpp"
@@ -164,6 +165,11 @@ std::unique_ptr<hal::InputSource> candump(const SourceConfig& s, const LoadedRig
   hal::can::CandumpReplayOptions options;
   const auto path = s.table["path"].value<std::string>();
   if (!path) return *error = where(s, "path") + " is required", nullptr;
+  // A FIFO or a device would block the start-up read (or never end): a log is a file.
+  std::error_code ec;
+  const auto status = std::filesystem::status(*path, ec);
+  if (!ec && !std::filesystem::is_regular_file(status))
+    return *error = where(s, "path") + " '" + *path + "' is not a regular file", nullptr;
   options.path = *path;
   options.interface = s.table["interface"].value_or<std::string>("");
   if (const auto origin = s.table["origin_s"].value<double>()) {

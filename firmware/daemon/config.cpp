@@ -1,7 +1,10 @@
 #include "config.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <span>
 #include <sstream>
 
 namespace sinew::firmware {
@@ -52,6 +55,182 @@ bool known_keys_only(const toml::table& t, const char* table, std::initializer_l
   return true;
 }
 
+// The keys of each [[source]] / [[sink]] type and of their sub-tables, with
+// their types and ranges: checked here, where the file and line are known,
+// so that the factories convert only values that fit.
+enum class Kind { kString, kFlag, kInteger, kNumber, kInput, kTables, kTable };
+
+struct Key {
+  std::string_view name;
+  Kind kind;
+  double lo = 0, hi = 0;
+  std::span<const Key> sub = {};
+};
+
+constexpr double kMaxPort = 65535, kMaxMs = 60000;
+
+constexpr Key kFaultKeys[] = {{"kind", Kind::kString},
+                              {"from_s", Kind::kNumber, 0, 1e6},
+                              {"to_s", Kind::kNumber, 0, 1e6},
+                              {"input", Kind::kString},
+                              {"delay_ms", Kind::kNumber, 0, kMaxMs}};
+constexpr Key kChannelKeys[] = {{"input", Kind::kString},
+                                {"table", Kind::kString},
+                                {"address", Kind::kInteger, 0, 65535},
+                                {"width", Kind::kInteger, 16, 32},
+                                {"word_order", Kind::kString},
+                                {"signed", Kind::kFlag},
+                                {"scale", Kind::kNumber, -1e12, 1e12},
+                                {"offset", Kind::kNumber, -1e12, 1e12},
+                                {"quantity", Kind::kString},
+                                {"min", Kind::kNumber, -1e12, 1e12},
+                                {"max", Kind::kNumber, -1e12, 1e12}};
+constexpr Key kEncoderKeys[] = {{"input", Kind::kInput},
+                                {"line_a", Kind::kInteger, 0, 65535},
+                                {"line_b", Kind::kInteger, 0, 65535},
+                                {"line_index", Kind::kInteger, -1, 65535},
+                                {"active_low", Kind::kFlag},
+                                {"counts_per_turn", Kind::kInteger, 1, 1 << 30},
+                                {"offset_deg", Kind::kNumber, -360, 360},
+                                {"invert", Kind::kFlag},
+                                {"window_us", Kind::kNumber, 0, 1000},
+                                {"index_count", Kind::kInteger, -2147483648.0, 2147483647.0},
+                                {"home_every_index", Kind::kFlag}};
+constexpr Key kLimitKeys[] = {{"input", Kind::kInput},
+                              {"line", Kind::kInteger, 0, 65535},
+                              {"active_low", Kind::kFlag},
+                              {"side", Kind::kString},
+                              {"debounce_ms", Kind::kNumber, 0, 1000}};
+constexpr Key kLineKeys[] = {{"line", Kind::kInteger, -1, 65535}, {"active_low", Kind::kFlag}};
+
+// Keys every CAN-fed source reads (can_source in bus_sources.cpp).
+#define SINEW_CAN_KEYS                                                                                               \
+  {"type", Kind::kString}, {"name", Kind::kString}, {"period_ms", Kind::kNumber, 0.01, kMaxMs}, {"fd", Kind::kFlag}, \
+      {"record", Kind::kString}, {                                                                                   \
+    "interface", Kind::kString                                                                                       \
+  }
+constexpr Key kCanKeys[] = {SINEW_CAN_KEYS};
+constexpr Key kCandumpKeys[] = {SINEW_CAN_KEYS, {"path", Kind::kString}, {"origin_s", Kind::kNumber, 0, 1e9}};
+constexpr Key kSimulatedRigKeys[] = {SINEW_CAN_KEYS,
+                                     {"offset_ms", Kind::kNumber, 0, kMaxMs},
+                                     {"modbus_port", Kind::kInteger, 0, kMaxPort},
+                                     {"fault", Kind::kTables, 0, 0, kFaultKeys}};
+#undef SINEW_CAN_KEYS
+constexpr Key kTrajectoryKeys[] = {
+    {"type", Kind::kString}, {"name", Kind::kString}, {"period_ms", Kind::kNumber, 0.01, kMaxMs}};
+constexpr Key kModbusKeys[] = {{"type", Kind::kString},
+                               {"name", Kind::kString},
+                               {"host", Kind::kString},
+                               {"port", Kind::kInteger, 1, kMaxPort},
+                               {"device", Kind::kString},
+                               {"baud", Kind::kInteger, 50, 4000000},
+                               {"unit_id", Kind::kInteger, 0, 255},
+                               {"period_ms", Kind::kNumber, 0, kMaxMs},
+                               {"timeout_ms", Kind::kNumber, 1, 10000},
+                               {"backoff_ms", Kind::kNumber, 1, kMaxMs},
+                               {"backoff_max_ms", Kind::kNumber, 1, 600000},
+                               {"layout", Kind::kString},
+                               {"channel", Kind::kTables, 0, 0, kChannelKeys}};
+constexpr Key kGpioKeys[] = {{"type", Kind::kString},
+                             {"name", Kind::kString},
+                             {"chip", Kind::kString},
+                             {"consumer", Kind::kString},
+                             {"event_capacity", Kind::kInteger, 16, 65536},
+                             {"lines", Kind::kInteger, 1, 65536},
+                             {"update_ms", Kind::kNumber, 0.01, 1000},
+                             {"encoder", Kind::kTables, 0, 0, kEncoderKeys},
+                             {"limit", Kind::kTables, 0, 0, kLimitKeys},
+                             {"sync", Kind::kTable, 0, 0, kLineKeys},
+                             {"fault_line", Kind::kTable, 0, 0, kLineKeys},
+                             {"fault", Kind::kTables, 0, 0, kFaultKeys}};
+constexpr Key kLogSinkKeys[] = {{"type", Kind::kString},
+                                {"name", Kind::kString},
+                                {"normals", Kind::kFlag},
+                                {"path", Kind::kString},
+                                {"sync_every_frames", Kind::kInteger, 0, 1e9}};
+constexpr Key kUdpSinkKeys[] = {{"type", Kind::kString},
+                                {"name", Kind::kString},
+                                {"normals", Kind::kFlag},
+                                {"host", Kind::kString},
+                                {"port", Kind::kInteger, 1, kMaxPort},
+                                {"max_datagram_bytes", Kind::kInteger, 41, 65507}};
+
+struct Type {
+  std::string_view name;
+  std::span<const Key> keys;
+};
+constexpr Type kSourceTypes[] = {{"trajectory", kTrajectoryKeys}, {"can", kCanKeys},
+                                 {"candump", kCandumpKeys},       {"simulated-rig", kSimulatedRigKeys},
+                                 {"modbus", kModbusKeys},         {"gpio", kGpioKeys}};
+constexpr Type kSinkTypes[] = {{"log", kLogSinkKeys}, {"udp", kUdpSinkKeys}};
+
+std::string range_text(double lo, double hi) {
+  std::ostringstream s;
+  s.precision(12);
+  s << "[" << lo << ", " << hi << "]";
+  return s.str();
+}
+
+// "[[source]]" -> "source"
+std::string bare(const std::string& table) {
+  std::string s;
+  for (char ch : table)
+    if (ch != '[' && ch != ']') s += ch;
+  return s;
+}
+
+bool check_keys(const toml::table& t, const std::string& table, std::span<const Key> keys, const std::string& origin,
+                std::string* error) {
+  for (const auto& [name, node] : t) {
+    const auto key = std::find_if(keys.begin(), keys.end(), [&](const Key& k) { return k.name == name.str(); });
+    const std::string what = table + " " + std::string(name.str());
+    if (key == keys.end()) {
+      std::string known;
+      for (const Key& k : keys) known += (known.empty() ? "" : ", ") + std::string(k.name);
+      return *error = at(origin, &node, what) + ": unknown key (" + known + ")", false;
+    }
+    const auto fail = [&](const std::string& must) { return *error = at(origin, &node, what) + ": " + must, false; };
+    switch (key->kind) {
+      case Kind::kString:
+        if (!node.is_string()) return fail("must be a string");
+        break;
+      case Kind::kFlag:
+        if (!node.is_boolean()) return fail("must be true or false");
+        break;
+      case Kind::kInput:
+        if (!node.is_string() && !node.is_integer()) return fail("must be an input name or index");
+        break;
+      case Kind::kInteger: {
+        const auto v = node.value_exact<int64_t>();
+        if (!v || static_cast<double>(*v) < key->lo || static_cast<double>(*v) > key->hi)
+          return fail("must be an integer in " + range_text(key->lo, key->hi));
+        break;
+      }
+      case Kind::kNumber: {
+        const auto v = node.is_number() ? node.value<double>() : std::nullopt;
+        if (!v || !std::isfinite(*v) || *v < key->lo || *v > key->hi)
+          return fail("must be a number in " + range_text(key->lo, key->hi));
+        break;
+      }
+      case Kind::kTable:
+        if (!node.is_table()) return fail("must be a table");
+        if (!check_keys(*node.as_table(), "[" + bare(table) + "." + std::string(name.str()) + "]", key->sub, origin,
+                        error))
+          return false;
+        break;
+      case Kind::kTables: {
+        const toml::array* a = node.as_array();
+        if (a == nullptr || !a->is_array_of_tables()) return fail("must be [[tables]]");
+        const std::string sub = "[[" + bare(table) + "." + std::string(name.str()) + "]]";
+        for (const toml::node& e : *a)
+          if (!check_keys(*e.as_table(), sub, key->sub, origin, error)) return false;
+        break;
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool parse_config(std::string_view text, const std::string& origin, DaemonConfig* out, std::string* error) {
@@ -88,6 +267,9 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*loop, "rate_hz", 1u, 20000u, &c.rate_hz, origin, error)) return false;
     if (!read_number(*loop, "duration_s", 0.0, 1e7, &c.duration_s, origin, error)) return false;
     if (!read_number(*loop, "stats_interval_s", 0.0, 3600.0, &c.stats_interval_s, origin, error)) return false;
+    const toml::node* mode_node = loop->get("mode");
+    if (mode_node != nullptr && !mode_node->is_string())
+      return *error = at(origin, mode_node, "[loop] mode") + ": must be live, replay or offline", false;
     const std::string mode = (*loop)["mode"].value_or<std::string>("live");
     if (mode == "live")
       c.mode = RunMode::kLive;
@@ -131,24 +313,43 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*in, "default_period_ms", 0.01, 10000.0, &c.default_period_ms, origin, error)) return false;
     if (!read_number(*in, "range_margin_deg", 0.0, 180.0, &c.range_margin_deg, origin, error)) return false;
   }
-  const auto read_list = [&](const char* key, auto* list) {
-    const toml::array* a = t[key].as_array();
-    if (a == nullptr) return true;
+  const auto read_list = [&](const char* key, std::span<const Type> types, auto* list) {
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return true;
+    const toml::array* a = node->as_array();
+    if (a == nullptr || !a->is_array_of_tables())
+      return *error = at(origin, node, std::string("[[") + key + "]]") + ": must be [[tables]]", false;
+    const std::string table = std::string("[[") + key + "]]";
     for (const toml::node& n : *a) {
       const toml::table* e = n.as_table();
-      const auto type = e != nullptr ? (*e)["type"].value<std::string>() : std::nullopt;
-      if (!type) return *error = at(origin, &n, std::string("[[") + key + "]] type") + " is required", false;
+      const auto type = (*e)["type"].value_exact<std::string>();
+      if (!type) return *error = at(origin, &n, table + " type") + " is required (a string)", false;
+      const auto it = std::find_if(types.begin(), types.end(), [&](const Type& k) { return k.name == *type; });
+      if (it == types.end()) {
+        std::string known;
+        for (const Type& k : types) known += (known.empty() ? "" : ", ") + std::string(k.name);
+        return *error =
+                   at(origin, (*e)["type"].node(), table + " type") + ": unknown type '" + *type + "' (" + known + ")",
+               false;
+      }
+      if (!check_keys(*e, table, it->keys, origin, error)) return false;
       const std::string name = (*e)["name"].value_or<std::string>(std::string(*type));
+      // Sources and sinks are reported, and their errors given, by name.
+      for (const auto& other : *list)
+        if (other.name == name)
+          return *error = at(origin, &n, table + " name") + ": '" + name + "' is used twice (give each a name)", false;
       list->push_back({*type, name, *e});
     }
     return true;
   };
-  if (!read_list("source", &c.sources) || !read_list("sink", &c.sinks)) return false;
+  if (!read_list("source", kSourceTypes, &c.sources) || !read_list("sink", kSinkTypes, &c.sinks)) return false;
   *out = std::move(c);
   return true;
 }
 
 bool load_config(const std::string& path, DaemonConfig* out, std::string* error) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return *error = path + ": is a directory, not a config file", false;
   std::ifstream f(path);
   if (!f) return *error = path + ": cannot open", false;
   std::stringstream s;

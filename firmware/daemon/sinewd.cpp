@@ -5,8 +5,12 @@
 //   sinewd --config FILE [--duration S] [--offline]
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
 
 #include "config.hpp"
 #include "firmware/runtime/runtime.hpp"
@@ -19,18 +23,38 @@ namespace {
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
 
-}  // namespace
+// The longest --duration accepted, the same as [loop] duration_s's maximum
+// (about 115 days): beyond it the tick count is no longer exact.
+constexpr double kMaxDurationS = 1e7;
 
-int main(int argc, char** argv) {
+// A duration in seconds: finite, not negative, at most kMaxDurationS.
+bool parse_duration(const std::string& text, double* out) {
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v) || v < 0 ||
+      v > kMaxDurationS)
+    return false;
+  *out = v;
+  return true;
+}
+
+int run(int argc, char** argv) {
   using namespace sinew::firmware;
   CLI::App app{"sinewd: joint angles in, deformed pose out, at a fixed rate"};
   std::string config_path;
-  double duration = -1;
+  std::string duration_text;
   bool offline = false;
   app.add_option("--config", config_path, "TOML configuration")->required();
-  app.add_option("--duration", duration, "seconds to run (overrides [loop] duration_s; 0 = until signalled)");
+  app.add_option("--duration", duration_text, "seconds to run (overrides [loop] duration_s; 0 = until signalled)");
   app.add_flag("--offline", offline, "re-simulate as fast as possible on nominal tick times");
   CLI11_PARSE(app, argc, argv);
+  double duration = -1;
+  if (app.count("--duration") > 0 && !parse_duration(duration_text, &duration)) {
+    std::fprintf(stderr, "sinewd: --duration '%s': must be a number of seconds in [0, %g]\n", duration_text.c_str(),
+                 kMaxDurationS);
+    return 2;
+  }
 
   DaemonConfig config;
   std::string error;
@@ -101,5 +125,26 @@ int main(int argc, char** argv) {
   if (clock.skipped_ticks() > 0)
     std::printf("skipped ticks (more than a period late): %llu\n",
                 static_cast<unsigned long long>(clock.skipped_ticks()));
+  if (runtime.dropped_frames() > 0) {
+    // A sink that lost frames (a full disk, a failing link) left an incomplete output.
+    std::printf("sinewd: %llu frames dropped by the sinks: the output is incomplete\n",
+                static_cast<unsigned long long>(runtime.dropped_frames()));
+    return 1;
+  }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Whatever escapes (a bad allocation, a library's exception) ends the
+  // daemon with a message and the configuration-error status, not abort().
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sinewd: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "sinewd: unexpected error\n");
+  }
+  return 2;
 }

@@ -41,7 +41,9 @@ bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t, uin
   for (const SourceConfig& s : config.sources) {
     if (s.type == "trajectory") {
       const double period_ms = s.table["period_ms"].value_or(config.default_period_ms);
-      if (!(period_ms > 0)) return *error = "source " + s.name + ": period_ms must be positive", false;
+      // Below 10 us or beyond a minute the tick-count arithmetic would overflow or divide by zero.
+      if (!(period_ms >= 0.01 && period_ms <= 60000))
+        return *error = "source " + s.name + ": period_ms must be in [0.01, 60000]", false;
       std::vector<int32_t> min(rig.rig.input_count, 0), max(rig.rig.input_count, 0);
       for (const rig::JointRecord& j : rig.rig.joints)
         for (uint32_t d = 0; d < j.dof_count; ++d) {

@@ -1,6 +1,9 @@
 #include "firmware/daemon/config.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstdio>
 
 #include "firmware/daemon/bus_sources.hpp"
 #include "firmware/daemon/loaded_rig.hpp"
@@ -83,7 +86,11 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
   EXPECT_NE(source_error("lines = 8\n[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 0\nline_b = 9\n")
                 .find("line 9 is beyond the simulated chip's 8 lines"),
             std::string::npos);
-  EXPECT_NE(source_error("update_ms = 0.001\n" + encoder).find("source enc: update_ms must be in"), std::string::npos);
+  // Out-of-range timing is refused when the file is read, with its line.
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"gpio\"\nchip = \"simulated-rig\"\n"
+                     "update_ms = 0.001\n")
+                .find("test.toml:6: [[source]] update_ms: must be a number in [0.01, 1000]"),
+            std::string::npos);
 
   DaemonConfig c;
   ASSERT_TRUE(
@@ -185,4 +192,91 @@ TEST(DaemonConfig, ShippedConfigurationsParse) {
     EXPECT_TRUE(sinew::firmware::load_config(std::string(SINEW_FIRMWARE_CONFIG_DIR) + "/" + name, &c, &error))
         << name << ": " << error;
   }
+}
+
+// Every key of a [[source]], [[sink]] and their sub-tables is known for the
+// type, of the right type and in range, and the error names file:line:key;
+// before, a wrong type fell back to the default and an out-of-range integer
+// was narrowed (port "15123" polled 502, unit_id 300 became 44).
+TEST(DaemonConfig, SourceAndSinkKeysAreKnownTypedAndRangeChecked) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n";
+  const auto source = [&](const std::string& body) { return error_of(rig + "[[source]]\n" + body); };
+  const auto sink = [&](const std::string& body) { return error_of(rig + "[[sink]]\n" + body); };
+  const std::string modbus = "type = \"modbus\"\n";
+  EXPECT_NE(
+      source(modbus + "port = \"15123\"\n").find("test.toml:5: [[source]] port: must be an integer in [1, 65535]"),
+      std::string::npos);
+  EXPECT_NE(source(modbus + "unit_id = 300\n").find("test.toml:5: [[source]] unit_id: must be an integer in [0, 255]"),
+            std::string::npos);
+  EXPECT_NE(source(modbus + "device = \"/dev/ttyS0\"\nbaud = -5\n").find("test.toml:6: [[source]] baud"),
+            std::string::npos);
+  EXPECT_NE(source(modbus + "port = 1502.5\n").find("[[source]] port: must be an integer"), std::string::npos);
+  EXPECT_NE(source(modbus + "perod_ms = 10\n").find("test.toml:5: [[source]] perod_ms: unknown key"),
+            std::string::npos);
+  EXPECT_NE(source(modbus + "period_ms = \"10\"\n").find("[[source]] period_ms: must be a number"), std::string::npos);
+  EXPECT_NE(source(modbus + "[[source.channel]]\ninput = \"elbow.0\"\nadress = 3\n")
+                .find("test.toml:7: [[source.channel]] adress: unknown key"),
+            std::string::npos);
+  EXPECT_NE(source("type = \"trajectory\"\nperiod_ms = 1e300\n").find("test.toml:5: [[source]] period_ms"),
+            std::string::npos);
+  EXPECT_NE(source("type = \"trajectory\"\nperiod_ms = nan\n").find("[[source]] period_ms"), std::string::npos);
+  EXPECT_NE(source("type = \"can\"\nfd = 1\n").find("[[source]] fd: must be true or false"), std::string::npos);
+  EXPECT_NE(source("type = \"simulated-rig\"\n[[source.fault]]\nkind = \"delay\"\nfrom_s = 1\nto_s = 2\n"
+                   "delay_ms = -4\n")
+                .find("test.toml:9: [[source.fault]] delay_ms: must be a number in [0, 60000]"),
+            std::string::npos);
+  EXPECT_NE(source("type = \"gpio\"\n[source.sync]\nline = 3\nlevel = 1\n").find("[source.sync] level: unknown key"),
+            std::string::npos);
+  EXPECT_NE(source("type = \"serial\"\n").find("test.toml:4: [[source]] type: unknown type 'serial'"),
+            std::string::npos);
+  EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\nsync_every_frames = -1\n").find("[[sink]] sync_every_frames"),
+            std::string::npos);
+  EXPECT_NE(sink("type = \"udp\"\nport = 47800\nmax_datagram_bytes = -1\n").find("[[sink]] max_datagram_bytes"),
+            std::string::npos);
+  EXPECT_NE(sink("type = \"udp\"\nport = 47800\nnormal = true\n").find("[[sink]] normal: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\nmode = 3\n").find("test.toml:4: [loop] mode: must be live, replay or offline"),
+            std::string::npos);
+}
+
+// Sources and sinks are reported and their errors given by name: two with
+// one name would be indistinguishable.
+TEST(DaemonConfig, DuplicateSourceAndSinkNamesAreRefused) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n";
+  EXPECT_NE(error_of(rig + "[[source]]\ntype = \"trajectory\"\n[[source]]\ntype = \"trajectory\"\n")
+                .find("test.toml:5: [[source]] name: 'trajectory' is used twice"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[[sink]]\ntype = \"udp\"\nname = \"out\"\nport = 1\n[[sink]]\ntype = \"log\"\n"
+                           "name = \"out\"\npath = \"f.log\"\n")
+                .find("[[sink]] name: 'out' is used twice"),
+            std::string::npos);
+}
+
+TEST(DaemonConfig, ADirectoryIsNamedAsSuchNotAParseError) {
+  DaemonConfig c;
+  std::string error;
+  EXPECT_FALSE(sinew::firmware::load_config(testing::TempDir(), &c, &error));
+  EXPECT_NE(error.find("is a directory"), std::string::npos) << error;
+}
+
+// A candump log is read whole at start-up: a FIFO or a device would block
+// it (or never end), so only regular files are accepted.
+TEST(DaemonConfig, CandumpPathMustBeARegularFile) {
+  sinew::firmware::LoadedRig rig;
+  std::string error;
+  ASSERT_TRUE(sinew::firmware::load_rig("arm", "", &rig, &error)) << error;
+  const std::string fifo = testing::TempDir() + "/candump.fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {std::string("/dev/null"), fifo}) {
+    DaemonConfig c;
+    std::string e;
+    ASSERT_TRUE(parse_config(
+        "[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"candump\"\nname = \"log\"\npath = \"" + path + "\"\n", "t.toml",
+        &c, &e))
+        << e;
+    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << path;
+    EXPECT_NE(e.find("is not a regular file"), std::string::npos) << e;
+  }
+  std::remove(fifo.c_str());
 }

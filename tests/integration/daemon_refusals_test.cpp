@@ -1,0 +1,76 @@
+// End to end through the daemon binary: hostile command lines and
+// configurations end with a message and a non-zero status, never a crash,
+// a hang or a silent default.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "tests/integration/daemon_harness.hpp"
+
+namespace {
+
+// The hand on the built-in sweep, offline, for 0.2 s.
+std::string refusal_config(const std::string& name, const std::string& extra) {
+  const std::string path = testing::TempDir() + "/" + name + ".toml";
+  std::ofstream(path) << "[rig]\nbuiltin = \"hand\"\n[loop]\nrate_hz = 50\nduration_s = 0.2\nstats_interval_s = 0\n"
+                      << "mode = \"offline\"\n[[source]]\ntype = \"trajectory\"\nperiod_ms = 20\n"
+                      << extra;
+  return path;
+}
+
+int exit_code(const sinew::test::DaemonRun& run) { return WIFEXITED(run.status) ? WEXITSTATUS(run.status) : -1; }
+
+}  // namespace
+
+// inf and 1e300 once ran zero ticks (an undefined double to integer cast);
+// -5 and nan were ignored.
+TEST(DaemonEndToEnd, RefusesNonFiniteNegativeAndHugeDurations) {
+  const std::string config = refusal_config("duration", "");
+  for (const char* duration : {"inf", "1e300", "-5", "nan", "1e8", "ten"}) {
+    const sinew::test::DaemonRun run =
+        sinew::test::run_sinewd(config + " --duration " + duration, testing::TempDir() + "/duration.out");
+    EXPECT_EQ(exit_code(run), 2) << run.command << "\n" << run.out;
+    EXPECT_NE(run.out.find("--duration"), std::string::npos) << run.out;
+  }
+  const sinew::test::DaemonRun ok =
+      sinew::test::run_sinewd(config + " --duration 0.1", testing::TempDir() + "/duration.out");
+  EXPECT_EQ(exit_code(ok), 0) << ok.out;
+  EXPECT_NE(ok.out.find("final tick 5:"), std::string::npos) << ok.out;
+}
+
+TEST(DaemonEndToEnd, ADirectoryAsConfigIsNamedAsSuch) {
+  const sinew::test::DaemonRun run = sinew::test::run_sinewd(testing::TempDir(), testing::TempDir() + "/dir.out");
+  EXPECT_EQ(exit_code(run), 2) << run.out;
+  EXPECT_NE(run.out.find("is a directory"), std::string::npos) << run.out;
+}
+
+// A trajectory period of 1e300 ms once divided by zero (SIGFPE).
+TEST(DaemonEndToEnd, AHugeTrajectoryPeriodIsAnErrorNotACrash) {
+  const std::string path = testing::TempDir() + "/huge_period.toml";
+  std::ofstream(path) << "[rig]\nbuiltin = \"hand\"\n[loop]\nmode = \"offline\"\nduration_s = 0.1\n"
+                      << "[[source]]\ntype = \"trajectory\"\nperiod_ms = 1e300\n";
+  const sinew::test::DaemonRun run = sinew::test::run_sinewd(path, testing::TempDir() + "/huge_period.out");
+  EXPECT_EQ(exit_code(run), 2) << run.out;
+  EXPECT_NE(run.out.find("period_ms"), std::string::npos) << run.out;
+}
+
+// A sink that loses frames (here: the file size limit, as a full disk would)
+// leaves an incomplete output: the exit status says so.
+TEST(DaemonEndToEnd, DroppedFramesMakeTheExitStatusNonZero) {
+  const std::string log = testing::TempDir() + "/dropped.log";
+  std::remove(log.c_str());
+  const std::string config = refusal_config("dropped", "[[sink]]\ntype = \"log\"\npath = \"" + log + "\"\n");
+  const std::string out = testing::TempDir() + "/dropped.out";
+  // Ignore SIGXFSZ so a write past the limit fails with EFBIG instead.
+  const std::string command =
+      "trap '' XFSZ; ulimit -f 4; " SINEWD_LAUNCHER SINEWD_EXE " --config " + config + " > " + out + " 2>&1";
+  const int status = std::system(command.c_str());
+  const std::string text = sinew::test::slurp(out);
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << command << "\n" << text;
+  EXPECT_NE(text.find("frames dropped by the sinks"), std::string::npos) << text;
+  std::remove(log.c_str());
+}
