@@ -181,7 +181,10 @@ std::string bare(const std::string& table) {
 
 bool check_keys(const toml::table& t, const std::string& table, std::span<const Key> keys, const std::string& origin,
                 std::string* error) {
-  for (const auto& [name, node] : t) {
+  for (const auto& entry : t) {
+    // Named references, not a structured binding: lambdas below capture them.
+    const toml::key& name = entry.first;
+    const toml::node& node = entry.second;
     const auto key = std::find_if(keys.begin(), keys.end(), [&](const Key& k) { return k.name == name.str(); });
     const std::string what = table + " " + std::string(name.str());
     if (key == keys.end()) {
