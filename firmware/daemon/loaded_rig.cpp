@@ -28,9 +28,20 @@ bool load_rig_bytes(hal::BlobBytes bytes, const std::string& origin, LoadedRig* 
                                &r.layers);
   }
   if (!st.ok()) return *error = origin + ": " + st.message, false;
+  // Inputs are named by the joint DOF they drive. The format lets an input
+  // drive none (or only synergies): it is still read, checked and logged,
+  // under the name "input<k>", so every index 0 .. input_count - 1 has one.
+  r.input_names.resize(r.rig.input_count);
   for (uint32_t j = 0; j < r.rig.joint_count(); ++j)
-    for (uint32_t d = 0; d < r.rig.joints[j].dof_count; ++d)
-      r.input_names.push_back(joint_name(r.rig, j) + "." + std::to_string(d));
+    for (uint32_t d = 0; d < r.rig.joints[j].dof_count; ++d) {
+      std::string& name = r.input_names[r.rig.joints[j].first_input + d];
+      if (name.empty()) name = joint_name(r.rig, j) + "." + std::to_string(d);
+    }
+  for (uint32_t k = 0; k < r.rig.input_count; ++k) {
+    if (!r.input_names[k].empty()) continue;
+    r.input_names[k] = "input" + std::to_string(k);
+    r.unused_inputs.push_back(k);
+  }
   for (const pipeline::ExternalInputRecord& e : r.layers.external) {
     r.input_names.push_back(e.name);
     r.external.push_back(
@@ -48,8 +59,16 @@ bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRi
     if (blob.empty()) return *error = "unknown built-in rig " + builtin + " (arm, hand)", false;
     return load_rig_bytes(hal::blob_from_bytes(blob.data(), blob.size()), "built-in " + builtin, out, error);
   }
+  // The header first: a large file that is not a rig is refused after one
+  // 64-byte read.
+  const hal::PrefixCheck header{sizeof(rig::FileHeader),
+                                [](const uint8_t* head, size_t n, uint64_t file_bytes, std::string* why) {
+                                  const rig::LoadStatus st = rig::rig_check_prefix(head, n, file_bytes);
+                                  if (!st.ok()) *why = st.message;
+                                  return st.ok();
+                                }};
   hal::BlobBytes bytes;
-  if (!hal::read_blob_file(blob_path, kMaxRigFileBytes, &bytes, error)) return false;
+  if (!hal::read_blob_file(blob_path, kMaxRigFileBytes, &bytes, error, header)) return false;
   return load_rig_bytes(std::move(bytes), blob_path, out, error);
 }
 

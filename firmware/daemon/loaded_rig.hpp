@@ -33,6 +33,9 @@ struct LoadedRig {
   // external inputs' names.
   std::vector<std::string> input_names;
   std::vector<ExternalInput> external;  // inputs rig.input_count onwards
+  // Rig inputs that drive no joint DOF (named "input<k>"): read and logged,
+  // and reported once at start, since a spec rarely means to declare them.
+  std::vector<uint32_t> unused_inputs;
 
   uint32_t input_count() const { return static_cast<uint32_t>(input_names.size()); }
 };

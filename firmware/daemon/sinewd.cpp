@@ -89,6 +89,11 @@ int run(int argc, char** argv) {
               config.rig_builtin.empty() ? config.rig_blob.c_str() : config.rig_builtin.c_str(), rig.rig.joint_count(),
               rig.input_count(), rig.external.size(), rig.rig.vertex_count(), config.rate_hz,
               config.mode == RunMode::kLive ? "live" : (config.mode == RunMode::kReplay ? "replay" : "offline"));
+  if (!rig.unused_inputs.empty()) {
+    std::string names;
+    for (uint32_t k : rig.unused_inputs) names += (names.empty() ? "" : ", ") + rig.input_names[k];
+    std::printf("sinewd: note: rig inputs that drive no joint (read and logged only): %s\n", names.c_str());
+  }
   if (config.mode == RunMode::kLive) {
     const std::string rt = apply_realtime(config.realtime);
     if (!rt.empty()) std::printf("%s", rt.c_str());

@@ -17,8 +17,17 @@ struct BlobBytes {
   const uint8_t* data() const { return reinterpret_cast<const uint8_t*>(words.data()); }
 };
 
+// A check of a file's first bytes against its size, run before the rest is
+// read (a 1 GB file that is not a blob costs one small read, not 1 GB).
+// False with a message (the path is prefixed by the caller).
+struct PrefixCheck {
+  size_t bytes = 0;  // how many leading bytes `check` needs; 0: no check
+  bool (*check)(const uint8_t* head, size_t head_bytes, uint64_t file_bytes, std::string* error) = nullptr;
+};
+
 // False with a message naming the path and the problem.
-bool read_blob_file(const std::string& path, size_t max_bytes, BlobBytes* out, std::string* error);
+bool read_blob_file(const std::string& path, size_t max_bytes, BlobBytes* out, std::string* error,
+                    PrefixCheck prefix = {});
 
 // Copies `size` bytes into aligned memory.
 BlobBytes blob_from_bytes(const uint8_t* bytes, size_t size);

@@ -52,6 +52,13 @@ enum class LoadError : uint8_t {
 
 using LoadStatus = fx::Status<LoadError>;  // the message names the offending section and field
 
+// Checks what a blob's first 64 bytes say (magic, version, header size and
+// total_size) against the size of the file holding it, so a loader can
+// refuse a file that is not a rig before reading it whole. A file longer
+// than the declared total_size is refused too. rig_validate still checks
+// everything (this is not a substitute).
+LoadStatus rig_check_prefix(const uint8_t* head, size_t head_bytes, uint64_t file_bytes);
+
 // Validates a blob completely and reports the arena bytes rig_init needs.
 LoadStatus rig_validate(const uint8_t* blob, size_t size, size_t* arena_bytes);
 

@@ -19,8 +19,8 @@ struct SectionSpan {
 };
 
 struct Sections {
-  SectionSpan joints, names, synergies, palette, positions, normals, inf_joints, inf_weights, method,
-      triangles, primitives;
+  SectionSpan joints, names, synergies, palette, positions, normals, inf_joints, inf_weights, method, triangles,
+      primitives;
 };
 
 LoadStatus fail(LoadError e, const char* section, const char* field, const char* what, int64_t index = -1,
@@ -45,18 +45,30 @@ T read_at(const uint8_t* blob, uint32_t offset, uint32_t index) {
 
 SectionSpan* slot_for(Sections& s, uint32_t id) {
   switch (id) {
-    case kSectionJoints: return &s.joints;
-    case kSectionNames: return &s.names;
-    case kSectionSynergies: return &s.synergies;
-    case kSectionPalette: return &s.palette;
-    case kSectionPositions: return &s.positions;
-    case kSectionNormals: return &s.normals;
-    case kSectionInfluenceJoints: return &s.inf_joints;
-    case kSectionInfluenceWeights: return &s.inf_weights;
-    case kSectionVertexMethod: return &s.method;
-    case kSectionTriangles: return &s.triangles;
-    case kSectionPrimitives: return &s.primitives;
-    default: return nullptr;  // unknown sections are skipped (newer minor versions)
+    case kSectionJoints:
+      return &s.joints;
+    case kSectionNames:
+      return &s.names;
+    case kSectionSynergies:
+      return &s.synergies;
+    case kSectionPalette:
+      return &s.palette;
+    case kSectionPositions:
+      return &s.positions;
+    case kSectionNormals:
+      return &s.normals;
+    case kSectionInfluenceJoints:
+      return &s.inf_joints;
+    case kSectionInfluenceWeights:
+      return &s.inf_weights;
+    case kSectionVertexMethod:
+      return &s.method;
+    case kSectionTriangles:
+      return &s.triangles;
+    case kSectionPrimitives:
+      return &s.primitives;
+    default:
+      return nullptr;  // unknown sections are skipped (newer minor versions)
   }
 }
 
@@ -74,6 +86,24 @@ LoadStatus check_size(const SectionSpan& s, const char* name, uint64_t expected,
   return {};
 }
 
+// The fields that say what the blob is and how long: checkable from its
+// first 64 bytes alone, before the rest is read.
+LoadStatus check_identity(const FileHeader* h, uint64_t size) {
+  if (h->magic != kMagic) return fail(LoadError::kBadMagic, "header", "magic", "not a sinew rig blob");
+  if (h->version_major != kVersionMajor)
+    return fail(LoadError::kBadVersion, "header", "version_major", "unsupported major version", -1, h->version_major,
+                true);
+  if (h->header_size != sizeof(FileHeader))
+    return fail(LoadError::kBadHeader, "header", "header_size", "must be 64", -1, h->header_size, true);
+  if (h->total_size > size)
+    return fail(LoadError::kTruncated, "header", "total_size", "blob is shorter than its declared size", -1,
+                h->total_size, true);
+  if (h->total_size < sizeof(FileHeader) || (h->total_size & 7u) != 0)
+    return fail(LoadError::kBadHeader, "header", "total_size", "must be a multiple of 8 and cover the header", -1,
+                h->total_size, true);
+  return {};
+}
+
 LoadStatus check_header(const uint8_t* blob, size_t size, FileHeader* h) {
   if (blob == nullptr || size < sizeof(FileHeader))
     return fail(LoadError::kTruncated, "header", "", "blob shorter than the 64-byte header", -1,
@@ -81,18 +111,7 @@ LoadStatus check_header(const uint8_t* blob, size_t size, FileHeader* h) {
   if ((reinterpret_cast<uintptr_t>(blob) & 7u) != 0)
     return fail(LoadError::kMisaligned, "header", "", "blob is not 8-byte aligned in memory");
   std::memcpy(h, blob, sizeof(FileHeader));
-  if (h->magic != kMagic) return fail(LoadError::kBadMagic, "header", "magic", "not a sinew rig blob");
-  if (h->version_major != kVersionMajor)
-    return fail(LoadError::kBadVersion, "header", "version_major", "unsupported major version", -1,
-                h->version_major, true);
-  if (h->header_size != sizeof(FileHeader))
-    return fail(LoadError::kBadHeader, "header", "header_size", "must be 64", -1, h->header_size, true);
-  if (h->total_size > size)
-    return fail(LoadError::kTruncated, "header", "total_size", "blob is shorter than its declared size", -1,
-                h->total_size, true);
-  if (h->total_size < sizeof(FileHeader) || (h->total_size & 7u) != 0)
-    return fail(LoadError::kBadHeader, "header", "total_size", "must be a multiple of 8 and cover the header",
-                -1, h->total_size, true);
+  if (LoadStatus st = check_identity(h, size); !st.ok()) return st;
   // CRC-32C over the blob with the crc field read as zero.
   constexpr uint32_t kCrcOffset = offsetof(FileHeader, crc32c);
   const uint8_t zeros[4] = {0, 0, 0, 0};
@@ -101,8 +120,8 @@ LoadStatus check_header(const uint8_t* blob, size_t size, FileHeader* h) {
   crc = crc32c(crc, blob + kCrcOffset + 4, h->total_size - kCrcOffset - 4);
   if (crc != h->crc32c) return fail(LoadError::kChecksum, "header", "crc32c", "checksum mismatch: blob is corrupt");
   if (h->length_exponent < kMinLengthExponent || h->length_exponent > kMaxLengthExponent)
-    return fail(LoadError::kBadValue, "header", "length_exponent", "out of range [-16, 16]", -1,
-                h->length_exponent, true);
+    return fail(LoadError::kBadValue, "header", "length_exponent", "out of range [-16, 16]", -1, h->length_exponent,
+                true);
   struct Limit {
     uint32_t value, max;
     const char* name;
@@ -127,15 +146,14 @@ LoadStatus check_header(const uint8_t* blob, size_t size, FileHeader* h) {
 
 LoadStatus read_sections(const uint8_t* blob, const FileHeader& h, Sections* s) {
   const uint64_t table_end = uint64_t{h.section_table_offset} + uint64_t{h.section_count} * sizeof(SectionEntry);
-  if (h.section_table_offset < sizeof(FileHeader) || (h.section_table_offset & 7u) != 0 ||
-      table_end > h.total_size)
+  if (h.section_table_offset < sizeof(FileHeader) || (h.section_table_offset & 7u) != 0 || table_end > h.total_size)
     return fail(LoadError::kSectionTable, "section table", "offset", "outside the blob or misaligned", -1,
                 h.section_table_offset, true);
   for (uint32_t i = 0; i < h.section_count; ++i) {
     const SectionEntry e = read_at<SectionEntry>(blob, h.section_table_offset, i);
     if ((e.offset & 7u) != 0 || e.offset < table_end || uint64_t{e.offset} + e.size > h.total_size)
-      return fail(LoadError::kSectionTable, "section table", "offset", "section outside the payload or misaligned",
-                  i, e.offset, true);
+      return fail(LoadError::kSectionTable, "section table", "offset", "section outside the payload or misaligned", i,
+                  e.offset, true);
     SectionSpan* slot = slot_for(*s, e.id);
     if (slot == nullptr) continue;
     if (slot->present) return fail(LoadError::kSectionTable, "section table", "id", "duplicate section", i);
@@ -143,7 +161,8 @@ LoadStatus read_sections(const uint8_t* blob, const FileHeader& h, Sections* s) 
     for (uint32_t k = 0; k < i; ++k) {
       const SectionEntry other = read_at<SectionEntry>(blob, h.section_table_offset, k);
       if (slot_for(*s, other.id) == nullptr || e.size == 0 || other.size == 0) continue;
-      if (uint64_t{e.offset} < uint64_t{other.offset} + other.size && uint64_t{other.offset} < uint64_t{e.offset} + e.size)
+      if (uint64_t{e.offset} < uint64_t{other.offset} + other.size &&
+          uint64_t{other.offset} < uint64_t{e.offset} + e.size)
         return fail(LoadError::kSectionTable, "section table", "offset", "section overlaps another", i, e.offset, true);
     }
     *slot = {e.offset, e.size, true};
@@ -152,10 +171,8 @@ LoadStatus read_sections(const uint8_t* blob, const FileHeader& h, Sections* s) 
   LoadStatus st;
   if (!(st = check_size(s->joints, "JNTS", uint64_t{h.joint_count} * sizeof(JointRecord), true)).ok()) return st;
   if (!(st = check_size(s->names, "NAME", uint64_t{h.joint_count} * kNameBytes, false)).ok()) return st;
-  if (!(st = check_size(s->synergies, "SYNR", uint64_t{h.synergy_count} * sizeof(SynergyRecord), true)).ok())
-    return st;
-  if (!(st = check_size(s->palette, "PALT", uint64_t{h.palette_count} * sizeof(PaletteRecord), true)).ok())
-    return st;
+  if (!(st = check_size(s->synergies, "SYNR", uint64_t{h.synergy_count} * sizeof(SynergyRecord), true)).ok()) return st;
+  if (!(st = check_size(s->palette, "PALT", uint64_t{h.palette_count} * sizeof(PaletteRecord), true)).ok()) return st;
   if (!(st = check_size(s->positions, "VPOS", n * 3 * 4, true)).ok()) return st;
   if (!(st = check_size(s->normals, "VNRM", n * 3 * 4, false)).ok()) return st;
   if (!(st = check_size(s->inf_joints, "INFJ", n * k * 2, true)).ok()) return st;
@@ -186,14 +203,13 @@ LoadStatus check_joints(const uint8_t* blob, const FileHeader& h, const Sections
     const JointRecord r = read_at<JointRecord>(blob, s.joints.offset, j);
     if (r.parent < -1 || r.parent >= static_cast<int64_t>(j))
       return fail(LoadError::kBadIndex, "JNTS", "parent", "must be -1 or an earlier joint", j, r.parent, true);
-    if (r.dof_count > 3)
-      return fail(LoadError::kBadValue, "JNTS", "dof_count", "must be 0..3", j, r.dof_count, true);
+    if (r.dof_count > 3) return fail(LoadError::kBadValue, "JNTS", "dof_count", "must be 0..3", j, r.dof_count, true);
     if (r.dof_kind > static_cast<uint8_t>(DofKind::kTranslation))
       return fail(LoadError::kBadValue, "JNTS", "dof_kind", "unknown kind", j, r.dof_kind, true);
     if (uint32_t{r.first_input} + r.dof_count > h.input_count)
-      return fail(LoadError::kBadIndex, "JNTS", "first_input", "DOF inputs beyond input_count", j, r.first_input,
-                  true);
-    if (!is_unit(r.rest_rotation, 4)) return fail(LoadError::kBadValue, "JNTS", "rest_rotation", "not a unit quaternion", j);
+      return fail(LoadError::kBadIndex, "JNTS", "first_input", "DOF inputs beyond input_count", j, r.first_input, true);
+    if (!is_unit(r.rest_rotation, 4))
+      return fail(LoadError::kBadValue, "JNTS", "rest_rotation", "not a unit quaternion", j);
     for (int d = 0; d < r.dof_count; ++d) {
       if (!is_unit(r.dof_axis[d], 3)) return fail(LoadError::kBadValue, "JNTS", "dof_axis", "not a unit vector", j);
       if (r.dof_min[d] > r.dof_max[d])
@@ -213,8 +229,7 @@ LoadStatus check_joints(const uint8_t* blob, const FileHeader& h, const Sections
       return fail(LoadError::kBadIndex, "SYNR", "target_joint", "beyond joint_count", i, r.target_joint, true);
     const JointRecord t = read_at<JointRecord>(blob, s.joints.offset, r.target_joint);
     if (r.target_dof >= t.dof_count)
-      return fail(LoadError::kBadIndex, "SYNR", "target_dof", "beyond the target joint's DOFs", i, r.target_dof,
-                  true);
+      return fail(LoadError::kBadIndex, "SYNR", "target_dof", "beyond the target joint's DOFs", i, r.target_dof, true);
   }
   for (uint32_t i = 0; i < h.palette_count; ++i) {
     const PaletteRecord p = read_at<PaletteRecord>(blob, s.palette.offset, i);
@@ -237,8 +252,7 @@ LoadStatus check_skin(const uint8_t* blob, const FileHeader& h, const Sections& 
       const fx::Unit w = read_at<fx::Unit>(blob, s.inf_weights.offset, v * k + i);
       if (p >= h.palette_count)
         return fail(LoadError::kBadIndex, "INFJ", "palette_index", "beyond palette_count", v, p, true);
-      if (w < 0 || w > fx::kUnitOne)
-        return fail(LoadError::kBadValue, "INFW", "weight", "outside [0, 1]", v, w, true);
+      if (w < 0 || w > fx::kUnitOne) return fail(LoadError::kBadValue, "INFW", "weight", "outside [0, 1]", v, w, true);
       sum += w;
     }
     if (sum != fx::kUnitOne)
@@ -255,8 +269,7 @@ LoadStatus check_skin(const uint8_t* blob, const FileHeader& h, const Sections& 
   for (uint32_t i = 0; i < h.primitive_count; ++i) {
     const PrimitiveRecord p = read_at<PrimitiveRecord>(blob, s.primitives.offset, i);
     if (uint64_t{p.first_vertex} + p.vertex_count > h.vertex_count)
-      return fail(LoadError::kBadIndex, "PRIM", "vertex_count", "range beyond vertex_count", i, p.first_vertex,
-                  true);
+      return fail(LoadError::kBadIndex, "PRIM", "vertex_count", "range beyond vertex_count", i, p.first_vertex, true);
   }
   return {};
 }
@@ -267,8 +280,8 @@ LoadStatus validate(const uint8_t* blob, size_t size, FileHeader* h, Sections* s
   if (!(st = read_sections(blob, *h, s)).ok()) return st;
   if (!(st = check_joints(blob, *h, *s)).ok()) return st;
   if (!(st = check_skin(blob, *h, *s)).ok()) return st;
-  const SectionSpan* all[] = {&s->joints, &s->names, &s->synergies, &s->palette, &s->positions, &s->normals,
-                              &s->inf_joints, &s->inf_weights, &s->method, &s->triangles, &s->primitives};
+  const SectionSpan* all[] = {&s->joints,     &s->names,       &s->synergies, &s->palette,   &s->positions, &s->normals,
+                              &s->inf_joints, &s->inf_weights, &s->method,    &s->triangles, &s->primitives};
   size_t bytes = 0;
   for (const SectionSpan* p : all)
     if (p->present) bytes += static_cast<size_t>(align8(p->size));  // <= total_size: fits
@@ -294,6 +307,20 @@ std::span<const T> typed(const uint8_t* p, size_t count) {
 }
 
 }  // namespace
+
+LoadStatus rig_check_prefix(const uint8_t* head, size_t head_bytes, uint64_t file_bytes) {
+  if (head == nullptr || head_bytes < sizeof(FileHeader) || file_bytes < sizeof(FileHeader))
+    return fail(LoadError::kTruncated, "header", "", "blob shorter than the 64-byte header", -1,
+                static_cast<int64_t>(file_bytes < head_bytes ? file_bytes : head_bytes), true);
+  FileHeader h;
+  std::memcpy(&h, head, sizeof(FileHeader));
+  if (LoadStatus st = check_identity(&h, file_bytes); !st.ok()) return st;
+  // rigc writes exactly total_size bytes; more is not a blob it wrote.
+  if (h.total_size != file_bytes)
+    return fail(LoadError::kBadHeader, "header", "total_size", "the file is longer than the blob it declares", -1,
+                h.total_size, true);
+  return {};
+}
 
 LoadStatus rig_validate(const uint8_t* blob, size_t size, size_t* arena_bytes) {
   FileHeader h;
@@ -339,20 +366,34 @@ LoadStatus rig_init(const uint8_t* blob, size_t size, void* arena, size_t arena_
 
 const char* load_error_name(LoadError e) {
   switch (e) {
-    case LoadError::kNone: return "none";
-    case LoadError::kTruncated: return "truncated";
-    case LoadError::kMisaligned: return "misaligned";
-    case LoadError::kBadMagic: return "bad-magic";
-    case LoadError::kBadVersion: return "bad-version";
-    case LoadError::kBadHeader: return "bad-header";
-    case LoadError::kChecksum: return "checksum";
-    case LoadError::kSectionTable: return "section-table";
-    case LoadError::kMissingSection: return "missing-section";
-    case LoadError::kSectionSize: return "section-size";
-    case LoadError::kLimit: return "limit";
-    case LoadError::kBadIndex: return "bad-index";
-    case LoadError::kBadValue: return "bad-value";
-    case LoadError::kArenaTooSmall: return "arena-too-small";
+    case LoadError::kNone:
+      return "none";
+    case LoadError::kTruncated:
+      return "truncated";
+    case LoadError::kMisaligned:
+      return "misaligned";
+    case LoadError::kBadMagic:
+      return "bad-magic";
+    case LoadError::kBadVersion:
+      return "bad-version";
+    case LoadError::kBadHeader:
+      return "bad-header";
+    case LoadError::kChecksum:
+      return "checksum";
+    case LoadError::kSectionTable:
+      return "section-table";
+    case LoadError::kMissingSection:
+      return "missing-section";
+    case LoadError::kSectionSize:
+      return "section-size";
+    case LoadError::kLimit:
+      return "limit";
+    case LoadError::kBadIndex:
+      return "bad-index";
+    case LoadError::kBadValue:
+      return "bad-value";
+    case LoadError::kArenaTooSmall:
+      return "arena-too-small";
   }
   return "unknown";
 }
