@@ -20,14 +20,18 @@ enum class BusState : uint8_t {
 const char* bus_state_name(BusState s);
 
 struct BusCounters {
-  uint64_t frames = 0;           // data and remote frames delivered
-  uint64_t error_frames = 0;     // error frames received
-  uint64_t bus_errors = 0;       // error frames reporting protocol, ACK, arbitration or transceiver errors
-  uint64_t bus_off_events = 0;   // transitions into bus-off
-  uint64_t restarts = 0;         // controller restarts reported after bus-off
+  uint64_t frames = 0;                // data and remote frames delivered
+  uint64_t error_frames = 0;          // error frames received
+  uint64_t bus_errors = 0;            // error frames reporting protocol, ACK, arbitration or transceiver errors
+  uint64_t bus_off_events = 0;        // transitions into bus-off
+  uint64_t restarts = 0;              // controller restarts reported after bus-off
   uint64_t controller_overflows = 0;  // controller RX/TX buffer overflows reported by error frames
-  uint64_t dropped = 0;          // frames lost before delivery (socket queue full, SO_RXQ_OVFL)
-  uint64_t read_errors = 0;      // failed or truncated reads
+  uint64_t dropped = 0;               // frames lost before delivery (socket queue full, SO_RXQ_OVFL)
+  // Frames with identifiers the decoder does not read (another device's),
+  // filtered out in software (candump replay, the simulated bus). SocketCAN's
+  // kernel filter drops them unseen, so there they are not counted.
+  uint64_t foreign_frames = 0;
+  uint64_t read_errors = 0;  // failed or truncated reads
   uint64_t interface_down_events = 0;
   uint64_t reopen_attempts = 0;
   uint64_t reopens = 0;          // successful reopens after being down

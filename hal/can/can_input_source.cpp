@@ -46,7 +46,10 @@ std::string CanInputSource::status_line() const {
   const BusCounters& c = receiver_.bus_counters();
   return std::string(source_->name()) + " " + bus_state_name(receiver_.bus_state()) + ", frames " +
          std::to_string(c.frames) + ", error frames " + std::to_string(c.error_frames) + ", bus-off " +
-         std::to_string(c.bus_off_events) + ", dropped " + std::to_string(c.dropped);
+         std::to_string(c.bus_off_events) + ", dropped " + std::to_string(c.dropped) + ", foreign " +
+         std::to_string(c.foreign_frames) +
+         // "ok, frames 0" alone would hide a log or bus of another device's frames.
+         (c.frames == 0 && c.foreign_frames > 0 ? " (every frame had identifiers this decoder does not read)" : "");
 }
 
 }  // namespace sinew::hal::can

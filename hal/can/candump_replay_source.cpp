@@ -54,7 +54,10 @@ size_t CandumpReplaySource::drain(std::span<CanFrame> out, uint64_t now_ns) {
   size_t n = 0;
   while (n < out.size() && next_ < frames_.size() && frames_[next_].timestamp_ns <= now_ns) {
     const CanFrame& frame = frames_[next_++];
-    if (!passes_filter(frame)) continue;
+    if (!passes_filter(frame)) {
+      ++tracker_.counters().foreign_frames;
+      continue;
+    }
     if (frame.kind == FrameKind::kError) {
       tracker_.on_error_frame(frame);
     } else {

@@ -32,7 +32,10 @@ bool SimulatedCanBus::push(const CanFrame& frame) {
 
 bool SimulatedCanBus::inject(const CanFrame& frame) {
   if (frame.kind != FrameKind::kError && controller_bus_off_) return false;
-  if (!passes_filter(frame)) return false;
+  if (!passes_filter(frame)) {
+    ++tracker_.counters().foreign_frames;
+    return false;
+  }
   return push(frame);
 }
 

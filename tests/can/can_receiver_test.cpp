@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <memory>
 #include <vector>
 
+#include "hal/can/can_input_source.hpp"
+#include "hal/can/candump_replay_source.hpp"
 #include "hal/can/joint_stream_decoder.hpp"
 #include "hal/can/joint_stream_encoder.hpp"
 #include "hal/can/simulated_can_bus.hpp"
@@ -165,6 +169,49 @@ TEST_F(ReceiverTest, PerTickPathDoesNotAllocate) {
   }
   EXPECT_EQ(counter.allocations(), 0u);
   EXPECT_GT(decoder_.counters(0).accepted, 30u);
+}
+
+// Another device's frames never reach the decoder, but they are counted:
+// a bus or log of nothing but foreign frames once read "ok, frames 0".
+TEST_F(ReceiverTest, ForeignFramesAreCountedNotDecoded) {
+  CanFrame foreign;
+  foreign.id = 0x1ABCDEF;
+  foreign.extended = true;
+  foreign.len = 8;
+  for (uint64_t t = 1; t <= 5; ++t) {
+    foreign.timestamp_ns = t * kMs;
+    bus_.inject(foreign);
+  }
+  send(0, 11, 2 * kMs);
+  const PollResult r = receiver_.poll(10 * kMs, 10 * kMs);
+  EXPECT_EQ(r.samples.size(), 1u);
+  EXPECT_EQ(receiver_.bus_counters().foreign_frames, 5u);
+  EXPECT_EQ(receiver_.bus_counters().frames, 1u);
+}
+
+TEST(CandumpReplayForeign, ALogOfOnlyForeignFramesSaysSo) {
+  const std::string path = testing::TempDir() + "/only_foreign.candump";
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    for (int i = 0; i < 4; ++i) std::fprintf(f, "(0000000001.%06d) can0 01ABCDEF#0011223344556677\n", i * 1000);
+    std::fclose(f);
+  }
+  auto replay = std::make_unique<CandumpReplaySource>();
+  std::string error;
+  ASSERT_TRUE(replay->load({path, "", false, 0}, 0, &error)) << error;
+  auto decoder = std::make_unique<JointStreamDecoder>();
+  ASSERT_TRUE(decoder->configure(default_joint_stream_config(3, false, 10 * kMs), &error)) << error;
+  auto source = CanInputSource::create("log", std::move(replay), std::move(decoder), 32, 0, &error);
+  ASSERT_NE(source, nullptr) << error;
+  std::vector<JointSample> out(32);
+  InputHealth health;
+  health.init(std::vector<InputLimits>(3), std::vector<int32_t>(3, 0), 0);
+  source->latch(100 * kMs, out, health);
+  const std::string line = source->status_line();
+  EXPECT_NE(line.find("frames 0"), std::string::npos) << line;
+  EXPECT_NE(line.find("foreign 4"), std::string::npos) << line;
+  EXPECT_NE(line.find("identifiers this decoder does not read"), std::string::npos) << line;
 }
 
 }  // namespace
