@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <filesystem>
 
 #include "firmware/daemon/bus_sources.hpp"
 #include "firmware/daemon/loaded_rig.hpp"
@@ -185,13 +186,20 @@ TEST(DaemonConfig, UnknownKeysAndNonBooleanFlagsAreRejected) {
 }
 
 // Every configuration the project ships parses.
-TEST(DaemonConfig, ShippedConfigurationsParse) {
-  for (const char* name : {"default.toml"}) {
-    DaemonConfig c;
-    std::string error;
-    EXPECT_TRUE(sinew::firmware::load_config(std::string(SINEW_FIRMWARE_CONFIG_DIR) + "/" + name, &c, &error))
-        << name << ": " << error;
+// Every shipped configuration, and the config fuzzer's seeds (a seed the
+// parser refuses would start the fuzzer from error paths only).
+TEST(DaemonConfig, ShippedConfigurationsAndFuzzSeedsParse) {
+  size_t parsed = 0;
+  for (const char* dir : {SINEW_FIRMWARE_CONFIG_DIR, SINEW_CONFIG_SEED_DIR}) {
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      if (entry.path().extension() != ".toml") continue;
+      DaemonConfig c;
+      std::string error;
+      EXPECT_TRUE(sinew::firmware::load_config(entry.path().string(), &c, &error)) << entry.path() << ": " << error;
+      ++parsed;
+    }
   }
+  EXPECT_GE(parsed, 3u);
 }
 
 // Every key of a [[source]], [[sink]] and their sub-tables is known for the
