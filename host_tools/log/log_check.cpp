@@ -37,8 +37,11 @@ bool check_log(const std::string& path, LogCheck* out, std::string* error) {
     if (c.frames == 0) {
       c.first_tick = pose.tick;
       c.first_ns = pose.timestamp_ns;
+      c.runs = 1;
+    } else if (pose.tick < c.last_tick) {
+      ++c.runs;  // a restart appended to the log
     } else {
-      if (pose.tick <= c.last_tick) {
+      if (pose.tick == c.last_tick) {
         ++c.tick_disorder;
       } else if (pose.tick > c.last_tick + 1) {
         ++c.tick_gaps;
@@ -78,6 +81,11 @@ std::string describe(const std::string& path, const LogCheck& c) {
                   " ticks missing)\n",
                   c.frames, c.first_tick, c.last_tick, static_cast<double>(c.last_ns - c.first_ns) * 1e-9, c.tick_gaps,
                   c.missing_ticks);
+    if (c.runs > 1)
+      std::snprintf(buf, sizeof buf,
+                    "  %" PRIu64 " frames in %" PRIu64 " runs (appended after restarts); %" PRIu64 " gaps (%" PRIu64
+                    " ticks missing)\n",
+                    c.frames, c.runs, c.tick_gaps, c.missing_ticks);
     s += buf;
     std::snprintf(buf, sizeof buf,
                   "  frames with an input clamped %" PRIu64 ", stale %" PRIu64 ", rejected %" PRIu64
@@ -87,9 +95,10 @@ std::string describe(const std::string& path, const LogCheck& c) {
     std::snprintf(buf, sizeof buf, "  content xxh64 %016" PRIx64 "\n", c.content_hash);
     s += buf;
   }
-  if (c.tick_disorder > 0) s += "  error: " + std::to_string(c.tick_disorder) + " frames whose tick did not increase\n";
+  if (c.tick_disorder > 0)
+    s += "  error: " + std::to_string(c.tick_disorder) + " frames repeating the tick before them\n";
   if (c.time_disorder > 0)
-    s += "  error: " + std::to_string(c.time_disorder) + " frames whose timestamp went backwards\n";
+    s += "  error: " + std::to_string(c.time_disorder) + " frames whose timestamp went backwards within a run\n";
   if (!c.clean_end) s += "  damaged: " + c.stop + " (the frames above are intact)\n";
   s += c.ok() ? "ok\n" : "FAILED\n";
   return s;

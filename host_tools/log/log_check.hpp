@@ -1,8 +1,9 @@
 // Checks a frame log (docs/frame-formats.md) from end to end, beyond what the
-// reader's per-record checksums cover: the stream's own consistency. Ticks
-// must increase (a gap is skipped ticks, reported, not an error), timestamps
-// must not go backwards, and every record must decode to the header's shape.
-// Host side; allocates.
+// reader's per-record checksums cover: the stream's own consistency. Within a
+// run ticks increase (a gap is skipped ticks, reported, not an error) and
+// timestamps do not go backwards. A tick lower than the one before starts a
+// new run (the daemon appends to an existing log after a restart); the same
+// tick twice in a row is an error. Host side; allocates.
 #pragma once
 
 #include <cstdint>
@@ -19,8 +20,9 @@ struct LogCheck {
   uint64_t first_ns = 0, last_ns = 0;
   uint64_t tick_gaps = 0;               // places where ticks jump by more than one
   uint64_t missing_ticks = 0;           // ticks absent in those gaps
-  uint64_t tick_disorder = 0;           // ticks that did not increase (an error)
-  uint64_t time_disorder = 0;           // timestamps that went backwards (an error)
+  uint64_t runs = 0;                    // segments whose ticks increase; a new one starts at a lower tick
+  uint64_t tick_disorder = 0;           // a tick repeated (an error)
+  uint64_t time_disorder = 0;           // timestamps that went backwards within a run (an error)
   uint64_t frames_with_status[4] = {};  // frames with an input clamped, stale, rejected, yielded
   uint64_t content_hash = 0;            // XXH64 over the records' payloads in order
   bool clean_end = false;               // the file ends exactly after its last record
