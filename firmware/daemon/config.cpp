@@ -304,10 +304,16 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       return false;
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
-    if (!known_keys_only(*rt, "realtime", {"fifo_priority", "cpu", "lock_memory"}, origin, error)) return false;
+    if (!known_keys_only(*rt, "realtime",
+                         {"fifo_priority", "cpu", "lock_memory", "io_fifo_priority", "io_cpu", "sink_ring_frames"},
+                         origin, error))
+      return false;
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;
     if (!read_flag(*rt, "lock_memory", &c.realtime.lock_memory, origin, error)) return false;
+    if (!read_number(*rt, "io_fifo_priority", 0, 99, &c.realtime.io_fifo_priority, origin, error)) return false;
+    if (!read_number(*rt, "io_cpu", -1, 1023, &c.realtime.io_cpu, origin, error)) return false;
+    if (!read_number(*rt, "sink_ring_frames", 1, 65536, &c.realtime.sink_ring_frames, origin, error)) return false;
   }
   if (const toml::table* in = t["inputs"].as_table()) {
     if (!known_keys_only(*in, "inputs", {"timeout_factor", "default_period_ms", "range_margin_deg"}, origin, error))

@@ -125,15 +125,16 @@ int run(int argc, char** argv) {
     runtime.timing().record(t1 - t0, config.mode == RunMode::kLive && clock.finished_late(t1));
     if ((tick + 1) % stats_every == 0) print_stats(runtime, rig, false);
   }
-  runtime.flush();
+  const uint64_t lost_frames = runtime.close_sinks();  // writes what the sinks' queues hold
   print_stats(runtime, rig, true);
   if (clock.skipped_ticks() > 0)
     std::printf("skipped ticks (more than a period late): %llu\n",
                 static_cast<unsigned long long>(clock.skipped_ticks()));
-  if (runtime.dropped_frames() > 0) {
-    // A sink that lost frames (a full disk, a failing link) left an incomplete output.
+  if (lost_frames > 0) {
+    // A sink that lost frames (a full disk, a failing link, a full queue)
+    // left an incomplete output.
     std::printf("sinewd: %llu frames dropped by the sinks: the output is incomplete\n",
-                static_cast<unsigned long long>(runtime.dropped_frames()));
+                static_cast<unsigned long long>(lost_frames));
     return 1;
   }
   return 0;

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "bus_sources.hpp"
+#include "firmware/runtime/async_sink.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 #include "hal/output/frame_log_writer.hpp"
@@ -107,6 +108,27 @@ void print_layer_costs(const Runtime& runtime) {
   std::printf("\n");
 }
 
+namespace {
+
+// Every sink writes from its own I/O thread through a ring of frames.
+void add_queued_sink(const DaemonConfig& config, const LoadedRig& rig, std::unique_ptr<OutputSink> sink,
+                     Runtime* runtime) {
+  FrameDims dims;
+  dims.vertex_count = rig.rig.vertex_count();
+  dims.input_count = rig.input_count();
+  dims.normals = !rig.rig.normal[0].empty();
+  AsyncSinkOptions options;
+  options.ring_frames = static_cast<size_t>(config.realtime.sink_ring_frames);
+  options.lossless = config.mode != RunMode::kLive;  // no deadline: wait rather than lose frames
+  options.fifo_priority = config.mode == RunMode::kLive ? config.realtime.io_fifo_priority : 0;
+  options.cpu = config.mode == RunMode::kLive ? config.realtime.io_cpu : -1;
+  std::string report;
+  runtime->add_sink(std::make_unique<AsyncSink>(std::move(sink), dims, options, &report));
+  if (!report.empty()) std::printf("%s", report.c_str());
+}
+
+}  // namespace
+
 bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error) {
   hal::output::FrameShape shape;
   shape.vertex_count = rig.rig.vertex_count();
@@ -122,7 +144,8 @@ bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtim
       options.sync_every_frames = s.table["sync_every_frames"].value_or(0u);
       auto log = std::make_unique<hal::output::FrameLogWriter>();
       if (!log->open(*path, shape, options, error)) return *error = "sink " + s.name + ": " + *error, false;
-      runtime->add_sink(std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name));
+      add_queued_sink(config, rig, std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name),
+                      runtime);
     } else if (s.type == "udp") {
       const std::string host = s.table["host"].value_or<std::string>("127.0.0.1");
       const int64_t port = s.table["port"].value_or(int64_t{0});
@@ -132,7 +155,7 @@ bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtim
       auto udp = std::make_unique<hal::output::UdpSender>();
       if (!udp->open(host, static_cast<uint16_t>(port), shape, options, error))
         return *error = "sink " + s.name + ": " + *error, false;
-      runtime->add_sink(std::make_unique<HalSink<hal::output::UdpSender>>(std::move(udp), s.name));
+      add_queued_sink(config, rig, std::make_unique<HalSink<hal::output::UdpSender>>(std::move(udp), s.name), runtime);
     } else {
       return *error = "sink " + s.name + ": unknown type '" + s.type + "' (log, udp)", false;
     }

@@ -9,24 +9,33 @@
 
 namespace sinew::firmware {
 
-std::string apply_realtime(const RealtimeOptions& o) {
+std::string apply_thread_realtime(pthread_t thread, int fifo_priority, int cpu, const std::string& label) {
   std::string report;
-  if (o.fifo_priority > 0) {
+  const std::string prefix = label.empty() ? "" : label + ": ";
+  if (fifo_priority > 0) {
     sched_param p{};
-    p.sched_priority = o.fifo_priority;
-    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
-    report += "SCHED_FIFO " + std::to_string(o.fifo_priority) + ": " + (rc == 0 ? "on" : std::string("not applied (") + std::strerror(rc) + ")") + "\n";
+    p.sched_priority = fifo_priority;
+    const int rc = pthread_setschedparam(thread, SCHED_FIFO, &p);
+    report += prefix + "SCHED_FIFO " + std::to_string(fifo_priority) + ": " +
+              (rc == 0 ? "on" : std::string("not applied (") + std::strerror(rc) + ")") + "\n";
   }
-  if (o.cpu >= 0) {
+  if (cpu >= 0) {
     cpu_set_t set;
     CPU_ZERO(&set);
-    CPU_SET(static_cast<size_t>(o.cpu), &set);
-    const int rc = pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
-    report += "affinity cpu " + std::to_string(o.cpu) + ": " + (rc == 0 ? "on" : std::string("not applied (") + std::strerror(rc) + ")") + "\n";
+    CPU_SET(static_cast<size_t>(cpu), &set);
+    const int rc = pthread_setaffinity_np(thread, sizeof(set), &set);
+    report += prefix + "affinity cpu " + std::to_string(cpu) + ": " +
+              (rc == 0 ? "on" : std::string("not applied (") + std::strerror(rc) + ")") + "\n";
   }
+  return report;
+}
+
+std::string apply_realtime(const RealtimeOptions& o) {
+  std::string report = apply_thread_realtime(pthread_self(), o.fifo_priority, o.cpu, "");
   if (o.lock_memory) {
     const int rc = mlockall(MCL_CURRENT | MCL_FUTURE);
-    report += std::string("mlockall: ") + (rc == 0 ? "on" : std::string("not applied (") + std::strerror(errno) + ")") + "\n";
+    report +=
+        std::string("mlockall: ") + (rc == 0 ? "on" : std::string("not applied (") + std::strerror(errno) + ")") + "\n";
   }
   return report;
 }

@@ -2,6 +2,8 @@
 // and reported either way: SCHED_FIFO priority, CPU affinity, mlockall.
 #pragma once
 
+#include <pthread.h>
+
 #include <string>
 
 namespace sinew::firmware {
@@ -10,10 +12,21 @@ struct RealtimeOptions {
   int fifo_priority = 0;  // 1..99 for SCHED_FIFO; 0 keeps the default policy
   int cpu = -1;           // pin the calling thread to this CPU; -1 = no affinity
   bool lock_memory = false;
+  // The sinks' I/O threads (firmware/runtime/async_sink.hpp): one per sink,
+  // fed through a ring of `sink_ring_frames` frames. Below the tick thread's
+  // priority, so a write never preempts a tick; on a 4-core board, pin the
+  // tick thread to one isolated core and the I/O threads to another.
+  int io_fifo_priority = 0;  // 1..99 SCHED_FIFO for the I/O threads; 0 keeps the default policy
+  int io_cpu = -1;           // pin the I/O threads to this CPU; -1 = no affinity
+  int sink_ring_frames = 128;
 };
 
 // Applies the options to the calling thread/process. Returns one line per
 // option saying what took effect (e.g. "SCHED_FIFO 80: not permitted (EPERM)").
 std::string apply_realtime(const RealtimeOptions& options);
+
+// The same for another thread (an I/O thread): SCHED_FIFO priority (0: keep
+// the default policy) and CPU (-1: none). Lines start with `label`.
+std::string apply_thread_realtime(pthread_t thread, int fifo_priority, int cpu, const std::string& label);
 
 }  // namespace sinew::firmware

@@ -84,4 +84,13 @@ void Runtime::flush() {
   for (const auto& sink : sinks_) sink->flush();
 }
 
+uint64_t Runtime::close_sinks() {
+  uint64_t lost = dropped_frames_;
+  for (const auto& sink : sinks_) {
+    sink->close();
+    lost += sink->frames_lost_after_write();
+  }
+  return lost;
+}
+
 }  // namespace sinew::firmware

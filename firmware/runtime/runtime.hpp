@@ -47,6 +47,9 @@ class Runtime {
   const hal::PoseFrame& step(uint64_t tick_ns, uint64_t tick_index);
   const hal::PoseFrame& step(uint64_t tick_ns) { return step(tick_ns, tick_); }
   void flush();
+  // Shutdown: closes every sink (queued frames are written first). Returns
+  // the frames the sinks lost in all, before or after write() accepted them.
+  uint64_t close_sinks();
 
   const InputHealth& health() const { return health_; }
   const engine::Engine& engine() const { return pipeline_.engine; }

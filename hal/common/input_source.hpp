@@ -7,8 +7,8 @@
 #include <span>
 #include <string>
 
-#include "pose_frame.hpp"
 #include "input_health.hpp"
+#include "pose_frame.hpp"
 
 namespace sinew::hal {
 
@@ -40,6 +40,12 @@ class OutputSink {
   virtual bool write(const PoseFrame& frame) = 0;
   virtual void flush() = 0;
   virtual std::string status_line() const = 0;
+  // Ends the sink at shutdown: writes what it still holds (a queue), then
+  // flushes. Called once, from the thread that calls write().
+  virtual void close() { flush(); }
+  // Frames lost after write() had accepted them (a queued sink whose
+  // underlying write later failed); counted besides write()'s false returns.
+  virtual uint64_t frames_lost_after_write() const { return 0; }
 };
 
 }  // namespace sinew::hal

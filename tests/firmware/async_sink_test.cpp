@@ -1,0 +1,180 @@
+// Sinks off the tick thread: the ring copies frames (the tick's buffers can
+// change at once), keeps their order, refuses when full; the queued sink
+// never blocks write() on a stalled sink in live runs (it drops and counts),
+// loses nothing when lossless, and writes what is queued at close.
+#include "firmware/runtime/async_sink.hpp"
+
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <mutex>
+#include <vector>
+
+#include "tests/support/alloc_guard.hpp"
+
+namespace fw = sinew::firmware;
+namespace hal = sinew::hal;
+
+namespace {
+
+// A frame of 4 vertices and 2 inputs whose every value derives from its tick.
+struct TickFrame {
+  explicit TickFrame(uint64_t tick) { set(tick); }
+  void set(uint64_t tick) {
+    for (int c = 0; c < 3; ++c)
+      for (int v = 0; v < 4; ++v) pos[c][v] = static_cast<int32_t>(tick * 100 + static_cast<uint64_t>(c * 10 + v));
+    inputs[0] = static_cast<int32_t>(tick);
+    inputs[1] = -static_cast<int32_t>(tick);
+    status[0] = static_cast<uint8_t>(tick & 0xF);
+    frame.tick = tick;
+    frame.timestamp_ns = tick * 1000;
+    frame.vertex_count = 4;
+    frame.input_count = 2;
+    for (int c = 0; c < 3; ++c) frame.position[c] = pos[c];
+    frame.input_value = inputs;
+    frame.input_status = status;
+  }
+  int32_t pos[3][4] = {};
+  int32_t inputs[2] = {};
+  uint8_t status[2] = {};
+  hal::PoseFrame frame;
+};
+
+bool frame_is_tick(const hal::PoseFrame& f, uint64_t tick) {
+  const TickFrame want(tick);
+  if (f.tick != tick || f.timestamp_ns != tick * 1000 || f.vertex_count != 4 || f.input_count != 2) return false;
+  for (int c = 0; c < 3; ++c)
+    for (int v = 0; v < 4; ++v)
+      if (f.position[c][v] != want.pos[c][v]) return false;
+  return f.input_value[0] == want.inputs[0] && f.input_value[1] == want.inputs[1] &&
+         f.input_status[0] == want.status[0];
+}
+
+constexpr fw::FrameDims kDims{4, 2, false};
+
+// Records the ticks it is given (checking every value); can be held shut
+// to stand in for a stalled disk, and can fail writes.
+class GateSink final : public fw::OutputSink {
+ public:
+  GateSink() { ticks.reserve(100000); }
+  const char* name() const override { return "gate"; }
+  bool write(const hal::PoseFrame& f) override {
+    std::unique_lock<std::mutex> lock(mutex);
+    cv.wait(lock, [&] { return open; });
+    ticks.push_back(f.tick);
+    if (!frame_is_tick(f, f.tick)) ++corrupt;
+    return !fail;
+  }
+  void flush() override {}
+  std::string status_line() const override { return "gate"; }
+  void set_open(bool o) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      open = o;
+    }
+    cv.notify_all();
+  }
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool open = true;
+  bool fail = false;
+  std::vector<uint64_t> ticks;
+  uint64_t corrupt = 0;
+};
+
+}  // namespace
+
+TEST(FrameRing, CopiesKeepsOrderAndRefusesWhenFull) {
+  fw::FrameRing ring;
+  ring.init(3, kDims);
+  TickFrame f(0);
+  for (uint64_t t = 0; t < 3; ++t) {
+    f.set(t);
+    EXPECT_TRUE(ring.try_push(f.frame));
+  }
+  f.set(99);  // the producer's buffers change: the ring holds copies
+  EXPECT_FALSE(ring.try_push(f.frame));
+  for (uint64_t t = 0; t < 3; ++t) {
+    const hal::PoseFrame* got = ring.front();
+    ASSERT_NE(got, nullptr);
+    EXPECT_TRUE(frame_is_tick(*got, t)) << t;
+    ring.pop();
+  }
+  EXPECT_EQ(ring.front(), nullptr);
+  // A frame larger than the slots is refused, not truncated.
+  TickFrame big(5);
+  big.frame.input_count = 3;
+  EXPECT_FALSE(ring.try_push(big.frame));
+}
+
+TEST(AsyncSink, LosslessDeliversEveryFrameInOrderThroughASmallRing) {
+  auto gate = std::make_unique<GateSink>();
+  GateSink* g = gate.get();
+  std::string report;
+  fw::AsyncSink sink(std::move(gate), kDims, {4, true, 0, -1}, &report);
+  TickFrame f(0);
+  for (uint64_t t = 0; t < 20000; ++t) {
+    f.set(t);
+    EXPECT_TRUE(sink.write(f.frame));
+  }
+  sink.close();
+  ASSERT_EQ(g->ticks.size(), 20000u);
+  for (uint64_t t = 0; t < 20000; ++t) ASSERT_EQ(g->ticks[t], t);
+  EXPECT_EQ(g->corrupt, 0u);
+  EXPECT_EQ(sink.ring_drops(), 0u);
+}
+
+// A stalled sink (a sync taking seconds) must not stall the tick: with the
+// sink held shut, write() keeps returning; frames beyond the ring are
+// dropped and counted. Were write() to wait, this test would hang.
+TEST(AsyncSink, AStalledSinkNeverBlocksTheTickFramesBeyondTheRingAreCounted) {
+  auto gate = std::make_unique<GateSink>();
+  GateSink* g = gate.get();
+  g->set_open(false);
+  std::string report;
+  fw::AsyncSink sink(std::move(gate), kDims, {8, false, 0, -1}, &report);
+  TickFrame f(0);
+  uint64_t accepted = 0;
+  for (uint64_t t = 0; t < 100; ++t) {
+    f.set(t);
+    accepted += sink.write(f.frame) ? 1 : 0;
+  }
+  // The ring's 8 slots, plus at most the one frame the I/O thread holds.
+  EXPECT_GE(accepted, 8u);
+  EXPECT_LE(accepted, 9u);
+  EXPECT_EQ(sink.ring_drops(), 100u - accepted);
+  g->set_open(true);
+  sink.close();
+  ASSERT_EQ(g->ticks.size(), accepted);
+  for (uint64_t i = 0; i < accepted; ++i) EXPECT_EQ(g->ticks[i], i);  // the oldest are kept, in order
+  EXPECT_EQ(g->corrupt, 0u);
+  EXPECT_NE(sink.status_line().find("dropped when full " + std::to_string(100 - accepted)), std::string::npos)
+      << sink.status_line();
+}
+
+TEST(AsyncSink, FailedWritesOfTheWrappedSinkAreCountedAsLost) {
+  auto gate = std::make_unique<GateSink>();
+  gate->fail = true;
+  std::string report;
+  fw::AsyncSink sink(std::move(gate), kDims, {16, true, 0, -1}, &report);
+  TickFrame f(0);
+  for (uint64_t t = 0; t < 10; ++t) {
+    f.set(t);
+    EXPECT_TRUE(sink.write(f.frame));
+  }
+  sink.close();
+  EXPECT_EQ(sink.frames_lost_after_write(), 10u);
+}
+
+TEST(AsyncSink, WriteDoesNotAllocate) {
+  std::string report;
+  fw::AsyncSink sink(std::make_unique<GateSink>(), kDims, {64, true, 0, -1}, &report);
+  TickFrame f(0);
+  sinew::test::AllocationCounter counter;
+  for (uint64_t t = 0; t < 5000; ++t) {
+    f.set(t);
+    sink.write(f.frame);
+  }
+  EXPECT_EQ(counter.allocations(), 0u);
+  sink.close();
+}
