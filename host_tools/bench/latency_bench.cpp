@@ -8,20 +8,37 @@
 //             into an outgoing pose
 // The baseline is the engine step alone on the same rig (no IO), in the
 // same run; the ratio is the runtime's overhead.
-//   sinew-bench-latency [--ticks N]
+//
+// Then the sinks: the same runtime paced in real time at 1 kHz, three ways in
+// the same run: no sink; a frame log (fdatasync every 1000 frames) and a UDP
+// stream written in the tick thread; the same two through sinewd's I/O
+// threads (AsyncSink). The p99 ratio of the last to the first is what the
+// I/O threads buy.
+//   sinew-bench-latency [--ticks N] [--paced-ticks N]
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/runtime/async_sink.hpp"
 #include "firmware/runtime/runtime.hpp"
+#include "firmware/sinks/hal_sink.hpp"
 #include "hal/can/can_input_source.hpp"
 #include "hal/can/joint_stream_decoder.hpp"
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/common/monotonic_clock.hpp"
+#include "hal/output/frame_log_writer.hpp"
+#include "hal/output/udp_sender.hpp"
 
 namespace {
 
@@ -110,15 +127,155 @@ void run(const char* builtin, size_t ticks) {
       percentile(latencies, 1.0), latencies.size());
 }
 
+enum class SinkSetup { kNone, kInTickThread, kIoThreads };
+
+const char* setup_name(SinkSetup s) {
+  switch (s) {
+    case SinkSetup::kNone:
+      return "no sink";
+    case SinkSetup::kInTickThread:
+      return "log+udp in tick thread";
+    case SinkSetup::kIoThreads:
+      return "log+udp on I/O threads";
+  }
+  return "";
+}
+
+// A UDP port on loopback drained by a thread, so the stream is really sent.
+class UdpDrain {
+ public:
+  UdpDrain() {
+    fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    if (fd_ < 0 || ::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
+      std::fprintf(stderr, "sinew-bench-latency: cannot bind a loopback UDP port\n");
+      std::exit(1);
+    }
+    timeval tv{0, 100000};
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    port_ = ntohs(a.sin_port);
+    thread_ = std::thread([this] {
+      std::vector<uint8_t> buf(65536);
+      while (!stop_.load()) (void)::recv(fd_, buf.data(), buf.size(), 0);
+    });
+  }
+  ~UdpDrain() {
+    stop_.store(true);
+    thread_.join();
+    ::close(fd_);
+  }
+  uint16_t port() const { return port_; }
+
+ private:
+  int fd_ = -1;
+  uint16_t port_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+void sleep_until_ns(uint64_t t) {
+  timespec ts{static_cast<time_t>(t / 1'000'000'000u), static_cast<long>(t % 1'000'000'000u)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+// The runtime on `rig`, ticking in real time at 1 kHz for `ticks`, with the
+// sinks of `setup`. Returns the step times.
+std::vector<uint64_t> paced_steps(const firmware::LoadedRig& rig, SinkSetup setup, size_t ticks,
+                                  const std::string& log_path, uint16_t udp_port, std::string* sink_report) {
+  std::string error;
+  std::vector<hal::InputLimits> limits(rig.rig.input_count);
+  firmware::Runtime runtime;
+  if (!runtime.init(rig.rig, limits, 0, &error)) std::exit(1);
+  hal::output::FrameShape shape;
+  shape.vertex_count = rig.rig.vertex_count();
+  shape.input_count = rig.rig.input_count;
+  shape.length_exponent = rig.rig.length_exponent;
+  std::unique_ptr<hal::OutputSink> sinks[2];
+  if (setup != SinkSetup::kNone) {
+    std::remove(log_path.c_str());
+    auto log = std::make_unique<hal::output::FrameLogWriter>();
+    auto udp = std::make_unique<hal::output::UdpSender>();
+    hal::output::FrameLogOptions log_options;
+    log_options.sync_every_frames = 1000;
+    if (!log->open(log_path, shape, log_options, &error) || !udp->open("127.0.0.1", udp_port, shape, {}, &error)) {
+      std::fprintf(stderr, "sinew-bench-latency: %s\n", error.c_str());
+      std::exit(1);
+    }
+    sinks[0] = std::make_unique<firmware::HalSink<hal::output::FrameLogWriter>>(std::move(log), "log");
+    sinks[1] = std::make_unique<firmware::HalSink<hal::output::UdpSender>>(std::move(udp), "udp");
+  }
+  for (auto& sink : sinks) {
+    if (!sink) continue;
+    if (setup == SinkSetup::kIoThreads) {
+      const firmware::FrameDims dims{rig.rig.vertex_count(), rig.rig.input_count, false};
+      std::string report;
+      sink = std::make_unique<firmware::AsyncSink>(std::move(sink), dims, firmware::AsyncSinkOptions{}, &report);
+    }
+    runtime.add_sink(std::move(sink));
+  }
+  std::vector<uint64_t> steps;
+  steps.reserve(ticks);
+  const uint64_t start = hal::monotonic_ns() + 1'000'000;
+  constexpr uint64_t kPeriod = 1'000'000;
+  for (size_t k = 0; k < ticks; ++k) {
+    const uint64_t tick_ns = start + k * kPeriod;
+    sleep_until_ns(tick_ns);
+    const uint64_t t0 = hal::monotonic_ns();
+    runtime.step(tick_ns, k);
+    steps.push_back(hal::monotonic_ns() - t0);
+  }
+  const uint64_t lost = runtime.close_sinks();
+  *sink_report = "frames lost by the sinks " + std::to_string(lost);
+  std::remove(log_path.c_str());
+  return steps;
+}
+
+void run_sinks(const char* builtin, size_t ticks) {
+  firmware::LoadedRig rig;
+  std::string error;
+  if (!firmware::load_rig(builtin, "", &rig, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    std::exit(1);
+  }
+  char dir_template[] = "/tmp/sinew-bench-XXXXXX";
+  const char* dir = ::mkdtemp(dir_template);
+  if (dir == nullptr) std::exit(1);
+  const std::string log_path = std::string(dir) + "/bench.log";
+  UdpDrain drain;
+  double p99_none = 0;
+  for (SinkSetup setup : {SinkSetup::kNone, SinkSetup::kInTickThread, SinkSetup::kIoThreads}) {
+    std::string report;
+    const std::vector<uint64_t> steps = paced_steps(rig, setup, ticks, log_path, drain.port(), &report);
+    const double p99 = percentile(steps, 0.99);
+    if (setup == SinkSetup::kNone) p99_none = p99;
+    std::printf("%-5s paced 1 kHz, %-24s | step p50 %7.1f us p99 %7.1f us max %8.1f us | p99 / no sink %.3f%s%s\n",
+                builtin, setup_name(setup), percentile(steps, 0.5), p99, percentile(steps, 1.0), p99 / p99_none,
+                setup == SinkSetup::kNone ? "" : " | ", setup == SinkSetup::kNone ? "" : report.c_str());
+  }
+  ::rmdir(dir);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  size_t ticks = 5000;
-  for (int i = 1; i + 1 < argc; ++i)
+  size_t ticks = 5000, paced_ticks = 5000;
+  for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--ticks") == 0) ticks = static_cast<size_t>(std::strtoull(argv[i + 1], nullptr, 10));
+    if (std::strcmp(argv[i], "--paced-ticks") == 0)
+      paced_ticks = static_cast<size_t>(std::strtoull(argv[i + 1], nullptr, 10));
+  }
   if (ticks == 0) ticks = 1;
+  if (paced_ticks == 0) paced_ticks = 1;
   std::printf("sinew-bench-latency: %zu ticks at 1 kHz (virtual deadlines), frames at 500 Hz per input\n", ticks);
   run("arm", ticks);
   run("hand", ticks);
+  std::printf("sinks: %zu ticks paced in real time at 1 kHz per setup, in this run\n", paced_ticks);
+  run_sinks("arm", paced_ticks);
+  run_sinks("hand", paced_ticks);
   return 0;
 }
