@@ -6,6 +6,26 @@
 
 namespace sinew::firmware {
 
+pipeline::PipelineStatus step_pipeline(pipeline::Pipeline* p, std::span<const int32_t> inputs, StageTimes* times) {
+  // Stage by stage, each timed: the statistics show every layer's share of
+  // the tick. A failing layer keeps the pose it was given.
+  pipeline::PipelineStatus failure;
+  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
+    const auto stage = static_cast<pipeline::Stage>(s);
+    if (!pipeline::pipeline_stage_on(*p, stage)) continue;
+    const uint64_t t0 = times ? hal::monotonic_ns() : 0;
+    const pipeline::PipelineStatus st = pipeline::pipeline_run_stage(p, stage, inputs);
+    if (times) {
+      const uint64_t dt = hal::monotonic_ns() - t0;
+      times->total_ns[s] += dt;
+      if (dt > times->max_ns[s]) times->max_ns[s] = dt;
+    }
+    if (!st.ok()) failure = st;
+  }
+  if (times) ++times->ticks;
+  return failure;
+}
+
 bool Runtime::init(const rig::Rig& rig, const pipeline::LayerSet& layers, const pipeline::PipelineOptions& options,
                    std::span<const InputLimits> limits, uint64_t start_ns, std::string* error) {
   // The rig's inputs first, then its external inputs (layer signals such as
@@ -43,24 +63,12 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
     health_.apply(std::span<const hal::JointSample>(samples_.data(), n));
   }
   health_.end_tick(tick_ns);
-  // The pipeline stage by stage, each timed: the statistics show every
-  // layer's share of the tick. A failing layer keeps the pose it was given.
-  const std::span<const int32_t> inputs = health_.values();
-  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
-    const auto stage = static_cast<pipeline::Stage>(s);
-    if (!pipeline::pipeline_stage_on(pipeline_, stage)) continue;
-    const uint64_t t0 = hal::monotonic_ns();
-    const pipeline::PipelineStatus st = pipeline::pipeline_run_stage(&pipeline_, stage, inputs);
-    const uint64_t dt = hal::monotonic_ns() - t0;
-    stage_times_.total_ns[s] += dt;
-    if (dt > stage_times_.max_ns[s]) stage_times_.max_ns[s] = dt;
-    if (!st.ok()) {
-      ++layer_errors_;
-      static_assert(sizeof(last_layer_error_) == sizeof(st.message));
-      std::memcpy(last_layer_error_, st.message, sizeof(last_layer_error_));
-    }
+  const pipeline::PipelineStatus st = step_pipeline(&pipeline_, health_.values(), &stage_times_);
+  if (!st.ok()) {
+    ++layer_errors_;
+    static_assert(sizeof(last_layer_error_) == sizeof(st.message));
+    std::memcpy(last_layer_error_, st.message, sizeof(last_layer_error_));
   }
-  ++stage_times_.ticks;
   const engine::Engine& engine = pipeline_.engine;
   // Per-input status: health bits plus "clamped" from the joint that owns the input.
   const std::span<const uint8_t> hs = health_.status();

@@ -22,6 +22,12 @@ struct StageTimes {
   uint64_t ticks = 0;
 };
 
+// Runs every stage of `p` that is on, in order, timing each into `times`
+// (null: untimed). A failing stage keeps the pose it was given; returns the
+// last failure (ok when none). The daemon's tick and `sinew-log render` step
+// the pipeline through this one function, so a render reproduces the run.
+pipeline::PipelineStatus step_pipeline(pipeline::Pipeline* p, std::span<const int32_t> inputs, StageTimes* times);
+
 class Runtime {
  public:
   // rig and layers must outlive the runtime. limits: one per rig input,
