@@ -99,7 +99,7 @@ bool OutputDir::check_existing(const struct stat& st, bool in_place, std::string
            false;
   if (dir_world_writable_ && st.st_uid != ::geteuid() && st.st_uid != dir_owner_)
     return *error = refuse("belongs to uid " + std::to_string(st.st_uid) + " in world-writable directory " + dir_ +
-                           ", refusing to write to another user's file"),
+                           (in_place ? ", refusing to write to" : ", refusing to replace") + " another user's file"),
            false;
   return true;
 }
