@@ -1,7 +1,10 @@
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 
 #include "candump_writer.hpp"
+#include "hal/common/safe_create.hpp"
 
 namespace sinew::hal::can {
 
@@ -9,9 +12,15 @@ CandumpWriter::~CandumpWriter() { close(); }
 
 bool CandumpWriter::open(const std::string& path, std::string* error, size_t buffer_bytes) {
   close();
-  file_ = std::fopen(path.c_str(), "wb");
+  std::string why;
+  // A new file renamed into place: never written through a link planted at the path (safe_create.hpp).
+  const int fd = create_replacing(path, "candump record", 0666, &why);
+  if (fd >= 0 && (file_ = ::fdopen(fd, "wb")) == nullptr) {
+    why = "candump record " + path + ": " + std::strerror(errno);
+    ::close(fd);
+  }
   if (file_ == nullptr) {
-    if (error != nullptr) *error = "cannot create " + path + ": " + std::strerror(errno);
+    if (error != nullptr) *error = why;
     return false;
   }
   buffer_.assign(buffer_bytes < kCandumpLineMax ? kCandumpLineMax : buffer_bytes, '\0');

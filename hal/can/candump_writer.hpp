@@ -19,7 +19,10 @@ class CandumpWriter {
   CandumpWriter(const CandumpWriter&) = delete;
   CandumpWriter& operator=(const CandumpWriter&) = delete;
 
-  // Creates (truncates) the file. Configuration time.
+  // Creates the file anew, empty, replacing a regular file at the path; a
+  // symbolic link there is refused, never followed, and so is a
+  // world-writable directory without the sticky bit (safe_create.hpp).
+  // Configuration time.
   bool open(const std::string& path, std::string* error, size_t buffer_bytes = 64 * 1024);
   // One line; false if the frame cannot be formatted or the write failed (counted).
   bool write(const CanFrame& frame, std::string_view interface);

@@ -10,6 +10,7 @@
 
 #include "frame_log_format.hpp"
 #include "frame_log_scan.hpp"
+#include "hal/common/safe_create.hpp"
 #include "pose_codec.hpp"
 
 namespace sinew::hal::output {
@@ -35,33 +36,22 @@ bool pwrite_all(int fd, const uint8_t* src, size_t n, uint64_t offset) {
   return true;
 }
 
-// The directory entry of a renamed file is durable only once its directory is synced.
-void sync_parent_directory(const std::string& path) {
-  const size_t slash = path.rfind('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd < 0) return;
-  ::fsync(dfd);
-  ::close(dfd);
-}
-
-// A new log appears complete or not at all: header into a temporary file, synced, renamed.
-bool create_log(const std::string& path, const FrameShape& shape, std::string* error) {
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return *error = os_error("cannot create", tmp), false;
+// A new log appears complete or not at all: the header goes into a fresh
+// temporary file, is synced, and the file is renamed into place. Returns the
+// temporary file's descriptor, which is the log's once renamed.
+int create_log(OutputDir& dir, const FrameShape& shape, std::string* error) {
+  const int fd = dir.create_temp(0644, error);
+  if (fd < 0) return -1;
   uint8_t header[kLogHeaderBytes];
   encode_log_header(shape, header);
-  const bool ok = pwrite_all(fd, header, sizeof(header), 0) && ::fdatasync(fd) == 0;
-  if (!ok) *error = os_error("cannot write", tmp);
-  ::close(fd);
-  if (!ok) {
-    ::unlink(tmp.c_str());
-    return false;
+  if (!pwrite_all(fd, header, sizeof(header), 0) || ::fdatasync(fd) != 0) {
+    *error = dir.subject() + ": cannot write its header: " + std::strerror(errno);
+    ::close(fd);
+    dir.discard();
+    return -1;
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) return *error = os_error("cannot rename to", path), false;
-  sync_parent_directory(path);
-  return true;
+  if (!dir.commit(error)) return ::close(fd), -1;
+  return fd;
 }
 
 }  // namespace
@@ -74,14 +64,17 @@ bool FrameLogWriter::open(const std::string& path, const FrameShape& shape, cons
   options_ = options;
   if (max_pose_payload_bytes(shape) == 0) return *error = "frame too large for a frame log", false;
 
-  fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-  if (fd_ < 0 && errno == ENOENT) {
-    if (!create_log(path, shape, error)) return false;
-    fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  // Never through a symbolic link, in a directory others cannot swap the file in (safe_create.hpp).
+  OutputDir dir;
+  if (!dir.open(path, "frame log", error)) return false;
+  bool missing = false;
+  fd_ = dir.open_existing(O_RDWR, &missing, error);
+  if (missing) {
+    fd_ = create_log(dir, shape, error);
   } else if (fd_ >= 0) {
     stats_.appended = true;
   }
-  if (fd_ < 0) return *error = os_error("cannot open", path), false;
+  if (fd_ < 0) return false;
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     *error = errno == EWOULDBLOCK ? path + " is open in another writer" : os_error("cannot lock", path);
     return close(), false;

@@ -24,14 +24,14 @@ struct FrameLogOptions {
 
 struct FrameLogStats {
   uint64_t frames_written = 0;
-  uint64_t frames_dropped = 0;    // write failed (e.g. disk full); the partial record was cut off
-  uint64_t frames_rejected = 0;   // frame does not match the log's shape
+  uint64_t frames_dropped = 0;   // write failed (e.g. disk full); the partial record was cut off
+  uint64_t frames_rejected = 0;  // frame does not match the log's shape
   uint64_t record_bytes_written = 0;
   uint64_t syncs = 0;
   uint64_t sync_errors = 0;
   int last_errno = 0;
-  bool appended = false;          // opened an existing log
-  uint64_t tail_bytes_cut = 0;    // torn tail removed from an existing log at open
+  bool appended = false;        // opened an existing log
+  uint64_t tail_bytes_cut = 0;  // torn tail removed from an existing log at open
 };
 
 class FrameLogWriter {
@@ -45,7 +45,11 @@ class FrameLogWriter {
   // renamed), or opens an existing one to append. An existing log must have
   // the same shape; a torn last record (at most one record long) is cut off;
   // larger damage is refused, so appending never buries intact records behind
-  // a corrupt one. Takes an exclusive lock: one writer per file.
+  // a corrupt one. Takes an exclusive lock: one writer per file. Never
+  // follows a symbolic link at the path or at the temporary file's name, and
+  // refuses a world-writable directory without the sticky bit, an existing
+  // file that is not a regular file, has other names (hard links) or, in a
+  // world-writable directory, belongs to another user (safe_create.hpp).
   bool open(const std::string& path, const FrameShape& shape, const FrameLogOptions& options, std::string* error);
 
   // Appends one record. False if the frame was rejected or dropped (counted).

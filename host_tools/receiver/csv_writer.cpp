@@ -1,10 +1,13 @@
 #include "csv_writer.hpp"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cinttypes>
 #include <cstring>
 #include <vector>
 
+#include "hal/common/safe_create.hpp"
 #include "hal/output/checksum.hpp"
 #include "hal/output/le_bytes.hpp"
 
@@ -23,8 +26,14 @@ uint64_t positions_digest(const hal::output::DecodedPose& pose) {
 
 bool CsvWriter::open(const std::string& path, bool vertices, std::string* error) {
   close();
-  file_ = std::fopen(path.c_str(), "w");
-  if (file_ == nullptr) return *error = "cannot create " + path + ": " + std::strerror(errno), false;
+  // A new file renamed into place: never written through a link planted at the path (safe_create.hpp).
+  const int fd = hal::create_replacing(path, "CSV file", 0666, error);
+  if (fd < 0) return false;
+  file_ = ::fdopen(fd, "w");
+  if (file_ == nullptr) {
+    *error = "CSV file " + path + ": " + std::strerror(errno);
+    return ::close(fd), false;
+  }
   vertices_ = vertices;
   have_header_ = false;
   rows_ = skipped_ = 0;
@@ -39,7 +48,8 @@ bool CsvWriter::write(uint64_t sequence, const hal::output::DecodedPose& pose) {
     std::fputs("sequence,tick,timestamp_ns,length_exponent,vertex_count,input_count,positions_xxh64", file_);
     for (uint32_t i = 0; i < input_count_; ++i) std::fprintf(file_, ",value_%" PRIu32 ",status_%" PRIu32, i, i);
     if (vertices_)
-      for (uint32_t v = 0; v < vertex_count_; ++v) std::fprintf(file_, ",x_%" PRIu32 ",y_%" PRIu32 ",z_%" PRIu32, v, v, v);
+      for (uint32_t v = 0; v < vertex_count_; ++v)
+        std::fprintf(file_, ",x_%" PRIu32 ",y_%" PRIu32 ",z_%" PRIu32, v, v, v);
     std::fputc('\n', file_);
     have_header_ = true;
   }

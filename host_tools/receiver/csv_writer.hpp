@@ -20,6 +20,8 @@ class CsvWriter {
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
 
+  // Creates the file anew, empty, replacing a regular file at the path; a
+  // symbolic link there is refused, never followed (safe_create.hpp).
   bool open(const std::string& path, bool vertices, std::string* error);
   // Appends one row; frames whose counts differ from the first one are skipped (counted).
   bool write(uint64_t sequence, const hal::output::DecodedPose& pose);

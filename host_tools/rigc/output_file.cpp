@@ -1,74 +1,48 @@
 #include "output_file.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <vector>
+
+#include "hal/common/safe_create.hpp"
 
 namespace sinew::rigc {
 namespace {
 
-bool write_all(std::FILE* f, std::string_view bytes) {
-  return bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+bool is_stream(mode_t mode) { return S_ISCHR(mode) || S_ISFIFO(mode); }
+
+// /dev/full, /dev/null, a FIFO: written where they are, since renaming a file
+// over them would replace the device node. Opened without O_CREAT and without
+// following a link, and checked again once open.
+bool write_in_place(const std::string& path, std::string_view bytes, std::string* error) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_NOFOLLOW | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) return *error = "cannot write " + path + ": " + std::strerror(errno), false;
+  struct stat st {};
+  int failure = 0;
+  if (::fstat(fd, &st) != 0)
+    failure = errno;
+  else if (!is_stream(st.st_mode))
+    failure = EEXIST;  // replaced by a file between the look and the open
+  while (failure == 0 && !bytes.empty()) {
+    const ssize_t put = ::write(fd, bytes.data(), bytes.size());
+    if (put < 0 && errno == EINTR) continue;
+    if (put <= 0) failure = put == 0 ? EIO : errno;
+    if (put > 0) bytes.remove_prefix(static_cast<size_t>(put));
+  }
+  if (::close(fd) != 0 && failure == 0) failure = errno;
+  if (failure != 0) return *error = "cannot write " + path + ": " + std::strerror(failure), false;
+  return true;
 }
 
 }  // namespace
 
 bool write_output_file(const std::string& path, std::string_view bytes, std::string* error) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (fs::exists(st) && !fs::is_regular_file(st)) {
-    if (fs::is_directory(st)) return *error = "cannot write " + path + ": it is a directory", false;
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (f == nullptr) return *error = "cannot write " + path + ": " + std::strerror(errno), false;
-    bool ok = write_all(f, bytes);
-    int saved = ok ? 0 : errno;
-    if (std::fclose(f) != 0 && ok) {
-      ok = false;
-      saved = errno;
-    }
-    if (!ok) return *error = "cannot write " + path + ": " + std::strerror(saved), false;
-    return true;
-  }
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string tmpl = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  const int fd = mkstemp(name.data());
-  if (fd < 0) return *error = "cannot write " + path + ": " + std::strerror(errno), false;
-  const std::string tmp(name.data());
-  // mkstemp creates the file 0600; give it what a plain open would have.
-  const mode_t mask = umask(0);
-  umask(mask);
-  (void)fchmod(fd, 0666 & ~mask);
-  std::FILE* f = fdopen(fd, "wb");
-  if (f == nullptr) {
-    const int saved = errno;
-    close(fd);
-    std::remove(tmp.c_str());
-    return *error = "cannot write " + path + ": " + std::strerror(saved), false;
-  }
-  bool ok = write_all(f, bytes) && std::fflush(f) == 0 && fsync(fileno(f)) == 0;
-  int saved = ok ? 0 : errno;
-  if (std::fclose(f) != 0 && ok) {
-    ok = false;
-    saved = errno;
-  }
-  if (ok && std::rename(tmp.c_str(), path.c_str()) != 0) {
-    ok = false;
-    saved = errno;
-  }
-  if (!ok) {
-    std::remove(tmp.c_str());
-    return *error = "cannot write " + path + ": " + std::strerror(saved), false;
-  }
-  return true;
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0 && is_stream(st.st_mode)) return write_in_place(path, bytes, error);
+  return hal::write_replacing(path, "output file", bytes, 0666, error);
 }
 
 }  // namespace sinew::rigc

@@ -1,7 +1,9 @@
-// Writes a whole output file or nothing: the bytes go to a temporary file next
-// to `path`, which is checked after close and renamed over `path` only then.
-// Paths that exist and are not regular files (/dev/stdout, /dev/full, a FIFO)
-// are written in place, and a failed write is still reported.
+// Writes a whole output file or nothing: the bytes go to a fresh temporary
+// file next to `path`, which is synced and renamed over `path` only then
+// (hal/common/safe_create.hpp: a symbolic link at the path is refused, never
+// followed, and so is a world-writable directory without the sticky bit).
+// A character device or FIFO at the path (/dev/full, /dev/null, a pipe) is
+// written in place, and a failed write is still reported.
 #pragma once
 
 #include <string>

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tests/integration/daemon_harness.hpp"
+#include "tests/support/planted_links.hpp"
 
 namespace {
 
@@ -73,4 +74,30 @@ TEST(DaemonEndToEnd, DroppedFramesMakeTheExitStatusNonZero) {
   EXPECT_EQ(WEXITSTATUS(status), 1) << command << "\n" << text;
   EXPECT_NE(text.find("frames dropped by the sinks"), std::string::npos) << text;
   std::remove(log.c_str());
+}
+
+// Run as root with its log in a shared directory, the daemon wrote through a
+// symbolic link another user planted at the log's name (into an empty file it
+// gave a header) or at its temporary name "<log>.tmp" (truncating the file).
+TEST(DaemonEndToEnd, NeverWritesThroughALinkPlantedAtTheLogOrItsTemporaryName) {
+  {
+    const sinew::test::LinkTrap trap("");
+    trap.plant_symlink("frames.log");
+    const std::string config =
+        refusal_config("planted_log", "[[sink]]\ntype = \"log\"\npath = \"" + trap.out("frames.log") + "\"\n");
+    const sinew::test::DaemonRun run = sinew::test::run_sinewd(config, testing::TempDir() + "/planted_log.out");
+    EXPECT_EQ(exit_code(run), 2) << run.out;
+    EXPECT_NE(run.out.find("frames.log: is a symbolic link, refusing to follow it"), std::string::npos) << run.out;
+    EXPECT_TRUE(trap.victim_untouched());
+  }
+  {
+    const sinew::test::LinkTrap trap;
+    trap.plant_symlink("frames.log.tmp");
+    const std::string config =
+        refusal_config("planted_tmp", "[[sink]]\ntype = \"log\"\npath = \"" + trap.out("frames.log") + "\"\n");
+    const sinew::test::DaemonRun run = sinew::test::run_sinewd(config, testing::TempDir() + "/planted_tmp.out");
+    EXPECT_EQ(exit_code(run), 0) << run.out;
+    EXPECT_TRUE(trap.victim_untouched());
+    EXPECT_EQ(sinew::test::read_frame_log(trap.out("frames.log")).poses.size(), 10u);
+  }
 }
