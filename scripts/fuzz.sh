@@ -6,6 +6,7 @@
 #   RUNS=N scripts/fuzz.sh         each target for N executions instead
 #   TARGETS="udp_receiver_fuzz gltf_import_fuzz" scripts/fuzz.sh   only these
 #   TIMEOUT=S                      an input running longer is a finding (default 30)
+#   MALLOC_LIMIT_MB=M              a single allocation larger is a finding (default 512)
 #   JOBS=N                         build parallelism (default: all cores)
 # Findings (crash, leak, timeout, out-of-memory inputs) are written to
 # build/clang/tests/fuzz/findings/<target>/. At the end it prints each
@@ -16,6 +17,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-600}"
 runs="${RUNS:-}"
 timeout="${TIMEOUT:-30}"
+malloc_limit="${MALLOC_LIMIT_MB:-512}"
 # target:corpus:max_len
 all="candump_parser_fuzz:candump:4096 can_frame_decoder_fuzz:can_frame:4096 config_parser_fuzz:config:4096
 daemon_config_fuzz:daemon_config:4096 rig_loader_fuzz:rig:65536 gltf_import_fuzz:gltf:65536
@@ -44,7 +46,7 @@ for entry in "${selected[@]}"; do
   echo "== $target (${limit[*]}, corpus $corpus)"
   start=$(date +%s)
   status=0
-  "$out/$target" "${limit[@]}" -max_len="$max_len" -timeout="$timeout" -print_final_stats=1 \
+  "$out/$target" "${limit[@]}" -max_len="$max_len" -timeout="$timeout" -malloc_limit_mb="$malloc_limit" -print_final_stats=1 \
     -artifact_prefix="$out/findings/$target/" "$out/corpus/$corpus" "tests/fuzz/corpus/$corpus" \
     >"$log" 2>&1 || status=$?
   wall=$(($(date +%s) - start))
