@@ -93,18 +93,19 @@ bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, 
 
 // File-system callbacks for a document given as bytes alone: every buffer or
 // image it names by URI is refused, so nothing outside the bytes is read
-// (data: URIs are decoded without them).
-bool no_file_exists(const std::string&, void*) { return false; }
+// (data: URIs are decoded without them). Every file "exists" so that the
+// refusal reaches the read callback, whose message says why.
+bool any_file_exists(const std::string&, void*) { return true; }
 std::string no_expand(const std::string& path, void*) { return path; }
-bool no_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
-  if (err != nullptr) *err += "external file '" + path + "' is not read (the document was given as bytes)\n";
+bool no_read(std::vector<unsigned char>*, std::string* err, const std::string&, void*) {
+  if (err != nullptr) *err = "not read: the document was given as bytes, without a directory";
   return false;
 }
 bool no_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
-  if (err != nullptr) *err += "writing files is not supported\n";
+  if (err != nullptr) *err = "not written";
   return false;
 }
-const tinygltf::FsCallbacks kNoFiles{no_file_exists, no_expand, no_read, no_write, nullptr};
+const tinygltf::FsCallbacks kNoFiles{any_file_exists, no_expand, no_read, no_write, nullptr};
 
 std::string trimmed(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
