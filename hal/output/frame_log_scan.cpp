@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <utility>
@@ -13,13 +14,20 @@ namespace sinew::hal::output {
 
 const char* log_stop_name(LogStop s) {
   switch (s) {
-    case LogStop::kNone: return "none";
-    case LogStop::kEnd: return "end";
-    case LogStop::kTornTail: return "torn-tail";
-    case LogStop::kBadRecordHeader: return "bad-record-header";
-    case LogStop::kBadChecksum: return "bad-checksum";
-    case LogStop::kBadPayload: return "bad-payload";
-    case LogStop::kIoError: return "io-error";
+    case LogStop::kNone:
+      return "none";
+    case LogStop::kEnd:
+      return "end";
+    case LogStop::kTornTail:
+      return "torn-tail";
+    case LogStop::kBadRecordHeader:
+      return "bad-record-header";
+    case LogStop::kBadChecksum:
+      return "bad-checksum";
+    case LogStop::kBadPayload:
+      return "bad-payload";
+    case LogStop::kIoError:
+      return "io-error";
   }
   return "unknown";
 }
@@ -50,7 +58,12 @@ void RecordScanner::start(int fd, uint64_t file_size, const FrameShape& shape) {
   offset_ = last_offset_ = kLogHeaderBytes;
   records_ = 0;
   shape_ = shape;
-  buffer_.assign(static_cast<size_t>(max_record_bytes(shape)), 0);
+  // A record is read only when the file holds all of it, so the buffer never
+  // needs more than the file's bytes after its header: sizing it from the
+  // header's counts alone let a 41-byte file claim a gigabyte.
+  const uint64_t after_header = file_size > kLogHeaderBytes ? file_size - kLogHeaderBytes : 0;
+  buffer_.assign(
+      static_cast<size_t>(std::min(max_record_bytes(shape), std::max<uint64_t>(after_header, kRecordHeaderBytes))), 0);
   stop_ = LogStop::kNone;
   detail_.clear();
 }
@@ -78,8 +91,7 @@ bool RecordScanner::next(std::span<const uint8_t>* payload) {
     return halt(LogStop::kTornTail, "record cut short (" + std::to_string(left) + " of " +
                                         std::to_string(kRecordHeaderBytes + length) + " bytes)");
   uint8_t* body = head + kRecordHeaderBytes;
-  if (!pread_all(fd_, body, length, offset_ + kRecordHeaderBytes))
-    return halt(LogStop::kIoError, std::strerror(errno));
+  if (!pread_all(fd_, body, length, offset_ + kRecordHeaderBytes)) return halt(LogStop::kIoError, std::strerror(errno));
   if (load_u64(head + 8) != record_checksum(head + 4, {body, length}))
     return halt(LogStop::kBadChecksum, "record checksum mismatch");
   *payload = {body, length};

@@ -3,6 +3,7 @@
 // which scans an existing log before appending to it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -41,6 +42,9 @@ class RecordScanner {
   LogStop stop() const { return stop_; }
   const std::string& stop_detail() const { return detail_; }
   uint64_t discarded_bytes() const { return file_size_ - offset_; }
+  // Bytes held for one record: the largest the shape allows, but never more
+  // than the file could hold.
+  size_t buffer_bytes() const { return buffer_.size(); }
 
  private:
   bool halt(LogStop why, std::string detail);

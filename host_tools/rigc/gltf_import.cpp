@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "gltf_accessor.hpp"
 
@@ -90,6 +91,22 @@ bool ignore_image(tinygltf::Image*, const int, std::string*, std::string*, int, 
   return true;
 }
 
+// File-system callbacks for a document given as bytes alone: every buffer or
+// image it names by URI is refused, so nothing outside the bytes is read
+// (data: URIs are decoded without them). Every file "exists" so that the
+// refusal reaches the read callback, whose message says why.
+bool any_file_exists(const std::string&, void*) { return true; }
+std::string no_expand(const std::string& path, void*) { return path; }
+bool no_read(std::vector<unsigned char>*, std::string* err, const std::string&, void*) {
+  if (err != nullptr) *err = "not read: the document was given as bytes, without a directory";
+  return false;
+}
+bool no_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err != nullptr) *err = "not written";
+  return false;
+}
+const tinygltf::FsCallbacks kNoFiles{any_file_exists, no_expand, no_read, no_write, nullptr};
+
 std::string trimmed(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
   return s;
@@ -122,23 +139,40 @@ bool load_gltf_model(const std::string& path, tinygltf::Model* model, std::strin
     if (!std::filesystem::is_regular_file(st)) return *error = path + ": not a regular file", false;
     std::ifstream f(path, std::ios::binary);
     if (!f) return *error = path + ": cannot open", false;
-    char magic[4] = {0, 0, 0, 0};
-    f.read(magic, 4);
-    const bool binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+    if (f.bad()) return *error = path + ": cannot read", false;
+    // Buffers the document names by relative URI sit beside it.
+    std::string base_dir = std::filesystem::path(path).parent_path().string();
+    if (base_dir.empty()) base_dir = ".";
+    return load_gltf_model_from_memory(bytes, path, base_dir, model, error);
+  } catch (const std::exception& e) {
+    return *error = path + ": not a valid glTF file (" + e.what() + ")", false;
+  }
+}
+
+bool load_gltf_model_from_memory(std::span<const uint8_t> bytes, const std::string& name, const std::string& base_dir,
+                                 tinygltf::Model* model, std::string* error) {
+  try {
+    // tinygltf takes 32-bit lengths.
+    if (bytes.size() > UINT32_MAX) return *error = name + ": larger than 4 GiB", false;
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     tinygltf::TinyGLTF loader;
     // Images are never decoded: sinew reads geometry, skins and animations.
     // Without a loader tinygltf refuses every file that embeds an image.
     loader.SetImageLoader(ignore_image, nullptr);
+    if (base_dir.empty()) loader.SetFsCallbacks(kNoFiles);
     std::string err, warn;
-    const bool ok = binary ? loader.LoadBinaryFromFile(model, &err, &warn, path)
-                           : loader.LoadASCIIFromFile(model, &err, &warn, path);
-    if (!ok) return *error = path + ": " + (err.empty() ? "not a valid glTF file" : trimmed(err)), false;
+    const auto length = static_cast<unsigned int>(bytes.size());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(model, &err, &warn, bytes.data(), length, base_dir)
+                           : loader.LoadASCIIFromString(model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                        length, base_dir);
+    if (!ok) return *error = name + ": " + (err.empty() ? "not a valid glTF file" : trimmed(err)), false;
     for (const std::string& ext : model->extensionsRequired)
       if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
-        return *error = path + ": requires " + ext + " (compressed geometry is not supported)", false;
+        return *error = name + ": requires " + ext + " (compressed geometry is not supported)", false;
     return true;
   } catch (const std::exception& e) {
-    return *error = path + ": not a valid glTF file (" + e.what() + ")", false;
+    return *error = name + ": not a valid glTF file (" + e.what() + ")", false;
   }
 }
 

@@ -8,7 +8,9 @@
 #include <tiny_gltf.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,9 +40,18 @@ inline constexpr size_t kMaxNodeDepth = 1024;
 // Loads a .gltf or .glb (regular files only; images are ignored, not decoded).
 // Never throws: every failure is a message naming the file.
 bool load_gltf_model(const std::string& path, tinygltf::Model* model, std::string* error);
+// The same from bytes in memory (a .glb when they start with the magic
+// "glTF", else a .gltf); `name` names them in messages. Buffers the document
+// names by relative URI are read from `base_dir`; with an empty base_dir
+// none is read (only data: URIs and the .glb's own buffer are used).
+bool load_gltf_model_from_memory(std::span<const uint8_t> bytes, const std::string& name, const std::string& base_dir,
+                                 tinygltf::Model* model, std::string* error);
 // Loads and converts; never throws. Refuses non-finite data, node cycles,
 // hierarchies deeper than kMaxNodeDepth and negative weights.
 bool import_gltf(const std::string& path, GltfRig* out, std::string* error);
+// The same from bytes in memory (see load_gltf_model_from_memory).
+bool import_gltf_from_memory(std::span<const uint8_t> bytes, const std::string& name, const std::string& base_dir,
+                             GltfRig* out, std::string* error);
 
 // Every node's matrix/TRS is finite (and a matrix decomposes into finite TRS).
 bool check_nodes(const tinygltf::Model& model, std::string* error);

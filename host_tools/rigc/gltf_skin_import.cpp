@@ -63,8 +63,8 @@ void assign_joint_names(const tinygltf::Model& m, const std::vector<int>& joint_
   }
 }
 
+// `path` names the model in messages; the model is loaded already.
 bool import_model(const std::string& path, GltfRig* out, std::string* error) {
-  if (!load_gltf_model(path, &out->model, error)) return false;
   const tinygltf::Model& m = out->model;
   const size_t node_count = m.nodes.size();
   if (!check_nodes(m, error)) return *error = path + ": " + *error, false;
@@ -324,9 +324,18 @@ bool import_model(const std::string& path, GltfRig* out, std::string* error) {
 
 bool import_gltf(const std::string& path, GltfRig* out, std::string* error) {
   try {
-    return import_model(path, out, error);
+    return load_gltf_model(path, &out->model, error) && import_model(path, out, error);
   } catch (const std::exception& e) {
     return *error = path + ": cannot import (" + e.what() + ")", false;
+  }
+}
+
+bool import_gltf_from_memory(std::span<const uint8_t> bytes, const std::string& name, const std::string& base_dir,
+                             GltfRig* out, std::string* error) {
+  try {
+    return load_gltf_model_from_memory(bytes, name, base_dir, &out->model, error) && import_model(name, out, error);
+  } catch (const std::exception& e) {
+    return *error = name + ": cannot import (" + e.what() + ")", false;
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "frame_log_fixture.hpp"
 #include "hal/output/frame_log_format.hpp"
+#include "hal/output/frame_log_scan.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace sinew::test {
@@ -14,6 +15,7 @@ namespace {
 
 using hal::output::FrameLogOptions;
 using hal::output::FrameLogWriter;
+using hal::output::kLogHeaderBytes;
 using hal::output::LogStop;
 
 TEST_F(FrameLogTest, RoundTripsEveryFrame) {
@@ -67,6 +69,55 @@ TEST_F(FrameLogTest, RefusesAFileThatIsNotALog) {
   const ReadBack r = read_log(path);
   EXPECT_FALSE(r.opened);
   EXPECT_EQ(read_bytes(path).size(), text.size());
+}
+
+// A header is 40 bytes, but its counts may describe records of up to 1 GiB:
+// the scanner's record buffer must follow the file, not the claim (found by
+// frame_log_reader_fuzz: a 52-byte file made the reader allocate 400 MB).
+TEST_F(FrameLogTest, AHugeShapeInAShortFileAllocatesNoMoreThanTheFile) {
+  hal::output::FrameShape huge;
+  huge.vertex_count = 20'000'000;
+  huge.input_count = 16;
+  huge.normals = true;
+  ASSERT_GT(hal::output::max_record_bytes(huge), uint64_t{400} << 20);
+  std::vector<uint8_t> bytes(kLogHeaderBytes + 12, 0);
+  hal::output::encode_log_header(huge, bytes.data());
+  const std::string path = dir_.file("claims.log");
+  write_bytes(path, bytes.data(), bytes.size());
+
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  hal::output::RecordScanner scan;
+  scan.start(fd, bytes.size(), huge);
+  EXPECT_LE(scan.buffer_bytes(), bytes.size());
+  std::span<const uint8_t> payload;
+  EXPECT_FALSE(scan.next(&payload));
+  EXPECT_EQ(scan.stop(), LogStop::kTornTail);
+  ::close(fd);
+
+  const ReadBack r = read_log(path);
+  ASSERT_TRUE(r.opened) << r.error;
+  EXPECT_TRUE(r.poses.empty());
+  EXPECT_EQ(r.stop, LogStop::kTornTail);
+  EXPECT_EQ(r.discarded, 12u);
+}
+
+// The scanner still holds the largest record when the file is long enough.
+TEST_F(FrameLogTest, RecordBufferHoldsTheLargestRecordOfALongFile) {
+  const std::string path = dir_.file("a.log");
+  write_frames(path, 0, kFrames);
+  const uint64_t size = std::filesystem::file_size(path);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  hal::output::RecordScanner scan;
+  scan.start(fd, size, shape_);
+  EXPECT_EQ(scan.buffer_bytes(), hal::output::max_record_bytes(shape_));
+  std::span<const uint8_t> payload;
+  uint64_t records = 0;
+  while (scan.next(&payload)) ++records;
+  EXPECT_EQ(records, kFrames);
+  EXPECT_EQ(scan.stop(), LogStop::kEnd);
+  ::close(fd);
 }
 
 TEST_F(FrameLogTest, RefusesANewerVersion) {

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -278,6 +279,56 @@ TEST(GltfHostile, BadFilesAreMessagesNotExceptions) {
 
 // Node cycles spun forever in the ancestor walk; deep chains overflowed the
 // stack of the recursive visit.
+// The in-memory importer (what gltf_import_fuzz drives) is the file
+// importer's core: the same bytes give the same rig blob. Without a base
+// directory a buffer the document names by file URI is refused, not read.
+TEST(GltfHostile, FromMemoryMatchesTheFileAndReadsNoOtherFile) {
+  const auto read_bytes = [](const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::vector<uint8_t>{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  };
+  const auto blob = [](const sinew::rigc::GltfRig& rig) {
+    std::vector<uint8_t> out;
+    sinew::rigc::CompileReport report;
+    std::string error;
+    EXPECT_TRUE(sinew::rigc::compile_rig(rig.spec, &out, &report, &error)) << error;
+    return out;
+  };
+  for (const std::string name : {"RiggedSimple.glb", "SimpleSkin.gltf"}) {
+    SCOPED_TRACE(name);
+    const std::string path = kHostileData + "/" + name;
+    sinew::rigc::GltfRig from_file, from_memory;
+    std::string error;
+    ASSERT_TRUE(sinew::rigc::import_gltf(path, &from_file, &error)) << error;
+    ASSERT_TRUE(sinew::rigc::import_gltf_from_memory(read_bytes(path), name, "", &from_memory, &error)) << error;
+    EXPECT_EQ(from_memory.joint_node, from_file.joint_node);
+    EXPECT_EQ(blob(from_memory), blob(from_file));
+  }
+
+  // The skin's buffer moved to a file beside the document.
+  tinygltf::Model model;
+  std::string error;
+  ASSERT_TRUE(sinew::rigc::load_gltf_model(hostile_skin().write("embedded.gltf"), &model, &error)) << error;
+  const std::string bin = temp_path("external.bin");
+  std::ofstream(bin, std::ios::binary)
+      .write(reinterpret_cast<const char*>(model.buffers[0].data.data()),
+             static_cast<std::streamsize>(model.buffers[0].data.size()));
+  GltfBuilder b = hostile_skin();
+  nlohmann::json doc = b.doc;
+  doc["buffers"] = {{{"byteLength", model.buffers[0].data.size()}, {"uri", hfs::path(bin).filename().string()}}};
+  const std::string gltf = temp_path("external.gltf");
+  std::ofstream(gltf) << doc.dump();
+  const std::vector<uint8_t> bytes = read_bytes(gltf);
+  sinew::rigc::GltfRig rig;
+  EXPECT_TRUE(sinew::rigc::import_gltf(gltf, &rig, &error)) << error;
+  EXPECT_TRUE(sinew::rigc::import_gltf_from_memory(bytes, "external.gltf", hfs::path(gltf).parent_path().string(), &rig,
+                                                   &error))
+      << error;
+  sinew::rigc::GltfRig refused;
+  EXPECT_FALSE(sinew::rigc::import_gltf_from_memory(bytes, "external.gltf", "", &refused, &error));
+  EXPECT_TRUE(hostile_contains(error, "not read: the document was given as bytes")) << error;
+}
+
 TEST(GltfHostile, NodeCyclesAndDeepChainsAreRefusedNamingTheNode) {
   GltfBuilder self = hostile_skin();
   self.doc["nodes"][1]["children"] = {2, 1};
