@@ -8,13 +8,17 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "frame_shape.hpp"
 
 namespace sinew::hal::output {
 
 inline constexpr uint8_t kLogMagic[8] = {'S', 'I', 'N', 'E', 'W', 'L', 'O', 'G'};
-inline constexpr uint16_t kLogVersion = 1;
+inline constexpr uint16_t kLogVersion = 1;          // header, then records
+inline constexpr uint16_t kLogVersionMetadata = 2;  // header, metadata block, then records
+inline constexpr size_t kMaxLogMetadataBytes = 65536;
 inline constexpr size_t kLogHeaderBytes = 40;
 inline constexpr uint32_t kLogFlagNormals = 1u << 0;
 
@@ -23,8 +27,26 @@ inline constexpr size_t kRecordHeaderBytes = 16;
 
 void encode_log_header(const FrameShape& shape, uint8_t out[kLogHeaderBytes]);
 
-// Parses and checks a file header; false with the reason in *why.
-bool parse_log_header(std::span<const uint8_t> bytes, FrameShape* shape, std::string* why);
+// Parses and checks a file header; false with the reason in *why. A version-2
+// header sets *metadata_bytes (M, 1..kMaxLogMetadataBytes), else it is 0.
+bool parse_log_header(std::span<const uint8_t> bytes, FrameShape* shape, std::string* why,
+                      uint32_t* metadata_bytes = nullptr);
+
+// Everything before the first record: the header, and for a version-2 log
+// the metadata block (M bytes of text, then the XXH64 of those bytes), which
+// describes the log's content (a recording names the run it records).
+struct LogPreamble {
+  FrameShape shape;
+  std::string metadata;                       // empty: a version-1 log
+  uint64_t records_offset = kLogHeaderBytes;  // where the first record starts
+};
+
+// The bytes of a preamble: a version-1 header alone when metadata is empty.
+std::vector<uint8_t> encode_log_preamble(const FrameShape& shape, std::string_view metadata);
+
+// Reads and checks a preamble from `fd` (file_size bytes); false with the
+// reason in *why.
+bool read_log_preamble(int fd, uint64_t file_size, LogPreamble* out, std::string* why);
 
 // Why two shapes differ, for refusing to append (empty when equal).
 std::string describe_shape_mismatch(const FrameShape& log, const FrameShape& wanted);

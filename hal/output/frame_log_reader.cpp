@@ -16,16 +16,16 @@ bool FrameLogReader::open(const std::string& path, std::string* error) {
   fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) return *error = "cannot open " + path + ": " + std::strerror(errno), false;
   struct stat st {};
-  uint8_t header[kLogHeaderBytes];
-  const bool read_ok = ::fstat(fd_, &st) == 0 && st.st_size >= static_cast<off_t>(kLogHeaderBytes) &&
-                       ::pread(fd_, header, sizeof(header), 0) == static_cast<ssize_t>(sizeof(header));
-  std::string why = "shorter than a frame log header";
-  if (!read_ok || !parse_log_header(header, &shape_, &why)) {
+  LogPreamble preamble;
+  std::string why = "cannot stat";
+  if (::fstat(fd_, &st) != 0 || !read_log_preamble(fd_, static_cast<uint64_t>(st.st_size), &preamble, &why)) {
     *error = path + ": " + why;
     close();
     return false;
   }
-  scan_.start(fd_, static_cast<uint64_t>(st.st_size), shape_);
+  shape_ = preamble.shape;
+  metadata_ = std::move(preamble.metadata);
+  scan_.start(fd_, static_cast<uint64_t>(st.st_size), shape_, preamble.records_offset);
   return true;
 }
 

@@ -25,6 +25,9 @@ class FrameLogReader {
   void close();
 
   const FrameShape& shape() const { return shape_; }
+  // The log's metadata block (a recording's run description); empty for a
+  // version-1 log.
+  const std::string& metadata() const { return metadata_; }
 
   // The next intact record, decoded; false at the end or at a damaged record.
   bool next(DecodedPose* out);
@@ -33,13 +36,14 @@ class FrameLogReader {
   LogStop stop() const { return scan_.stop(); }
   bool clean_end() const { return scan_.stop() == LogStop::kEnd; }
   uint64_t records_read() const { return scan_.records(); }
-  uint64_t stop_offset() const { return scan_.offset(); }         // where reading stopped
+  uint64_t stop_offset() const { return scan_.offset(); }               // where reading stopped
   uint64_t discarded_bytes() const { return scan_.discarded_bytes(); }  // bytes after it
   std::string stop_message() const;  // e.g. "torn-tail at offset 1234: record cut short (...); 56 bytes discarded"
 
  private:
   int fd_ = -1;
   FrameShape shape_;
+  std::string metadata_;
   RecordScanner scan_;
 };
 

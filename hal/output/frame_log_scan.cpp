@@ -52,16 +52,16 @@ bool pread_all(int fd, uint8_t* dst, size_t n, uint64_t offset) {
 
 }  // namespace
 
-void RecordScanner::start(int fd, uint64_t file_size, const FrameShape& shape) {
+void RecordScanner::start(int fd, uint64_t file_size, const FrameShape& shape, uint64_t records_offset) {
   fd_ = fd;
   file_size_ = file_size;
-  offset_ = last_offset_ = kLogHeaderBytes;
+  offset_ = last_offset_ = records_offset;
   records_ = 0;
   shape_ = shape;
   // A record is read only when the file holds all of it, so the buffer never
   // needs more than the file's bytes after its header: sizing it from the
   // header's counts alone let a 41-byte file claim a gigabyte.
-  const uint64_t after_header = file_size > kLogHeaderBytes ? file_size - kLogHeaderBytes : 0;
+  const uint64_t after_header = file_size > records_offset ? file_size - records_offset : 0;
   buffer_.assign(
       static_cast<size_t>(std::min(max_record_bytes(shape), std::max<uint64_t>(after_header, kRecordHeaderBytes))), 0);
   stop_ = LogStop::kNone;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "frame_log_format.hpp"
 #include "frame_shape.hpp"
 
 namespace sinew::hal::output {
@@ -29,7 +30,8 @@ class RecordScanner {
  public:
   // Scans `fd` (not owned; read with pread) of `file_size` bytes from the
   // first record after the file header. Allocates a buffer for the largest record.
-  void start(int fd, uint64_t file_size, const FrameShape& shape);
+  // records_offset: where the first record starts (after the preamble).
+  void start(int fd, uint64_t file_size, const FrameShape& shape, uint64_t records_offset = kLogHeaderBytes);
 
   // The next intact record's payload (valid until the next call); false once stopped.
   bool next(std::span<const uint8_t>* payload);

@@ -39,12 +39,11 @@ bool pwrite_all(int fd, const uint8_t* src, size_t n, uint64_t offset) {
 // A new log appears complete or not at all: the header goes into a fresh
 // temporary file, is synced, and the file is renamed into place. Returns the
 // temporary file's descriptor, which is the log's once renamed.
-int create_log(OutputDir& dir, const FrameShape& shape, std::string* error) {
+int create_log(OutputDir& dir, const FrameShape& shape, const std::string& metadata, std::string* error) {
   const int fd = dir.create_temp(0644, error);
   if (fd < 0) return -1;
-  uint8_t header[kLogHeaderBytes];
-  encode_log_header(shape, header);
-  if (!pwrite_all(fd, header, sizeof(header), 0) || ::fdatasync(fd) != 0) {
+  const std::vector<uint8_t> preamble = encode_log_preamble(shape, metadata);
+  if (!pwrite_all(fd, preamble.data(), preamble.size(), 0) || ::fdatasync(fd) != 0) {
     *error = dir.subject() + ": cannot write its header: " + std::strerror(errno);
     ::close(fd);
     dir.discard();
@@ -63,6 +62,8 @@ bool FrameLogWriter::open(const std::string& path, const FrameShape& shape, cons
   shape_ = shape;
   options_ = options;
   if (max_pose_payload_bytes(shape) == 0) return *error = "frame too large for a frame log", false;
+  if (options.metadata.size() > kMaxLogMetadataBytes)
+    return *error = "frame log metadata larger than " + std::to_string(kMaxLogMetadataBytes) + " bytes", false;
 
   // Never through a symbolic link, in a directory others cannot swap the file in (safe_create.hpp).
   OutputDir dir;
@@ -70,7 +71,7 @@ bool FrameLogWriter::open(const std::string& path, const FrameShape& shape, cons
   bool missing = false;
   fd_ = dir.open_existing(O_RDWR, &missing, error);
   if (missing) {
-    fd_ = create_log(dir, shape, error);
+    fd_ = create_log(dir, shape, options.metadata, error);
   } else if (fd_ >= 0) {
     stats_.appended = true;
   }
@@ -88,25 +89,26 @@ bool FrameLogWriter::open_existing(const std::string& path, std::string* error) 
   struct stat st {};
   if (::fstat(fd_, &st) != 0) return *error = os_error("cannot stat", path), false;
   const auto size = static_cast<uint64_t>(st.st_size);
-  uint8_t header[kLogHeaderBytes];
   if (size == 0) {  // an empty file (e.g. made by the caller): give it a header
-    encode_log_header(shape_, header);
-    if (!pwrite_all(fd_, header, sizeof(header), 0) || ::fdatasync(fd_) != 0)
+    const std::vector<uint8_t> preamble = encode_log_preamble(shape_, options_.metadata);
+    if (!pwrite_all(fd_, preamble.data(), preamble.size(), 0) || ::fdatasync(fd_) != 0)
       return *error = os_error("cannot write", path), false;
-    end_ = kLogHeaderBytes;
+    end_ = preamble.size();
     return true;
   }
-  FrameShape in_log;
+  LogPreamble in_log;
   std::string why;
-  if (size < kLogHeaderBytes) return *error = path + ": not a frame log (shorter than a header)", false;
-  if (::pread(fd_, header, sizeof(header), 0) != static_cast<ssize_t>(sizeof(header)))
-    return *error = os_error("cannot read", path), false;
-  if (!parse_log_header(header, &in_log, &why)) return *error = path + ": " + why, false;
-  if (in_log != shape_)
-    return *error = path + ": incompatible frame log (" + describe_shape_mismatch(in_log, shape_) + ")", false;
+  if (!read_log_preamble(fd_, size, &in_log, &why)) return *error = path + ": " + why, false;
+  if (in_log.shape != shape_)
+    return *error = path + ": incompatible frame log (" + describe_shape_mismatch(in_log.shape, shape_) + ")", false;
+  // A recording appended to must describe the same run (rig, rate, layers).
+  if (in_log.metadata != options_.metadata)
+    return *error = path + ": incompatible frame log (its metadata describes another run" +
+                    (in_log.metadata.empty() || options_.metadata.empty() ? ", or none" : "") + ")",
+           false;
 
   RecordScanner scan;
-  scan.start(fd_, size, shape_);
+  scan.start(fd_, size, shape_, in_log.records_offset);
   std::span<const uint8_t> payload;
   while (scan.next(&payload)) {
   }

@@ -20,6 +20,10 @@ namespace sinew::hal::output {
 
 struct FrameLogOptions {
   uint32_t sync_every_frames = 0;  // fdatasync after this many records; 0 = only on flush()/close()
+  // Text written once after the header (a version-2 log); empty: none (a
+  // version-1 log). An existing log is appended to only if its metadata is
+  // the same. At most kMaxLogMetadataBytes.
+  std::string metadata;
 };
 
 struct FrameLogStats {

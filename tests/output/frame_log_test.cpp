@@ -7,6 +7,7 @@
 
 #include "frame_log_fixture.hpp"
 #include "hal/output/frame_log_format.hpp"
+#include "hal/output/frame_log_reader.hpp"
 #include "hal/output/frame_log_scan.hpp"
 #include "tests/support/alloc_guard.hpp"
 
@@ -124,11 +125,57 @@ TEST_F(FrameLogTest, RefusesANewerVersion) {
   const std::string path = dir_.file("a.log");
   write_frames(path, 0, 1);
   std::vector<uint8_t> bytes = read_bytes(path);
-  bytes[8] = 2;  // version field; the header checksum is not even reached
+  bytes[8] = 3;  // version field; the header checksum is not even reached
   write_bytes(path, bytes.data(), bytes.size());
   const ReadBack r = read_log(path);
   EXPECT_FALSE(r.opened);
-  EXPECT_NE(r.error.find("version 2"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("version 3"), std::string::npos) << r.error;
+}
+
+// A version-2 log carries a metadata block (a recording's run description)
+// between its header and its records: read back exactly, checked by its own
+// checksum, and an append must describe the same content.
+TEST_F(FrameLogTest, MetadataIsKeptCheckedAndMustMatchToAppend) {
+  const std::string path = dir_.file("meta.log");
+  FrameLogOptions options;
+  options.metadata = "sinew-recording 1\nrig_xxh64 = 0123456789abcdef\n";
+  write_frames(path, 0, 3, options);
+  {
+    hal::output::FrameLogReader reader;
+    std::string error;
+    ASSERT_TRUE(reader.open(path, &error)) << error;
+    EXPECT_EQ(reader.metadata(), options.metadata);
+  }
+  FrameLogWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(path, shape_, options, &error)) << error;
+  for (uint64_t t = 3; t < kFrames; ++t) EXPECT_TRUE(writer.write(poses_[t]->frame()));
+  writer.close();
+  const ReadBack r = read_log(path);
+  expect_frames(r.poses, kFrames);
+  EXPECT_EQ(r.stop, LogStop::kEnd);
+
+  FrameLogOptions other = options;
+  other.metadata += "tick_hz = 500\n";
+  EXPECT_FALSE(writer.open(path, shape_, other, &error));
+  EXPECT_NE(error.find("another run"), std::string::npos) << error;
+  EXPECT_FALSE(writer.open(path, shape_, {}, &error));  // a plain log is not the recording either
+
+  std::vector<uint8_t> bytes = read_bytes(path);
+  bytes[hal::output::kLogHeaderBytes + 3] ^= 0x20;  // inside the metadata
+  write_bytes(path, bytes.data(), bytes.size());
+  const ReadBack damaged = read_log(path);
+  EXPECT_FALSE(damaged.opened);
+  EXPECT_NE(damaged.error.find("metadata checksum"), std::string::npos) << damaged.error;
+}
+
+// A log without metadata is still version 1, byte for byte as before.
+TEST_F(FrameLogTest, WithoutMetadataTheHeaderIsVersionOne) {
+  const std::string path = dir_.file("v1.log");
+  write_frames(path, 0, 1);
+  const std::vector<uint8_t> bytes = read_bytes(path);
+  EXPECT_EQ(bytes[8], 1);
+  EXPECT_EQ(bytes[28] | bytes[29] | bytes[30] | bytes[31], 0);
 }
 
 TEST_F(FrameLogTest, CutsATornTailBeforeAppending) {
