@@ -147,7 +147,12 @@ constexpr Key kLogSinkKeys[] = {{"type", Kind::kString},
                                 {"name", Kind::kString},
                                 {"normals", Kind::kFlag},
                                 {"path", Kind::kString},
-                                {"sync_every_frames", Kind::kInteger, 0, 1e9}};
+                                {"sync_every_frames", Kind::kInteger, 0, 1e9},
+                                {"every_n_frames", Kind::kInteger, 1, 1e6}};
+constexpr Key kRecordSinkKeys[] = {{"type", Kind::kString},
+                                   {"name", Kind::kString},
+                                   {"path", Kind::kString},
+                                   {"sync_every_frames", Kind::kInteger, 0, 1e9}};
 constexpr Key kUdpSinkKeys[] = {{"type", Kind::kString},
                                 {"name", Kind::kString},
                                 {"normals", Kind::kFlag},
@@ -162,7 +167,7 @@ struct Type {
 constexpr Type kSourceTypes[] = {{"trajectory", kTrajectoryKeys}, {"can", kCanKeys},
                                  {"candump", kCandumpKeys},       {"simulated-rig", kSimulatedRigKeys},
                                  {"modbus", kModbusKeys},         {"gpio", kGpioKeys}};
-constexpr Type kSinkTypes[] = {{"log", kLogSinkKeys}, {"udp", kUdpSinkKeys}};
+constexpr Type kSinkTypes[] = {{"log", kLogSinkKeys}, {"record", kRecordSinkKeys}, {"udp", kUdpSinkKeys}};
 
 std::string range_text(double lo, double hi) {
   std::ostringstream s;

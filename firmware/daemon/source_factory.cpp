@@ -5,6 +5,8 @@
 
 #include "bus_sources.hpp"
 #include "firmware/runtime/async_sink.hpp"
+#include "firmware/runtime/recording.hpp"
+#include "firmware/sinks/decimating_sink.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 #include "hal/output/frame_log_writer.hpp"
@@ -110,21 +112,21 @@ void print_layer_costs(const Runtime& runtime) {
 
 namespace {
 
-// Every sink writes from its own I/O thread through a ring of frames.
-void add_queued_sink(const DaemonConfig& config, const LoadedRig& rig, std::unique_ptr<OutputSink> sink,
-                     Runtime* runtime) {
-  FrameDims dims;
-  dims.vertex_count = rig.rig.vertex_count();
-  dims.input_count = rig.input_count();
-  dims.normals = !rig.rig.normal[0].empty();
+// Every sink writes from its own I/O thread through a ring of frames of
+// `dims`; one frame in `every_n_frames` enters it.
+std::unique_ptr<OutputSink> queued(const DaemonConfig& config, std::unique_ptr<OutputSink> sink, const FrameDims& dims,
+                                   uint64_t every_n_frames = 1) {
   AsyncSinkOptions options;
   options.ring_frames = static_cast<size_t>(config.realtime.sink_ring_frames);
   options.lossless = config.mode != RunMode::kLive;  // no deadline: wait rather than lose frames
   options.fifo_priority = config.mode == RunMode::kLive ? config.realtime.io_fifo_priority : 0;
   options.cpu = config.mode == RunMode::kLive ? config.realtime.io_cpu : -1;
   std::string report;
-  runtime->add_sink(std::make_unique<AsyncSink>(std::move(sink), dims, options, &report));
+  std::unique_ptr<OutputSink> q = std::make_unique<AsyncSink>(std::move(sink), dims, options, &report);
   if (!report.empty()) std::printf("%s", report.c_str());
+  // Decimation in the tick thread: the frames left out never enter the ring.
+  if (every_n_frames > 1) q = std::make_unique<DecimatingSink>(std::move(q), every_n_frames);
+  return q;
 }
 
 }  // namespace
@@ -134,6 +136,7 @@ bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtim
   shape.vertex_count = rig.rig.vertex_count();
   shape.input_count = rig.input_count();
   shape.length_exponent = rig.rig.length_exponent;
+  const FrameDims dims{rig.rig.vertex_count(), rig.input_count(), !rig.rig.normal[0].empty()};
   for (const SinkConfig& s : config.sinks) {
     const bool normals = s.table["normals"].value_or(false);
     shape.normals = normals && !rig.rig.normal[0].empty();
@@ -144,8 +147,29 @@ bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtim
       options.sync_every_frames = s.table["sync_every_frames"].value_or(0u);
       auto log = std::make_unique<hal::output::FrameLogWriter>();
       if (!log->open(*path, shape, options, error)) return *error = "sink " + s.name + ": " + *error, false;
-      add_queued_sink(config, rig, std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name),
-                      runtime);
+      runtime->add_sink(queued(config, std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name),
+                               dims, s.table["every_n_frames"].value_or(uint64_t{1})));
+    } else if (s.type == "record") {
+      // The inputs as applied each tick, and the run they drove: enough for
+      // `sinew-log render` to regenerate every frame (recording.hpp).
+      const auto path = s.table["path"].value<std::string>();
+      if (!path) return *error = "sink " + s.name + ": path is required", false;
+      RunDescription run;
+      run.rig_xxh64 = rig_blob_hash(rig.blob.data(), rig.blob.size);
+      run.rig_bytes = rig.blob.size;
+      run.options = runtime->pipeline().options;
+      hal::output::FrameShape inputs_only = shape;
+      inputs_only.vertex_count = 0;
+      inputs_only.normals = false;
+      hal::output::FrameLogOptions options;
+      options.sync_every_frames = s.table["sync_every_frames"].value_or(0u);
+      options.metadata = encode_run_description(run);
+      auto log = std::make_unique<hal::output::FrameLogWriter>();
+      if (!log->open(*path, inputs_only, options, error)) return *error = "sink " + s.name + ": " + *error, false;
+      // The vertices are left out before the ring: its slots hold inputs only.
+      const FrameDims inputs_dims{0, dims.input_count, false};
+      runtime->add_sink(std::make_unique<RecordingSink>(
+          queued(config, std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name), inputs_dims)));
     } else if (s.type == "udp") {
       const std::string host = s.table["host"].value_or<std::string>("127.0.0.1");
       const int64_t port = s.table["port"].value_or(int64_t{0});
@@ -155,9 +179,10 @@ bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtim
       auto udp = std::make_unique<hal::output::UdpSender>();
       if (!udp->open(host, static_cast<uint16_t>(port), shape, options, error))
         return *error = "sink " + s.name + ": " + *error, false;
-      add_queued_sink(config, rig, std::make_unique<HalSink<hal::output::UdpSender>>(std::move(udp), s.name), runtime);
+      runtime->add_sink(
+          queued(config, std::make_unique<HalSink<hal::output::UdpSender>>(std::move(udp), s.name), dims));
     } else {
-      return *error = "sink " + s.name + ": unknown type '" + s.type + "' (log, udp)", false;
+      return *error = "sink " + s.name + ": unknown type '" + s.type + "' (log, record, udp)", false;
     }
   }
   return true;

@@ -31,25 +31,26 @@ std::string encode_run_description(const RunDescription& run);
 // False with a message naming the line or the key that is wrong or missing.
 bool parse_run_description(std::string_view text, RunDescription* out, std::string* error);
 
-// The recording sink: hands the frame, without its vertices, to `log`.
-// Per tick no allocation: the frame is a copy of pointers.
-template <typename Log>
+// The recording sink: hands the frame, without its vertices, to the sink it
+// wraps (a frame log of no vertices, behind its I/O thread's ring, whose
+// slots then hold inputs only). Per tick no allocation: a copy of pointers.
 class RecordingSink final : public hal::OutputSink {
  public:
-  RecordingSink(std::unique_ptr<Log> log, std::string label) : log_(std::move(log)), label_(std::move(label)) {}
-  const char* name() const override { return label_.c_str(); }
+  explicit RecordingSink(std::unique_ptr<hal::OutputSink> inner) : inner_(std::move(inner)) {}
+  const char* name() const override { return inner_->name(); }
   bool write(const hal::PoseFrame& frame) override {
     hal::PoseFrame inputs_only = frame;
     inputs_only.vertex_count = 0;
     for (int c = 0; c < 3; ++c) inputs_only.position[c] = inputs_only.normal[c] = nullptr;
-    return log_->write(inputs_only);
+    return inner_->write(inputs_only);
   }
-  void flush() override { log_->flush(); }
-  std::string status_line() const override { return "recording: " + log_->status_line(); }
+  void flush() override { inner_->flush(); }
+  void close() override { inner_->close(); }
+  uint64_t frames_lost_after_write() const override { return inner_->frames_lost_after_write(); }
+  std::string status_line() const override { return "recording: " + inner_->status_line(); }
 
  private:
-  std::unique_ptr<Log> log_;
-  std::string label_;
+  std::unique_ptr<hal::OutputSink> inner_;
 };
 
 }  // namespace sinew::firmware

@@ -30,6 +30,7 @@ bool check_log(const std::string& path, LogCheck* out, std::string* error) {
   if (!reader.open(path, error)) return false;
   LogCheck c;
   c.shape = reader.shape();
+  c.metadata = reader.metadata();
   XXH64_state_t* state = XXH64_createState();
   XXH64_reset(state, 0);
   hal::output::DecodedPose pose;
@@ -73,6 +74,16 @@ std::string describe(const std::string& path, const LogCheck& c) {
                 c.shape.vertex_count, c.shape.normals ? " with normals" : "", c.shape.input_count,
                 c.shape.length_exponent);
   s += buf;
+  if (!c.metadata.empty()) {
+    // A recording: say so, and which run it holds (sinew-log render regenerates its frames).
+    s += "  a recording (inputs only) of the run:\n";
+    size_t at = 0;
+    while (at < c.metadata.size()) {
+      const size_t end = c.metadata.find('\n', at);
+      s += "    " + c.metadata.substr(at, end == std::string::npos ? std::string::npos : end - at) + "\n";
+      at = end == std::string::npos ? c.metadata.size() : end + 1;
+    }
+  }
   if (c.frames == 0) {
     s += "  no frames\n";
   } else {

@@ -15,6 +15,7 @@ namespace sinew::log_tool {
 
 struct LogCheck {
   hal::output::FrameShape shape;
+  std::string metadata;  // a recording's run description (empty for a frame log)
   uint64_t frames = 0;
   uint64_t first_tick = 0, last_tick = 0;
   uint64_t first_ns = 0, last_ns = 0;

@@ -3,6 +3,8 @@
 //                              exit 0 when every file is intact, 1 if not
 //   sinew-log dump FILE        one line per frame: tick, time, inputs and
 //                              the first vertices in metres
+//   sinew-log render RECORDING --rig RIG -o OUT.log [--normals] [--every-n-frames N]
+//                              regenerates a recorded run's full frames
 // Exit 2: a file that cannot be opened or is not a frame log, or bad usage.
 #include <CLI/CLI.hpp>
 #include <cinttypes>
@@ -10,6 +12,7 @@
 #include <cstdio>
 
 #include "log_check.hpp"
+#include "render.hpp"
 
 namespace {
 
@@ -79,7 +82,8 @@ int verify(const std::vector<std::string>& paths) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Reads sinewd's frame logs: verify checks them, dump prints their frames"};
+  CLI::App app{
+      "Reads sinewd's frame logs: verify checks them, dump prints their frames, render regenerates a recording's"};
   app.require_subcommand(1);
   std::vector<std::string> verify_paths;
   CLI::App* verify_cmd = app.add_subcommand("verify", "check every record and the order of ticks and timestamps");
@@ -92,11 +96,37 @@ int main(int argc, char** argv) {
   dump_cmd->add_option("--from", from_tick, "first tick to print");
   dump_cmd->add_option("--count", count, "frames to print")->check(CLI::Range(uint64_t{1}, UINT64_MAX));
   dump_cmd->add_option("--vertices", vertices, "vertices per frame")->check(CLI::Range(0u, 1000000u));
+  sinew::log_tool::RenderOptions render;
+  CLI::App* render_cmd =
+      app.add_subcommand("render", "regenerate the full frames of a recording (a `record` sink's log)");
+  render_cmd->add_option("recording", render.recording, "a recording")->required()->check(CLI::ExistingFile);
+  render_cmd->add_option("--rig", render.rig, "the run's rig: builtin:arm, builtin:hand or a blob file")->required();
+  render_cmd->add_option("-o,--out", render.out, "the frame log to write (must not exist)")->required();
+  render_cmd->add_flag("--normals", render.normals, "include normals (as the log sink's `normals`)");
+  render_cmd->add_option("--every-n-frames", render.every_n_frames, "keep ticks that are multiples of N")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1000000}));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   if (*verify_cmd) return verify(verify_paths);
+  if (*render_cmd) {
+    sinew::log_tool::RenderResult result;
+    std::string error;
+    if (!sinew::log_tool::render_recording(render, &result, &error)) {
+      std::fprintf(stderr, "sinew-log: %s\n", error.c_str());
+      return 2;
+    }
+    std::printf("%s: %llu frames rendered from %llu recorded ticks\n", render.out.c_str(),
+                static_cast<unsigned long long>(result.frames_written),
+                static_cast<unsigned long long>(result.frames_read));
+    if (!result.recording_intact) {
+      std::fprintf(stderr, "sinew-log: %s: %s (rendered up to it)\n", render.recording.c_str(),
+                   result.recording_stop.c_str());
+      return 1;
+    }
+    return 0;
+  }
   return dump(dump_path, from_tick, count, vertices);
 }
