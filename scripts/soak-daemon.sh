@@ -7,7 +7,11 @@
 # per-fault counters; fails when a frame is lost anywhere, the recording is
 # not intact, or RSS grows.
 #
-#   scripts/soak-daemon.sh [MINUTES] [--build-dir DIR]
+#   scripts/soak-daemon.sh [MINUTES] [--build-dir DIR] [--realtime]
+#
+# --realtime runs the tick thread SCHED_FIFO 80 and the sinks' I/O threads
+# SCHED_FIFO 40 with memory locked, as on a board (needs root or
+# CAP_SYS_NICE and CAP_IPC_LOCK; what was applied is in the output).
 #
 # MINUTES defaults to 60 (opt-in; not in CI). The release build's test suite
 # runs a 2-minute form (soak_daemon_smoke) with --build-dir, which skips the
@@ -17,9 +21,11 @@ cd "$(dirname "$0")/.."
 
 minutes=60
 build_dir=""
+realtime=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build_dir="$2"; shift 2 ;;
+    --realtime) realtime=$'[realtime]\nfifo_priority = 80\nio_fifo_priority = 40\nlock_memory = true'; shift ;;
     *) minutes="$1"; shift ;;
   esac
 done
@@ -84,6 +90,7 @@ mode = "live"
 [layers]
 metaballs = true
 barnet = true
+$realtime
 [[source]]
 type = "simulated-rig"
 name = "rig-can"
@@ -141,7 +148,8 @@ udp_lost="$(sed -n 's/.*delivered \([0-9]*\), lost \([0-9]*\).*/\2/p' "$work/rec
 "$sinew_log" verify "$work/soak.rec" > "$work/verify.out" 2>&1 && recording_ok=1 || recording_ok=0
 recorded="$(sed -n 's/^  \([0-9]*\) frames.*/\1/p' "$work/verify.out" | head -1)"
 
-echo "=== sinewd soak: $minutes min live at 1 kHz, built-in arm (metaballs, bar-net), faults cycling every 10 s"
+echo "=== sinewd soak: $minutes min live at 1 kHz, built-in arm (metaballs, bar-net), faults cycling every 10 s${realtime:+, SCHED_FIFO}"
+grep -E '^(SCHED_FIFO|affinity|mlockall|sink .* I/O thread)' "$work/daemon.out" || true
 echo "$final"
 grep -E '^  (source|sink|rejected|tick by stage)' "$work/daemon.out" | tail -n 8 || true
 echo "skipped ticks:        $skipped of $((${ticks:-0} + skipped)) ($(awk -v s="$skipped" -v t="${ticks:-0}" 'BEGIN { printf "%.4f", ((s + t) > 0 ? 100 * s / (s + t) : 0) }') %)"
