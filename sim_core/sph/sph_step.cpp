@@ -220,7 +220,12 @@ bool sph_flexion_force(const SphModel& model, std::span<const fx::Mat34> transfo
   fx::Vec3 direction;  // Q2.30
   if (!fx::normalize_to_unit(fx::cross(f.axis, lever, 30), &direction)) return true;
   const int32_t n = newtons < -kMaxForce ? -kMaxForce : (newtons > kMaxForce ? kMaxForce : newtons);
-  *out = {fx::mul_by_unit(n, direction.x), fx::mul_by_unit(n, direction.y), fx::mul_by_unit(n, direction.z)};
+  // A unit direction may exceed 2^30 by its rounding: clamp each component
+  // too, so a force at the limit is one sph_step accepts.
+  const auto component = [n](fx::Unit d) {
+    return static_cast<int32_t>(fx::clamp_i64(fx::mul_by_unit(n, d), -kMaxForce, kMaxForce));
+  };
+  *out = {component(direction.x), component(direction.y), component(direction.z)};
   return true;
 }
 
