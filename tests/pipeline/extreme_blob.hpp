@@ -61,7 +61,8 @@ inline void push_core_transforms(std::vector<uint8_t>* bytes, const rig::Rig& ri
   }
 }
 
-// Rest scales of 2.5 (the case) on every joint: large but moderate.
+// A rest scale of `lin` (Q8.24) on every joint and axis, e.g. 2.5: large
+// but far from the Lin limit.
 inline void scale_rest(std::vector<uint8_t>* bytes, const rig::Rig& rig, int32_t lin) {
   const size_t joints = core_section(*bytes, rig::kSectionJoints);
   for (uint32_t j = 0; j < rig.joint_count(); ++j)

@@ -27,9 +27,9 @@ inline void extreme_mat34(fx::Mat34& m, size_t i) {
 
 // SPH: every gain at the top of its range, the load gain and the kernel
 // radius at INT32_MAX (every particle is every other's neighbour), the load
-// point at the extremes; wide = false instead takes h = 1 (the smallest
-// grid_radius for it), Tresca limits of one LSB and particles and skin at
-// +-(2^31 - 1).
+// point at the extremes; wide = false instead takes h = 1 (grid_radius 32:
+// the largest 64-cell grid), Tresca limits of one LSB and particles and
+// skin at +-(2^31 - 1).
 inline void push_sph(std::vector<uint8_t>* bytes, bool wide) {
   for (uint32_t inst = 0; inst < pipeline::kMaxSphJoints; ++inst) {
     const LayerView v = layer_view(*bytes, pipeline::kSectionSphJoint, inst);
