@@ -9,6 +9,8 @@ namespace {
 
 constexpr int64_t kOne = int64_t{1} << fx::kUnitFracBits;
 constexpr int64_t kOutsideBox = int64_t{4} << fx::kUnitFracBits;
+// Largest emax / extent (Q16) entering a gradient: aspect ratio 8192.
+constexpr int64_t kMaxGradientRatio = int64_t{1} << 29;
 
 struct Powers {
   fx::Unit p;         // q^p
@@ -50,8 +52,15 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
     const fx::Unit q = fx::sat_i32(fx::div_round(local[i] * kOne, f.extent[i]));  // |q| < 1
     const Powers pw = powers(q, exponent);
     value += pw.p;
-    const int64_t ratio = fx::div_round(int64_t{emax} << 16, f.extent[i]);  // <= 2^16 * aspect (2^22)
-    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;                         // < 2^3 * 2^30 * 2^22
+    // emax / a_i in Q16, for the push-out direction of the reaction
+    // constraints (leman-layered-elastic-characters §3). A validated
+    // primitive's aspect is <= 64 (2^22), but a muscle-attached one's extents
+    // follow the muscle (Z by present / rest length), so the ratio is capped
+    // at 2^29 (aspect 8192): g stays below 2^3 * 2^30 * 2^29 = 2^62. Below
+    // the cap the value is exact, as before; beyond it the thin axes' share
+    // of the gradient direction is too small.
+    const int64_t ratio = fx::clamp_i64(fx::div_round(int64_t{emax} << 16, f.extent[i]), 0, kMaxGradientRatio);
+    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;
     const uint64_t m = fx::magnitude(g[i]);
     if (m > largest) largest = m;
   }

@@ -25,7 +25,11 @@ struct PrimitiveSample {
   fx::Len gradient_length = 0;  // |grad F| * max extent, Q12.20 (dimensionless, in Len format)
 };
 
-// Evaluates F and its gradient direction at `p` (Len, model space).
+// Evaluates F and its gradient direction at `p` (Len, model space). Defined
+// for any frame: the gradient's per-axis factor max extent / extent (Q16) is
+// capped at 2^29 (aspect ratio 8192, far beyond a validated primitive's 64,
+// reachable by a muscle-attached one stretched with its muscle), so its
+// components stay below 2^62; beyond the cap the direction is approximate.
 PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p);
 
 // Moves p out of the primitive along the gradient: `newton_steps` Newton

@@ -239,8 +239,16 @@ PipelineStatus sph_gains_for_rate(const sph::SphParams& c, uint32_t compiled_hz,
   if (substeps > sph::kMaxSubsteps)
     return fail(PipelineError::kBadModel, "sph", "the loop rate needs more than 16 substeps (at least 13 Hz)");
   const int64_t num = int64_t{compiled_hz} * c.substeps, den = int64_t{tick_hz} * substeps;
-  // v x N / D, rounded half up (v >= 0, v N < 2^53: no overflow).
-  const auto scale = [num, den](int64_t v) { return (v * num + den / 2) / den; };
+  // v x N / D, rounded half up. At the rates rigc writes (13..100000 Hz)
+  // v N < 2^53; the header's rate_hz is any u32 (N < 2^36) and the second
+  // scaling takes the first's result, so a product beyond int64 saturates to
+  // INT64_MAX: outside every gain's range (refused below; the load gain
+  // saturates at its Q2.30 limit).
+  const int64_t limit = num > 0 ? (INT64_MAX - den) / num : INT64_MAX;
+  const auto scale = [num, den, limit](int64_t v) -> int64_t {
+    if (v > limit || v < -limit) return v > 0 ? INT64_MAX : INT64_MIN;
+    return (v * num + den / 2) / den;
+  };
   const auto gain = [](int64_t v, const char* name, fx::Unit* g) {
     if (v < 0 || v >= fx::kUnitOne) return fail(PipelineError::kBadModel, "sph", name);
     *g = static_cast<fx::Unit>(v);

@@ -69,7 +69,9 @@ using PipelineStatus = fx::Status<PipelineError>;
 // Q2.30 limit, as rigc's builder saturates it), mu dt by rho, and the kept
 // velocity 1 - c dt as 1 - (1 - damping) rho. The particles, h and the
 // Tresca limit do not depend on the rate. Fails (kBadModel, naming the
-// gain) when the rate needs more than 16 substeps or a gain leaves its range.
+// gain) when the rate needs more than 16 substeps or a gain leaves its range;
+// for any u32 rates, a scaled gain beyond int64 saturates (then is refused,
+// or for the load gain saturates at its Q2.30 limit) rather than overflowing.
 PipelineStatus sph_gains_for_rate(const sph::SphParams& compiled, uint32_t compiled_hz, uint32_t tick_hz,
                                   sph::SphParams* out);
 

@@ -130,9 +130,16 @@ fx::Angle measure_bend(const SphState& st, const JointFrame& f) {
     const fx::Vec3 x = fx::sub({st.position[0][i], st.position[1][i], st.position[2][i]}, f.centre);
     const fx::Vec3 gx = fx::cross(g, x, 20);             // Len
     s += fx::round_shift(fx::dot_wide(gx, f.axis), 30);  // Len
+    // g_perp . x_perp = g . x - (g . n)(x . n) (the flexion the distal
+    // particles carry, sph-elastic-joints-tresca §4). |g . n| and |x . n|
+    // reach sqrt(3) x 2^31 (offsets saturated to Len along a diagonal axis),
+    // so their product (up to 3 x 2^62) is formed in 128 bits and rounded
+    // once: the same value as before wherever it fitted in int64. g . x
+    // saturates (dot_wide) only when both offsets lie near a corner of the
+    // Len range.
     const int64_t gn = fx::round_shift(fx::dot_wide(g, f.axis), 30);
     const int64_t xn = fx::round_shift(fx::dot_wide(x, f.axis), 30);
-    c += fx::round_shift(fx::dot_wide(g, x), 20) - fx::round_shift(gn * xn, 20);
+    c += fx::round_shift(fx::dot_wide(g, x), 20) - fx::mul_shift_round(gn, xn, 20);
   }
   while (s >= (int64_t{1} << 30) || s <= -(int64_t{1} << 30) || c >= (int64_t{1} << 30) || c <= -(int64_t{1} << 30)) {
     s >>= 1;
@@ -220,7 +227,12 @@ bool sph_flexion_force(const SphModel& model, std::span<const fx::Mat34> transfo
   fx::Vec3 direction;  // Q2.30
   if (!fx::normalize_to_unit(fx::cross(f.axis, lever, 30), &direction)) return true;
   const int32_t n = newtons < -kMaxForce ? -kMaxForce : (newtons > kMaxForce ? kMaxForce : newtons);
-  *out = {fx::mul_by_unit(n, direction.x), fx::mul_by_unit(n, direction.y), fx::mul_by_unit(n, direction.z)};
+  // A unit direction may exceed 2^30 by its rounding: clamp each component
+  // too, so a force at the limit is one sph_step accepts.
+  const auto component = [n](fx::Unit d) {
+    return static_cast<int32_t>(fx::clamp_i64(fx::mul_by_unit(n, d), -kMaxForce, kMaxForce));
+  };
+  *out = {component(direction.x), component(direction.y), component(direction.z)};
   return true;
 }
 

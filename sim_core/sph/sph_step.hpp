@@ -26,9 +26,10 @@ struct SphInputs {
 SphStatus sph_step(SphState* state, const SphInputs& inputs);
 
 // The external force of SphInputs for a force sensor that measures one
-// scalar: `newtons` (Q16.16, |newtons| <= 16384 N) acting at the load point
-// along n x r, perpendicular to the flexion axis n and to the lever arm r
-// from the joint to the load point, in the pose `transforms`. A positive
+// scalar: `newtons` (Q16.16, clamped to +-16384 N, as is each component of
+// the result: sph_step accepts it) acting at the load point along n x r,
+// perpendicular to the flexion axis n and to the lever arm r from the joint
+// to the load point, in the pose `transforms`. A positive
 // force flexes the joint (positive bend about n), and every newton of it
 // turns into torque. Zero if the lever arm is parallel to the axis; false
 // only if the transforms span is too short.

@@ -2,9 +2,9 @@
 // leaves unchecked (rest scales and translations, inverse-bind linear parts
 // at their +-64 limit and translations, DOF inputs) is pushed to its extreme
 // on the built-in arm, which then runs the engine (kinematics, LBS and DQS
-// skinning). The physical layers are not yet proven against transforms this
-// extreme (their sums of products can reach 2^63): they run in the fuzz
-// target on the blobs it makes.
+// skinning). extreme_layers_test.cpp runs every physical layer on the same
+// transforms and on layer sections at their limits; the fuzz target runs the
+// pipeline on the blobs it makes.
 // The sanitizer builds (dev: UBSan, -fno-sanitize-recover) fail on any
 // signed overflow or out-of-bounds access; here the outputs must also be
 // the same on a second run (no uninitialised reads).
