@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -63,7 +64,9 @@ class LinkTrap {
 
   static std::string read_whole(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::ostringstream bytes;  // not istreambuf_iterator: gcc 12 -O3 reports a false null dereference there
+    bytes << in.rdbuf();
+    return bytes.str();
   }
   static void write_whole(const std::string& path, const std::string& bytes) {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
