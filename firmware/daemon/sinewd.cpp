@@ -117,10 +117,14 @@ int run(int argc, char** argv) {
           ? std::max<uint64_t>(1, static_cast<uint64_t>(config.stats_interval_s * config.rate_hz))
           : UINT64_MAX;
   TickClock clock(period, start + period);
-  for (uint64_t tick = 0; tick < total_ticks && !g_stop.load(std::memory_order_relaxed); ++tick) {
+  // The run lasts duration_s of schedule: it ends at the slot, not after a
+  // count of executed ticks (a live run that skipped ticks would run long).
+  for (uint64_t tick = 0; !g_stop.load(std::memory_order_relaxed); ++tick) {
     const uint64_t tick_ns = config.mode == RunMode::kLive ? clock.wait_next() : start + (tick + 1) * period;
+    const uint64_t slot = (tick_ns - start) / period - 1;
+    if (slot >= total_ticks) break;
     const uint64_t t0 = monotonic_ns();
-    runtime.step(tick_ns, (tick_ns - start) / period - 1);
+    runtime.step(tick_ns, slot);
     const uint64_t t1 = monotonic_ns();
     runtime.timing().record(t1 - t0, config.mode == RunMode::kLive && clock.finished_late(t1));
     if ((tick + 1) % stats_every == 0) print_stats(runtime, rig, false);
