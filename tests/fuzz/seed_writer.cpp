@@ -15,6 +15,7 @@
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/pose_codec.hpp"
 #include "hal/output/udp_datagram.hpp"
+#include "tests/output/datagrams.hpp"
 
 namespace {
 
@@ -83,25 +84,7 @@ std::vector<std::vector<uint8_t>> datagrams(const Pose& pose, const FrameShape& 
                                             size_t fragment) {
   std::vector<uint8_t> payload(max_pose_payload_bytes(s));
   payload.resize(encode_pose(pose.frame, s, payload));
-  std::vector<std::vector<uint8_t>> out;
-  const size_t count = (payload.size() + fragment - 1) / fragment;
-  for (size_t i = 0; i < count; ++i) {
-    const size_t offset = i * fragment, n = std::min(fragment, payload.size() - offset);
-    UdpFragment f;
-    f.stream_id = stream;
-    f.sequence = sequence;
-    f.fragment_index = static_cast<uint16_t>(i);
-    f.fragment_count = static_cast<uint16_t>(count);
-    f.total_bytes = static_cast<uint32_t>(payload.size());
-    f.payload_offset = static_cast<uint32_t>(offset);
-    f.payload_bytes = static_cast<uint16_t>(n);
-    std::vector<uint8_t> d(kUdpHeaderBytes + n);
-    std::copy(payload.begin() + static_cast<std::ptrdiff_t>(offset),
-              payload.begin() + static_cast<std::ptrdiff_t>(offset + n), d.begin() + kUdpHeaderBytes);
-    write_udp_header(f, {d.data() + kUdpHeaderBytes, n}, d.data());
-    out.push_back(std::move(d));
-  }
-  return out;
+  return sinew::test::fragment_frame(payload, stream, sequence, fragment);
 }
 
 // The harness's input: each datagram as a 2-byte little-endian length and its bytes.
