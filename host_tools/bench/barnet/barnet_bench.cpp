@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "host_tools/bench/common/bench_summary.hpp"
 #include "host_tools/layers/barnet/arm_session.hpp"
 
 namespace bn = sinew::barnet;
@@ -109,7 +110,8 @@ BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmar
 BENCHMARK(BM_EnginePlusBarnet)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 // The per-layer table, every figure measured here, in this run.
-void summary() {
+bool summary() {
+  bool ok = true;
   lb::ArmSession lbs(sinew::rigc::SkinChoice::kLinear), dqs(sinew::rigc::SkinChoice::kDualQuaternion);
   const double t_lbs = lbs_baseline();
   const double t_dqs = median_seconds(
@@ -139,7 +141,20 @@ void summary() {
                   s.state().free_count, s.model().wrap.size());
     std::printf("  %-44s %10.2f us  x%.3f  (%.1f ns per wrapped vertex)\n", what, t * 1e6, t / t_lbs,
                 t * 1e9 / static_cast<double>(s.model().wrap.size()));
+    sinew::bench::SummaryRow row;
+    row.bench = "barnet";
+    row.measure = what;
+    row.figure = t * 1e6;
+    row.unit = "us";
+    row.baseline = "LBS engine step";
+    row.baseline_figure = t_lbs * 1e6;
+    if (segments == 32) {  // the issue's target is set at 224 nodes
+      row.target = sinew::bench::ratio_at_most(0.3);
+      row.target_source = "performance issue: bar-net wrap <= 0.3x LBS at 224 nodes";
+    }
+    if (!sinew::bench::summary_row(row)) ok = false;
   }
+  return ok;
 }
 
 }  // namespace
@@ -149,6 +164,5 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  summary();
-  return 0;
+  return summary() ? 0 : 1;
 }

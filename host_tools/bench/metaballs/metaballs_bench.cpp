@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/bench/common/bench_summary.hpp"
 #include "host_tools/layers/metaballs/builder.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "sim_core/engine/engine.hpp"
@@ -244,6 +245,8 @@ BENCHMARK(BM_MetaballsPrimaryOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond
 
 }  // namespace
 
+namespace sb = sinew::bench;
+
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
@@ -263,6 +266,19 @@ int main(int argc, char** argv) {
       std::printf(", primary deformation only %.1f us (%.2fx LBS)", m.at("metaballs-primary") / 1000,
                   m.at("metaballs-primary") / m.at("lbs"));
     std::printf("\n");
+    char measure[96];
+    std::snprintf(measure, sizeof(measure), "metaballs frame, %u vertices, %u balls",
+                  scene(which).lbs.rig.vertex_count(), scene(which).model.ball_count());
+    sb::SummaryRow row;
+    row.bench = "metaballs";
+    row.measure = measure;
+    row.figure = m.at("metaballs") / 1000;
+    row.unit = "us";
+    row.baseline = "LBS engine step";
+    row.baseline_figure = m.at("lbs") / 1000;
+    row.target = sb::ratio_at_most(1.2);
+    row.target_source = "performance issue: metaballs <= 1.2x LBS";
+    if (!sb::summary_row(row)) return 1;
   }
   return 0;
 }

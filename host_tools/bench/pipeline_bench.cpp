@@ -1,0 +1,81 @@
+// sinew-bench-pipeline: the built-in arm's whole tick on one core, with the
+// default job's layers and with every layer on, beside skinning alone in the
+// same run: step p50/p99/max, each stage's mean and share of the step.
+//   sinew-bench-pipeline [--rig arm|hand] [--steps N]
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <memory>
+
+#include "host_tools/bench/common/bench_summary.hpp"
+#include "host_tools/run/pipeline_run.hpp"
+
+namespace {
+
+namespace sb = sinew::bench;
+namespace pl = sinew::pipeline;
+
+struct Config {
+  const char* name;
+  const char* layers;
+};
+
+bool bench_config(const std::string& rig_name, const Config& c, int steps, sinew::run::RunFigures* out) {
+  pl::PipelineOptions options;
+  std::string error;
+  const auto run = std::make_unique<sinew::run::PipelineRun>();
+  if (!sinew::run::parse_layer_list(c.layers, &options, &error) ||
+      !sinew::run::pipeline_run_init(rig_name, options, run.get(), &error)) {
+    std::fprintf(stderr, "sinew-bench-pipeline: %s: %s\n", c.name, error.c_str());
+    return false;
+  }
+  sinew::run::pipeline_run_steps(run.get(), steps / 10 + 1);  // warm caches and the layers' state
+  *out = sinew::run::pipeline_run_steps(run.get(), steps, static_cast<uint32_t>(steps / 10 + 1));
+  const double p50 = out->percentile(0.5);
+  std::printf("%-34s p50 %8.1f us  p99 %8.1f us  max %8.1f us  layer errors %llu\n", c.name, p50, out->percentile(0.99),
+              out->step_us.back(), static_cast<unsigned long long>(out->layer_errors));
+  double total = 0;
+  for (double m : out->stage_mean_us) total += m;
+  std::printf("%-34s", "");
+  for (uint32_t k = 0; k < pl::kStageCount; ++k)
+    if (pl::pipeline_stage_on(run->pipeline, static_cast<pl::Stage>(k)))
+      std::printf(" %s %.1f us (%.0f%%);", pl::stage_name(static_cast<pl::Stage>(k)), out->stage_mean_us[k],
+                  total > 0 ? 100.0 * out->stage_mean_us[k] / total : 0.0);
+  std::printf("\n");
+  return out->layer_errors == 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"sinew-bench-pipeline: the built-in rig's tick per layer set, against skinning alone"};
+  std::string rig_name = "arm";
+  int steps = 2000;
+  app.add_option("--rig", rig_name, "built-in rig")->check(CLI::IsMember({"arm", "hand"}));
+  app.add_option("--steps", steps, "timed steps per configuration")->check(CLI::Range(10, 10000000));
+  CLI11_PARSE(app, argc, argv);
+
+  const Config baseline{"skinning only", "none"};
+  const Config configs[] = {{"default job (metaballs, barnet)", "metaballs,barnet"}, {"every layer", "all"}};
+  std::printf("sinew-bench-pipeline: rig %s, %d steps per configuration, one core\n", rig_name.c_str(), steps);
+  sinew::run::RunFigures base;
+  if (!bench_config(rig_name, baseline, steps, &base)) return 1;
+  bool ok = true;
+  for (const Config& c : configs) {
+    sinew::run::RunFigures f;
+    if (!bench_config(rig_name, c, steps, &f)) {
+      ok = false;
+      continue;
+    }
+    sb::SummaryRow row;
+    row.bench = "pipeline";
+    row.measure = rig_name + ", " + c.name + ", step p50";
+    row.figure = f.percentile(0.5);
+    row.unit = "us";
+    row.baseline = "skinning only, step p50";
+    row.baseline_figure = base.percentile(0.5);
+    row.target = sb::figure_at_most(1000);
+    row.target_source = "a 1 kHz tick on one core (performance issue: all layers <= 1 ms p50)";
+    ok = sb::summary_row(row) && ok;
+  }
+  return ok ? 0 : 1;
+}
