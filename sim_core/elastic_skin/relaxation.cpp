@@ -1,5 +1,6 @@
 #include "relaxation.hpp"
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
@@ -11,7 +12,8 @@ constexpr int64_t kAccLimit = int64_t{1} << 62;
 
 fx::Vec3 at(const std::span<fx::Len> (&a)[3], uint32_t v) { return {a[0][v], a[1][v], a[2][v]}; }
 
-void accumulate(SkinState* s, uint32_t v, int64_t k, fx::Vec3 f) {
+// Inlined: it runs twice per edge per round, the relaxation's inner loop.
+[[gnu::always_inline]] inline void accumulate(SkinState* s, uint32_t v, int64_t k, fx::Vec3 f) {
   s->force[0][v] = fx::add_sat_i64(s->force[0][v], k * f.x);
   s->force[1][v] = fx::add_sat_i64(s->force[1][v], k * f.y);
   s->force[2][v] = fx::add_sat_i64(s->force[2][v], k * f.z);
@@ -39,7 +41,7 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
   for (const Edge& e : model.edges) {
     const fx::Vec3 w = fx::sub(at(s->position, e.b), at(s->position, e.a));
     const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
-    const int64_t len = fx::isqrt_hinted(wx * wx + wy * wy + wz * wz, static_cast<uint64_t>(e.rest));  // < 3 * 2^62
+    const int64_t len = fx::isqrt_fast(wx * wx + wy * wy + wz * wz);  // < 3 * 2^62
     const int64_t excess = len - e.rest;
     const int64_t k = effective_stiffness(model.params, e.k, excess, e.rest);
     // Elastic force on a: excess along w / |w| (towards b when stretched).
@@ -66,7 +68,7 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
     const fx::Vec3 target{muscles.vertex[0][m], muscles.vertex[1][m], muscles.vertex[2][m]};
     accumulate(s, b.vertex, b.k, fx::sub(target, at(s->position, b.vertex)));
   }
-  int64_t largest = 0;
+  uint64_t largest = 0;  // squared: floor(sqrt) is monotonic, so one root at the end gives the same length
   for (uint32_t v = 0; v < n; ++v) {
     const fx::Vec3 p = at(s->position, v);
     accumulate(s, v, model.anchor_stiffness[v], fx::sub(at(s->anchor, v), p));
@@ -81,14 +83,15 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
     }
     s->stats.saturated += sat.events;
     const fx::Vec3 rv{r[0], r[1], r[2]};
-    const int64_t rl = fx::length(rv);
-    if (rl > largest) largest = rl;
+    const uint64_t x = fx::magnitude(rv.x), y = fx::magnitude(rv.y), z = fx::magnitude(rv.z);
+    const uint64_t rl2 = x * x + y * y + z * z;  // < 3 * 2^62 < 2^64, as in fx::length
+    if (rl2 > largest) largest = rl2;
     const fx::Vec3 moved = fx::add(p, rv);
     s->position[0][v] = moved.x;
     s->position[1][v] = moved.y;
     s->position[2][v] = moved.z;
   }
-  return fx::sat_i32(largest);
+  return fx::sat_i32(int64_t{fx::isqrt_u64(largest)});
 }
 
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s) {

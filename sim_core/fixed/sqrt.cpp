@@ -4,23 +4,6 @@
 
 namespace sinew::fx {
 
-uint32_t isqrt_u64(uint64_t v) {
-  // Binary restoring square root: at most 32 iterations, exact floor.
-  uint64_t root = 0;
-  uint64_t bit = uint64_t{1} << 62;
-  while (bit > v) bit >>= 2;
-  while (bit != 0) {
-    if (v >= root + bit) {
-      v -= root + bit;
-      root = (root >> 1) + bit;
-    } else {
-      root >>= 1;
-    }
-    bit >>= 2;
-  }
-  return static_cast<uint32_t>(root);
-}
-
 Unit rsqrt_q60(uint64_t x_q60) {
   if (x_q60 < (uint64_t{1} << 58)) return INT32_MAX;
   if (x_q60 < (uint64_t{1} << 62)) {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/scalar.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/trig.hpp"
@@ -27,8 +28,8 @@ TEST(FixedScalar, RoundsHalfUp) {
   EXPECT_EQ(fx::round_shift(5, 2), 1);    // 1.25 -> 1
   EXPECT_EQ(fx::div_round(3, 2), 2);
   EXPECT_EQ(fx::div_round(-3, 2), -1);
-  EXPECT_EQ(fx::div_round(7, -2), -3);    // -3.5 -> -3
-  EXPECT_EQ(fx::div_round(1, 0), 0);      // documented: zero denominator gives 0
+  EXPECT_EQ(fx::div_round(7, -2), -3);  // -3.5 -> -3
+  EXPECT_EQ(fx::div_round(1, 0), 0);    // documented: zero denominator gives 0
   EXPECT_EQ(fx::mul_shift_round(3, 1, 1), 2);
   EXPECT_EQ(fx::mul_shift_round(-3, 1, 1), -1);
   EXPECT_EQ(fx::mul_shift_round(-5, 1, 1), -2);
@@ -61,6 +62,50 @@ TEST(FixedSqrt, ExactOnEdgesAndSquares) {
   EXPECT_EQ(fx::rsqrt_q60(0), INT32_MAX);
   EXPECT_EQ(fx::rsqrt_q60(uint64_t{1} << 60), fx::kUnitOne);
   EXPECT_EQ(fx::rsqrt_q60(uint64_t{1} << 62), fx::kUnitOne / 2);
+}
+
+// The division-free root must equal the bitwise specification everywhere:
+// squares and their neighbours (where an estimate a unit off shows), every
+// power-of-two boundary, the top of the range and random values of every
+// magnitude. Each result is also checked against the definition
+// r^2 <= v < (r + 1)^2 with 128-bit products.
+bool fast_root_is_floor_root(uint64_t v) {
+  const uint64_t r = fx::isqrt_fast(v);
+  const fx::U128 low = fx::mul_u64(r, r), high = fx::mul_u64(r + 1, r + 1);
+  const bool low_ok = low.hi == 0 && low.lo <= v;
+  const bool high_ok = high.hi > 0 || high.lo > v;
+  return low_ok && high_ok && r == fx::isqrt_u64(v);
+}
+
+TEST(FixedSqrt, FastRootEqualsTheBitwiseRoot) {
+  EXPECT_EQ(fx::isqrt_fast(0), 0u);
+  for (uint64_t v = 1; v < (uint64_t{1} << 16); ++v) ASSERT_TRUE(fast_root_is_floor_root(v)) << v;
+  for (uint64_t r = 1; r <= 0xFFFFFFFFu; r = r + r / 7 + 1) {
+    for (uint64_t d : {uint64_t{0}, uint64_t{1}, uint64_t{2}}) {
+      ASSERT_TRUE(fast_root_is_floor_root(r * r - d)) << r;
+      if (r * r + d >= r * r) ASSERT_TRUE(fast_root_is_floor_root(r * r + d)) << r;
+    }
+    ASSERT_TRUE(fast_root_is_floor_root(r * r + 2 * r)) << r;  // (r+1)^2 - 1
+  }
+  for (int b = 1; b < 64; ++b) {
+    const uint64_t p = uint64_t{1} << b;
+    for (uint64_t d : {uint64_t{0}, uint64_t{1}}) {
+      ASSERT_TRUE(fast_root_is_floor_root(p - d)) << b;
+      ASSERT_TRUE(fast_root_is_floor_root(p + d)) << b;
+    }
+  }
+  for (uint64_t d = 0; d < 4096; ++d) ASSERT_TRUE(fast_root_is_floor_root(UINT64_MAX - d)) << d;
+  const uint64_t top = uint64_t{0xFFFFFFFFu} * 0xFFFFFFFFu;  // the largest square
+  for (uint64_t d = 0; d < 4096; ++d) ASSERT_TRUE(fast_root_is_floor_root(top - 2048 + d)) << d;
+  uint64_t state = 0x9E3779B97F4A7C15u;
+  for (int i = 0; i < 2000000; ++i) {
+    state = state * 6364136223846793005u + 1442695040888963407u;
+    const uint64_t v = state >> (state & 63);  // every magnitude
+    ASSERT_TRUE(fast_root_is_floor_root(v)) << v;
+    const uint64_t r = (state >> 32) | 1;  // a random root: its square and the value below
+    ASSERT_TRUE(fast_root_is_floor_root(r * r)) << r;
+    ASSERT_TRUE(fast_root_is_floor_root(r * r - 1)) << r;
+  }
 }
 
 TEST(FixedTrig, ExactAtCardinalAngles) {
