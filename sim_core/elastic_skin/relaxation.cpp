@@ -91,7 +91,7 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
     s->position[1][v] = moved.y;
     s->position[2][v] = moved.z;
   }
-  return fx::sat_i32(int64_t{fx::isqrt_u64(largest)});
+  return fx::sat_i32(int64_t{fx::isqrt_fast(largest)});
 }
 
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s) {

@@ -2,6 +2,7 @@
 
 #include "reaction.hpp"
 #include "relaxation.hpp"
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "skin_validate.hpp"
@@ -26,7 +27,7 @@ fx::Len largest_move(const SkinState& s, uint32_t n) {
         (dx >= lim >> 31 || dy >= lim >> 31 || dz >= lim >> 31) ? UINT64_MAX : dx * dx + dy * dy + dz * dz;
     if (d2 > worst) worst = d2;
   }
-  return fx::sat_i32(int64_t{fx::isqrt_u64(worst)});
+  return fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
 }
 
 LayerStatus bad_input(const char* field, const char* problem) {

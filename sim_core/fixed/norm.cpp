@@ -1,5 +1,6 @@
 #include "norm.hpp"
 
+#include "rsqrt_fast.hpp"
 #include "scalar.hpp"
 #include "sqrt.hpp"
 #include "wide.hpp"
@@ -21,13 +22,12 @@ NormDivisor norm_divisor(const int32_t* components, int count) {
   }
   uint64_t n2 = 0;  // < 4 * 2^60
   for (int i = 0; i < count; ++i) {
-    int64_t c = shift >= 0 ? int64_t{components[i]} * (int64_t{1} << shift)
-                           : round_shift(components[i], -shift);
+    int64_t c = shift >= 0 ? int64_t{components[i]} * (int64_t{1} << shift) : round_shift(components[i], -shift);
     c = clamp_i64(c, -(int64_t{1} << 30) + 1, (int64_t{1} << 30) - 1);  // keeps n2 << 2 < 2^64
     n2 += static_cast<uint64_t>(c * c);
   }
   const uint64_t n = n2 << 2;  // < 2^64: sqrt gives 2 * norm
-  uint64_t s = isqrt_u64(n);
+  uint64_t s = isqrt_fast(n);
   if (n - s * s > s) ++s;  // round to nearest
   return {static_cast<int64_t>(s), shift};
 }

@@ -1,7 +1,8 @@
 #include "vec3.hpp"
 
-#include "sqrt.hpp"
 #include "norm.hpp"
+#include "rsqrt_fast.hpp"
+#include "sqrt.hpp"
 #include "wide.hpp"
 
 namespace sinew::fx {
@@ -16,7 +17,7 @@ bool normalize_to_unit(Vec3 v, Vec3* out) {
 uint32_t length(Vec3 v) {
   const uint64_t x = magnitude(v.x), y = magnitude(v.y), z = magnitude(v.z);
   const uint64_t n2 = x * x + y * y + z * z;  // < 3 * 2^62 < 2^64
-  return isqrt_u64(n2);
+  return isqrt_fast(n2);
 }
 
 }  // namespace sinew::fx

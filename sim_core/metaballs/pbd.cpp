@@ -15,7 +15,7 @@ bool project(const BallPair& p, std::span<fx::Vec3> c) {
   const uint64_t n2 = static_cast<uint64_t>(int64_t{diff.x} * diff.x) +
                       static_cast<uint64_t>(int64_t{diff.y} * diff.y) + static_cast<uint64_t>(int64_t{diff.z} * diff.z);
   if (n2 == 0) return false;  // coincident balls: no direction to push along
-  const int64_t len = fx::isqrt_u64(n2);
+  const int64_t len = fx::isqrt_fast(n2);
   fx::Vec3 dir;
   fx::normalize_fast(diff, &dir);
   // |len - d| < 2^33 and stiffness <= 2^30: the product fits; the Len result is

@@ -1,5 +1,6 @@
 #include "muscle_step.hpp"
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "vec_ops.hpp"
 
@@ -12,7 +13,7 @@ constexpr fx::Vec3 kAxisX{fx::kUnitOne, 0, 0};
 fx::Unit volume_scale(int64_t rest, int64_t present) {
   int64_t ratio = present > 0 ? fx::div_round(rest << fx::kUnitFracBits, present) : int64_t{4} << 30;
   ratio = fx::clamp_i64(ratio, int64_t{1} << 28, (int64_t{4} << 30) - (int64_t{1} << 24));
-  return fx::sat_i32(fx::isqrt_u64(static_cast<uint64_t>(ratio) << fx::kUnitFracBits));
+  return fx::sat_i32(fx::isqrt_fast(static_cast<uint64_t>(ratio) << fx::kUnitFracBits));
 }
 
 // Present length of the muscle path (rest = model.rest_length): the two

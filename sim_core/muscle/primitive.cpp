@@ -1,5 +1,6 @@
 #include "primitive.hpp"
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "vec_ops.hpp"
@@ -101,7 +102,7 @@ fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallba
     // Newton on F itself would overshoot. delta = (1 - G) / |grad G|
     // = p (1 - r) F / (r |grad F|), r = F^(1/p) by repeated square roots.
     uint64_t r = static_cast<uint64_t>(s.value);
-    for (int e = exponent; e > 1; e /= 2) r = fx::isqrt_u64(r << fx::kUnitFracBits);
+    for (int e = exponent; e > 1; e /= 2) r = fx::isqrt_fast(r << fx::kUnitFracBits);
     fx::Vec3 dir = s.normal;
     int64_t delta = emax / 2;
     const int64_t den = fx::round_shift(static_cast<int64_t>(r) * s.gradient_length, fx::kUnitFracBits);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 
 namespace sinew::skeleton {
@@ -88,7 +89,7 @@ fx::Quat quat_from_linear(const fx::Lin m[3][3]) {
     if (cand[i] > cand[best]) best = i;
   // s = 2 * sqrt(cand) in Q30: sqrt of a Q30 value is isqrt(v << 30) in Q30.
   const int64_t c = cand[best] > 0 ? cand[best] : 1;
-  const int64_t s = 2 * static_cast<int64_t>(fx::isqrt_u64(static_cast<uint64_t>(c) << 30));
+  const int64_t s = 2 * static_cast<int64_t>(fx::isqrt_fast(static_cast<uint64_t>(c) << 30));
   const auto q_of = [&](int64_t numerator) { return fx::sat_i32(fx::div_round(numerator * one, s)); };
   const fx::Unit quarter_s = fx::sat_i32(s / 4);
   fx::Quat q{};
