@@ -5,30 +5,63 @@
 
 namespace sinew::metaballs::detail {
 
-void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
-                     const skin::SkinnedVertices& out) {
-  // Eq. (4): v = sum_j w_ij (c_j + s_j R_j d_ij); s_j is the bulge scale, so
-  // the skin over a bulging ball moves out with its radius.
-  for (uint32_t v = 0; v < m.vertex_count; ++v) {
-    int64_t acc[3] = {0, 0, 0};
-    for (uint32_t k = 0; k < kVertexBalls; ++k) {
-      const size_t i = size_t{v} * kVertexBalls + k;
-      const int64_t w = m.vertex_weight[i];
-      if (w == 0) continue;
-      const uint16_t b = m.vertex_ball[i];
-      int64_t rd[3];
-      rotate_q50(s->ball_rotation[b], m.vertex_disp[i], rd);
-      const int64_t scale = s->ball_scale[b];
-      const fx::Vec3 c = s->ball_center[b];
-      const int64_t cc[3] = {c.x, c.y, c.z};
-      for (int a = 0; a < 3; ++a) {
-        int64_t d = fx::round_shift(rd[a], fx::kUnitFracBits);  // Len, |d| < 2^31
-        if (scale != fx::kUnitOne) d = fx::round_shift(d * scale, fx::kUnitFracBits);
-        acc[a] += w * (cc[a] + d);  // convex: |sum| < 2^30 * 2^32
-      }
+// Eq. (4): v = sum_j w_ij (c_j + s_j R_j d_ij); s_j is the bulge scale, so
+// the skin over a bulging ball moves out with its radius. The specification
+// the vector kernels are tested against word for word.
+void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
+                               const skin::SkinnedVertices& out) {
+  int64_t acc[3] = {0, 0, 0};
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    const size_t i = size_t{v} * kVertexBalls + k;
+    const int64_t w = m.vertex_weight[i];
+    if (w == 0) continue;
+    const uint16_t b = m.vertex_ball[i];
+    int64_t rd[3];
+    rotate_q50(s.ball_rotation[b], m.vertex_disp[i], rd);
+    const int64_t scale = s.ball_scale[b];
+    const fx::Vec3 c = s.ball_center[b];
+    const int64_t cc[3] = {c.x, c.y, c.z};
+    for (int a = 0; a < 3; ++a) {
+      int64_t d = fx::round_shift(rd[a], fx::kUnitFracBits);  // Len, |d| < 2^31
+      if (scale != fx::kUnitOne) d = fx::round_shift(d * scale, fx::kUnitFracBits);
+      acc[a] += w * (cc[a] + d);  // convex: |sum| < 2^30 * 2^32
     }
-    for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(fx::round_shift(acc[a], fx::kUnitFracBits));
   }
+  for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(fx::round_shift(acc[a], fx::kUnitFracBits));
+}
+
+void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out) {
+  for (uint32_t v = 0; v < m.vertex_count; ++v) deform_normal_ball_vertex(m, s, v, out);
+}
+
+bool deform_kernel_supported(DeformKernel kernel) {
+  switch (kernel) {
+    case DeformKernel::kScalar:
+      return true;
+    case DeformKernel::kAvx2:
+#if defined(__x86_64__)
+      return __builtin_cpu_supports("avx2") != 0;  // reads CPUID data, no OS call
+#else
+      return false;
+#endif
+  }
+  return false;
+}
+
+DeformKernel deform_kernel_default() {
+  return deform_kernel_supported(DeformKernel::kAvx2) ? DeformKernel::kAvx2 : DeformKernel::kScalar;
+}
+
+void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
+                     const skin::SkinnedVertices& out, DeformKernel kernel) {
+  bool done = false;
+#if defined(__x86_64__)
+  if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
+    done = deform_normal_balls_avx2(m, *s, out);
+#else
+  (void)kernel;
+#endif
+  if (!done) deform_normal_balls_scalar(m, *s, out);
   if (!s->features.joint_balls) {
     for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
     return;

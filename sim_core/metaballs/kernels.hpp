@@ -1,6 +1,7 @@
 // Internal stages of metaballs::step (one file each); sizes already checked.
 #pragma once
 
+#include <cstdint>
 #include <span>
 
 #include "sim_core/skin/skinning.hpp"
@@ -15,9 +16,25 @@ void compute_balls(const MetaballModel& m, MetaballState* s);
 // pbd.cpp: stage 3.
 void solve_pbd(const MetaballModel& m, MetaballState* s);
 
-// deform.cpp: stage 4.
+// deform.cpp: stage 4, eq. (4) over every vertex by the chosen kernel, then
+// the joint balls (eq. 5) blended by eq. (1). Every kernel writes the same
+// words; the default is the fastest the CPU runs.
+enum class DeformKernel : uint8_t { kScalar, kAvx2 };
+bool deform_kernel_supported(DeformKernel kernel);
+DeformKernel deform_kernel_default();
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
-                     const skin::SkinnedVertices& out);
+                     const skin::SkinnedVertices& out, DeformKernel kernel = deform_kernel_default());
+
+// Eq. (4) alone: the scalar specification, and the AVX2 kernel
+// (deform_avx2.cpp), which declines (returns false, writes nothing) when the
+// model has more balls than it widens on its stack.
+void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out);
+// One vertex of the specification (the vector kernel's fallback).
+void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
+                               const skin::SkinnedVertices& out);
+#if defined(__x86_64__)
+bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out);
+#endif
 
 // smoothing.cpp: stage 5.
 void smooth_joint_region(const MetaballModel& m, MetaballState* s, const skin::SkinnedVertices& out);

@@ -1,0 +1,112 @@
+// AVX2 kernel of the normal-ball deformation, eq. (4) of
+// metaballs-pbd-skinning: the same output words as the scalar specification
+// (deform_normal_ball_vertex in deform.cpp) for every input. Built with -mavx2
+// for this file only, on x86-64 only; called only when the CPU reports AVX2.
+//
+// One vertex per step, one 64-bit lane per coordinate (lane 3 unused):
+//   - per step, each ball's rotation columns, centre and bulge scale are
+//     widened once into sign-extended 64-bit lanes on the stack (192 bytes a
+//     ball, up to kMaxWideBalls = 256: 48 KiB; more balls decline to the
+//     scalar loop);
+//   - R d is three vpmuldq products summed in 64-bit lanes: exactly the
+//     scalar int64 sums of rotate_q50;
+//   - round half up is (x + 2^(s-1)) >> s with the arithmetic shift built
+//     from a logical one on x + 2^63 (AVX2 has no 64-bit arithmetic shift):
+//     exact for every int64;
+//   - w (c + d) is summed as w c + w d, both exact 32x32->64 products, so the
+//     displacement d must fit int32: it does for every validated model
+//     (|R d| <= |d| < 2^31), and a vertex where it would not is redone by the
+//     specification;
+//   - the result is saturated to int32 as sat_i32 does.
+#include <immintrin.h>
+
+#include <cstring>
+
+#include "kernels.hpp"
+
+namespace sinew::metaballs::detail {
+namespace {
+
+constexpr uint32_t kMaxWideBalls = 256;
+
+struct WideBall {
+  __m256i col[3];  // rotation column j, rows in lanes 0..2
+  __m256i center;  // Len, lanes 0..2
+  __m256i scale;   // Q2.30 in every lane (vpmuldq reads the low half)
+  bool scaled;     // scale != 1: the bulge rounding applies (192 bytes a ball with padding)
+};
+
+inline WideBall widen_ball(const fx::Rot3& r, fx::Vec3 c, fx::Unit scale) {
+  WideBall b{};
+  for (int j = 0; j < 3; ++j) b.col[j] = _mm256_setr_epi64x(r.m[0][j], r.m[1][j], r.m[2][j], 0);
+  b.center = _mm256_setr_epi64x(c.x, c.y, c.z, 0);
+  b.scale = _mm256_set1_epi64x(scale);
+  b.scaled = scale != fx::kUnitOne;
+  return b;
+}
+
+// fx::round_shift(x, S) on every int64 lane.
+template <int S>
+inline __m256i round_shift_lanes(__m256i x) {
+  const __m256i bias = _mm256_set1_epi64x(INT64_MIN + (int64_t{1} << (S - 1)));
+  const __m256i offset = _mm256_set1_epi64x(int64_t{1} << (63 - S));
+  return _mm256_sub_epi64(_mm256_srli_epi64(_mm256_add_epi64(x, bias), S), offset);
+}
+
+// True if every lane lies in the int32 range.
+inline bool lanes_fit_i32(__m256i x) {
+  const __m256i above = _mm256_srli_epi64(_mm256_sub_epi64(x, _mm256_set1_epi64x(INT32_MIN)), 32);
+  return _mm256_testz_si256(above, above) != 0;
+}
+
+// fx::sat_i32 on every int64 lane (the result still in int64 lanes).
+inline __m256i saturate_i32_lanes(__m256i x) {
+  if (lanes_fit_i32(x)) return x;
+  const __m256i hi = _mm256_set1_epi64x(INT32_MAX);
+  const __m256i lo = _mm256_set1_epi64x(INT32_MIN);
+  x = _mm256_blendv_epi8(x, hi, _mm256_cmpgt_epi64(x, hi));
+  return _mm256_blendv_epi8(x, lo, _mm256_cmpgt_epi64(lo, x));
+}
+
+// Eq. (4) at vertex v; false (nothing written) when a displacement leaves
+// the int32 range, for the caller to run the specification.
+inline bool deform_vertex(const MetaballModel& m, const WideBall* balls, uint32_t v, const skin::SkinnedVertices& out) {
+  __m256i acc = _mm256_setzero_si256();
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    const size_t i = size_t{v} * kVertexBalls + k;
+    const int32_t w = m.vertex_weight[i];
+    if (w == 0) continue;
+    const WideBall& b = balls[m.vertex_ball[i]];
+    const fx::Vec3 d = m.vertex_disp[i];
+    __m256i rd = _mm256_mul_epi32(b.col[0], _mm256_set1_epi32(d.x));
+    rd = _mm256_add_epi64(rd, _mm256_mul_epi32(b.col[1], _mm256_set1_epi32(d.y)));
+    rd = _mm256_add_epi64(rd, _mm256_mul_epi32(b.col[2], _mm256_set1_epi32(d.z)));
+    __m256i disp = round_shift_lanes<fx::kUnitFracBits>(rd);  // Len
+    if (!lanes_fit_i32(disp)) return false;
+    if (b.scaled) {
+      disp = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(disp, b.scale));
+      if (!lanes_fit_i32(disp)) return false;
+    }
+    const __m256i wv = _mm256_set1_epi32(w);
+    acc = _mm256_add_epi64(acc, _mm256_add_epi64(_mm256_mul_epi32(b.center, wv), _mm256_mul_epi32(disp, wv)));
+  }
+  int64_t r[4];
+  const __m256i p = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(acc));
+  std::memcpy(r, &p, sizeof(r));
+  for (int a = 0; a < 3; ++a) out.position[a][v] = static_cast<int32_t>(r[a]);
+  return true;
+}
+
+}  // namespace
+
+bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out) {
+  const uint32_t count = m.ball_count();
+  if (count > kMaxWideBalls) return false;
+  WideBall balls[kMaxWideBalls];
+  for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
+  for (uint32_t v = 0; v < m.vertex_count; ++v)
+    if (!deform_vertex(m, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
+  return true;
+}
+
+}  // namespace sinew::metaballs::detail

@@ -1,0 +1,152 @@
+// The vector kernel of eq. (4) (normal-ball deformation) against the scalar
+// specification, word for word: on the built-in arm's real states, and on
+// adversarial balls and vertices (weights at 2^30 on one ball or split with
+// zeros, displacements at their limits, rotation "matrices" with every entry
+// at +-1 so R d leaves the int32 range, bulge scales at 1 and near 2, centres
+// at the Len limits so the result saturates).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "arm_scene.hpp"
+#include "sim_core/fixed/mat34.hpp"
+#include "sim_core/fixed/norm.hpp"
+#include "sim_core/metaballs/kernels.hpp"
+
+namespace sinew::test {
+namespace {
+
+namespace mbd = metaballs::detail;
+
+struct DeformOutput {
+  std::vector<int32_t> axis[3];
+  explicit DeformOutput(uint32_t n) {
+    for (auto& a : axis) a.assign(n, 0x5A5A5A5A);  // a word neither kernel writes by chance
+  }
+  skin::SkinnedVertices view() {
+    skin::SkinnedVertices v;
+    for (int a = 0; a < 3; ++a) v.position[a] = axis[a];
+    return v;
+  }
+};
+
+// Runs eq. (4) by both kernels and counts the words that differ.
+uint32_t deform_kernels_differ(const metaballs::MetaballModel& m, const metaballs::MetaballState& s) {
+  DeformOutput scalar(m.vertex_count), vector(m.vertex_count);
+  mbd::deform_normal_balls_scalar(m, s, scalar.view());
+  uint32_t differ = 0;
+#if defined(__x86_64__)
+  EXPECT_TRUE(mbd::deform_normal_balls_avx2(m, s, vector.view()));
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t v = 0; v < m.vertex_count; ++v) differ += scalar.axis[a][v] != vector.axis[a][v] ? 1u : 0u;
+#endif
+  return differ;
+}
+
+bool avx2_deform_available() { return mbd::deform_kernel_supported(mbd::DeformKernel::kAvx2); }
+
+uint64_t next_random(uint64_t* state) {
+  *state = *state * 6364136223846793005u + 1442695040888963407u;
+  return *state >> 11;
+}
+
+int32_t random_between(uint64_t* state, int64_t lo, int64_t hi) {
+  return static_cast<int32_t>(lo + static_cast<int64_t>(next_random(state) % static_cast<uint64_t>(hi - lo + 1)));
+}
+
+TEST(MetaballDeformKernel, MatchesTheSpecificationOnTheArm) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
+  for (const auto& p : poses) {
+    ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
+    EXPECT_EQ(deform_kernels_differ(scene.model(), scene.state()), 0u) << p[0] << " " << p[1] << " " << p[2];
+  }
+}
+
+TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.pose(10, 45, 30));
+  const metaballs::MetaballModel& base = scene.model();
+  const uint32_t balls = base.ball_count(), n = base.vertex_count;
+  const size_t slots = size_t{n} * metaballs::kVertexBalls;
+  uint64_t rng = 0x5EEDF00Du;
+  for (int round = 0; round < 40; ++round) {
+    std::vector<uint16_t> ball(slots);
+    std::vector<fx::Unit> weight(slots, 0);
+    std::vector<fx::Vec3> disp(slots);
+    for (uint32_t v = 0; v < n; ++v) {
+      // Weights summing to 2^30: all on one ball, or a random split with zeros.
+      int64_t left = fx::kUnitOne;
+      for (uint32_t k = 0; k < metaballs::kVertexBalls; ++k) {
+        const size_t i = size_t{v} * metaballs::kVertexBalls + k;
+        ball[i] = static_cast<uint16_t>(next_random(&rng) % balls);
+        const bool last = k + 1 == metaballs::kVertexBalls;
+        const int64_t w =
+            last || round % 4 == 0 ? left : (next_random(&rng) % 3 == 0 ? 0 : random_between(&rng, 0, left));
+        weight[i] = static_cast<fx::Unit>(w);
+        left -= w;
+        const int32_t limit = (int32_t{1} << 30) - 1;
+        disp[i] = round % 3 == 0 ? fx::Vec3{limit, -limit, limit}
+                                 : fx::Vec3{random_between(&rng, -limit, limit), random_between(&rng, -limit, limit),
+                                            random_between(&rng, -limit, limit)};
+      }
+    }
+    std::vector<fx::Rot3> rotation(balls);
+    std::vector<fx::Unit> scale(balls);
+    std::vector<fx::Vec3> center(balls);
+    for (uint32_t b = 0; b < balls; ++b) {
+      if (round % 5 == 1) {  // every entry at +-1: |R d| up to 3 * 2^30, beyond int32
+        for (auto& row : rotation[b].m)
+          for (auto& e : row) e = next_random(&rng) % 2 ? fx::kUnitOne : -fx::kUnitOne;
+      } else {
+        const fx::Quat q{
+            random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
+            random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
+        const int32_t c[4] = {q.w, q.x, q.y, q.z};
+        const fx::NormDivisor nd = fx::norm_divisor(c, 4);
+        const fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
+                            fx::divide_by_norm(q.z, nd)};
+        rotation[b] = fx::rot3_of_unit(unit);
+      }
+      const uint32_t pick = static_cast<uint32_t>(next_random(&rng) % 3);
+      scale[b] = pick == 0 ? fx::kUnitOne : pick == 1 ? INT32_MAX : random_between(&rng, fx::kUnitOne, INT32_MAX);
+      const int32_t reach = round % 2 ? INT32_MAX : (int32_t{1} << 24);
+      center[b] = {random_between(&rng, -int64_t{reach} - (round % 2), reach), random_between(&rng, -reach, reach),
+                   random_between(&rng, -reach, reach)};
+    }
+    metaballs::MetaballModel m = base;
+    m.vertex_ball = ball;
+    m.vertex_weight = weight;
+    m.vertex_disp = disp;
+    metaballs::MetaballState s = scene.state();
+    s.ball_rotation = rotation;
+    s.ball_scale = scale;
+    s.ball_center = center;
+    EXPECT_EQ(deform_kernels_differ(m, s), 0u) << "round " << round;
+  }
+}
+
+// More balls than the kernel widens: it declines and writes nothing.
+TEST(MetaballDeformKernel, DeclinesModelsWithMoreBallsThanItWidens) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+#if defined(__x86_64__)
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.pose(0, 30, 0));
+  metaballs::MetaballModel m = scene.model();
+  std::vector<fx::Vec3> rest(300, fx::Vec3{0, 0, 0});
+  m.vertex_count = 0;  // nothing to deform: only the ball count matters
+  m.ball_rest = rest;
+  DeformOutput out(1);
+  EXPECT_FALSE(mbd::deform_normal_balls_avx2(m, scene.state(), out.view()));
+  EXPECT_EQ(out.axis[0][0], 0x5A5A5A5A);
+#endif
+}
+
+}  // namespace
+}  // namespace sinew::test
