@@ -43,9 +43,12 @@ struct EntryWords {
   int32x4_t q[3];  // {m00 m01 m02 m10} {m11 m12 m20 m21} {m22 t0 t1 t2}
 };
 
+// Copies of the object representation (well defined for any layout-compatible
+// bytes); each compiles to one 128-bit load.
 inline EntryWords load_entry(const fx::Mat34& m) {
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&m);
   EntryWords e;
-  std::memcpy(e.q, &m, sizeof(e.q));
+  for (int q = 0; q < 3; ++q) std::memcpy(&e.q[q], bytes + 16 * q, sizeof(e.q[q]));
   return e;
 }
 
