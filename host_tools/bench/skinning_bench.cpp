@@ -1,7 +1,9 @@
 // Skinning throughput: sinew's fixed-point LBS and DQS beside a float Eigen
 // LBS baseline on the same mesh, 4 influences per vertex, positions and
 // normals, in the same run; prints vertices/s and the ratios, then fixed LBS
-// with each kernel (scalar specification, AVX2) side by side.
+// with each kernel side by side: the scalar specification and the target's
+// vector kernel (AVX2 on x86-64, NEON on aarch64). Under qemu-user (the
+// aarch64 cross build) it is a smoke run: the figures measure the emulator.
 //   sinew-bench-skinning [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
 
@@ -99,13 +101,21 @@ void BM_FixedSkinning(benchmark::State& state, bool dual) {
   const int n = static_cast<int>(state.range(0));
   Fixture& f = fixture(n, dual);
   for (auto _ : state) {
-    const uint32_t sat = sinew::skin::skin_vertices(f.rig, f.engine.palette, f.engine.dual, 0,
-                                                    f.rig.vertex_count(), f.engine.vertices);
+    const uint32_t sat =
+        sinew::skin::skin_vertices(f.rig, f.engine.palette, f.engine.dual, 0, f.rig.vertex_count(), f.engine.vertices);
     benchmark::DoNotOptimize(sat);
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(state.iterations() * n);
 }
+
+// The vector LBS kernel this target builds, beside the scalar one.
+constexpr sinew::skin::LbsKernel kVectorKernel =
+#if defined(__aarch64__)
+    sinew::skin::LbsKernel::kNeon;
+#else
+    sinew::skin::LbsKernel::kAvx2;
+#endif
 
 // Fixed LBS with an explicit kernel (the rows above use the default one).
 void BM_FixedLbsKernel(benchmark::State& state, sinew::skin::LbsKernel kernel) {
@@ -149,14 +159,16 @@ FloatMesh& float_mesh(int n) {
     m.palette.push_back(mat);
   }
   for (int v = 0; v < n; ++v) {
-    m.position.emplace_back(f.rig.position[0][static_cast<size_t>(v)] * len, f.rig.position[1][static_cast<size_t>(v)] * len,
+    m.position.emplace_back(f.rig.position[0][static_cast<size_t>(v)] * len,
+                            f.rig.position[1][static_cast<size_t>(v)] * len,
                             f.rig.position[2][static_cast<size_t>(v)] * len);
     m.normal.emplace_back(std::ldexp(static_cast<float>(f.rig.normal[0][static_cast<size_t>(v)]), -30),
                           std::ldexp(static_cast<float>(f.rig.normal[1][static_cast<size_t>(v)]), -30),
                           std::ldexp(static_cast<float>(f.rig.normal[2][static_cast<size_t>(v)]), -30));
     for (int k = 0; k < kInfluences; ++k) {
       m.joint.push_back(f.rig.influence_palette[static_cast<size_t>(v * kInfluences + k)]);
-      m.weight.push_back(std::ldexp(static_cast<float>(f.rig.influence_weight[static_cast<size_t>(v * kInfluences + k)]), -30));
+      m.weight.push_back(
+          std::ldexp(static_cast<float>(f.rig.influence_weight[static_cast<size_t>(v * kInfluences + k)]), -30));
     }
   }
   m.out_position.resize(static_cast<size_t>(n));
@@ -171,7 +183,9 @@ void BM_FloatEigenLbs(benchmark::State& state) {
     for (int v = 0; v < n; ++v) {
       const size_t base = static_cast<size_t>(v) * kInfluences;
       Eigen::Matrix<float, 3, 4> b = m.weight[base] * m.palette[static_cast<size_t>(m.joint[base])];
-      for (int k = 1; k < kInfluences; ++k) b += m.weight[base + static_cast<size_t>(k)] * m.palette[static_cast<size_t>(m.joint[base + static_cast<size_t>(k)])];
+      for (int k = 1; k < kInfluences; ++k)
+        b += m.weight[base + static_cast<size_t>(k)] *
+             m.palette[static_cast<size_t>(m.joint[base + static_cast<size_t>(k)])];
       m.out_position[static_cast<size_t>(v)] = b.leftCols<3>() * m.position[static_cast<size_t>(v)] + b.col(3);
       m.out_normal[static_cast<size_t>(v)] = (b.leftCols<3>() * m.normal[static_cast<size_t>(v)]).normalized();
     }
@@ -194,8 +208,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
   }
   void Print() const {
     std::printf("\nskinning throughput (4 influences, positions + normals), ratio to float Eigen LBS:\n");
-    std::printf("%10s %16s %16s %16s %10s %10s\n", "vertices", "float LBS v/s", "fixed LBS v/s", "fixed DQS v/s", "LBS/float",
-                "DQS/float");
+    std::printf("%10s %16s %16s %16s %10s %10s\n", "vertices", "float LBS v/s", "fixed LBS v/s", "fixed DQS v/s",
+                "LBS/float", "DQS/float");
     for (int n : {1000, 10000, 100000}) {
       const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
       const double lbs = rate("BM_FixedSkinning/lbs/" + std::to_string(n));
@@ -206,19 +220,20 @@ class RatioReporter : public benchmark::ConsoleReporter {
     const sinew::skin::LbsKernel in_use = sinew::skin::lbs_kernel_default();
     std::printf("\nfixed LBS kernel in use: %s; per kernel (same outputs, word for word):\n",
                 sinew::skin::lbs_kernel_name(in_use));
-    std::printf("%10s %16s %16s %16s %10s %10s %10s\n", "vertices", "float LBS v/s", "scalar LBS v/s", "avx2 LBS v/s",
-                "scalar/fl", "avx2/fl", "avx2/scal");
+    const std::string vec = sinew::skin::lbs_kernel_name(kVectorKernel);
+    std::printf("%10s %16s %16s %16s %10s %10s %10s\n", "vertices", "float LBS v/s", "scalar LBS v/s",
+                (vec + " LBS v/s").c_str(), "scalar/fl", (vec + "/fl").c_str(), (vec + "/scal").c_str());
     for (int n : {1000, 10000, 100000}) {
       const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
       const double scalar = rate("BM_FixedLbsKernel/scalar/" + std::to_string(n));
-      const double avx2 = rate("BM_FixedLbsKernel/avx2/" + std::to_string(n));
+      const double vector = rate("BM_FixedLbsKernel/" + vec + "/" + std::to_string(n));
       if (fl <= 0 || scalar <= 0) continue;
-      if (avx2 <= 0) {
+      if (vector <= 0) {
         std::printf("%10d %16.3g %16.3g %16s %9.2fx %10s %10s\n", n, fl, scalar, "n/a", scalar / fl, "n/a", "n/a");
         continue;
       }
-      std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, avx2, scalar / fl, avx2 / fl,
-                  avx2 / scalar);
+      std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, vector, scalar / fl, vector / fl,
+                  vector / scalar);
     }
   }
 
@@ -236,7 +251,11 @@ BENCHMARK(BM_FloatEigenLbs)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedSkinning, lbs, false)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedSkinning, dqs, true)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, scalar, sinew::skin::LbsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
+#if defined(__aarch64__)
+BENCHMARK_CAPTURE(BM_FixedLbsKernel, neon, sinew::skin::LbsKernel::kNeon)->Arg(1000)->Arg(10000)->Arg(100000);
+#else
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx2, sinew::skin::LbsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
+#endif
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);

@@ -1,8 +1,7 @@
 #include "skinning.hpp"
 
-#include "skinning_detail.hpp"
-
 #include "sim_core/fixed/rsqrt_fast.hpp"
+#include "skinning_detail.hpp"
 
 namespace sinew::skin {
 namespace {
@@ -112,8 +111,8 @@ void detail::skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat>
 namespace {
 
 uint32_t skin_vertices_scalar(const rig::Rig& rig, std::span<const fx::Mat34> palette,
-                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
-                       const SkinnedVertices& out) {
+                              std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                              const SkinnedVertices& out) {
   uint32_t saturated = 0;
   const bool dual_ready = !dual_palette.empty();
   for (uint32_t i = 0; i < count; ++i) {
@@ -139,13 +138,23 @@ bool lbs_kernel_supported(LbsKernel kernel) {
 #else
       return false;
 #endif
+    case LbsKernel::kNeon:
+#if defined(__aarch64__)
+      return true;  // Advanced SIMD is part of every AArch64 CPU
+#else
+      return false;
+#endif
   }
   return false;
 }
 
 // The fastest kernel this CPU runs: every kernel writes the same words.
 LbsKernel lbs_kernel_default() {
+#if defined(__aarch64__)
+  return LbsKernel::kNeon;
+#else
   return lbs_kernel_supported(LbsKernel::kAvx2) ? LbsKernel::kAvx2 : LbsKernel::kScalar;
+#endif
 }
 
 const char* lbs_kernel_name(LbsKernel kernel) {
@@ -154,6 +163,8 @@ const char* lbs_kernel_name(LbsKernel kernel) {
       return "scalar";
     case LbsKernel::kAvx2:
       return "avx2";
+    case LbsKernel::kNeon:
+      return "neon";
   }
   return "unknown";
 }
@@ -164,6 +175,8 @@ uint32_t skin_vertices(LbsKernel kernel, const rig::Rig& rig, std::span<const fx
 #if defined(__x86_64__)
   if (kernel == LbsKernel::kAvx2 && lbs_kernel_supported(LbsKernel::kAvx2))
     return detail::skin_vertices_avx2(rig, palette, dual_palette, first, count, out);
+#elif defined(__aarch64__)
+  if (kernel == LbsKernel::kNeon) return detail::skin_vertices_neon(rig, palette, dual_palette, first, count, out);
 #else
   (void)kernel;
 #endif

@@ -29,10 +29,10 @@ uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        const SkinnedVertices& out);
 
 // LBS kernels. kScalar is the specification (skinning.cpp, every target);
-// kAvx2 (x86-64 with AVX2, detected at run time) writes the same words and
-// returns the same saturation count for every input (docs/numerics.md).
-// DQS vertices always take the scalar path.
-enum class LbsKernel : uint8_t { kScalar = 0, kAvx2 = 1 };
+// kAvx2 (x86-64 with AVX2, detected at run time) and kNeon (every aarch64
+// build) write the same words and return the same saturation count for every
+// input (docs/numerics.md). DQS vertices always take the scalar path.
+enum class LbsKernel : uint8_t { kScalar = 0, kAvx2 = 1, kNeon = 2 };
 
 // Whether this CPU runs the kernel (kScalar: always).
 bool lbs_kernel_supported(LbsKernel kernel);

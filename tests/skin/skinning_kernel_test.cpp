@@ -1,9 +1,10 @@
-// The AVX2 LBS kernel writes exactly the scalar specification's words and
-// returns the same saturation count, on adversarial rigs: palette entries at
-// and beyond the limits, saturating positions, zero and huge normals, zero,
-// negative and oversized weights, every K from 1 to 8, counts and offsets that
-// are not multiples of anything, mixed DQS vertices and random rigs (fixed
-// seeds). Skipped where the CPU has no AVX2.
+// The vector LBS kernel of this target (AVX2 on x86-64, NEON on aarch64)
+// writes exactly the scalar specification's words and returns the same
+// saturation count, on adversarial rigs: palette entries at and beyond the
+// limits, saturating positions, zero and huge normals, zero, negative and
+// oversized weights, every K from 1 to 8, counts and offsets that are not
+// multiples of anything, mixed DQS vertices and random rigs (fixed seeds).
+// Skipped where the CPU has no vector kernel (x86-64 without AVX2, armhf).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -56,10 +57,18 @@ void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
     for (int i = 0; i < 3; ++i) {
       for (int e = 0; e < 3; ++e) {
         switch (c.linear_mode) {
-          case 0: m.m[i][e] = kernel_uniform(rng, -kL, kL); break;
-          case 1: m.m[i][e] = kernel_pick(rng, {-(1 << 30), 1 << 30, (1 << 30) - 1, -(1 << 30) + 1, 0}); break;
-          case 2: m.m[i][e] = kernel_pick(rng, {INT32_MIN, INT32_MAX, 1 << 30, -(1 << 30), (1 << 30) + 1, 7}); break;
-          default: m.m[i][e] = i == e ? (1 << 24) : kernel_uniform(rng, -(1 << 20), 1 << 20); break;
+          case 0:
+            m.m[i][e] = kernel_uniform(rng, -kL, kL);
+            break;
+          case 1:
+            m.m[i][e] = kernel_pick(rng, {-(1 << 30), 1 << 30, (1 << 30) - 1, -(1 << 30) + 1, 0});
+            break;
+          case 2:
+            m.m[i][e] = kernel_pick(rng, {INT32_MIN, INT32_MAX, 1 << 30, -(1 << 30), (1 << 30) + 1, 7});
+            break;
+          default:
+            m.m[i][e] = i == e ? (1 << 24) : kernel_uniform(rng, -(1 << 20), 1 << 20);
+            break;
         }
       }
       m.t[i] = rng() % 3 == 0 ? kernel_pick(rng, {INT32_MAX, -INT32_MAX, INT32_MIN, 0})
@@ -76,16 +85,16 @@ void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
   for (uint32_t v = 0; v < c.vertices; ++v) {
     for (int i = 0; i < 3; ++i) {
       r->position[i].push_back(c.position_mode == 0 ? kernel_uniform(rng, -(1 << 22), 1 << 22)
-                               : rng() % 2        ? kernel_pick(rng, {INT32_MIN, INT32_MAX, INT32_MIN + 1, 0, -1})
-                                                  : kernel_uniform(rng, INT32_MIN, INT32_MAX));
+                               : rng() % 2          ? kernel_pick(rng, {INT32_MIN, INT32_MAX, INT32_MIN + 1, 0, -1})
+                                                    : kernel_uniform(rng, INT32_MIN, INT32_MAX));
       if (c.normal_mode == 0) r->normal[i].push_back(kernel_uniform(rng, -(1 << 30), 1 << 30));
       if (c.normal_mode == 1)
         r->normal[i].push_back(rng() % 3 == 0 ? 0 : kernel_pick(rng, {INT32_MIN, INT32_MAX, 0, 1, -1, 1 << 30}));
     }
     if (c.normal_mode == 1 && v % 5 == 0)
       for (int i = 0; i < 3; ++i) r->normal[i].back() = 0;  // zero normal
-    r->method.push_back(static_cast<uint8_t>(c.dual && rng() % 3 == 0 ? rig::SkinMethod::kDualQuaternion
-                                                                      : rig::SkinMethod::kLinear));
+    r->method.push_back(
+        static_cast<uint8_t>(c.dual && rng() % 3 == 0 ? rig::SkinMethod::kDualQuaternion : rig::SkinMethod::kLinear));
     int64_t left = kL;
     const uint32_t hot = static_cast<uint32_t>(rng() % c.k);
     for (uint32_t k = 0; k < c.k; ++k) {
@@ -120,6 +129,15 @@ void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
   r->rig.any_dual_quaternion = c.dual;
 }
 
+// The vector kernel this target builds: NEON on aarch64, else AVX2 (which
+// SetUp skips where the CPU lacks it).
+constexpr LbsKernel kVectorKernel =
+#if defined(__aarch64__)
+    LbsKernel::kNeon;
+#else
+    LbsKernel::kAvx2;
+#endif
+
 struct KernelOutput {
   std::vector<int32_t> position[3], normal[3];
   uint32_t saturated = 0;
@@ -134,23 +152,16 @@ KernelOutput kernel_run(LbsKernel kernel, const KernelRig& r, bool dual, bool no
     out.position[i] = o.position[i];
     if (normals) out.normal[i] = o.normal[i];
   }
-  const std::span<const fx::DualQuat> dual_palette = dual ? std::span<const fx::DualQuat>(r.dual)
-                                                         : std::span<const fx::DualQuat>();
+  const std::span<const fx::DualQuat> dual_palette =
+      dual ? std::span<const fx::DualQuat>(r.dual) : std::span<const fx::DualQuat>();
   o.saturated = sinew::skin::skin_vertices(kernel, r.rig, r.palette, dual_palette, first, count, out);
   return o;
 }
 
-// Runs both kernels on [first, first + count) and compares every word.
-void kernel_expect_identical(const KernelCase& c, uint64_t seed, uint32_t first, uint32_t count) {
-  KernelRig r;
-  kernel_make_rig(c, seed, &r);
-  const bool normals = c.normal_mode != 2;
-  const KernelOutput want = kernel_run(LbsKernel::kScalar, r, c.dual, normals, first, count);
-  const KernelOutput got = kernel_run(LbsKernel::kAvx2, r, c.dual, normals, first, count);
-  SCOPED_TRACE(testing::Message() << "K=" << c.k << " palette=" << c.palette << " linear=" << c.linear_mode
-                                  << " weights=" << c.weight_mode << " positions=" << c.position_mode
-                                  << " normals=" << c.normal_mode << " dual=" << c.dual << " seed=" << seed
-                                  << " first=" << first << " count=" << count);
+// Runs both kernels on [first, first + count) of a built rig and compares every word.
+void kernel_expect_identical_rig(const KernelRig& r, bool dual, bool normals, uint32_t first, uint32_t count) {
+  const KernelOutput want = kernel_run(LbsKernel::kScalar, r, dual, normals, first, count);
+  const KernelOutput got = kernel_run(kVectorKernel, r, dual, normals, first, count);
   EXPECT_EQ(got.saturated, want.saturated);
   for (int i = 0; i < 3; ++i) {
     for (uint32_t v = 0; v < count; ++v) {
@@ -160,10 +171,21 @@ void kernel_expect_identical(const KernelCase& c, uint64_t seed, uint32_t first,
   }
 }
 
+// Builds the rig of a case and runs kernel_expect_identical_rig on it.
+void kernel_expect_identical(const KernelCase& c, uint64_t seed, uint32_t first, uint32_t count) {
+  KernelRig r;
+  kernel_make_rig(c, seed, &r);
+  SCOPED_TRACE(testing::Message() << "K=" << c.k << " palette=" << c.palette << " linear=" << c.linear_mode
+                                  << " weights=" << c.weight_mode << " positions=" << c.position_mode
+                                  << " normals=" << c.normal_mode << " dual=" << c.dual << " seed=" << seed
+                                  << " first=" << first << " count=" << count);
+  kernel_expect_identical_rig(r, c.dual, c.normal_mode != 2, first, count);
+}
+
 class SkinKernel : public testing::Test {
  protected:
   void SetUp() override {
-    if (!sinew::skin::lbs_kernel_supported(LbsKernel::kAvx2)) GTEST_SKIP() << "CPU without AVX2";
+    if (!sinew::skin::lbs_kernel_supported(kVectorKernel)) GTEST_SKIP() << "no vector LBS kernel on this CPU";
   }
 };
 
@@ -222,11 +244,42 @@ TEST_F(SkinKernel, RandomRigs) {
   }
 }
 
-TEST_F(SkinKernel, LargePaletteTakesTheScalarPathIdentically) {
+// Beyond AVX2's widened buffer (the scalar path there); NEON reads the palette in place.
+TEST_F(SkinKernel, LargePaletteIdentically) {
   KernelCase c;
   c.palette = 4096;
   c.k = 8;
   kernel_expect_identical(c, 4096, 0, c.vertices);
+}
+
+// Halfway cases of every rounding shift, positive and negative, which random
+// rigs almost never hit: weights that are multiples of a quarter on small
+// linear entries and translations make the Q2.30 blend end in exactly one half
+// about a quarter of the time, and positions and normals that are multiples
+// of 2^23 make the Q8.24 products end in exactly one half about half the time.
+TEST_F(SkinKernel, HalfwayCasesRoundLikeTheSpecification) {
+  std::mt19937_64 rng(5);
+  for (uint32_t k = 1; k <= 8; ++k) {
+    KernelCase c;
+    c.k = k;
+    c.vertices = 259;
+    c.palette = 9;
+    KernelRig r;
+    kernel_make_rig(c, 300 + k, &r);
+    for (fx::Mat34& m : r.palette) {
+      for (auto& row : m.m)
+        for (int32_t& e : row) e = kernel_uniform(rng, -7, 7);
+      for (int32_t& t : m.t) t = kernel_uniform(rng, -(1 << 27), 1 << 27);
+    }
+    for (int32_t& w : r.weight) w = kernel_pick(rng, {1 << 29, -(1 << 29), 1 << 28, -(1 << 28), 3 << 28});
+    for (int i = 0; i < 3; ++i)
+      for (uint32_t v = 0; v < c.vertices; ++v) {
+        r.position[i][v] = kernel_uniform(rng, -255, 255) * (1 << 23);
+        r.normal[i][v] = kernel_uniform(rng, -255, 255) * (1 << 23);
+      }
+    SCOPED_TRACE(testing::Message() << "K=" << k);
+    kernel_expect_identical_rig(r, false, true, 0, c.vertices);
+  }
 }
 
 // Identity palette and one-hot weights pass rest normals through unchanged, so
@@ -251,20 +304,15 @@ TEST_F(SkinKernel, NormalsOfEveryMagnitude) {
         r.normal[i][v] = static_cast<int32_t>(std::clamp<int64_t>(x, INT32_MIN, INT32_MAX));
       }
     }
-    const KernelOutput want = kernel_run(LbsKernel::kScalar, r, false, true, 0, c.vertices);
-    const KernelOutput got = kernel_run(LbsKernel::kAvx2, r, false, true, 0, c.vertices);
-    EXPECT_EQ(got.saturated, want.saturated);
-    for (int i = 0; i < 3; ++i)
-      for (uint32_t v = 0; v < c.vertices; ++v) {
-        ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "K=" << k << " normal " << i << " of vertex " << v;
-        ASSERT_EQ(got.position[i][v], want.position[i][v]) << "K=" << k << " position " << i << " of vertex " << v;
-      }
+    SCOPED_TRACE(testing::Message() << "K=" << k);
+    kernel_expect_identical_rig(r, false, true, 0, c.vertices);
   }
 }
 
-TEST_F(SkinKernel, DefaultIsAvx2WhereSupported) {
-  EXPECT_EQ(sinew::skin::lbs_kernel_default(), LbsKernel::kAvx2);
-  EXPECT_STREQ(sinew::skin::lbs_kernel_name(sinew::skin::lbs_kernel_default()), "avx2");
+TEST_F(SkinKernel, DefaultIsTheVectorKernelWhereSupported) {
+  EXPECT_EQ(sinew::skin::lbs_kernel_default(), kVectorKernel);
+  EXPECT_STREQ(sinew::skin::lbs_kernel_name(sinew::skin::lbs_kernel_default()),
+               kVectorKernel == LbsKernel::kNeon ? "neon" : "avx2");
 }
 
 }  // namespace
