@@ -93,8 +93,9 @@ int run(int argc, char** argv) {
     if (!signalled) {
       std::fprintf(stderr, "sinewd: [loop] trigger = \"%s\": no source %s (%s)\n", tick_trigger_name(config.trigger),
                    config.trigger == TickTrigger::kInputs ? "reports complete sample sets" : "has a sync frame",
-                   config.trigger == TickTrigger::kInputs ? "can, candump, simulated-rig, trajectory"
-                                                          : "set sync_id on a can, candump or simulated-rig source");
+                   config.trigger == TickTrigger::kInputs
+                       ? "can, candump, simulated-rig, trajectory"
+                       : "set sync_id on a can, candump or simulated-rig source, or a gpio [source.sync] line");
       return 2;
     }
   }
