@@ -20,7 +20,7 @@ namespace sinew::firmware {
 enum class TickTrigger : uint8_t {
   kPeriodic,  // every slot at its deadline
   kInputs,    // when every source that signals completeness has a new set
-  kSync,      // on a source's sync event (CAN sync frame)
+  kSync,      // on a source's sync event (a CAN sync frame, a GPIO sync edge)
 };
 
 const char* tick_trigger_name(TickTrigger t);

@@ -21,7 +21,7 @@ enum class SourceState : uint8_t {
 const char* source_state_name(SourceState s);
 
 // What an input-triggered loop may ask a source between ticks (docs/pipeline.md,
-// "Tick trigger"): what has arrived since its last latch, without consuming it.
+// "The daemon's tick"): what has arrived since its last latch, without consuming it.
 enum ArrivalSignal : uint8_t {
   kSignalsNothing = 0,
   kSignalsComplete = 1u << 0,  // can tell when every input it feeds has a new sample
