@@ -107,8 +107,17 @@ std::unique_ptr<hal::InputSource> can_source(const SourceConfig& s, const Loaded
     if (!recording) return *error = where(s, "record") + ": " + *error, nullptr;
     frames = std::move(recording);
   }
-  auto source =
-      hal::can::CanInputSource::create(s.name, std::move(frames), std::move(decoder), kFramesPerTick, start_ns, error);
+  // sync_id: the frame that closes each cycle (`[loop] trigger = "sync"`);
+  // identifiers above 11 bits are extended.
+  hal::can::SyncFrameOptions sync;
+  if (const auto id = s.table["sync_id"].value<int64_t>()) {
+    if (*id < 0 || *id > hal::can::kExtendedIdMask)
+      return *error = where(s, "sync_id") + " must be 0..0x1FFFFFFF", nullptr;
+    sync.enabled = true;
+    sync.id = {static_cast<uint32_t>(*id), *id > hal::can::kStandardIdMask};
+  }
+  auto source = hal::can::CanInputSource::create(s.name, std::move(frames), std::move(decoder), kFramesPerTick,
+                                                 start_ns, error, sync);
   if (!source) *error = "source " + s.name + ": " + *error;
   return source;
 }
@@ -125,6 +134,8 @@ class KeepAlive final : public hal::InputSource {
   }
   hal::SourceState state() const override { return inner_->state(); }
   std::string status_line() const override { return inner_->status_line(); }
+  uint8_t arrival_signals() const override { return inner_->arrival_signals(); }
+  hal::Arrival arrival(uint64_t now_ns) override { return inner_->arrival(now_ns); }
 
  private:
   std::unique_ptr<hal::InputSource> inner_;
@@ -140,6 +151,10 @@ std::unique_ptr<hal::InputSource> simulated_rig(const SourceConfig& s, const Loa
     return nullptr;
   options.period_ns = options.period_ns / 1000 * 1000;
   options.offset_ns = options.offset_ns / 1000 * 1000;
+  if (const auto id = s.table["sync_id"].value<int64_t>()) {  // the simulated rig sends it, the receiver watches it
+    options.send_sync = true;
+    options.sync_id = static_cast<uint32_t>(*id);
+  }
   std::vector<hal::sim::InputRange> ranges;
   std::vector<bool> rotation;
   rig_inputs(rig, &ranges, &rotation);

@@ -106,8 +106,8 @@ constexpr Key kLineKeys[] = {{"line", Kind::kInteger, -1, 65535}, {"active_low",
 // Keys every CAN-fed source reads (can_source in bus_sources.cpp).
 #define SINEW_CAN_KEYS                                                                                               \
   {"type", Kind::kString}, {"name", Kind::kString}, {"period_ms", Kind::kNumber, 0.01, kMaxMs}, {"fd", Kind::kFlag}, \
-      {"record", Kind::kString}, {                                                                                   \
-    "interface", Kind::kString                                                                                       \
+      {"record", Kind::kString}, {"interface", Kind::kString}, {                                                     \
+    "sync_id", Kind::kInteger, 0, 0x1FFFFFFF                                                                         \
   }
 constexpr Key kCanKeys[] = {SINEW_CAN_KEYS};
 constexpr Key kCandumpKeys[] = {SINEW_CAN_KEYS, {"path", Kind::kString}, {"origin_s", Kind::kNumber, 0, 1e9}};
@@ -270,7 +270,9 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     return *error = at(origin, t["rig"]["builtin"].node(), "[rig] builtin") + ": unknown built-in rig (arm, hand)",
            false;
   if (const toml::table* loop = t["loop"].as_table()) {
-    if (!known_keys_only(*loop, "loop", {"rate_hz", "duration_s", "stats_interval_s", "mode"}, origin, error))
+    if (!known_keys_only(*loop, "loop",
+                         {"rate_hz", "duration_s", "stats_interval_s", "mode", "trigger", "trigger_poll_us"}, origin,
+                         error))
       return false;
     if (!read_number(*loop, "rate_hz", 1u, 20000u, &c.rate_hz, origin, error)) return false;
     if (!read_number(*loop, "duration_s", 0.0, 1e7, &c.duration_s, origin, error)) return false;
@@ -287,6 +289,16 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       c.mode = RunMode::kOffline;
     else
       return *error = at(origin, (*loop)["mode"].node(), "[loop] mode") + ": must be live, replay or offline", false;
+    if (const toml::node* trigger = loop->get("trigger")) {
+      const std::optional<std::string> name = trigger->value_exact<std::string>();
+      const TickTrigger all[] = {TickTrigger::kPeriodic, TickTrigger::kInputs, TickTrigger::kSync};
+      const auto it = std::find_if(std::begin(all), std::end(all),
+                                   [&](TickTrigger k) { return name && *name == tick_trigger_name(k); });
+      if (it == std::end(all))
+        return *error = at(origin, trigger, "[loop] trigger") + ": must be \"periodic\", \"inputs\" or \"sync\"", false;
+      c.trigger = *it;
+    }
+    if (!read_number(*loop, "trigger_poll_us", 1.0, 1000.0, &c.trigger_poll_us, origin, error)) return false;
   }
   if (const toml::table* layers = t["layers"].as_table()) {
     // The layers are compiled into the rig (rigc, docs/rig-format.md); here

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "firmware/runtime/realtime.hpp"
+#include "firmware/runtime/tick_trigger.hpp"
 
 namespace sinew::firmware {
 
@@ -33,6 +34,10 @@ struct DaemonConfig {
   double duration_s = 0;  // 0: until SIGINT/SIGTERM
   double stats_interval_s = 1.0;
   RunMode mode = RunMode::kLive;
+  // [loop] trigger: when a live tick starts (tick_trigger.hpp); the slot's
+  // deadline is always the fallback. Offline and replay runs ignore it.
+  TickTrigger trigger = TickTrigger::kPeriodic;
+  double trigger_poll_us = 20.0;  // how often the sources are asked while a triggered tick waits
   RealtimeOptions realtime;
   double timeout_factor = 1.5;      // stale after factor x expected period (CANopen style)
   double default_period_ms = 10.0;  // expected sample period when a source does not say

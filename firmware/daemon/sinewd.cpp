@@ -15,6 +15,7 @@
 #include "config.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_clock.hpp"
+#include "firmware/runtime/tick_trigger.hpp"
 #include "loaded_rig.hpp"
 #include "source_factory.hpp"
 
@@ -85,10 +86,24 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }
-  std::printf("sinewd: rig %s, %u joints, %u inputs (%zu external), %u vertices; %u Hz, mode %s\n",
+  if (config.mode == RunMode::kLive && config.trigger != TickTrigger::kPeriodic) {
+    // A trigger no source can pull would leave every tick to its deadline.
+    bool signalled = false;
+    for (const auto& s : runtime.sources()) signalled |= (s->arrival_signals() & trigger_signal(config.trigger)) != 0;
+    if (!signalled) {
+      std::fprintf(stderr, "sinewd: [loop] trigger = \"%s\": no source %s (%s)\n", tick_trigger_name(config.trigger),
+                   config.trigger == TickTrigger::kInputs ? "reports complete sample sets" : "has a sync frame",
+                   config.trigger == TickTrigger::kInputs
+                       ? "can, candump, simulated-rig, trajectory"
+                       : "set sync_id on a can, candump or simulated-rig source, or a gpio [source.sync] line");
+      return 2;
+    }
+  }
+  std::printf("sinewd: rig %s, %u joints, %u inputs (%zu external), %u vertices; %u Hz, mode %s, trigger %s\n",
               config.rig_builtin.empty() ? config.rig_blob.c_str() : config.rig_builtin.c_str(), rig.rig.joint_count(),
               rig.input_count(), rig.external.size(), rig.rig.vertex_count(), config.rate_hz,
-              config.mode == RunMode::kLive ? "live" : (config.mode == RunMode::kReplay ? "replay" : "offline"));
+              config.mode == RunMode::kLive ? "live" : (config.mode == RunMode::kReplay ? "replay" : "offline"),
+              config.mode == RunMode::kLive ? tick_trigger_name(config.trigger) : "nominal times");
   if (!rig.unused_inputs.empty()) {
     std::string names;
     for (uint32_t k : rig.unused_inputs) names += (names.empty() ? "" : ", ") + rig.input_names[k];
@@ -117,23 +132,45 @@ int run(int argc, char** argv) {
           ? std::max<uint64_t>(1, static_cast<uint64_t>(config.stats_interval_s * config.rate_hz))
           : UINT64_MAX;
   TickClock clock(period, start + period);
+  // [loop] trigger: a live tick may start before its deadline, as soon as
+  // its inputs (or a sync frame) have arrived; the deadline stays the fallback.
+  const bool live = config.mode == RunMode::kLive;
+  const bool triggered = live && config.trigger != TickTrigger::kPeriodic;
+  MonotonicWaitClock wall;
+  TriggeredTickClock trigger_clock(config.trigger, period, start + period,
+                                   static_cast<uint64_t>(config.trigger_poll_us * 1000.0));
   // The run lasts duration_s of schedule: it ends at the slot, not after a
   // count of executed ticks (a live run that skipped ticks would run long).
+  uint64_t on_arrival = 0, at_deadline = 0;
   for (uint64_t tick = 0; !g_stop.load(std::memory_order_relaxed); ++tick) {
-    const uint64_t tick_ns = config.mode == RunMode::kLive ? clock.wait_next() : start + (tick + 1) * period;
-    const uint64_t slot = (tick_ns - start) / period - 1;
+    uint64_t tick_ns = start + (tick + 1) * period, deadline = tick_ns;
+    bool arrived = false;
+    if (triggered) {
+      const TriggeredTick t = trigger_clock.wait_next(runtime.sources(), wall);
+      tick_ns = t.time_ns;
+      deadline = t.deadline_ns;
+      arrived = t.triggered;
+    } else if (live) {
+      tick_ns = deadline = clock.wait_next();
+    }
+    const uint64_t slot = (deadline - start) / period - 1;
     if (slot >= total_ticks) break;
+    ++(arrived ? on_arrival : at_deadline);
     const uint64_t t0 = monotonic_ns();
     runtime.step(tick_ns, slot);
     const uint64_t t1 = monotonic_ns();
-    runtime.timing().record(t1 - t0, config.mode == RunMode::kLive && clock.finished_late(t1));
+    runtime.timing().record(t1 - t0, live && (triggered ? trigger_clock.finished_late(t1) : clock.finished_late(t1)));
     if ((tick + 1) % stats_every == 0) print_stats(runtime, rig, false);
   }
   const uint64_t lost_frames = runtime.close_sinks();  // writes what the sinks' queues hold
   print_stats(runtime, rig, true);
-  if (clock.skipped_ticks() > 0)
-    std::printf("skipped ticks (more than a period late): %llu\n",
-                static_cast<unsigned long long>(clock.skipped_ticks()));
+  const uint64_t skipped = clock.skipped_ticks() + trigger_clock.skipped_ticks();
+  if (skipped > 0)
+    std::printf("skipped ticks (more than a period late): %llu\n", static_cast<unsigned long long>(skipped));
+  if (triggered)
+    std::printf("trigger %s: %llu ticks on arrival, %llu at the deadline (fallback)\n",
+                tick_trigger_name(config.trigger), static_cast<unsigned long long>(on_arrival),
+                static_cast<unsigned long long>(at_deadline));
   if (lost_frames > 0) {
     // A sink that lost frames (a full disk, a failing link, a full queue)
     // left an incomplete output.

@@ -22,6 +22,9 @@ class TrajectorySource : public InputSource {
   size_t latch(uint64_t until_ns, std::span<hal::JointSample> out, InputHealth& health) override;
   SourceState state() const override { return SourceState::kOk; }
   std::string status_line() const override;
+  // Complete once a sample set is due (every input is sent at each grid point).
+  uint8_t arrival_signals() const override { return hal::kSignalsComplete; }
+  hal::Arrival arrival(uint64_t now_ns) override { return {next_ <= now_ns, false}; }
 
  private:
   std::vector<int32_t> centre_, half_span_;

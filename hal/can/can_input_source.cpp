@@ -6,12 +6,13 @@ namespace sinew::hal::can {
 
 std::unique_ptr<CanInputSource> CanInputSource::create(std::string name, std::unique_ptr<FrameSource> source,
                                                        std::unique_ptr<FrameDecoder> decoder, size_t frame_capacity,
-                                                       uint64_t start_ns, std::string* error) {
+                                                       uint64_t start_ns, std::string* error,
+                                                       const SyncFrameOptions& sync) {
   std::unique_ptr<CanInputSource> s(new CanInputSource());
   s->name_ = std::move(name);
   s->source_ = std::move(source);
   s->decoder_ = std::move(decoder);
-  if (!s->receiver_.configure(*s->source_, *s->decoder_, frame_capacity, start_ns, error)) return nullptr;
+  if (!s->receiver_.configure(*s->source_, *s->decoder_, frame_capacity, start_ns, error, sync)) return nullptr;
   return s;
 }
 
@@ -26,6 +27,15 @@ size_t CanInputSource::latch(uint64_t until_ns, std::span<JointSample> out, Inpu
   const size_t n = std::min(out.size(), r.samples.size());
   std::copy(r.samples.end() - static_cast<std::ptrdiff_t>(n), r.samples.end(), out.begin());
   return n;
+}
+
+uint8_t CanInputSource::arrival_signals() const {
+  return static_cast<uint8_t>(kSignalsComplete | (receiver_.has_sync() ? kSignalsSync : kSignalsNothing));
+}
+
+Arrival CanInputSource::arrival(uint64_t now_ns) {
+  const ArrivalState a = receiver_.arrival(now_ns);
+  return {a.complete, a.sync};
 }
 
 SourceState CanInputSource::state() const {
@@ -48,6 +58,7 @@ std::string CanInputSource::status_line() const {
          std::to_string(c.frames) + ", error frames " + std::to_string(c.error_frames) + ", bus-off " +
          std::to_string(c.bus_off_events) + ", dropped " + std::to_string(c.dropped) + ", foreign " +
          std::to_string(c.foreign_frames) +
+         (receiver_.has_sync() ? ", sync frames " + std::to_string(receiver_.sync_frames()) : std::string()) +
          // "ok, frames 0" alone would hide a log or bus of another device's frames.
          (c.frames == 0 && c.foreign_frames > 0 ? " (every frame had identifiers this decoder does not read)" : "");
 }

@@ -20,14 +20,20 @@ class CanInputSource final : public InputSource {
  public:
   // Takes ownership of both; configures the receiver (kernel filters from the
   // decoder's identifiers). frame_capacity bounds the frames decoded per tick.
+  // sync: a sync frame that closes each cycle (can_receiver.hpp), if any.
   static std::unique_ptr<CanInputSource> create(std::string name, std::unique_ptr<FrameSource> source,
                                                 std::unique_ptr<FrameDecoder> decoder, size_t frame_capacity,
-                                                uint64_t start_ns, std::string* error);
+                                                uint64_t start_ns, std::string* error,
+                                                const SyncFrameOptions& sync = {});
 
   const char* name() const override { return name_.c_str(); }
   size_t latch(uint64_t until_ns, std::span<JointSample> out, InputHealth& health) override;
   SourceState state() const override;
   std::string status_line() const override;
+  // Complete: a frame of each of the decoder's identifiers has arrived;
+  // sync: the sync frame has (when one is configured).
+  uint8_t arrival_signals() const override;
+  Arrival arrival(uint64_t now_ns) override;
 
   FrameSource& frame_source() { return *source_; }
   const FrameDecoder& decoder() const { return *decoder_; }

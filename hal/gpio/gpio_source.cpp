@@ -136,7 +136,28 @@ void GpioSource::apply(const LineEvent& event) {
   }
 }
 
+hal::Arrival GpioSource::arrival(uint64_t now_ns) {
+  if (sync_ && !sync_pending_) {
+    const int got = sync_->read_events(sync_buffer_);
+    if (got < 0) ++counters_.read_errors;
+    uint32_t active = 0;
+    for (int i = 0; i < got; ++i) {
+      const LineEvent& e = sync_buffer_[static_cast<size_t>(i)];
+      if (!logical(e.edge, config_.sync.active_low)) continue;
+      ++active;
+      sync_pending_ns_ = e.timestamp_ns;  // the newest active edge, as wait_sync takes it
+    }
+    if (active > 0) {
+      sync_pending_ = true;
+      ++counters_.sync_edges;
+      counters_.sync_missed += active - 1;
+    }
+  }
+  return {false, sync_pending_ && sync_pending_ns_ <= now_ns};
+}
+
 size_t GpioSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, hal::InputHealth&) {
+  if (sync_pending_ && sync_pending_ns_ <= until_ns) sync_pending_ = false;  // this tick answers the edge
   bool read_failed = false;
   if (inputs_) {
     for (int round = 0; round < kMaxReadRounds; ++round) {
@@ -260,8 +281,7 @@ bool GpioSource::set_fault(bool fault) {
 }
 
 std::string GpioSource::status_line() const {
-  std::string s =
-      std::string(hal::source_state_name(state_)) + ", " + std::to_string(encoders_.size()) + " encoders";
+  std::string s = std::string(hal::source_state_name(state_)) + ", " + std::to_string(encoders_.size()) + " encoders";
   for (size_t i = 0; i < encoders_.size(); ++i) {
     const QuadratureCounters& c = encoders_[i].counters();
     s += " [" + std::to_string(i) + ": count " + std::to_string(encoders_[i].count()) +

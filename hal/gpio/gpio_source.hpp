@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "debounce.hpp"
-#include "hal/common/input_source.hpp"
 #include "gpio_source_config.hpp"
+#include "hal/common/input_source.hpp"
 #include "line_io.hpp"
 #include "quadrature.hpp"
 
@@ -62,6 +62,11 @@ class GpioSource : public InputSource {
   // down after a read error.
   hal::SourceState state() const override { return state_; }
   std::string status_line() const override;
+  // The sync trigger (`[loop] trigger = "sync"`): with a sync line, its
+  // active edge is an arrival, read without waiting, reported from its
+  // timestamp on until a latch at or after it. Counted as wait_sync counts.
+  uint8_t arrival_signals() const override { return sync_ ? hal::kSignalsSync : hal::kSignalsNothing; }
+  hal::Arrival arrival(uint64_t now_ns) override;
 
   // Lockstep with a master: waits up to timeout_ns (0 polls) for the sync
   // line's active edge. Events that are not active edges are consumed.
@@ -108,6 +113,8 @@ class GpioSource : public InputSource {
   uint64_t seen_overflows_ = 0;
   uint64_t last_ts_ = 0;
   uint64_t last_problems_ = 0;  // illegal + missed edges at the previous latch
+  bool sync_pending_ = false;   // an active sync edge read by arrival(), not yet latched
+  uint64_t sync_pending_ns_ = 0;
   hal::SourceState state_ = hal::SourceState::kOk;
   GpioCounters counters_;
 };

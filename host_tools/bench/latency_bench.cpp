@@ -9,12 +9,21 @@
 // The baseline is the engine step alone on the same rig (no IO), in the
 // same run; the ratio is the runtime's overhead.
 //
+// Then arrival to output in real time: the same rig and bus paced on the
+// wall clock at 1 kHz, twice in the same run: periodic ticks (a frame waits
+// for the next slot) and `trigger = "inputs"` (the tick starts once every
+// input's frame of the set has arrived; the slot's deadline is the fallback):
+//   latency   pose out (after the step) - frame arrival, per latched frame
+//   waiting   tick start - frame arrival: the part of the latency before
+//             the work (the wait for the slot, or for the trigger's poll and
+//             the wake-up); its share is summed waiting / summed latency
+//
 // Then the sinks: the same runtime paced in real time at 1 kHz, three ways in
 // the same run: no sink; a frame log (fdatasync every 1000 frames) and a UDP
 // stream written in the tick thread; the same two through sinewd's I/O
 // threads (AsyncSink). The p99 ratio of the last to the first is what the
 // I/O threads buy.
-//   sinew-bench-latency [--ticks N] [--paced-ticks N]
+//   sinew-bench-latency [--ticks N] [--paced-ticks N] [--trigger-poll-us U]
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <time.h>
@@ -32,6 +41,7 @@
 #include "firmware/daemon/loaded_rig.hpp"
 #include "firmware/runtime/async_sink.hpp"
 #include "firmware/runtime/runtime.hpp"
+#include "firmware/runtime/tick_trigger.hpp"
 #include "firmware/sinks/hal_sink.hpp"
 #include "hal/can/can_input_source.hpp"
 #include "hal/can/joint_stream_decoder.hpp"
@@ -125,6 +135,87 @@ void run(const char* builtin, size_t ticks) {
       builtin, rig.rig.vertex_count(), rig.rig.input_count, step50, percentile(steps, 0.99), percentile(steps, 1.0),
       step50 / 10.0, engine50, step50 / engine50, percentile(latencies, 0.5), percentile(latencies, 0.99),
       percentile(latencies, 1.0), latencies.size());
+}
+
+struct LiveLatency {
+  std::vector<uint64_t> latency, waiting;
+  uint64_t triggered = 0, fallback = 0;
+};
+
+// The runtime on `rig` fed by the simulated rig's CAN bus (each input at
+// 500 Hz, 0.3 ms past every second slot), ticking on the wall clock at 1 kHz
+// under `trigger` for `ticks` slots.
+LiveLatency live_latency(const firmware::LoadedRig& rig, firmware::TickTrigger trigger, size_t ticks,
+                         uint64_t poll_ns) {
+  constexpr uint64_t kPeriod = 1'000'000;
+  std::vector<hal::sim::InputRange> ranges(rig.rig.input_count);
+  for (const rig::JointRecord& j : rig.rig.joints)
+    for (uint32_t d = 0; d < j.dof_count; ++d) ranges[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
+  hal::sim::SimulatedRigOptions options;
+  options.period_ns = 2'000'000;
+  options.offset_ns = 300'000;
+  const uint64_t start = hal::monotonic_ns() + 2'000'000;
+  std::string error;
+  auto bus = std::make_unique<hal::sim::SimulatedRigBus>(hal::sim::RigMotion(ranges), options, start);
+  auto decoder = std::make_unique<hal::can::JointStreamDecoder>();
+  if (!decoder->configure(bus->stream_config(), &error)) std::exit(1);
+  auto source = hal::can::CanInputSource::create("can", std::move(bus), std::move(decoder), 128, start, &error);
+  std::vector<hal::InputLimits> limits(rig.rig.input_count);
+  firmware::Runtime runtime;
+  if (!source || !runtime.init(rig.rig, limits, start, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    std::exit(1);
+  }
+  runtime.add_source(std::move(source));
+  runtime.add_sink(std::make_unique<CountingSink>());
+  LiveLatency out;
+  out.latency.reserve(ticks * rig.rig.input_count);
+  out.waiting.reserve(ticks * rig.rig.input_count);
+  firmware::MonotonicWaitClock wall;
+  firmware::TriggeredTickClock clock(trigger, kPeriod, start + kPeriod, poll_ns);
+  uint64_t next_sent = start + options.offset_ns;
+  for (size_t k = 0; k < ticks; ++k) {
+    const firmware::TriggeredTick tick = clock.wait_next(runtime.sources(), wall);
+    const uint64_t t0 = hal::monotonic_ns();
+    runtime.step(tick.time_ns, (tick.deadline_ns - start) / kPeriod - 1);
+    const uint64_t done = hal::monotonic_ns();
+    // Every frame stamped up to the tick's time was latched by it.
+    for (; next_sent <= tick.time_ns; next_sent += options.period_ns)
+      for (size_t i = 0; i < rig.rig.input_count; ++i) {
+        out.latency.push_back(done - next_sent);
+        out.waiting.push_back(t0 - next_sent);
+      }
+  }
+  out.triggered = clock.triggered_ticks();
+  out.fallback = clock.fallback_ticks();
+  return out;
+}
+
+void run_live(const char* builtin, size_t ticks, uint64_t poll_ns) {
+  firmware::LoadedRig rig;
+  std::string error;
+  if (!firmware::load_rig(builtin, "", &rig, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    std::exit(1);
+  }
+  double p50_periodic = 0;
+  for (const firmware::TickTrigger trigger : {firmware::TickTrigger::kPeriodic, firmware::TickTrigger::kInputs}) {
+    const LiveLatency r = live_latency(rig, trigger, ticks, poll_ns);
+    uint64_t latency_sum = 0, waiting_sum = 0;
+    for (uint64_t v : r.latency) latency_sum += v;
+    for (uint64_t v : r.waiting) waiting_sum += v;
+    const double p50 = percentile(r.latency, 0.5);
+    if (trigger == firmware::TickTrigger::kPeriodic) p50_periodic = p50;
+    std::printf(
+        "%-5s live 1 kHz, trigger %-8s | arrival to output p50 %7.1f us p99 %7.1f us max %8.1f us | waiting p50 "
+        "%7.1f us, %4.1f %% of the latency | p50 / periodic %.3f | ticks on arrival %llu, at the deadline %llu "
+        "(%zu frames)\n",
+        builtin, firmware::tick_trigger_name(trigger), p50, percentile(r.latency, 0.99), percentile(r.latency, 1.0),
+        percentile(r.waiting, 0.5),
+        latency_sum > 0 ? 100.0 * static_cast<double>(waiting_sum) / static_cast<double>(latency_sum) : 0.0,
+        p50_periodic > 0 ? p50 / p50_periodic : 0.0, static_cast<unsigned long long>(r.triggered),
+        static_cast<unsigned long long>(r.fallback), r.latency.size());
+  }
 }
 
 enum class SinkSetup { kNone, kInTickThread, kIoThreads };
@@ -264,16 +355,25 @@ void run_sinks(const char* builtin, size_t ticks) {
 
 int main(int argc, char** argv) {
   size_t ticks = 5000, paced_ticks = 5000;
+  uint64_t poll_ns = 20'000;
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--ticks") == 0) ticks = static_cast<size_t>(std::strtoull(argv[i + 1], nullptr, 10));
     if (std::strcmp(argv[i], "--paced-ticks") == 0)
       paced_ticks = static_cast<size_t>(std::strtoull(argv[i + 1], nullptr, 10));
+    if (std::strcmp(argv[i], "--trigger-poll-us") == 0) poll_ns = std::strtoull(argv[i + 1], nullptr, 10) * 1000;
   }
+  if (poll_ns == 0) poll_ns = 1000;
   if (ticks == 0) ticks = 1;
   if (paced_ticks == 0) paced_ticks = 1;
   std::printf("sinew-bench-latency: %zu ticks at 1 kHz (virtual deadlines), frames at 500 Hz per input\n", ticks);
   run("arm", ticks);
   run("hand", ticks);
+  std::printf(
+      "arrival to output: %zu slots in real time at 1 kHz per trigger, frames at 500 Hz per input, trigger poll %.0f "
+      "us, in this run\n",
+      paced_ticks, static_cast<double>(poll_ns) / 1000.0);
+  run_live("arm", paced_ticks, poll_ns);
+  run_live("hand", paced_ticks, poll_ns);
   std::printf("sinks: %zu ticks paced in real time at 1 kHz per setup, in this run\n", paced_ticks);
   run_sinks("arm", paced_ticks);
   run_sinks("hand", paced_ticks);

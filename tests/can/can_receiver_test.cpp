@@ -189,6 +189,81 @@ TEST_F(ReceiverTest, ForeignFramesAreCountedNotDecoded) {
   EXPECT_EQ(receiver_.bus_counters().frames, 1u);
 }
 
+// What an input-triggered tick asks between ticks: complete once a frame of
+// every identifier has arrived up to now, without consuming any of them.
+TEST_F(ReceiverTest, ArrivalIsCompleteOnceEveryIdentifierArrivedAndConsumesNothing) {
+  send(0, 11, 1 * kMs);
+  send(1, 22, 2 * kMs);
+  EXPECT_FALSE(receiver_.arrival(3 * kMs).complete);
+  send(0, 12, 3 * kMs);
+  EXPECT_FALSE(receiver_.arrival(3 * kMs).complete) << "a second frame of joint 0 completes nothing";
+  send(2, 33, 4 * kMs);
+  test::AllocationCounter counter;
+  const ArrivalState a = receiver_.arrival(4 * kMs);
+  EXPECT_EQ(counter.allocations(), 0u);
+  EXPECT_TRUE(a.complete);
+  EXPECT_FALSE(a.sync) << "no sync frame is configured";
+  const PollResult r = receiver_.poll(4 * kMs);
+  ASSERT_EQ(r.samples.size(), 4u) << "arrival() left every frame for the tick";
+  EXPECT_EQ(r.samples[3].value, 33);
+  EXPECT_FALSE(receiver_.arrival(5 * kMs).complete) << "the tick consumed the set";
+}
+
+TEST_F(ReceiverTest, FramesHeldBackByATickCountTowardsTheNextSet) {
+  send_all(1, 1 * kMs);
+  send_all(2, 6 * kMs);
+  EXPECT_TRUE(receiver_.arrival(7 * kMs).complete);
+  EXPECT_EQ(receiver_.poll(5 * kMs, 7 * kMs).samples.size(), 3u);  // the tick ends at 5 ms
+  EXPECT_TRUE(receiver_.arrival(7 * kMs).complete) << "the 6 ms set is held, and complete";
+}
+
+class SyncReceiverTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const JointStreamConfig config = default_joint_stream_config(3, false, kPeriod);
+    std::string error;
+    ASSERT_TRUE(decoder_.configure(config, &error)) << error;
+    ASSERT_TRUE(sender_.configure(config, &error)) << error;
+    ASSERT_TRUE(receiver_.configure(bus_, decoder_, 32, 0, &error, {true, {0x080, false}})) << error;
+  }
+  void send(size_t joint, int32_t value, uint64_t t_ns) { bus_.inject(sender_.next(joint, {&value, 1}, {}, t_ns)); }
+  void sync(uint64_t t_ns) {
+    CanFrame f = make_data_frame(0x080, false, nullptr, 0);
+    f.timestamp_ns = t_ns;
+    bus_.inject(f);
+  }
+
+  SimulatedCanBus bus_{256};
+  JointStreamDecoder decoder_;
+  JointStreamSender sender_;
+  CanReceiver receiver_;
+};
+
+// The sync frame closes the cycle: it passes the filters, is reported by
+// arrival() and counted by poll(), and never reaches the decoder.
+TEST_F(SyncReceiverTest, TheSyncFrameIsWatchedNotDecoded) {
+  send(0, 11, 1 * kMs);
+  EXPECT_FALSE(receiver_.arrival(2 * kMs).sync);
+  sync(2 * kMs);
+  const ArrivalState a = receiver_.arrival(2 * kMs);
+  EXPECT_TRUE(a.sync);
+  EXPECT_FALSE(a.complete) << "joints 1 and 2 sent nothing";
+  const PollResult r = receiver_.poll(2 * kMs);
+  ASSERT_EQ(r.samples.size(), 1u);
+  EXPECT_TRUE(r.rejections.empty()) << "the sync frame is no unknown identifier";
+  EXPECT_EQ(receiver_.sync_frames(), 1u);
+  EXPECT_EQ(decoder_.unassigned().rejected_total(), 0u);
+  EXPECT_FALSE(receiver_.arrival(3 * kMs).sync) << "the tick consumed it";
+}
+
+TEST_F(SyncReceiverTest, ASyncIdentifierThatCarriesJointsIsRefused) {
+  CanReceiver other;
+  SimulatedCanBus bus{16};
+  std::string error;
+  EXPECT_FALSE(other.configure(bus, decoder_, 32, 0, &error, {true, decoder_.frame_ids()[1]}));
+  EXPECT_NE(error.find("sync"), std::string::npos) << error;
+}
+
 TEST(CandumpReplayForeign, ALogOfOnlyForeignFramesSaysSo) {
   const std::string path = testing::TempDir() + "/only_foreign.candump";
   {

@@ -247,6 +247,48 @@ TEST(DaemonConfig, SourceAndSinkKeysAreKnownTypedAndRangeChecked) {
             std::string::npos);
 }
 
+// [loop] trigger is one of three names and its poll interval a number in
+// range; a CAN source's sync_id an identifier: errors name file:line:key.
+TEST(DaemonConfig, TriggerAndSyncIdAreTypedAndRangeChecked) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n";
+  const std::string must = "[loop] trigger: must be \"periodic\", \"inputs\" or \"sync\"";
+  EXPECT_NE(error_of(rig + "[loop]\ntrigger = \"fast\"\n").find("test.toml:4: " + must), std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\nrate_hz = 500\ntrigger = 1\n").find("test.toml:5: " + must), std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\ntrigger = \"Inputs\"\n").find("test.toml:4: " + must), std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\ntrigger = [\"inputs\"]\n").find("test.toml:4: " + must), std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\ntrigger_poll_us = 0\n")
+                .find("test.toml:4: trigger_poll_us: must be a number in [1, 1000]"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\ntrigger_poll_us = \"20\"\n").find("test.toml:4: trigger_poll_us"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\ntriger = \"inputs\"\n").find("test.toml:4: [loop] triger: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[[source]]\ntype = \"can\"\nsync_id = -1\n")
+                .find("test.toml:5: [[source]] sync_id: must be an integer in [0, 536870911]"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[[source]]\ntype = \"simulated-rig\"\nsync_id = \"0x80\"\n")
+                .find("test.toml:5: [[source]] sync_id: must be an integer"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[[source]]\ntype = \"modbus\"\nsync_id = 128\n").find("[[source]] sync_id: unknown key"),
+            std::string::npos);
+  for (const auto& [name, trigger] : {std::pair{"periodic", sinew::firmware::TickTrigger::kPeriodic},
+                                      std::pair{"inputs", sinew::firmware::TickTrigger::kInputs},
+                                      std::pair{"sync", sinew::firmware::TickTrigger::kSync}}) {
+    DaemonConfig c;
+    std::string error;
+    ASSERT_TRUE(parse_config(rig + "[loop]\ntrigger = \"" + name + "\"\ntrigger_poll_us = 50\n[[source]]\n" +
+                                 "type = \"candump\"\npath = \"x.log\"\nsync_id = 0x080\n",
+                             "t.toml", &c, &error))
+        << error;
+    EXPECT_EQ(c.trigger, trigger);
+    EXPECT_DOUBLE_EQ(c.trigger_poll_us, 50.0);
+  }
+  DaemonConfig defaults;
+  std::string error;
+  ASSERT_TRUE(parse_config(rig, "t.toml", &defaults, &error)) << error;
+  EXPECT_EQ(defaults.trigger, sinew::firmware::TickTrigger::kPeriodic);
+}
+
 // Sources and sinks are reported and their errors given by name: two with
 // one name would be indistinguishable.
 TEST(DaemonConfig, DuplicateSourceAndSinkNamesAreRefused) {

@@ -295,6 +295,29 @@ TEST(GpioSource, SyncEdgeStartsATick) {
   EXPECT_EQ(f.source->counters().sync_timeouts, 2u);
 }
 
+// The sync trigger's view of the line: an active edge is an arrival from its
+// timestamp on, until a tick latches at or after it; a falling edge is none.
+TEST(GpioSource, SyncEdgeIsAnArrivalUntilATickLatchesIt) {
+  GpioSourceConfig c = one_encoder();
+  c.sync.line = 7;
+  Fixture f(c);
+  EXPECT_EQ(f.source->arrival_signals(), hal::kSignalsSync);
+  EXPECT_FALSE(f.source->arrival(1 * kMs).sync);
+  f.wire.set_level(7, true, 1500 * kUs);
+  EXPECT_FALSE(f.source->arrival(1400 * kUs).sync) << "the edge is stamped after now";
+  EXPECT_TRUE(f.source->arrival(1600 * kUs).sync);
+  EXPECT_TRUE(f.source->arrival(1700 * kUs).sync) << "pending until a tick latches it";
+  EXPECT_FALSE(f.source->arrival(1700 * kUs).complete) << "GPIO cannot tell a complete set";
+  f.latch(1700 * kUs);
+  EXPECT_FALSE(f.source->arrival(1800 * kUs).sync);
+  f.wire.set_level(7, false, 1900 * kUs);
+  EXPECT_FALSE(f.source->arrival(2 * kMs).sync) << "a falling edge starts no tick";
+  EXPECT_EQ(f.source->counters().sync_edges, 1u);
+  Fixture g(one_encoder());
+  EXPECT_EQ(g.source->arrival_signals(), hal::kSignalsNothing);
+  EXPECT_FALSE(g.source->arrival(1 * kMs).sync);
+}
+
 TEST(GpioSource, SyncActiveLowAndWithoutLine) {
   GpioSourceConfig c = one_encoder();
   c.sync.line = 7;

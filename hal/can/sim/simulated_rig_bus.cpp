@@ -11,6 +11,10 @@ bool SimulatedRigBus::validate(const SimulatedRigOptions& o, size_t inputs, std:
   if (o.period_ns == 0 || o.period_ns % 1000 != 0)
     return *error = "simulated rig: period must be a positive whole number of microseconds", false;
   if (o.offset_ns % 1000 != 0) return *error = "simulated rig: offset must be whole microseconds", false;
+  if (o.send_sync && (o.sync_id > hal::can::kStandardIdMask || (o.sync_id >= 0x100 && o.sync_id < 0x100 + inputs)))
+    return *error =
+               "simulated rig: the sync identifier must be 11-bit and not one of the joint frames' (0x100 + input)",
+           false;
   if (inputs == 0 || inputs > hal::can::kDefaultMaxJoints)
     return *error = "simulated rig: 1.." + std::to_string(hal::can::kDefaultMaxJoints) + " inputs", false;
   for (const Fault& f : o.faults.faults) {
@@ -62,6 +66,11 @@ void SimulatedRigBus::send_step(uint64_t t) {
       bus_.inject(frame);
       ++sent_;
     }
+  }
+  if (options_.send_sync && !bus_off) {
+    CanFrame sync = hal::can::make_data_frame(options_.sync_id, false, nullptr, 0);
+    sync.timestamp_ns = at;
+    bus_.inject(sync);
   }
 }
 

@@ -23,6 +23,10 @@ struct SimulatedRigOptions {
   uint64_t offset_ns = 5'000'000;   // first frame at start + offset (half a period off the tick grid)
   FaultPlan faults;
   size_t queue_frames = 4096;  // the simulated socket's receive queue
+  // A sync frame (no payload, classic, 11-bit) after each step's joint
+  // frames, stamped with them: the cycle's end for a `trigger = "sync"` loop.
+  bool send_sync = false;
+  uint32_t sync_id = 0x080;
 };
 
 class SimulatedRigBus final : public hal::can::FrameSource {
