@@ -1,7 +1,8 @@
 // Skinning throughput: sinew's fixed-point LBS and DQS beside a float Eigen
 // LBS baseline on the same mesh, 4 influences per vertex, positions and
 // normals, in the same run; prints vertices/s and the ratios, then fixed LBS
-// with each kernel (scalar specification, AVX2) side by side.
+// and fixed DQS with each kernel (scalar specification, AVX2) side by side,
+// and whether DQS with the kernel in use reaches the target ratio.
 //   sinew-bench-skinning [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
 
@@ -24,6 +25,8 @@ namespace rigc = sinew::rigc;
 
 constexpr int kJoints = 32;
 constexpr int kInfluences = 4;
+// Fixed DQS throughput wanted, as a fraction of the float LBS loop's.
+constexpr double kDqsTargetRatio = 0.67;
 
 // A synthetic skinned mesh: n vertices in a 2 m box, 4 random influences each
 // over a 32-joint chain, both skinning methods.
@@ -99,8 +102,8 @@ void BM_FixedSkinning(benchmark::State& state, bool dual) {
   const int n = static_cast<int>(state.range(0));
   Fixture& f = fixture(n, dual);
   for (auto _ : state) {
-    const uint32_t sat = sinew::skin::skin_vertices(f.rig, f.engine.palette, f.engine.dual, 0,
-                                                    f.rig.vertex_count(), f.engine.vertices);
+    const uint32_t sat =
+        sinew::skin::skin_vertices(f.rig, f.engine.palette, f.engine.dual, 0, f.rig.vertex_count(), f.engine.vertices);
     benchmark::DoNotOptimize(sat);
     benchmark::ClobberMemory();
   }
@@ -118,6 +121,23 @@ void BM_FixedLbsKernel(benchmark::State& state, sinew::skin::LbsKernel kernel) {
   for (auto _ : state) {
     const uint32_t sat = sinew::skin::skin_vertices(kernel, f.rig, f.engine.palette, f.engine.dual, 0,
                                                     f.rig.vertex_count(), f.engine.vertices);
+    benchmark::DoNotOptimize(sat);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
+// Fixed DQS with an explicit kernel (every vertex DQS; LBS kernel irrelevant).
+void BM_FixedDqsKernel(benchmark::State& state, sinew::skin::DqsKernel kernel) {
+  const int n = static_cast<int>(state.range(0));
+  if (!sinew::skin::dqs_kernel_supported(kernel)) {
+    state.SkipWithError("kernel not supported on this CPU");
+    return;
+  }
+  Fixture& f = fixture(n, true);
+  for (auto _ : state) {
+    const uint32_t sat = sinew::skin::skin_vertices(sinew::skin::lbs_kernel_default(), kernel, f.rig, f.engine.palette,
+                                                    f.engine.dual, 0, f.rig.vertex_count(), f.engine.vertices);
     benchmark::DoNotOptimize(sat);
     benchmark::ClobberMemory();
   }
@@ -149,14 +169,16 @@ FloatMesh& float_mesh(int n) {
     m.palette.push_back(mat);
   }
   for (int v = 0; v < n; ++v) {
-    m.position.emplace_back(f.rig.position[0][static_cast<size_t>(v)] * len, f.rig.position[1][static_cast<size_t>(v)] * len,
+    m.position.emplace_back(f.rig.position[0][static_cast<size_t>(v)] * len,
+                            f.rig.position[1][static_cast<size_t>(v)] * len,
                             f.rig.position[2][static_cast<size_t>(v)] * len);
     m.normal.emplace_back(std::ldexp(static_cast<float>(f.rig.normal[0][static_cast<size_t>(v)]), -30),
                           std::ldexp(static_cast<float>(f.rig.normal[1][static_cast<size_t>(v)]), -30),
                           std::ldexp(static_cast<float>(f.rig.normal[2][static_cast<size_t>(v)]), -30));
     for (int k = 0; k < kInfluences; ++k) {
       m.joint.push_back(f.rig.influence_palette[static_cast<size_t>(v * kInfluences + k)]);
-      m.weight.push_back(std::ldexp(static_cast<float>(f.rig.influence_weight[static_cast<size_t>(v * kInfluences + k)]), -30));
+      m.weight.push_back(
+          std::ldexp(static_cast<float>(f.rig.influence_weight[static_cast<size_t>(v * kInfluences + k)]), -30));
     }
   }
   m.out_position.resize(static_cast<size_t>(n));
@@ -171,7 +193,9 @@ void BM_FloatEigenLbs(benchmark::State& state) {
     for (int v = 0; v < n; ++v) {
       const size_t base = static_cast<size_t>(v) * kInfluences;
       Eigen::Matrix<float, 3, 4> b = m.weight[base] * m.palette[static_cast<size_t>(m.joint[base])];
-      for (int k = 1; k < kInfluences; ++k) b += m.weight[base + static_cast<size_t>(k)] * m.palette[static_cast<size_t>(m.joint[base + static_cast<size_t>(k)])];
+      for (int k = 1; k < kInfluences; ++k)
+        b += m.weight[base + static_cast<size_t>(k)] *
+             m.palette[static_cast<size_t>(m.joint[base + static_cast<size_t>(k)])];
       m.out_position[static_cast<size_t>(v)] = b.leftCols<3>() * m.position[static_cast<size_t>(v)] + b.col(3);
       m.out_normal[static_cast<size_t>(v)] = (b.leftCols<3>() * m.normal[static_cast<size_t>(v)]).normalized();
     }
@@ -194,8 +218,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
   }
   void Print() const {
     std::printf("\nskinning throughput (4 influences, positions + normals), ratio to float Eigen LBS:\n");
-    std::printf("%10s %16s %16s %16s %10s %10s\n", "vertices", "float LBS v/s", "fixed LBS v/s", "fixed DQS v/s", "LBS/float",
-                "DQS/float");
+    std::printf("%10s %16s %16s %16s %10s %10s\n", "vertices", "float LBS v/s", "fixed LBS v/s", "fixed DQS v/s",
+                "LBS/float", "DQS/float");
     for (int n : {1000, 10000, 100000}) {
       const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
       const double lbs = rate("BM_FixedSkinning/lbs/" + std::to_string(n));
@@ -220,6 +244,29 @@ class RatioReporter : public benchmark::ConsoleReporter {
       std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, avx2, scalar / fl, avx2 / fl,
                   avx2 / scalar);
     }
+    const sinew::skin::DqsKernel dqs_in_use = sinew::skin::dqs_kernel_default();
+    std::printf("\nfixed DQS kernel in use: %s; per kernel (same outputs, word for word):\n",
+                sinew::skin::dqs_kernel_name(dqs_in_use));
+    std::printf("%10s %16s %16s %16s %10s %10s %10s\n", "vertices", "float LBS v/s", "scalar DQS v/s", "avx2 DQS v/s",
+                "scalar/fl", "avx2/fl", "avx2/scal");
+    double worst = -1;  // the in-use kernel's lowest ratio over the sizes
+    for (int n : {1000, 10000, 100000}) {
+      const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
+      const double scalar = rate("BM_FixedDqsKernel/scalar/" + std::to_string(n));
+      const double avx2 = rate("BM_FixedDqsKernel/avx2/" + std::to_string(n));
+      if (fl <= 0 || scalar <= 0) continue;
+      const double in_use = dqs_in_use == sinew::skin::DqsKernel::kAvx2 ? avx2 : scalar;
+      if (in_use > 0 && (worst < 0 || in_use / fl < worst)) worst = in_use / fl;
+      if (avx2 <= 0) {
+        std::printf("%10d %16.3g %16.3g %16s %9.2fx %10s %10s\n", n, fl, scalar, "n/a", scalar / fl, "n/a", "n/a");
+        continue;
+      }
+      std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, avx2, scalar / fl, avx2 / fl,
+                  avx2 / scalar);
+    }
+    if (worst >= 0)
+      std::printf("target fixed DQS >= %.2fx float LBS (kernel in use, every size): %s (lowest %.2fx)\n",
+                  kDqsTargetRatio, worst >= kDqsTargetRatio ? "met" : "NOT met", worst);
   }
 
  private:
@@ -237,6 +284,8 @@ BENCHMARK_CAPTURE(BM_FixedSkinning, lbs, false)->Arg(1000)->Arg(10000)->Arg(1000
 BENCHMARK_CAPTURE(BM_FixedSkinning, dqs, true)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, scalar, sinew::skin::LbsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx2, sinew::skin::LbsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedDqsKernel, scalar, sinew::skin::DqsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedDqsKernel, avx2, sinew::skin::DqsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
