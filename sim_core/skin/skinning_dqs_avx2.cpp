@@ -98,50 +98,73 @@ inline void store_lanes(std::span<int32_t> column, __m256i x, const uint32_t ind
 }
 
 // Range checks of one group: a lane goes back to the scalar specification if
-// any value added to `window` leaves int32 or any value added to `sign` is
-// negative.
+// any value given to fits_i32 leaves int32, any value given to
+// not_negative is negative, or any value given to below_2_61 is not.
 struct Checks {
-  __m256i window = _mm256_setzero_si256();  // OR of (x - INT32_MIN): below 2^32 iff every x fits int32
+  __m256i window = _mm256_setzero_si256();  // OR of x + 2^31: below 2^32 iff every x fits int32
   __m256i sign = _mm256_setzero_si256();
+  __m256i wide = _mm256_setzero_si256();  // OR of x + 2^61: below 2^62 iff every |x| < 2^61 (and -2^61)
 
-  __m256i fits_i32(__m256i x) {
-    window = _mm256_or_si256(window, sub(x, _mm256_set1_epi64x(INT32_MIN)));
-    return x;
-  }
-  // Flags lanes where s = a + b wrapped (a and b of one sign, s of the other).
-  void no_overflow(__m256i s, __m256i a, __m256i b) {
-    sign = _mm256_or_si256(sign, _mm256_and_si256(_mm256_xor_si256(s, a), _mm256_xor_si256(s, b)));
-  }
+  // x_plus is x + 2^31 for the x that must fit int32 (the caller folds the
+  // 2^31 into an offset it subtracts anyway).
+  void fits_i32_plus(__m256i x_plus) { window = _mm256_or_si256(window, x_plus); }
+  void not_negative(__m256i x) { sign = _mm256_or_si256(sign, x); }
+  void below_2_61(__m256i x) { wide = _mm256_or_si256(wide, add(x, _mm256_set1_epi64x(int64_t{1} << 61))); }
   uint32_t bad_lanes() const {
-    // -(window >> 32) is negative iff window >= 2^32.
-    const __m256i wide = sub(_mm256_setzero_si256(), _mm256_srli_epi64(window, 32));
-    return static_cast<uint32_t>(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_or_si256(sign, wide))));
+    // -(y >> k) is negative iff y >= 2^k.
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i bad = _mm256_or_si256(
+        sign, _mm256_or_si256(sub(zero, _mm256_srli_epi64(window, 32)), sub(zero, _mm256_srli_epi64(wide, 62))));
+    return static_cast<uint32_t>(_mm256_movemask_pd(_mm256_castsi256_pd(bad)));
   }
 };
 
-// skin_dual_vertex for the vertices v[0..4) (n of them real), written at
-// v[l] - first.
+// round_shift(x, S) + 2^(63 - S): round_shift_epi64 without its last
+// subtraction. For S <= 31 the offset is a multiple of 2^32, so the low 32
+// bits (all vpmuldq reads) are round_shift(x, S)'s.
+template <int S>
+inline __m256i round_shift_low(__m256i x) {
+  static_assert(S >= 1 && S <= 31);
+  return _mm256_srli_epi64(add(x, _mm256_set1_epi64x(INT64_MIN + (int64_t{1} << (S - 1)))), S);
+}
+// The value x + 2^31 of x = round_shift_low<S>(...) - 2^(63 - S), for fits_i32_plus.
+template <int S>
+inline __m256i plus_2_31_of_low(__m256i low) {
+  return sub(low, _mm256_set1_epi64x((int64_t{1} << (63 - S)) - (int64_t{1} << 31)));
+}
+
+// Up to four DQS vertices (n real, the spare lanes repeat the last) and their
+// dual quaternion through the stages: blended (real Q30, dual Q20), then
+// normalised. Components are kept with round_shift_low's offsets: only their
+// low 32 bits are read.
+struct Group {
+  uint32_t v[kLanes];
+  uint32_t n;
+  Quat4 real, dual;
+  Checks checks;
+};
+
+// Stage 1: the blend and n30 of skin_dual_vertex.
 template <uint32_t K>
-void dual_group(const DualJob& job, const uint32_t v[kLanes], uint32_t n) {
+inline void blend(const DualJob& job, Group* g) {
   const rig::Rig& rig = *job.rig;
   const fx::DualQuat* dual = job.dual.data();
   const uint16_t* joints[kLanes];
   const fx::Unit* weights[kLanes];
   for (uint32_t l = 0; l < kLanes; ++l) {
-    joints[l] = rig.influence_palette.data() + size_t{v[l]} * K;
-    weights[l] = rig.influence_weight.data() + size_t{v[l]} * K;
+    joints[l] = rig.influence_palette.data() + size_t{g->v[l]} * K;
+    weights[l] = rig.influence_weight.data() + size_t{g->v[l]} * K;
   }
-  Checks checks;
   const __m256i zero = _mm256_setzero_si256();
   const __m256i weight_overflow = _mm256_set1_epi64x(int64_t{1} << 31);
   Quat4 pivot{}, real{zero, zero, zero, zero}, du{zero, zero, zero, zero};
+  __m256i bad_weight = zero;
   for (uint32_t k = 0; k < K; ++k) {
     const fx::DualQuat& e0 = dual[joints[0][k]];
     const fx::DualQuat& e1 = dual[joints[1][k]];
     const fx::DualQuat& e2 = dual[joints[2][k]];
     const fx::DualQuat& e3 = dual[joints[3][k]];
     const Quat4 r = load_quat4(e0.real, e1.real, e2.real, e3.real);
-    const Quat4 d = load_quat4(e0.dual, e1.dual, e2.dual, e3.dual);
     __m256i w = _mm256_cvtepi32_epi64(_mm_setr_epi32(weights[0][k], weights[1][k], weights[2][k], weights[3][k]));
     if (k == 0) {
       pivot = r;  // pivot . pivot >= 0: the first weight keeps its sign
@@ -152,41 +175,76 @@ void dual_group(const DualJob& job, const uint32_t v[kLanes], uint32_t n) {
       // go to the scalar path.
       const __m256i negative = _mm256_cmpgt_epi64(zero, dot4(pivot, r));
       w = sub(_mm256_xor_si256(w, negative), negative);
-      checks.sign = _mm256_or_si256(checks.sign, _mm256_cmpeq_epi64(w, weight_overflow));
+      bad_weight = _mm256_or_si256(bad_weight, _mm256_cmpeq_epi64(w, weight_overflow));
     }
     real = {add(real.w, mul(r.w, w)), add(real.x, mul(r.x, w)), add(real.y, mul(r.y, w)), add(real.z, mul(r.z, w))};
+    const Quat4 d = load_quat4(e0.dual, e1.dual, e2.dual, e3.dual);
     du = {add(du.w, mul(d.w, w)), add(du.x, mul(d.x, w)), add(du.y, mul(d.y, w)), add(du.z, mul(d.z, w))};
   }
-  // Q60 -> Q30 (real) and Q50 -> Q20 (dual): n30 of the scalar path.
-  const auto n30 = [&](__m256i x) { return checks.fits_i32(round_shift_epi64<fx::kUnitFracBits>(x)); };
-  const Quat4 b_real{n30(real.w), n30(real.x), n30(real.y), n30(real.z)};
-  const Quat4 b_dual{n30(du.w), n30(du.x), n30(du.y), n30(du.z)};
+  g->checks.not_negative(bad_weight);  // all-ones (-1) where flagged
+  // Q60 -> Q30 (real) and Q50 -> Q20 (dual): n30 of the scalar path, which
+  // must not saturate here.
+  const auto n30 = [&](__m256i x) {
+    const __m256i low = round_shift_low<fx::kUnitFracBits>(x);
+    g->checks.fits_i32_plus(plus_2_31_of_low<fx::kUnitFracBits>(low));
+    return low;
+  };
+  g->real = {n30(real.w), n30(real.x), n30(real.y), n30(real.z)};
+  g->dual = {n30(du.w), n30(du.x), n30(du.y), n30(du.z)};
+}
 
-  // fx::normalize_fast. n2 as uint64 with wrapping adds, as the scalar one;
-  // n2 - 1 is negative iff n2 == 0 or n2 > 2^63 (fx::normalize's path).
-  __m256i n2 = dot4(b_real, b_real);
-  checks.sign = _mm256_or_si256(checks.sign, sub(n2, _mm256_set1_epi64x(1)));
+// Stage 2: fx::normalize_fast.
+inline void normalise(Group* g) {
+  const __m256i zero = _mm256_setzero_si256();
+  // n2 as uint64 with wrapping adds, as the scalar one; n2 - 1 is negative
+  // iff n2 == 0 or n2 > 2^63 (fx::normalize's division path).
+  __m256i n2 = dot4(g->real, g->real);
+  g->checks.not_negative(sub(n2, _mm256_set1_epi64x(1)));
   n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, zero), 63));  // any nonzero lane
   const avx2::RsqrtX4 rs = avx2::rsqrt_fast_x4(n2);
+  // c * y round-shifted by rs.shift, plus the offset 2^(63 - shift) (a
+  // multiple of 2^32 as shift <= 31): avx2::VarRoundShift without its last
+  // subtraction.
   const avx2::VarRoundShift scale(rs.shift);
-  const auto div = [&](__m256i c) { return checks.fits_i32(scale(mul(c, rs.y))); };
-  const Quat4 rq{div(b_real.w), div(b_real.x), div(b_real.y), div(b_real.z)};
-  Quat4 d{div(b_dual.w), div(b_dual.x), div(b_dual.y), div(b_dual.z)};
-  // rq . d is exact (|rq . d| < 2^63, see fx::normalize_fast).
-  const __m256i k = checks.fits_i32(round_shift_epi64<fx::kUnitFracBits>(dot4(rq, d)));
-  const auto remove = [&](__m256i dc, __m256i rc) {
-    const __m256i m = checks.fits_i32(round_shift_epi64<fx::kUnitFracBits>(mul(k, rc)));  // mul_by_unit
-    return checks.fits_i32(sub(dc, m));                                                   // sub_sat
+  const auto div = [&](__m256i c) { return _mm256_srlv_epi64(add(mul(c, rs.y), scale.bias), scale.shift); };
+  // rq: |rq| < 2^30 + 8 (fx::normalize_fast), no saturation to check.
+  const Quat4 rq{div(g->real.w), div(g->real.x), div(g->real.y), div(g->real.z)};
+  const __m256i d_plus = sub(scale.offset, _mm256_set1_epi64x(int64_t{1} << 31));
+  const auto div_dual = [&](__m256i c) {
+    const __m256i low = div(c);
+    g->checks.fits_i32_plus(sub(low, d_plus));
+    return low;
   };
-  d = {remove(d.w, rq.w), remove(d.x, rq.x), remove(d.y, rq.y), remove(d.z, rq.z)};
+  const Quat4 d{div_dual(g->dual.w), div_dual(g->dual.x), div_dual(g->dual.y), div_dual(g->dual.z)};
+  // rq . d is exact (|rq . d| < 2^63, see fx::normalize_fast).
+  const __m256i k = round_shift_low<fx::kUnitFracBits>(dot4(rq, d));
+  g->checks.fits_i32_plus(plus_2_31_of_low<fx::kUnitFracBits>(k));
+  // d - mul_by_unit(k, rq): with the offsets, (d + off_d) - (m + 2^33); the
+  // difference carries off_d - 2^33, still a multiple of 2^32.
+  const __m256i diff_plus = sub(d_plus, _mm256_set1_epi64x(int64_t{1} << 33));
+  const auto remove = [&](__m256i dc, __m256i rc) {
+    const __m256i m = round_shift_low<fx::kUnitFracBits>(mul(k, rc));
+    g->checks.fits_i32_plus(plus_2_31_of_low<fx::kUnitFracBits>(m));
+    const __m256i diff = sub(dc, m);
+    g->checks.fits_i32_plus(sub(diff, diff_plus));
+    return diff;
+  };
+  g->real = rq;
+  g->dual = {remove(d.w, rq.w), remove(d.x, rq.x), remove(d.y, rq.y), remove(d.z, rq.z)};
+}
 
-  // fx::rot3_of_unit: e(2 a) = round_shift(a, 29) exactly, and
-  // e(2^60 - 2 a) = round_shift(2^59 - a, 29).
+// Stage 3: fx::rot3_of_unit, the translation, positions and normals; stores,
+// then the scalar specification for the lanes a check flagged.
+inline void transform(const DualJob& job, Group* g) {
+  const Quat4& rq = g->real;
+  const Quat4& d = g->dual;
+  // e(2 a) = round_shift(a, 29) exactly, e(2^60 - 2 a) = round_shift(2^59 -
+  // a, 29); every entry within 2^30 + 17 of zero (|rq| < 2^30 + 8).
   const __m256i xx = mul(rq.x, rq.x), yy = mul(rq.y, rq.y), zz = mul(rq.z, rq.z);
   const __m256i xy = mul(rq.x, rq.y), xz = mul(rq.x, rq.z), yz = mul(rq.y, rq.z);
   const __m256i wx = mul(rq.w, rq.x), wy = mul(rq.w, rq.y), wz = mul(rq.w, rq.z);
   const __m256i half_one = _mm256_set1_epi64x(int64_t{1} << 59);
-  const auto e = [&](__m256i a) { return checks.fits_i32(round_shift_epi64<fx::kUnitFracBits - 1>(a)); };
+  const auto e = [](__m256i a) { return round_shift_low<fx::kUnitFracBits - 1>(a); };
   const __m256i rot[3][3] = {{e(sub(half_one, add(yy, zz))), e(sub(xy, wz)), e(add(xz, wy))},
                              {e(add(xy, wz)), e(sub(half_one, add(xx, zz))), e(sub(yz, wx))},
                              {e(sub(xz, wy)), e(add(yz, wx)), e(sub(half_one, add(xx, yy)))}};
@@ -194,62 +252,76 @@ void dual_group(const DualJob& job, const uint32_t v[kLanes], uint32_t n) {
   const __m256i t[3] = {add(sub(mul(rq.w, d.x), mul(d.w, rq.x)), sub(mul(rq.y, d.z), mul(rq.z, d.y))),
                         add(sub(mul(rq.w, d.y), mul(d.w, rq.y)), sub(mul(rq.z, d.x), mul(rq.x, d.z))),
                         add(sub(mul(rq.w, d.z), mul(d.w, rq.z)), sub(mul(rq.x, d.y), mul(rq.y, d.x)))};
+  // Rows of rot have norm below 2^30 + 64 and |p| < 2^31.8, so |R p| < 2^61.8;
+  // with |t| < 2^61 neither saturating add of the scalar path saturates.
+  for (int c = 0; c < 3; ++c) g->checks.below_2_61(t[c]);
 
+  const rig::Rig& rig = *job.rig;
   const SkinnedVertices& out = *job.out;
   uint32_t index[kLanes];
-  for (uint32_t l = 0; l < kLanes; ++l) index[l] = v[l] - job.first;
-  const bool contiguous = n == kLanes && v[3] - v[0] == kLanes - 1;
-  const __m256i p[3] = {load_lanes(rig.position[0], v, contiguous), load_lanes(rig.position[1], v, contiguous),
-                        load_lanes(rig.position[2], v, contiguous)};
-  __m256i position[3];
+  for (uint32_t l = 0; l < kLanes; ++l) index[l] = g->v[l] - job.first;
+  const bool contiguous = g->n == kLanes && g->v[3] - g->v[0] == kLanes - 1;
+  const __m256i p[3] = {load_lanes(rig.position[0], g->v, contiguous), load_lanes(rig.position[1], g->v, contiguous),
+                        load_lanes(rig.position[2], g->v, contiguous)};
   for (int c = 0; c < 3; ++c) {
     const __m256i rp = add(add(mul(rot[c][0], p[0]), mul(rot[c][1], p[1])), mul(rot[c][2], p[2]));
-    // add_sat_i64(add_sat_i64(rp, t), t): a lane where either sum wraps is
-    // redone by the scalar path (which saturates it).
-    const __m256i s1 = add(rp, t[c]);
-    checks.no_overflow(s1, rp, t[c]);
-    const __m256i s2 = add(s1, t[c]);
-    checks.no_overflow(s2, s1, t[c]);
-    position[c] = sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(s2));
+    const __m256i position = sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(add(add(rp, t[c]), t[c])));
+    store_lanes(out.position[c], position, index, g->n, contiguous);
   }
-  __m256i normal[3];
   if (job.normals) {
-    const __m256i nv[3] = {load_lanes(rig.normal[0], v, contiguous), load_lanes(rig.normal[1], v, contiguous),
-                           load_lanes(rig.normal[2], v, contiguous)};
+    const __m256i nv[3] = {load_lanes(rig.normal[0], g->v, contiguous), load_lanes(rig.normal[1], g->v, contiguous),
+                           load_lanes(rig.normal[2], g->v, contiguous)};
     for (int c = 0; c < 3; ++c) {
       const __m256i rn = add(add(mul(rot[c][0], nv[0]), mul(rot[c][1], nv[1])), mul(rot[c][2], nv[2]));
-      normal[c] = sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(rn));
+      store_lanes(out.normal[c], sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(rn)), index, g->n, contiguous);
     }
   }
-  for (int c = 0; c < 3; ++c) {
-    store_lanes(out.position[c], position[c], index, n, contiguous);
-    if (job.normals) store_lanes(out.normal[c], normal[c], index, n, contiguous);
-  }
-  uint32_t bad = checks.bad_lanes() & ((1u << n) - 1);
+  uint32_t bad = g->checks.bad_lanes() & ((1u << g->n) - 1);
   while (bad != 0) {
     const uint32_t l = static_cast<uint32_t>(__builtin_ctz(bad));
     bad &= bad - 1;
-    skin_dual_vertex(rig, job.dual, v[l], out, index[l], true);
+    skin_dual_vertex(rig, job.dual, g->v[l], out, index[l], true);
   }
+}
+
+// Groups go through each stage together: a stage's loop body is short enough
+// for the out-of-order core to overlap the long dependency chains (blend,
+// rsqrt's Newton steps) of consecutive groups.
+constexpr uint32_t kGroupsPerBlock = 8;
+
+template <uint32_t K>
+void run_block(const DualJob& job, Group* groups, uint32_t count) {
+  for (uint32_t g = 0; g < count; ++g) blend<K>(job, &groups[g]);
+  for (uint32_t g = 0; g < count; ++g) normalise(&groups[g]);
+  for (uint32_t g = 0; g < count; ++g) transform(job, &groups[g]);
 }
 
 template <uint32_t K>
 void run_dual(const DualJob& job, uint32_t count) {
   const rig::Rig& rig = *job.rig;
-  uint32_t v[kLanes];
-  uint32_t n = 0;
+  Group groups[kGroupsPerBlock];
+  uint32_t full = 0;  // groups of the block filled
+  uint32_t n = 0;     // vertices in groups[full]
   for (uint32_t i = 0; i < count; ++i) {
     const uint32_t vertex = job.first + i;
     if (rig.method[vertex] != static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) continue;
-    v[n++] = vertex;
-    if (n == kLanes) {
-      dual_group<K>(job, v, n);
-      n = 0;
+    groups[full].v[n++] = vertex;
+    if (n < kLanes) continue;
+    groups[full].n = kLanes;
+    groups[full].checks = Checks{};
+    n = 0;
+    if (++full == kGroupsPerBlock) {
+      run_block<K>(job, groups, full);
+      full = 0;
     }
   }
-  if (n == 0) return;
-  for (uint32_t l = n; l < kLanes; ++l) v[l] = v[n - 1];  // spare lanes: computed, not stored
-  dual_group<K>(job, v, n);
+  if (n > 0) {
+    Group& last = groups[full++];
+    for (uint32_t l = n; l < kLanes; ++l) last.v[l] = last.v[n - 1];  // spare lanes: computed, not stored
+    last.n = n;
+    last.checks = Checks{};
+  }
+  if (full > 0) run_block<K>(job, groups, full);
 }
 
 }  // namespace
