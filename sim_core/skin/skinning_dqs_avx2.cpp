@@ -155,30 +155,44 @@ inline void blend(const DualJob& job, Group* g) {
     joints[l] = rig.influence_palette.data() + size_t{g->v[l]} * K;
     weights[l] = rig.influence_weight.data() + size_t{g->v[l]} * K;
   }
+  const fx::DualQuat* entry[K][kLanes];
+  for (uint32_t k = 0; k < K; ++k)
+    for (uint32_t l = 0; l < kLanes; ++l) entry[k][l] = dual + joints[l][k];
+  const auto weight = [&](uint32_t k) {
+    return _mm256_cvtepi32_epi64(_mm_setr_epi32(weights[0][k], weights[1][k], weights[2][k], weights[3][k]));
+  };
+  const auto real_of = [&](uint32_t k) {
+    return load_quat4(entry[k][0]->real, entry[k][1]->real, entry[k][2]->real, entry[k][3]->real);
+  };
+  // Real parts first, with the hemisphere test (the first weight keeps its
+  // sign: pivot . pivot >= 0), then the dual parts with the same weights:
+  // two short loops keep their accumulators in registers.
   const __m256i zero = _mm256_setzero_si256();
   const __m256i weight_overflow = _mm256_set1_epi64x(int64_t{1} << 31);
-  Quat4 pivot{}, real{zero, zero, zero, zero}, du{zero, zero, zero, zero};
+  const Quat4 pivot = real_of(0);
+  __m256i signed_weight[K];
+  signed_weight[0] = weight(0);
+  Quat4 real{mul(pivot.w, signed_weight[0]), mul(pivot.x, signed_weight[0]), mul(pivot.y, signed_weight[0]),
+             mul(pivot.z, signed_weight[0])};
   __m256i bad_weight = zero;
-  for (uint32_t k = 0; k < K; ++k) {
-    const fx::DualQuat& e0 = dual[joints[0][k]];
-    const fx::DualQuat& e1 = dual[joints[1][k]];
-    const fx::DualQuat& e2 = dual[joints[2][k]];
-    const fx::DualQuat& e3 = dual[joints[3][k]];
-    const Quat4 r = load_quat4(e0.real, e1.real, e2.real, e3.real);
-    __m256i w = _mm256_cvtepi32_epi64(_mm_setr_epi32(weights[0][k], weights[1][k], weights[2][k], weights[3][k]));
-    if (k == 0) {
-      pivot = r;  // pivot . pivot >= 0: the first weight keeps its sign
-    } else {
-      // Antipodality: the plain dot is exact for a near-unit palette (the
-      // caller checked it); a negative one negates the weight. -INT32_MIN
-      // leaves int32 (vpmuldq would read it back as INT32_MIN): such lanes
-      // go to the scalar path.
-      const __m256i negative = _mm256_cmpgt_epi64(zero, dot4(pivot, r));
-      w = sub(_mm256_xor_si256(w, negative), negative);
-      bad_weight = _mm256_or_si256(bad_weight, _mm256_cmpeq_epi64(w, weight_overflow));
-    }
+#pragma GCC unroll 8
+  for (uint32_t k = 1; k < K; ++k) {
+    const Quat4 r = real_of(k);
+    // Antipodality: the plain dot is exact for a near-unit palette (the
+    // caller checked it); a negative one negates the weight. -INT32_MIN
+    // leaves int32 (vpmuldq would read it back as INT32_MIN): such lanes go
+    // to the scalar path.
+    const __m256i negative = _mm256_cmpgt_epi64(zero, dot4(pivot, r));
+    const __m256i w = sub(_mm256_xor_si256(weight(k), negative), negative);
+    bad_weight = _mm256_or_si256(bad_weight, _mm256_cmpeq_epi64(w, weight_overflow));
+    signed_weight[k] = w;
     real = {add(real.w, mul(r.w, w)), add(real.x, mul(r.x, w)), add(real.y, mul(r.y, w)), add(real.z, mul(r.z, w))};
-    const Quat4 d = load_quat4(e0.dual, e1.dual, e2.dual, e3.dual);
+  }
+  Quat4 du{zero, zero, zero, zero};
+#pragma GCC unroll 8
+  for (uint32_t k = 0; k < K; ++k) {
+    const Quat4 d = load_quat4(entry[k][0]->dual, entry[k][1]->dual, entry[k][2]->dual, entry[k][3]->dual);
+    const __m256i w = signed_weight[k];
     du = {add(du.w, mul(d.w, w)), add(du.x, mul(d.x, w)), add(du.y, mul(d.y, w)), add(du.z, mul(d.z, w))};
   }
   g->checks.not_negative(bad_weight);  // all-ones (-1) where flagged
