@@ -141,6 +141,7 @@ struct Group {
   uint32_t v[kLanes];
   uint32_t n;
   Quat4 real, dual;
+  avx2::RsqrtX4 rsqrt;
   Checks checks;
 };
 
@@ -207,15 +208,21 @@ inline void blend(const DualJob& job, Group* g) {
   g->dual = {n30(du.w), n30(du.x), n30(du.y), n30(du.z)};
 }
 
-// Stage 2: fx::normalize_fast.
-inline void normalise(Group* g) {
+// Stage 2: fx::normalize_fast's squared norm and reciprocal square root
+// (a long dependency chain: a stage of its own).
+inline void inverse_norm(Group* g) {
   const __m256i zero = _mm256_setzero_si256();
   // n2 as uint64 with wrapping adds, as the scalar one; n2 - 1 is negative
   // iff n2 == 0 or n2 > 2^63 (fx::normalize's division path).
   __m256i n2 = dot4(g->real, g->real);
   g->checks.not_negative(sub(n2, _mm256_set1_epi64x(1)));
   n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, zero), 63));  // any nonzero lane
-  const avx2::RsqrtX4 rs = avx2::rsqrt_fast_x4(n2);
+  g->rsqrt = avx2::rsqrt_fast_x4(n2);
+}
+
+// Stage 3: the rest of fx::normalize_fast.
+inline void normalise(Group* g) {
+  const avx2::RsqrtX4& rs = g->rsqrt;
   // c * y round-shifted by rs.shift, plus the offset 2^(63 - shift) (a
   // multiple of 2^32 as shift <= 31): avx2::VarRoundShift without its last
   // subtraction.
@@ -247,7 +254,7 @@ inline void normalise(Group* g) {
   g->dual = {remove(d.w, rq.w), remove(d.x, rq.x), remove(d.y, rq.y), remove(d.z, rq.z)};
 }
 
-// Stage 3: fx::rot3_of_unit, the translation, positions and normals; stores,
+// Stage 4: fx::rot3_of_unit, the translation, positions and normals; stores,
 // then the scalar specification for the lanes a check flagged.
 inline void transform(const DualJob& job, Group* g) {
   const Quat4& rq = g->real;
@@ -306,6 +313,7 @@ constexpr uint32_t kGroupsPerBlock = 8;
 template <uint32_t K>
 void run_block(const DualJob& job, Group* groups, uint32_t count) {
   for (uint32_t g = 0; g < count; ++g) blend<K>(job, &groups[g]);
+  for (uint32_t g = 0; g < count; ++g) inverse_norm(&groups[g]);
   for (uint32_t g = 0; g < count; ++g) normalise(&groups[g]);
   for (uint32_t g = 0; g < count; ++g) transform(job, &groups[g]);
 }
