@@ -125,18 +125,17 @@ void skin_dual_vertex_impl(const rig::Rig& rig, std::span<const fx::DualQuat> du
   }
 }
 
-bool is_dual(const rig::Rig& rig, uint32_t v) {
-  return rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
-}
-
 // LBS vertices of the range (DQS ones skipped when skip_dual).
 uint32_t skin_linear_scalar(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
                             uint32_t count, const SkinnedVertices& out) {
   uint32_t saturated = 0;
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t v = first + i;
-    if (skip_dual && is_dual(rig, v)) continue;
-    detail::skin_linear_vertex(rig, palette, v, out, i, &saturated);
+  for (uint32_t i = 0; i < count;) {
+    if (skip_dual && detail::is_dual(rig, first + i)) {
+      i = detail::skip_dual_run(rig, first, i, count);
+      continue;
+    }
+    detail::skin_linear_vertex(rig, palette, first + i, out, i, &saturated);
+    ++i;
   }
   return saturated;
 }
@@ -167,7 +166,7 @@ void detail::skin_dual_scalar(const rig::Rig& rig, std::span<const fx::DualQuat>
   const bool near_unit = dual_palette_near_unit(dual);
   for (uint32_t i = 0; i < count; ++i) {
     const uint32_t v = first + i;
-    if (!is_dual(rig, v)) continue;
+    if (!detail::is_dual(rig, v)) continue;
     if (near_unit) {
       skin_dual_vertex_impl<true>(rig, dual, v, out, i);
     } else {

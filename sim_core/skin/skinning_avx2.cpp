@@ -117,9 +117,7 @@ struct Job {
   bool normals;
 };
 
-inline bool skipped(const Job& job, uint32_t v) {
-  return job.skip_dual && job.rig->method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
-}
+inline bool skipped(const Job& job, uint32_t v) { return job.skip_dual && is_dual(*job.rig, v); }
 
 // One LBS vertex; false if its blended linear part might clamp (then nothing
 // was written and the caller runs the scalar specification).
@@ -174,10 +172,14 @@ uint32_t run(const Job& job, uint32_t first, uint32_t count) {
   PendingNormals pending;
   for (uint32_t block = 0; block < count;) {
     const uint32_t end = block + (count - block < kBlock ? count - block : kBlock);  // <= count: no wrap
-    for (uint32_t i = block; i < end; ++i) {
+    for (uint32_t i = block; i < end;) {
       const uint32_t v = first + i;
-      if (skipped(job, v)) continue;
+      if (skipped(job, v)) {
+        i = skip_dual_run(rig, first, i, end);
+        continue;
+      }
       if (!linear_vertex<K>(job, v, i, &pending)) skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+      ++i;
     }
     finish_normals(*job.out, &pending);
     block = end;

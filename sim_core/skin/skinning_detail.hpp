@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "skinning.hpp"
@@ -18,6 +19,24 @@ inline constexpr int64_t kDualRealLimit = (int64_t{1} << 30) + (int64_t{1} << 28
 // kDualRealLimit] (every posed palette of unit quaternions does). Checked
 // once per call, not per vertex.
 bool dual_palette_near_unit(std::span<const fx::DualQuat> dual);
+
+inline bool is_dual(const rig::Rig& rig, uint32_t v) {
+  return rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
+}
+
+// The first i in [i, end) whose vertex first + i is not DQS (end if none):
+// the LBS passes skip runs of DQS vertices eight method bytes at a time.
+inline uint32_t skip_dual_run(const rig::Rig& rig, uint32_t first, uint32_t i, uint32_t end) {
+  const uint8_t* method = rig.method.data() + first;
+  constexpr uint64_t kAllDual = 0x0101010101010101u * static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
+  for (; end - i >= 8; i += 8) {
+    uint64_t eight;
+    std::memcpy(&eight, method + i, sizeof(eight));
+    if (eight != kAllDual) break;
+  }
+  while (i < end && is_dual(rig, first + i)) ++i;
+  return i;
+}
 
 // One LBS vertex v written at out[index]; adds clamped linear entries to *saturated.
 void skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v, const SkinnedVertices& out,

@@ -324,10 +324,24 @@ void run_dual(const DualJob& job, uint32_t count) {
   Group groups[kGroupsPerBlock];
   uint32_t full = 0;  // groups of the block filled
   uint32_t n = 0;     // vertices in groups[full]
+  constexpr uint32_t kFourDual = 0x01010101u * static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
   for (uint32_t i = 0; i < count; ++i) {
     const uint32_t vertex = job.first + i;
-    if (rig.method[vertex] != static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) continue;
-    groups[full].v[n++] = vertex;
+    bool four_in_a_row = false;  // four DQS vertices in a row: one full group
+    if (n == 0 && count - i >= kLanes) {
+      uint32_t four;
+      std::memcpy(&four, rig.method.data() + vertex, sizeof(four));
+      four_in_a_row = four == kFourDual;
+    }
+    if (four_in_a_row) {
+      for (uint32_t l = 0; l < kLanes; ++l) groups[full].v[l] = vertex + l;
+      n = kLanes;
+      i += kLanes - 1;
+    } else if (is_dual(rig, vertex)) {
+      groups[full].v[n++] = vertex;
+    } else {
+      continue;
+    }
     if (n < kLanes) continue;
     groups[full].n = kLanes;
     groups[full].checks = Checks{};
