@@ -65,9 +65,9 @@ void detail::skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> 
 
 namespace {
 
-// The blend of one DQS vertex, Kavan et al. 2008 eq. (5) with the
-// antipodality rule of section 4.2: every quaternion is blended on the
-// hemisphere of the vertex's first influence. kNearUnit: every real
+// One DQS vertex: dual quaternion linear blending (Kavan et al. 2008) with
+// its antipodality rule, every quaternion blended on the hemisphere of the
+// vertex's first influence. kNearUnit: every real
 // component of the palette lies in [-kDualRealLimit, kDualRealLimit], so the
 // four products of the hemisphere test sum below 4 (1.25 * 2^30)^2 < 2^63:
 // the plain dot equals dot_wide (which only saturates beyond 2^63, keeping

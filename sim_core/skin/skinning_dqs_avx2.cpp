@@ -12,19 +12,23 @@
 //     32-bit shift), so every product is the scalar 32x32->64 product, and
 //     every sum the scalar int64 sum (the scalar one never overflows on the
 //     inputs it is defined for, so wrapping vector adds give its bits);
-//   - the hemisphere test (Kavan et al. 2008, section 4.2) is the plain dot,
+//   - the hemisphere test (antipodality, Kavan et al. 2008) is the plain dot,
 //     exact because the palette is checked near unit once per call, as in the
 //     scalar loop; a palette outside that range takes the scalar loop;
 //   - fx::normalize_fast's rsqrt_fast runs four lanes at once (avx2_lanes.hpp),
 //     its divisions are per-lane variable round shifts;
 //   - the scalar path narrows with sat_i32 at many steps; here every such
-//     value is checked to lie in int32 (where sat_i32 is the identity), and a
-//     lane where any does not, whose squared norm takes fx::normalize's
-//     division path (zero or above 2^63), whose negated weight leaves int32,
-//     or whose position sum saturates in int64, is redone by the scalar
-//     specification after the group is stored. Real rigs (unit palettes,
-//     convex weights) never take it; only the final position and normal
-//     narrowings saturate in the vector path itself, exactly as sat_i32.
+//     value that can leave int32 is checked to lie in it (where sat_i32 is the
+//     identity), and a lane where any does not, whose squared norm takes
+//     fx::normalize's division path (zero or above 2^63), whose negated
+//     weight leaves int32, or whose |t| reaches 2^61 (the saturating position
+//     adds could saturate) is redone by the scalar specification after its
+//     group is stored. Posed unit palettes with convex weights never take it;
+//     only the final position and normal narrowings saturate in the vector
+//     path itself, exactly as sat_i32;
+//   - the groups of a block go through the stages (blend, inverse norm, rest
+//     of the normalisation, transform) together: each stage's loop body is
+//     short enough for consecutive groups' dependency chains to overlap.
 // K outside 1..8 takes the scalar loop.
 #include <immintrin.h>
 
