@@ -1,9 +1,11 @@
 // Skinning throughput: sinew's fixed-point LBS and DQS beside a float Eigen
 // LBS baseline on the same mesh, 4 influences per vertex, positions and
 // normals, in the same run; prints vertices/s and the ratios, then fixed LBS
-// with each kernel side by side: the scalar specification and the target's
-// vector kernel (AVX2 on x86-64, NEON on aarch64). Under qemu-user (the
-// aarch64 cross build) it is a smoke run: the figures measure the emulator.
+// and fixed DQS with each kernel side by side (the scalar specification and
+// the target's vector kernel: AVX2 on x86-64, NEON for LBS on aarch64), and
+// whether LBS and DQS with the kernels in use reach the target ratios. Under
+// qemu-user (the aarch64 cross build) it is a smoke run: the figures measure
+// the emulator.
 //   sinew-bench-skinning [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
 
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/bench/common/bench_summary.hpp"
 #include "host_tools/rigc/rig_spec.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/skin/skinning.hpp"
@@ -26,6 +29,17 @@ namespace rigc = sinew::rigc;
 
 constexpr int kJoints = 32;
 constexpr int kInfluences = 4;
+// Fixed DQS throughput wanted, as a fraction of the float LBS loop's.
+constexpr double kDqsTargetRatio = 0.67;
+constexpr double kLbsTargetRatio = 1.33;
+
+// The vector LBS kernel this target builds, beside the scalar one.
+constexpr sinew::skin::LbsKernel kVectorLbsKernel =
+#if defined(__aarch64__)
+    sinew::skin::LbsKernel::kNeon;
+#else
+    sinew::skin::LbsKernel::kAvx2;
+#endif
 
 // A synthetic skinned mesh: n vertices in a 2 m box, 4 random influences each
 // over a 32-joint chain, both skinning methods.
@@ -109,14 +123,6 @@ void BM_FixedSkinning(benchmark::State& state, bool dual) {
   state.SetItemsProcessed(state.iterations() * n);
 }
 
-// The vector LBS kernel this target builds, beside the scalar one.
-constexpr sinew::skin::LbsKernel kVectorKernel =
-#if defined(__aarch64__)
-    sinew::skin::LbsKernel::kNeon;
-#else
-    sinew::skin::LbsKernel::kAvx2;
-#endif
-
 // Fixed LBS with an explicit kernel (the rows above use the default one).
 void BM_FixedLbsKernel(benchmark::State& state, sinew::skin::LbsKernel kernel) {
   const int n = static_cast<int>(state.range(0));
@@ -128,6 +134,23 @@ void BM_FixedLbsKernel(benchmark::State& state, sinew::skin::LbsKernel kernel) {
   for (auto _ : state) {
     const uint32_t sat = sinew::skin::skin_vertices(kernel, f.rig, f.engine.palette, f.engine.dual, 0,
                                                     f.rig.vertex_count(), f.engine.vertices);
+    benchmark::DoNotOptimize(sat);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
+// Fixed DQS with an explicit kernel (every vertex DQS; LBS kernel irrelevant).
+void BM_FixedDqsKernel(benchmark::State& state, sinew::skin::DqsKernel kernel) {
+  const int n = static_cast<int>(state.range(0));
+  if (!sinew::skin::dqs_kernel_supported(kernel)) {
+    state.SkipWithError("kernel not supported on this CPU");
+    return;
+  }
+  Fixture& f = fixture(n, true);
+  for (auto _ : state) {
+    const uint32_t sat = sinew::skin::skin_vertices(sinew::skin::lbs_kernel_default(), kernel, f.rig, f.engine.palette,
+                                                    f.engine.dual, 0, f.rig.vertex_count(), f.engine.vertices);
     benchmark::DoNotOptimize(sat);
     benchmark::ClobberMemory();
   }
@@ -220,7 +243,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
     const sinew::skin::LbsKernel in_use = sinew::skin::lbs_kernel_default();
     std::printf("\nfixed LBS kernel in use: %s; per kernel (same outputs, word for word):\n",
                 sinew::skin::lbs_kernel_name(in_use));
-    const std::string vec = sinew::skin::lbs_kernel_name(kVectorKernel);
+    const std::string vec = sinew::skin::lbs_kernel_name(kVectorLbsKernel);
     std::printf("%10s %16s %16s %16s %10s %10s %10s\n", "vertices", "float LBS v/s", "scalar LBS v/s",
                 (vec + " LBS v/s").c_str(), "scalar/fl", (vec + "/fl").c_str(), (vec + "/scal").c_str());
     for (int n : {1000, 10000, 100000}) {
@@ -235,6 +258,59 @@ class RatioReporter : public benchmark::ConsoleReporter {
       std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, vector, scalar / fl, vector / fl,
                   vector / scalar);
     }
+    const sinew::skin::DqsKernel dqs_in_use = sinew::skin::dqs_kernel_default();
+    std::printf("\nfixed DQS kernel in use: %s; per kernel (same outputs, word for word):\n",
+                sinew::skin::dqs_kernel_name(dqs_in_use));
+    std::printf("%10s %16s %16s %16s %10s %10s %10s\n", "vertices", "float LBS v/s", "scalar DQS v/s", "avx2 DQS v/s",
+                "scalar/fl", "avx2/fl", "avx2/scal");
+    double worst = -1;  // the in-use kernel's lowest ratio over the sizes
+    for (int n : {1000, 10000, 100000}) {
+      const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
+      const double scalar = rate("BM_FixedDqsKernel/scalar/" + std::to_string(n));
+      const double avx2 = rate("BM_FixedDqsKernel/avx2/" + std::to_string(n));
+      if (fl <= 0 || scalar <= 0) continue;
+      const double in_use = dqs_in_use == sinew::skin::DqsKernel::kAvx2 ? avx2 : scalar;
+      if (in_use > 0 && (worst < 0 || in_use / fl < worst)) worst = in_use / fl;
+      if (avx2 <= 0) {
+        std::printf("%10d %16.3g %16.3g %16s %9.2fx %10s %10s\n", n, fl, scalar, "n/a", scalar / fl, "n/a", "n/a");
+        continue;
+      }
+      std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, avx2, scalar / fl, avx2 / fl,
+                  avx2 / scalar);
+    }
+    if (worst >= 0)
+      std::printf("target fixed DQS >= %.2fx float LBS (kernel in use, every size): %s (lowest %.2fx)\n",
+                  kDqsTargetRatio, worst >= kDqsTargetRatio ? "met" : "NOT met", worst);
+  }
+
+  // The bench table's rows: 10 000 vertices, the kernels in use.
+  bool Summarise() const {
+    namespace sb = sinew::bench;
+    const double fl = rate("BM_FloatEigenLbs/10000");
+    if (fl <= 0) return true;  // filtered out: nothing to report
+    bool ok = true;
+    const struct {
+      const char* measure;
+      const char* run;
+      double target;
+      const char* source;
+    } rows[] = {{"fixed LBS, 10k vertices, 4 influences, positions + normals", "BM_FixedSkinning/lbs/10000",
+                 kLbsTargetRatio, "performance issue: LBS >= 1.33x the float loop (ozz-animation's level)"},
+                {"fixed DQS, 10k vertices, 4 influences, positions + normals", "BM_FixedSkinning/dqs/10000",
+                 kDqsTargetRatio, "performance issue: DQS >= 0.67x the float LBS loop"}};
+    for (const auto& r : rows) {
+      sb::SummaryRow row;
+      row.bench = "skinning";
+      row.measure = r.measure;
+      row.figure = rate(r.run);
+      row.unit = "vertices/s";
+      row.baseline = "float Eigen LBS";
+      row.baseline_figure = fl;
+      row.target = sb::ratio_at_least(r.target);
+      row.target_source = r.source;
+      if (row.figure > 0) ok = sb::summary_row(row) && ok;
+    }
+    return ok;
   }
 
  private:
@@ -256,12 +332,15 @@ BENCHMARK_CAPTURE(BM_FixedLbsKernel, neon, sinew::skin::LbsKernel::kNeon)->Arg(1
 #else
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx2, sinew::skin::LbsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
 #endif
+BENCHMARK_CAPTURE(BM_FixedDqsKernel, scalar, sinew::skin::DqsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedDqsKernel, avx2, sinew::skin::DqsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   RatioReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.Print();
+  const bool summarised = reporter.Summarise();
   benchmark::Shutdown();
-  return 0;
+  return summarised ? 0 : 1;
 }

@@ -1,7 +1,6 @@
 #include "dual_quat.hpp"
 
 #include "norm.hpp"
-#include "rsqrt_fast.hpp"
 
 namespace sinew::fx {
 
@@ -35,40 +34,11 @@ bool normalize(DualQuat* dq) {
   return true;
 }
 
-bool normalize_fast(DualQuat* dq) {
-  const int64_t w = dq->real.w, x = dq->real.x, y = dq->real.y, z = dq->real.z;
-  const uint64_t n2 = static_cast<uint64_t>(w * w) + static_cast<uint64_t>(x * x) + static_cast<uint64_t>(y * y) +
-                      static_cast<uint64_t>(z * z);
-  if (n2 == 0 || n2 > (uint64_t{1} << 63)) {  // zero, or far outside a blend of unit quaternions
-    return normalize(dq);
-  }
-  const RsqrtResult r = rsqrt_fast(n2);
-  // c / |real|: real components scaled to Q30, dual components stay Q20.
-  // |real| = sqrt(n2) / 2^30, so c / |real| = c * y * 2^(half_shift - 61) * 2^30.
-  const int shift = 31 - r.half_shift;
-  const auto div = [&](int32_t c) {
-    const int64_t p = int64_t{c} * r.y;
-    return sat_i32(shift > 0 ? round_shift(p, shift) : p);
-  };
-  const Quat rq{div(dq->real.w), div(dq->real.x), div(dq->real.y), div(dq->real.z)};
-  Quat d{div(dq->dual.w), div(dq->dual.x), div(dq->dual.y), div(dq->dual.z)};
-  const int32_t k = sat_i32(round_shift(dot_wide(rq, d), kUnitFracBits));
-  d.w = sub_sat(d.w, mul_by_unit(k, rq.w));
-  d.x = sub_sat(d.x, mul_by_unit(k, rq.x));
-  d.y = sub_sat(d.y, mul_by_unit(k, rq.y));
-  d.z = sub_sat(d.z, mul_by_unit(k, rq.z));
-  dq->real = rq;
-  dq->dual = d;
-  return true;
-}
-
 Vec3 translation_of(const DualQuat& dq) {
   const Quat t = mul(dq.dual, conjugate(dq.real));  // Q20 components
   return {sat_i32(int64_t{t.x} * 2), sat_i32(int64_t{t.y} * 2), sat_i32(int64_t{t.z} * 2)};
 }
 
-Vec3 transform_point(const DualQuat& dq, Vec3 p) {
-  return add(rotate(dq.real, p), translation_of(dq));
-}
+Vec3 transform_point(const DualQuat& dq, Vec3 p) { return add(rotate(dq.real, p), translation_of(dq)); }
 
 }  // namespace sinew::fx

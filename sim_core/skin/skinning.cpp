@@ -63,17 +63,29 @@ void detail::skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> 
   }
 }
 
-void detail::skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v,
-                              const SkinnedVertices& out, uint32_t index) {
+namespace {
+
+// One DQS vertex: dual quaternion linear blending (Kavan et al. 2008) with
+// its antipodality rule, every quaternion blended on the hemisphere of the
+// vertex's first influence. kNearUnit: every real
+// component of the palette lies in [-kDualRealLimit, kDualRealLimit], so the
+// four products of the hemisphere test sum below 4 (1.25 * 2^30)^2 < 2^63:
+// the plain dot equals dot_wide (which only saturates beyond 2^63, keeping
+// the sign), without its saturating adds.
+template <bool kNearUnit>
+void skin_dual_vertex_impl(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v,
+                           const SkinnedVertices& out, uint32_t index) {
   const uint32_t k_count = rig.influences_per_vertex;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * k_count;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * k_count;
   const fx::Quat& pivot = dual[joints[0]].real;
+  const int64_t pw = pivot.w, px = pivot.x, py = pivot.y, pz = pivot.z;
   int64_t real[4] = {0, 0, 0, 0}, du[4] = {0, 0, 0, 0};
   for (uint32_t k = 0; k < k_count; ++k) {
     const fx::DualQuat& d = dual[joints[k]];
-    // Antipodality: blend every quaternion on the pivot's hemisphere.
-    const int64_t w = fx::dot_wide(pivot, d.real) < 0 ? -int64_t{weights[k]} : int64_t{weights[k]};
+    const int64_t dot =
+        kNearUnit ? pw * d.real.w + px * d.real.x + py * d.real.y + pz * d.real.z : fx::dot_wide(pivot, d.real);
+    const int64_t w = dot < 0 ? -int64_t{weights[k]} : int64_t{weights[k]};
     real[0] += w * d.real.w;
     real[1] += w * d.real.x;
     real[2] += w * d.real.y;
@@ -92,14 +104,19 @@ void detail::skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat>
   const fx::Rot3 rot = fx::rot3_of_unit(b.real);  // normalize_fast leaves it within a few LSB of unit
   const int64_t rw = b.real.w, rx = b.real.x, ry = b.real.y, rz = b.real.z;
   const int64_t dw = b.dual.w, dx = b.dual.x, dy = b.dual.y, dz = b.dual.z;
+  // |t_c| <= |real| |dual| < (2^30 + 8) 2^32 (Cauchy-Schwarz; see normalize_fast): fits.
   const int64_t t[3] = {rw * dx - dw * rx + (ry * dz - rz * dy), rw * dy - dw * ry + (rz * dx - rx * dz),
                         rw * dz - dw * rz + (rx * dy - ry * dx)};
   // R p (Q20+30) and 2 t (Q50, halved into the shift) rounded together once.
+  // 2 t itself may pass 2^63, so t is added twice, saturating: the same value
+  // as add_sat_i64(rp, 2 t) wherever 2 t fits (a sum that saturates after
+  // one t saturates after both), and defined everywhere.
   const int64_t p[3] = {rig.position[0][v], rig.position[1][v], rig.position[2][v]};
   int64_t rp[3];
   rotate_into(rot, p, rp);
   for (int c = 0; c < 3; ++c)
-    out.position[c][index] = fx::sat_i32(fx::round_shift(fx::add_sat_i64(rp[c], 2 * t[c]), fx::kUnitFracBits));
+    out.position[c][index] =
+        fx::sat_i32(fx::round_shift(fx::add_sat_i64(fx::add_sat_i64(rp[c], t[c]), t[c]), fx::kUnitFracBits));
   if (!out.normal[0].empty() && !rig.normal[0].empty()) {
     const int64_t n[3] = {rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]};
     int64_t rn[3];
@@ -108,25 +125,55 @@ void detail::skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat>
   }
 }
 
-namespace {
-
-uint32_t skin_vertices_scalar(const rig::Rig& rig, std::span<const fx::Mat34> palette,
-                              std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
-                              const SkinnedVertices& out) {
+// LBS vertices of the range (DQS ones skipped when skip_dual).
+uint32_t skin_linear_scalar(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
+                            uint32_t count, const SkinnedVertices& out) {
   uint32_t saturated = 0;
-  const bool dual_ready = !dual_palette.empty();
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t v = first + i;
-    if (dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-      detail::skin_dual_vertex(rig, dual_palette, v, out, i);
-    } else {
-      detail::skin_linear_vertex(rig, palette, v, out, i, &saturated);
+  for (uint32_t i = 0; i < count;) {
+    if (skip_dual && detail::is_dual(rig, first + i)) {
+      i = detail::skip_dual_run(rig, first, i, count);
+      continue;
     }
+    detail::skin_linear_vertex(rig, palette, first + i, out, i, &saturated);
+    ++i;
   }
   return saturated;
 }
 
 }  // namespace
+
+bool detail::dual_palette_near_unit(std::span<const fx::DualQuat> dual) {
+  bool near_unit = true;
+  for (const fx::DualQuat& d : dual) {
+    const int64_t c[4] = {d.real.w, d.real.x, d.real.y, d.real.z};
+    for (int64_t x : c) near_unit = near_unit && x >= -kDualRealLimit && x <= kDualRealLimit;
+  }
+  return near_unit;
+}
+
+void detail::skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v,
+                              const SkinnedVertices& out, uint32_t index, bool near_unit) {
+  if (near_unit) {
+    skin_dual_vertex_impl<true>(rig, dual, v, out, index);
+  } else {
+    skin_dual_vertex_impl<false>(rig, dual, v, out, index);
+  }
+}
+
+void detail::skin_dual_scalar(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t first, uint32_t count,
+                              const SkinnedVertices& out) {
+  // The palette's range is checked once per call (once per frame in the engine).
+  const bool near_unit = dual_palette_near_unit(dual);
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t v = first + i;
+    if (!detail::is_dual(rig, v)) continue;
+    if (near_unit) {
+      skin_dual_vertex_impl<true>(rig, dual, v, out, i);
+    } else {
+      skin_dual_vertex_impl<false>(rig, dual, v, out, i);
+    }
+  }
+}
 
 bool lbs_kernel_supported(LbsKernel kernel) {
   switch (kernel) {
@@ -169,24 +216,78 @@ const char* lbs_kernel_name(LbsKernel kernel) {
   return "unknown";
 }
 
+bool dqs_kernel_supported(DqsKernel kernel) {
+  switch (kernel) {
+    case DqsKernel::kScalar:
+      return true;
+    case DqsKernel::kAvx2:
+      return lbs_kernel_supported(LbsKernel::kAvx2);
+  }
+  return false;
+}
+
+DqsKernel dqs_kernel_default() {
+  return dqs_kernel_supported(DqsKernel::kAvx2) ? DqsKernel::kAvx2 : DqsKernel::kScalar;
+}
+
+const char* dqs_kernel_name(DqsKernel kernel) {
+  switch (kernel) {
+    case DqsKernel::kScalar:
+      return "scalar";
+    case DqsKernel::kAvx2:
+      return "avx2";
+  }
+  return "unknown";
+}
+
+// Every vertex is written by exactly one of the two passes, and each vertex's
+// words depend on nothing but its own inputs: the passes' order is free.
+uint32_t skin_vertices(LbsKernel lbs, DqsKernel dqs, const rig::Rig& rig, std::span<const fx::Mat34> palette,
+                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                       const SkinnedVertices& out) {
+  const bool dual_ready = !dual_palette.empty();
+  uint32_t saturated = 0;
+#if defined(__x86_64__)
+  if (lbs == LbsKernel::kAvx2 && lbs_kernel_supported(LbsKernel::kAvx2)) {
+    saturated = detail::skin_linear_avx2(rig, palette, dual_ready, first, count, out);
+  } else {
+    saturated = skin_linear_scalar(rig, palette, dual_ready, first, count, out);
+  }
+  if (dual_ready) {
+    if (dqs == DqsKernel::kAvx2 && dqs_kernel_supported(DqsKernel::kAvx2)) {
+      detail::skin_dual_avx2(rig, dual_palette, first, count, out);
+    } else {
+      detail::skin_dual_scalar(rig, dual_palette, first, count, out);
+    }
+  }
+#else
+  (void)dqs;
+#if defined(__aarch64__)
+  if (lbs == LbsKernel::kNeon) {
+    saturated = detail::skin_linear_neon(rig, palette, dual_ready, first, count, out);
+  } else {
+    saturated = skin_linear_scalar(rig, palette, dual_ready, first, count, out);
+  }
+#else
+  (void)lbs;
+  saturated = skin_linear_scalar(rig, palette, dual_ready, first, count, out);
+#endif
+  if (dual_ready) detail::skin_dual_scalar(rig, dual_palette, first, count, out);
+#endif
+  return saturated;
+}
+
 uint32_t skin_vertices(LbsKernel kernel, const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out) {
-#if defined(__x86_64__)
-  if (kernel == LbsKernel::kAvx2 && lbs_kernel_supported(LbsKernel::kAvx2))
-    return detail::skin_vertices_avx2(rig, palette, dual_palette, first, count, out);
-#elif defined(__aarch64__)
-  if (kernel == LbsKernel::kNeon) return detail::skin_vertices_neon(rig, palette, dual_palette, first, count, out);
-#else
-  (void)kernel;
-#endif
-  return skin_vertices_scalar(rig, palette, dual_palette, first, count, out);
+  const DqsKernel dqs = kernel == LbsKernel::kAvx2 ? DqsKernel::kAvx2 : DqsKernel::kScalar;
+  return skin_vertices(kernel, dqs, rig, palette, dual_palette, first, count, out);
 }
 
 uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out) {
-  return skin_vertices(lbs_kernel_default(), rig, palette, dual_palette, first, count, out);
+  return skin_vertices(lbs_kernel_default(), dqs_kernel_default(), rig, palette, dual_palette, first, count, out);
 }
 
 }  // namespace sinew::skin

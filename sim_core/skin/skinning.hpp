@@ -28,19 +28,30 @@ uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out);
 
-// LBS kernels. kScalar is the specification (skinning.cpp, every target);
-// kAvx2 (x86-64 with AVX2, detected at run time) and kNeon (every aarch64
-// build) write the same words and return the same saturation count for every
-// input (docs/numerics.md). DQS vertices always take the scalar path.
+// Kernels. kScalar is the specification (skinning.cpp, every target); kAvx2
+// (x86-64 with AVX2, detected at run time, LBS and DQS) and kNeon (every
+// aarch64 build, LBS) write the same words and return the same saturation
+// count for every input (docs/numerics.md). LBS and DQS vertices each have
+// their own kernel.
 enum class LbsKernel : uint8_t { kScalar = 0, kAvx2 = 1, kNeon = 2 };
+enum class DqsKernel : uint8_t { kScalar = 0, kAvx2 = 1 };
 
 // Whether this CPU runs the kernel (kScalar: always).
 bool lbs_kernel_supported(LbsKernel kernel);
-// The kernel skin_vertices uses on this CPU.
+bool dqs_kernel_supported(DqsKernel kernel);
+// The kernels skin_vertices uses on this CPU.
 LbsKernel lbs_kernel_default();
+DqsKernel dqs_kernel_default();
 const char* lbs_kernel_name(LbsKernel kernel);
+const char* dqs_kernel_name(DqsKernel kernel);
 
-// skin_vertices with an explicit kernel; an unsupported kernel runs kScalar.
+// skin_vertices with explicit kernels; an unsupported kernel runs kScalar.
+uint32_t skin_vertices(LbsKernel lbs, DqsKernel dqs, const rig::Rig& rig, std::span<const fx::Mat34> palette,
+                       std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
+                       const SkinnedVertices& out);
+
+// The LBS kernel given and the DQS kernel of the same kind (kScalar: the
+// whole specification).
 uint32_t skin_vertices(LbsKernel kernel, const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out);

@@ -21,17 +21,20 @@
 //   - normals are renormalised after each block of 64 vertices, four at a
 //     time (lanes = vertices) by the same integer steps as fx::normalize_fast,
 //     the last fewer than four by normalize_fast itself.
-// DQS vertices, palettes larger than the widened buffer and K outside 1..8
-// take the scalar specification.
+// Palettes larger than the widened buffer and K outside 1..8 take the scalar
+// specification. DQS vertices are skipped (their own kernel writes them).
 #include <immintrin.h>
 
-#include <cstring>
-
-#include "sim_core/fixed/rsqrt_fast.hpp"
+#include "avx2_lanes.hpp"
 #include "skinning_detail.hpp"
 
 namespace sinew::skin::detail {
 namespace {
+
+using avx2::lanes;
+using avx2::load4_epi64;
+using avx2::round_shift_epi64;
+using avx2::sat_i32_epi64;
 
 // Palettes up to this size are widened on the stack (128 bytes per entry).
 constexpr size_t kMaxWidePalette = 256;
@@ -47,33 +50,6 @@ inline WideEntry widen(const fx::Mat34& m) {
            _mm256_setr_epi64x(m.m[0][1], m.m[1][1], m.m[2][1], 0),
            _mm256_setr_epi64x(m.m[0][2], m.m[1][2], m.m[2][2], 0), _mm256_setr_epi64x(m.t[0], m.t[1], m.t[2], 0)}};
 }
-
-// round_shift(x, s) of scalar.hpp on every int64 lane: ((x + 2^(s-1) + 2^63)
-// >>> s) - 2^(63-s), with wrapping vector adds (no UB, same bits).
-template <int S>
-inline __m256i round_shift_epi64(__m256i x) {
-  const __m256i bias = _mm256_set1_epi64x(INT64_MIN + (int64_t{1} << (S - 1)));
-  const __m256i offset = _mm256_set1_epi64x(int64_t{1} << (63 - S));
-  return _mm256_sub_epi64(_mm256_srli_epi64(_mm256_add_epi64(x, bias), S), offset);
-}
-
-// True if every lane lies in [lo, lo + 2^bits).
-template <int Bits>
-inline bool all_in_window(__m256i x, int64_t lo) {
-  const __m256i above = _mm256_srli_epi64(_mm256_sub_epi64(x, _mm256_set1_epi64x(lo)), Bits);
-  return _mm256_testz_si256(above, above) != 0;
-}
-
-// sat_i32 of every int64 lane (the result still in int64 lanes).
-inline __m256i sat_i32_epi64(__m256i x) {
-  if (all_in_window<32>(x, INT32_MIN)) return x;
-  const __m256i hi = _mm256_set1_epi64x(INT32_MAX);
-  const __m256i lo = _mm256_set1_epi64x(INT32_MIN);
-  x = _mm256_blendv_epi8(x, hi, _mm256_cmpgt_epi64(x, hi));
-  return _mm256_blendv_epi8(x, lo, _mm256_cmpgt_epi64(lo, x));
-}
-
-inline void lanes(__m256i x, int64_t out[4]) { std::memcpy(out, &x, sizeof(x)); }
 
 // Row-wise M v for a broadcast vector v and the blended columns (Q8.24), in
 // the vector's format times 2^24 (not yet rounded).
@@ -93,65 +69,21 @@ struct PendingNormals {
   uint32_t count = 0;
 };
 
-// count_leading_zeros(x) & ~1 and x shifted left by it, per lane, for x != 0:
-// binary search over even shifts with unsigned tests (x < 2^k iff x >> k == 0).
-inline __m256i even_normalise_shift(__m256i* x) {
-  __m256i shift = _mm256_setzero_si256();
-  const auto step = [&](int below, int64_t by) {
-    const __m256i small = _mm256_cmpeq_epi64(_mm256_srli_epi64(*x, below), _mm256_setzero_si256());
-    const __m256i s = _mm256_and_si256(small, _mm256_set1_epi64x(by));
-    *x = _mm256_sllv_epi64(*x, s);
-    shift = _mm256_add_epi64(shift, s);
-  };
-  step(32, 32);
-  step(48, 16);
-  step(56, 8);
-  step(60, 4);
-  step(62, 2);
-  return shift;
-}
-
 // fx::normalize_fast on 4 vectors at once (same words): rsqrt_fast's seed and
 // Newton steps on non-negative values below 2^32 (unsigned 32x32 products),
 // then round_shift by 31 - half_shift per lane and sat_i32.
 inline void normalize_fast_x4(__m256i x, __m256i y, __m256i z, __m256i out[3]) {
   const __m256i zero = _mm256_setzero_si256();
   // Sum of squares: each < 2^62 + 1, the sum < 2^64 (unsigned, wrapping adds exact).
-  __m256i n2 = _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(x, x), _mm256_mul_epi32(y, y)),
-                                _mm256_mul_epi32(z, z));
+  __m256i n2 =
+      _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(x, x), _mm256_mul_epi32(y, y)), _mm256_mul_epi32(z, z));
   const __m256i is_zero = _mm256_cmpeq_epi64(n2, zero);
   n2 = _mm256_blendv_epi8(n2, _mm256_set1_epi64x(1), is_zero);  // any valid lane; zeroed below
-  const __m256i s = even_normalise_shift(&n2);                  // n2 is now m in [2^62, 2^64)
-  const __m256i index = _mm256_sub_epi64(_mm256_srli_epi64(n2, 56), _mm256_set1_epi64x(64));
-  static_assert(sizeof(fx::detail::kRsqrtSeed[0]) == sizeof(int));
-  __m256i r = _mm256_cvtepu32_epi64(
-      _mm256_i64gather_epi32(reinterpret_cast<const int*>(fx::detail::kRsqrtSeed.data()), index, 4));
-  const __m256i v = _mm256_srli_epi64(n2, 32);  // Q30, [2^30, 2^32)
-  const __m256i three = _mm256_set1_epi64x(int64_t{3} << 30);
-  for (int i = 0; i < 2; ++i) {
-    // r < 2^31, r2 <= ~2^30, v r2 / 2^30 within 1% of 2^30: every operand is
-    // non-negative and below 2^32, every product below 2^63.
-    const __m256i r2 = _mm256_srli_epi64(_mm256_mul_epu32(r, r), 30);
-    const __m256i vr2 = _mm256_srli_epi64(_mm256_mul_epu32(v, r2), 30);
-    r = _mm256_srli_epi64(_mm256_mul_epu32(r, _mm256_sub_epi64(three, vr2)), 31);
-  }
-  // shift = 31 - s / 2 in [0, 31]; round_shift for shift > 0, none for 0.
-  const __m256i shift = _mm256_sub_epi64(_mm256_set1_epi64x(31), _mm256_srli_epi64(s, 1));
-  const __m256i bias = _mm256_add_epi64(_mm256_srli_epi64(_mm256_sllv_epi64(_mm256_set1_epi64x(1), shift), 1),
-                                        _mm256_set1_epi64x(INT64_MIN));
-  const __m256i offset = _mm256_srlv_epi64(_mm256_set1_epi64x(INT64_MIN), shift);  // 2^(63 - shift)
+  const avx2::RsqrtX4 r = avx2::rsqrt_fast_x4(n2);
+  const avx2::VarRoundShift scale(r.shift);
   const __m256i c[3] = {x, y, z};
-  for (int i = 0; i < 3; ++i) {
-    const __m256i p = _mm256_mul_epi32(c[i], r);
-    const __m256i q = _mm256_sub_epi64(_mm256_srlv_epi64(_mm256_add_epi64(p, bias), shift), offset);
-    out[i] = _mm256_andnot_si256(is_zero, sat_i32_epi64(q));
-  }
-}
-
-inline __m256i load4_epi64(const int32_t* p) {
-  __m128i x;
-  std::memcpy(&x, p, sizeof(x));
-  return _mm256_cvtepi32_epi64(x);
+  for (int i = 0; i < 3; ++i)
+    out[i] = _mm256_andnot_si256(is_zero, avx2::sat_i32_epi64(scale(_mm256_mul_epi32(c[i], r.y))));
 }
 
 void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {
@@ -179,12 +111,13 @@ void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {
 struct Job {
   const rig::Rig* rig;
   std::span<const fx::Mat34> palette;
-  std::span<const fx::DualQuat> dual;
   const WideEntry* wide;
   const SkinnedVertices* out;
-  bool dual_ready;
+  bool skip_dual;
   bool normals;
 };
+
+inline bool skipped(const Job& job, uint32_t v) { return job.skip_dual && is_dual(*job.rig, v); }
 
 // One LBS vertex; false if its blended linear part might clamp (then nothing
 // was written and the caller runs the scalar specification).
@@ -193,8 +126,7 @@ inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index, PendingNor
   const rig::Rig& rig = *job.rig;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * K;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * K;
-  __m256i acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(),
-                    _mm256_setzero_si256()};
+  __m256i acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
   for (uint32_t k = 0; k < K; ++k) {
     const WideEntry& e = job.wide[joints[k]];
     const __m256i w = _mm256_set1_epi32(weights[k]);  // vpmuldq reads the low half of each lane
@@ -240,13 +172,14 @@ uint32_t run(const Job& job, uint32_t first, uint32_t count) {
   PendingNormals pending;
   for (uint32_t block = 0; block < count;) {
     const uint32_t end = block + (count - block < kBlock ? count - block : kBlock);  // <= count: no wrap
-    for (uint32_t i = block; i < end; ++i) {
+    for (uint32_t i = block; i < end;) {
       const uint32_t v = first + i;
-      if (job.dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-        skin_dual_vertex(rig, job.dual, v, *job.out, i);
-      } else if (!linear_vertex<K>(job, v, i, &pending)) {
-        skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+      if (skipped(job, v)) {
+        i = skip_dual_run(rig, first, i, end);
+        continue;
       }
+      if (!linear_vertex<K>(job, v, i, &pending)) skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+      ++i;
     }
     finish_normals(*job.out, &pending);
     block = end;
@@ -259,40 +192,38 @@ uint32_t run_scalar(const Job& job, uint32_t first, uint32_t count) {
   uint32_t saturated = 0;
   for (uint32_t i = 0; i < count; ++i) {
     const uint32_t v = first + i;
-    if (job.dual_ready && job.rig->method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-      skin_dual_vertex(*job.rig, job.dual, v, *job.out, i);
-    } else {
-      skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
-    }
+    if (!skipped(job, v)) skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
   }
   return saturated;
 }
 
 }  // namespace
 
-uint32_t skin_vertices_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palette,
-                            std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
-                            const SkinnedVertices& out) {
+uint32_t skin_linear_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
+                          uint32_t count, const SkinnedVertices& out) {
   WideEntry wide[kMaxWidePalette];
-  const Job job{&rig,
-                palette,
-                dual_palette,
-                wide,
-                &out,
-                !dual_palette.empty(),
-                !out.normal[0].empty() && !rig.normal[0].empty()};
+  const Job job{&rig, palette, wide, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
   if (palette.size() > kMaxWidePalette) return run_scalar(job, first, count);
   for (size_t j = 0; j < palette.size(); ++j) wide[j] = widen(palette[j]);
   switch (rig.influences_per_vertex) {
-    case 1: return run<1>(job, first, count);
-    case 2: return run<2>(job, first, count);
-    case 3: return run<3>(job, first, count);
-    case 4: return run<4>(job, first, count);
-    case 5: return run<5>(job, first, count);
-    case 6: return run<6>(job, first, count);
-    case 7: return run<7>(job, first, count);
-    case 8: return run<8>(job, first, count);
-    default: return run_scalar(job, first, count);
+    case 1:
+      return run<1>(job, first, count);
+    case 2:
+      return run<2>(job, first, count);
+    case 3:
+      return run<3>(job, first, count);
+    case 4:
+      return run<4>(job, first, count);
+    case 5:
+      return run<5>(job, first, count);
+    case 6:
+      return run<6>(job, first, count);
+    case 7:
+      return run<7>(job, first, count);
+    case 8:
+      return run<8>(job, first, count);
+    default:
+      return run_scalar(job, first, count);
   }
 }
 

@@ -1,37 +1,74 @@
 // Internal to sim_core/skin: the scalar per-vertex specification shared by the
-// scalar loop (skinning.cpp) and the vector kernels, which fall back to it for
+// scalar loops (skinning.cpp) and the vector kernels, which fall back to it for
 // every vertex they do not handle themselves.
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "skinning.hpp"
 
 namespace sinew::skin::detail {
 
+// Bound on the real components of a "near-unit" dual palette: 1.25 in Q2.30.
+// Four products of such components sum below 4 * 1.25^2 * 2^60 < 2^63.
+inline constexpr int64_t kDualRealLimit = (int64_t{1} << 30) + (int64_t{1} << 28);
+
+// True if every real component of the palette lies in [-kDualRealLimit,
+// kDualRealLimit] (every posed palette of unit quaternions does). Checked
+// once per call, not per vertex.
+bool dual_palette_near_unit(std::span<const fx::DualQuat> dual);
+
+inline bool is_dual(const rig::Rig& rig, uint32_t v) {
+  return rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
+}
+
+// The first i in [i, end) whose vertex first + i is not DQS (end if none):
+// the LBS passes skip runs of DQS vertices eight method bytes at a time.
+inline uint32_t skip_dual_run(const rig::Rig& rig, uint32_t first, uint32_t i, uint32_t end) {
+  const uint8_t* method = rig.method.data() + first;
+  constexpr uint64_t kAllDual = 0x0101010101010101u * static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
+  for (; end - i >= 8; i += 8) {
+    uint64_t eight;
+    std::memcpy(&eight, method + i, sizeof(eight));
+    if (eight != kAllDual) break;
+  }
+  while (i < end && is_dual(rig, first + i)) ++i;
+  return i;
+}
+
 // One LBS vertex v written at out[index]; adds clamped linear entries to *saturated.
 void skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v, const SkinnedVertices& out,
                         uint32_t index, uint32_t* saturated);
 
-// One DQS vertex v written at out[index].
+// One DQS vertex v written at out[index]; near_unit is
+// dual_palette_near_unit(dual) (the same words either way, only faster).
 void skin_dual_vertex(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t v, const SkinnedVertices& out,
-                      uint32_t index);
+                      uint32_t index, bool near_unit);
+
+// Every DQS vertex of [first, first + count), by the scalar specification.
+void skin_dual_scalar(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t first, uint32_t count,
+                      const SkinnedVertices& out);
 
 #if defined(__x86_64__)
-// The AVX2 kernel (skinning_avx2.cpp): same contract and same output words as
-// the scalar loop. Only call it when the CPU supports AVX2.
-uint32_t skin_vertices_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palette,
-                            std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
-                            const SkinnedVertices& out);
+// The AVX2 kernels: the same contract and the same output words as the scalar
+// loops. Only call them when the CPU supports AVX2.
+// LBS (skinning_avx2.cpp): the LBS vertices of the range (DQS ones skipped
+// when skip_dual); returns the saturation count.
+uint32_t skin_linear_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
+                          uint32_t count, const SkinnedVertices& out);
+// DQS (skinning_dqs_avx2.cpp): every DQS vertex of the range.
+void skin_dual_avx2(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t first, uint32_t count,
+                    const SkinnedVertices& out);
 #endif
 
 #if defined(__aarch64__)
-// The NEON kernel (skinning_neon.cpp): same contract and same output words as
-// the scalar loop. Advanced SIMD is part of every AArch64 CPU.
-uint32_t skin_vertices_neon(const rig::Rig& rig, std::span<const fx::Mat34> palette,
-                            std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
-                            const SkinnedVertices& out);
+// The NEON LBS kernel (skinning_neon.cpp): the same contract and the same
+// output words as the scalar LBS loop (DQS vertices skipped when skip_dual);
+// returns the saturation count. Advanced SIMD is part of every AArch64 CPU.
+uint32_t skin_linear_neon(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
+                          uint32_t count, const SkinnedVertices& out);
 #endif
 
 }  // namespace sinew::skin::detail

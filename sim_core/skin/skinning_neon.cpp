@@ -25,7 +25,7 @@
 //   - normals are renormalised after each block of 64 vertices, two at a time
 //     (lanes = vertices), by the same integer steps as fx::normalize_fast; an
 //     odd last one fills both lanes.
-// DQS vertices and K outside 1..8 take the scalar specification.
+// DQS vertices are left to the DQS pass; K outside 1..8 takes the scalar specification.
 #include <arm_neon.h>
 
 #include <cstring>
@@ -139,11 +139,12 @@ void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {
 struct Job {
   const rig::Rig* rig;
   std::span<const fx::Mat34> palette;
-  std::span<const fx::DualQuat> dual;
   const SkinnedVertices* out;
-  bool dual_ready;
+  bool skip_dual;  // DQS vertices are the DQS pass's
   bool normals;
 };
+
+inline bool skipped(const Job& job, uint32_t v) { return job.skip_dual && is_dual(*job.rig, v); }
 
 // One LBS vertex; false if its blended linear part would clamp (then nothing
 // was written and the caller runs the scalar specification).
@@ -210,13 +211,14 @@ uint32_t run(const Job& job, uint32_t first, uint32_t count) {
   PendingNormals pending;
   for (uint32_t block = 0; block < count;) {
     const uint32_t end = block + (count - block < kBlock ? count - block : kBlock);  // <= count: no wrap
-    for (uint32_t i = block; i < end; ++i) {
+    for (uint32_t i = block; i < end;) {
       const uint32_t v = first + i;
-      if (job.dual_ready && rig.method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-        skin_dual_vertex(rig, job.dual, v, *job.out, i);
-      } else if (!linear_vertex<K>(job, v, i, &pending)) {
-        skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+      if (skipped(job, v)) {
+        i = skip_dual_run(rig, first, i, end);
+        continue;
       }
+      if (!linear_vertex<K>(job, v, i, &pending)) skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
+      ++i;
     }
     finish_normals(*job.out, &pending);
     block = end;
@@ -229,22 +231,16 @@ uint32_t run_scalar(const Job& job, uint32_t first, uint32_t count) {
   uint32_t saturated = 0;
   for (uint32_t i = 0; i < count; ++i) {
     const uint32_t v = first + i;
-    if (job.dual_ready && job.rig->method[v] == static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion)) {
-      skin_dual_vertex(*job.rig, job.dual, v, *job.out, i);
-    } else {
-      skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
-    }
+    if (!skipped(job, v)) skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
   }
   return saturated;
 }
 
 }  // namespace
 
-uint32_t skin_vertices_neon(const rig::Rig& rig, std::span<const fx::Mat34> palette,
-                            std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
-                            const SkinnedVertices& out) {
-  const Job job{
-      &rig, palette, dual_palette, &out, !dual_palette.empty(), !out.normal[0].empty() && !rig.normal[0].empty()};
+uint32_t skin_linear_neon(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
+                          uint32_t count, const SkinnedVertices& out) {
+  const Job job{&rig, palette, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
   switch (rig.influences_per_vertex) {
     case 1:
       return run<1>(job, first, count);
