@@ -49,6 +49,7 @@
 #include "hal/common/monotonic_clock.hpp"
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/udp_sender.hpp"
+#include "host_tools/bench/common/bench_summary.hpp"
 
 namespace {
 
@@ -191,6 +192,8 @@ LiveLatency live_latency(const firmware::LoadedRig& rig, firmware::TickTrigger t
   return out;
 }
 
+bool g_latency_summary_ok = true;  // every summary row was written
+
 void run_live(const char* builtin, size_t ticks, uint64_t poll_ns) {
   firmware::LoadedRig rig;
   std::string error;
@@ -215,6 +218,16 @@ void run_live(const char* builtin, size_t ticks, uint64_t poll_ns) {
         latency_sum > 0 ? 100.0 * static_cast<double>(waiting_sum) / static_cast<double>(latency_sum) : 0.0,
         p50_periodic > 0 ? p50 / p50_periodic : 0.0, static_cast<unsigned long long>(r.triggered),
         static_cast<unsigned long long>(r.fallback), r.latency.size());
+    if (trigger == firmware::TickTrigger::kInputs) {
+      sinew::bench::SummaryRow row;
+      row.bench = "latency";
+      row.measure = std::string(builtin) + ", arrival to output p50, input-triggered ticks";
+      row.figure = p50;
+      row.unit = "us";
+      row.baseline = "periodic ticks, same run";
+      row.baseline_figure = p50_periodic;
+      g_latency_summary_ok = sinew::bench::summary_row(row) && g_latency_summary_ok;
+    }
   }
 }
 
@@ -347,6 +360,18 @@ void run_sinks(const char* builtin, size_t ticks) {
     std::printf("%-5s paced 1 kHz, %-24s | step p50 %7.1f us p99 %7.1f us max %8.1f us | p99 / no sink %.3f%s%s\n",
                 builtin, setup_name(setup), percentile(steps, 0.5), p99, percentile(steps, 1.0), p99 / p99_none,
                 setup == SinkSetup::kNone ? "" : " | ", setup == SinkSetup::kNone ? "" : report.c_str());
+    if (setup == SinkSetup::kIoThreads) {
+      sinew::bench::SummaryRow row;
+      row.bench = "latency";
+      row.measure = std::string(builtin) + ", paced 1 kHz, log + UDP sinks on I/O threads, step p99";
+      row.figure = p99;
+      row.unit = "us";
+      row.baseline = "no sink, same run";
+      row.baseline_figure = p99_none;
+      row.target = sinew::bench::ratio_at_most(1.05);
+      row.target_source = "real-time output issue: p99 within 5 % of the no-sink run";
+      g_latency_summary_ok = sinew::bench::summary_row(row) && g_latency_summary_ok;
+    }
   }
   ::rmdir(dir);
 }
@@ -377,5 +402,5 @@ int main(int argc, char** argv) {
   std::printf("sinks: %zu ticks paced in real time at 1 kHz per setup, in this run\n", paced_ticks);
   run_sinks("arm", paced_ticks);
   run_sinks("hand", paced_ticks);
-  return 0;
+  return g_latency_summary_ok ? 0 : 1;
 }
