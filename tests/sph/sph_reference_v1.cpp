@@ -27,10 +27,6 @@ using SphState = RefState;
 // (built at compile time with an exact integer sqrt) with linear
 // interpolation: pure integer, identical on every platform.
 
-
-
-
-
 namespace kernel_detail {
 
 constexpr uint64_t isqrt(uint64_t v) {
@@ -139,8 +135,6 @@ struct JointFrame {
   fx::Vec3 axis;    // Q2.30 unit flexion axis, model space
 };
 
-
-
 uint32_t axis_cell(const SphState& st, int32_t centre, int32_t p) {
   const SphParams& pr = st.model->params;
   const int64_t off = int64_t{p} - (int64_t{centre} - pr.grid_radius);
@@ -148,8 +142,6 @@ uint32_t axis_cell(const SphState& st, int32_t centre, int32_t p) {
   const uint64_t c = static_cast<uint64_t>(off) / static_cast<uint64_t>(pr.h);
   return c >= st.grid_dim ? st.grid_dim - 1 : static_cast<uint32_t>(c);
 }
-
-
 
 uint32_t cell_index(const RefState& st, fx::Vec3 centre, fx::Vec3 p) {
   const uint32_t d = st.grid_dim;
