@@ -130,49 +130,77 @@ class PairSearch {
   }
 
  private:
-  // Particle sorted[p] against sorted[from..to). Geometry as pair_geometry
-  // (sph_kernels.hpp) from a's side; b's side negates each rounded axis,
-  // plus one LSB where the axis rounded on an exact half (round_shift
-  // rounds halves up): round(-v) = -round(v) + [v on a half].
+  static constexpr uint32_t kChunk = 64;
+
+  static int32_t clamp_len(int64_t v) {
+    return static_cast<int32_t>(v < INT32_MIN ? INT32_MIN : (v > INT32_MAX ? INT32_MAX : v));
+  }
+
+  // Particle sorted[p] against sorted[from..to), by chunks: first the box
+  // test |x_a - x_b| < h on every axis as 32-bit compares against bounds
+  // clamped into the Len range (x_b in [x_a - h + 1, x_a + h - 1], the same
+  // test; a loop the compiler vectorises), the survivors compacted without
+  // branches, then the exact geometry of those.
   void scan(uint32_t p, uint32_t from, uint32_t to) {
-    const uint32_t i = sorted_[p];
-    const int64_t xa = x_[p], ya = y_[p], za = z_[p], h = h_, inv = inv_;
-    for (uint32_t q = from; q < to; ++q) {
-      const int64_t dx = xa - x_[q], dy = ya - y_[q], dz = za - z_[q];
-      if (dx >= h || dx <= -h || dy >= h || dy <= -h || dz >= h || dz <= -h) continue;
-      // |d| < h < 2^31 and inv < 2^50 / h + 1: the products stay below 2^50.
-      const int64_t px = dx * inv, py = dy * inv, pz = dz * inv;
-      const int64_t nx = fx::round_shift(px, 20), ny = fx::round_shift(py, 20), nz = fx::round_shift(pz, 20);
-      const int64_t sum = nx * nx + ny * ny + nz * nz;
-      constexpr int64_t kLow = (int64_t{1} << 20) - 1, kHalf = int64_t{1} << 19;
-      const int64_t hx = (px & kLow) == kHalf, hy = (py & kLow) == kHalf, hz = (pz & kLow) == kHalf;
-      // (-n + t)^2 = n^2 + t (1 - 2 n) for t in {0, 1}.
-      const int64_t sum_b = sum + hx * (1 - 2 * nx) + hy * (1 - 2 * ny) + hz * (1 - 2 * nz);
-      const int64_t s_ab = fx::round_shift(sum, 30), s_ba = fx::round_shift(sum_b, 30);
-      constexpr int64_t kOne = int64_t{1} << 30;
-      const bool side_a = s_ab < kOne, side_b = s_ba < kOne;
-      if (!side_a && !side_b) continue;
-      const uint32_t j = sorted_[q];
-      count_[i] = static_cast<uint16_t>(count_[i] + (side_a ? 1 : 0));
-      count_[j] = static_cast<uint16_t>(count_[j] + (side_b ? 1 : 0));
-      const int32_t w_ab = poly6(static_cast<uint32_t>(side_a ? s_ab : kOne));
-      dens_[i] += w_ab;
-      dens_[j] += s_ba == s_ab ? (side_b ? w_ab : 0) : poly6(static_cast<uint32_t>(side_b ? s_ba : kOne));
-      // Unconditional store: past the capacity the spare last entry takes it
-      // (and the substep falls back to the ordered lists).
-      SphPair& e = pairs_[np_ < cap_ ? np_ : cap_];
-      e.a = static_cast<uint16_t>(i);
-      e.b = static_cast<uint16_t>(j);
-      e.sides = static_cast<uint8_t>((side_a ? 1u : 0u) | (side_b ? 2u : 0u));
-      e.half = static_cast<uint8_t>(hx | (hy << 1) | (hz << 2));
-      e.reserved = 0;
-      e.s_ab = static_cast<uint32_t>(s_ab);
-      e.s_ba = static_cast<uint32_t>(s_ba);
-      e.d[0] = static_cast<int32_t>(nx);
-      e.d[1] = static_cast<int32_t>(ny);
-      e.d[2] = static_cast<int32_t>(nz);
-      ++np_;
+    const int64_t h = h_;
+    const int32_t lo[3] = {clamp_len(x_[p] - h + 1), clamp_len(y_[p] - h + 1), clamp_len(z_[p] - h + 1)};
+    const int32_t hi[3] = {clamp_len(x_[p] + h - 1), clamp_len(y_[p] + h - 1), clamp_len(z_[p] + h - 1)};
+    for (uint32_t base = from; base < to; base += kChunk) {
+      const uint32_t len = to - base < kChunk ? to - base : kChunk;
+      const fx::Len *xs = x_ + base, *ys = y_ + base, *zs = z_ + base;
+      uint8_t inside[kChunk];
+      for (uint32_t k = 0; k < len; ++k)
+        inside[k] = static_cast<uint8_t>((xs[k] >= lo[0]) & (xs[k] <= hi[0]) & (ys[k] >= lo[1]) & (ys[k] <= hi[1]) &
+                                         (zs[k] >= lo[2]) & (zs[k] <= hi[2]));
+      uint8_t index[kChunk];
+      uint32_t m = 0;
+      for (uint32_t k = 0; k < len; ++k) {
+        index[m] = static_cast<uint8_t>(k);
+        m += inside[k];
+      }
+      for (uint32_t t = 0; t < m; ++t) exact(p, base + index[t]);
     }
+  }
+
+  // Geometry as pair_geometry (sph_kernels.hpp) from a's side, for a pair
+  // inside the box; b's side negates each rounded axis, plus one LSB where
+  // the axis rounded on an exact half (round_shift rounds halves up):
+  // round(-v) = -round(v) + [v on a half].
+  void exact(uint32_t p, uint32_t q) {
+    const int64_t inv = inv_;
+    const int64_t dx = int64_t{x_[p]} - x_[q], dy = int64_t{y_[p]} - y_[q], dz = int64_t{z_[p]} - z_[q];
+    // |d| < h < 2^31 and inv < 2^50 / h + 1: the products stay below 2^50.
+    const int64_t px = dx * inv, py = dy * inv, pz = dz * inv;
+    const int64_t nx = fx::round_shift(px, 20), ny = fx::round_shift(py, 20), nz = fx::round_shift(pz, 20);
+    const int64_t sum = nx * nx + ny * ny + nz * nz;
+    constexpr int64_t kLow = (int64_t{1} << 20) - 1, kHalf = int64_t{1} << 19;
+    const int64_t hx = (px & kLow) == kHalf, hy = (py & kLow) == kHalf, hz = (pz & kLow) == kHalf;
+    // (-n + t)^2 = n^2 + t (1 - 2 n) for t in {0, 1}.
+    const int64_t sum_b = sum + hx * (1 - 2 * nx) + hy * (1 - 2 * ny) + hz * (1 - 2 * nz);
+    const int64_t s_ab = fx::round_shift(sum, 30), s_ba = fx::round_shift(sum_b, 30);
+    constexpr int64_t kOne = int64_t{1} << 30;
+    const uint32_t side_a = s_ab < kOne ? 1u : 0u, side_b = s_ba < kOne ? 1u : 0u;
+    const uint32_t i = sorted_[p], j = sorted_[q];
+    count_[i] = static_cast<uint16_t>(count_[i] + side_a);
+    count_[j] = static_cast<uint16_t>(count_[j] + side_b);
+    const int32_t w_ab = poly6(static_cast<uint32_t>(side_a != 0 ? s_ab : kOne));
+    dens_[i] += w_ab;
+    dens_[j] += s_ba == s_ab ? w_ab : poly6(static_cast<uint32_t>(side_b != 0 ? s_ba : kOne));
+    // Unconditional store, kept when a side is inside the kernel; past the
+    // capacity the spare last entry takes it (and the substep falls back to
+    // the ordered lists).
+    SphPair& e = pairs_[np_ < cap_ ? np_ : cap_];
+    e.a = static_cast<uint16_t>(i);
+    e.b = static_cast<uint16_t>(j);
+    e.sides = static_cast<uint8_t>(side_a | (side_b << 1));
+    e.half = static_cast<uint8_t>(hx | (hy << 1) | (hz << 2));
+    e.reserved = 0;
+    e.s_ab = static_cast<uint32_t>(s_ab);
+    e.s_ba = static_cast<uint32_t>(s_ba);
+    e.d[0] = static_cast<int32_t>(nx);
+    e.d[1] = static_cast<int32_t>(ny);
+    e.d[2] = static_cast<int32_t>(nz);
+    np_ += (side_a | side_b);
   }
 
   SphState* st_;
