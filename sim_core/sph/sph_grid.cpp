@@ -109,8 +109,14 @@ class PairSearch {
           }
           const uint32_t own_end = start[(cz * d + cy) * d + xhi + 1];
           for (uint32_t p = start[c]; p < start[c + 1]; ++p) {
+            // a's count and density sum stay in registers across its ranges.
+            count_a_ = 0;
+            dens_a_ = 0;
             scan(p, p + 1, own_end);
             for (uint32_t k = 0; k < rows; ++k) scan(p, from[k], to[k]);
+            const uint32_t i = sorted_[p];
+            count_[i] = static_cast<uint16_t>(count_[i] + count_a_);
+            dens_[i] += dens_a_;
           }
         }
     const uint32_t k_max = st_->model->params.max_neighbours;
@@ -175,16 +181,18 @@ class PairSearch {
     const int64_t sum = nx * nx + ny * ny + nz * nz;
     constexpr int64_t kLow = (int64_t{1} << 20) - 1, kHalf = int64_t{1} << 19;
     const int64_t hx = (px & kLow) == kHalf, hy = (py & kLow) == kHalf, hz = (pz & kLow) == kHalf;
-    // (-n + t)^2 = n^2 + t (1 - 2 n) for t in {0, 1}.
-    const int64_t sum_b = sum + hx * (1 - 2 * nx) + hy * (1 - 2 * ny) + hz * (1 - 2 * nz);
-    const int64_t s_ab = fx::round_shift(sum, 30), s_ba = fx::round_shift(sum_b, 30);
+    const int64_t s_ab = fx::round_shift(sum, 30);
+    int64_t s_ba = s_ab;
+    if ((hx | hy | hz) != 0)  // rare: an exact half
+      // (-n + t)^2 = n^2 + t (1 - 2 n) for t in {0, 1}.
+      s_ba = fx::round_shift(sum + hx * (1 - 2 * nx) + hy * (1 - 2 * ny) + hz * (1 - 2 * nz), 30);
     constexpr int64_t kOne = int64_t{1} << 30;
     const uint32_t side_a = s_ab < kOne ? 1u : 0u, side_b = s_ba < kOne ? 1u : 0u;
     const uint32_t i = sorted_[p], j = sorted_[q];
-    count_[i] = static_cast<uint16_t>(count_[i] + side_a);
+    count_a_ += side_a;
     count_[j] = static_cast<uint16_t>(count_[j] + side_b);
     const int32_t w_ab = poly6(static_cast<uint32_t>(side_a != 0 ? s_ab : kOne));
-    dens_[i] += w_ab;
+    dens_a_ += w_ab;
     dens_[j] += s_ba == s_ab ? w_ab : poly6(static_cast<uint32_t>(side_b != 0 ? s_ba : kOne));
     // Unconditional store, kept when a side is inside the kernel; past the
     // capacity the spare last entry takes it (and the substep falls back to
@@ -212,6 +220,8 @@ class PairSearch {
   uint32_t cap_;
   uint32_t np_ = 0;
   int64_t h_ = 0, inv_ = 0;
+  uint32_t count_a_ = 0;  // the scanning particle's neighbours and density terms so far
+  int64_t dens_a_ = 0;
 };
 
 // The per-particle scan of the 27 cells in cell then index order, cut at

@@ -59,15 +59,14 @@ void density_and_yield(SphState* st, bool tresca) {
 }
 
 // One side of a pair: the terms particle i takes from its neighbour j, with
-// (x_i - x_j) / h = d and q^2 = s (through the kernel factors spiky, visc).
+// (x_i - x_j) / h = d and kernel factors spiky, visc at its q^2, added to
+// sum[0..2] (pressure, Q24) and sum[3..5] (viscosity, Len per substep).
 struct PairTerms {
   const Dens* pressure;
   const fx::Unit* inv_density;
   const fx::Len* velocity[3];
-  int64_t* pressure_sum[3];
-  int64_t* viscosity_sum[3];
 
-  void add(uint32_t i, uint32_t j, int64_t psum, int64_t spiky, int64_t visc, const int64_t d[3],
+  void add(uint32_t i, uint32_t j, int64_t psum, int64_t spiky, int64_t visc, const int64_t d[3], int64_t sum[6],
            fx::Saturation& sat) const {
     // Pressure, symmetric form of Mueller 2003 eq. (10) with the spiky
     // gradient: (p_i + p_j) / (2 rho_j) (1 - q)^2 / q (r_ij / h).
@@ -77,8 +76,8 @@ struct PairTerms {
     // Viscosity, Mueller 2003 eq. (14): (v_j - v_i) / rho_j * laplacian.
     const int64_t lw = fx::round_shift(visc * inv_j, 30);  // Q30
     for (int a = 0; a < 3; ++a) {
-      pressure_sum[a][i] += fx::round_shift(tg * d[a], 30);
-      viscosity_sum[a][i] += fx::round_shift((int64_t{velocity[a][j]} - velocity[a][i]) * lw, 30);
+      sum[a] += fx::round_shift(tg * d[a], 30);
+      sum[3 + a] += fx::round_shift((int64_t{velocity[a][j]} - velocity[a][i]) * lw, 30);
     }
   }
 };
@@ -87,33 +86,47 @@ struct PairTerms {
 // scratch. Each pair's kernel factors are looked up once for both sides
 // (twice only where its sides' q^2 differ). The per-particle sums are int64
 // and never saturate (each term below 2^32, at most 96 per particle), so
-// their order is free: the same words as one list per particle.
+// their order is free: the same words as one list per particle. Pairs come
+// grouped by a (the search's order), so a's sums stay in registers until a
+// changes.
 void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturation& sat) {
   const SphModel& m = *st->model;
   const SphParams& pr = m.params;
   const uint32_t n = m.particle_count();
-  PairTerms terms{st->pressure.data(),
-                  st->inv_density.data(),
-                  {st->velocity[0].data(), st->velocity[1].data(), st->velocity[2].data()},
-                  {st->pressure_sum[0].data(), st->pressure_sum[1].data(), st->pressure_sum[2].data()},
-                  {st->viscosity_sum[0].data(), st->viscosity_sum[1].data(), st->viscosity_sum[2].data()}};
-  for (int a = 0; a < 3; ++a)
-    for (uint32_t i = 0; i < n; ++i) terms.pressure_sum[a][i] = terms.viscosity_sum[a][i] = 0;
+  const PairTerms terms{st->pressure.data(),
+                        st->inv_density.data(),
+                        {st->velocity[0].data(), st->velocity[1].data(), st->velocity[2].data()}};
+  int64_t* sums[6] = {st->pressure_sum[0].data(),  st->pressure_sum[1].data(),  st->pressure_sum[2].data(),
+                      st->viscosity_sum[0].data(), st->viscosity_sum[1].data(), st->viscosity_sum[2].data()};
+  for (int c = 0; c < 6; ++c)
+    for (uint32_t i = 0; i < n; ++i) sums[c][i] = 0;
   const SphPair* pairs = st->pairs.data();
+  uint32_t current = st->pair_count != 0 ? pairs[0].a : 0;
+  int64_t acc[6] = {0, 0, 0, 0, 0, 0};
   for (uint32_t k = 0; k < st->pair_count; ++k) {
     const SphPair& e = pairs[k];
+    if (e.a != current) {
+      for (int c = 0; c < 6; ++c) {
+        sums[c][current] += acc[c];
+        acc[c] = 0;
+      }
+      current = e.a;
+    }
     const int64_t psum = int64_t{terms.pressure[e.a]} + terms.pressure[e.b];
     const int64_t spiky_ab = spiky_factor(e.s_ab), visc_ab = viscosity_factor(e.s_ab);
     const int64_t d[3] = {e.d[0], e.d[1], e.d[2]};
-    if ((e.sides & 1u) != 0) terms.add(e.a, e.b, psum, spiky_ab, visc_ab, d, sat);
+    if ((e.sides & 1u) != 0) terms.add(e.a, e.b, psum, spiky_ab, visc_ab, d, acc, sat);
     if ((e.sides & 2u) != 0) {
       // b's side: each axis negated, one LSB up where it rounded on a half.
       const int64_t d_ba[3] = {-d[0] + (e.half & 1u), -d[1] + ((e.half >> 1) & 1u), -d[2] + ((e.half >> 2) & 1u)};
       const bool same = e.s_ba == e.s_ab;
+      int64_t b_sum[6] = {0, 0, 0, 0, 0, 0};
       terms.add(e.b, e.a, psum, same ? spiky_ab : spiky_factor(e.s_ba), same ? visc_ab : viscosity_factor(e.s_ba),
-                d_ba, sat);
+                d_ba, b_sum, sat);
+      for (int c = 0; c < 6; ++c) sums[c][e.b] += b_sum[c];
     }
   }
+  for (int c = 0; c < 6; ++c) sums[c][current] += acc[c];
   for (uint32_t i = 0; i < n; ++i) {
     const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
     // Load carried by the distal bone, applied as the rigid-body acceleration
@@ -125,11 +138,11 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
     const int32_t e[3] = {ext.x, ext.y, ext.z};
     for (int a = 0; a < 3; ++a) {
       // Pressure: Q24 (units of h) -> Len via gain (Q30) and h.
-      const int64_t p16 = fx::sat_i32(fx::round_shift(terms.pressure_sum[a][i], 8), sat);  // Q16
+      const int64_t p16 = fx::sat_i32(fx::round_shift(sums[a][i], 8), sat);  // Q16
       const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);                      // Q16
       const int64_t p_len = fx::round_shift(pg * pr.h, 16);
       const int64_t v_len =
-          fx::round_shift(fx::clamp_i64(terms.viscosity_sum[a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
+          fx::round_shift(fx::clamp_i64(sums[3 + a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
       // Elastic pull toward the skinned rest position (§4.1 tension).
       const int64_t pull = fx::round_shift((int64_t{st->ideal[a][i]} - x[a]) * pr.elastic_gain, 30);
       st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a], sat);
