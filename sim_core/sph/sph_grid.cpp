@@ -78,6 +78,13 @@ class PairSearch {
     const InvH ih = make_inv_h(st->model->params.h);
     h_ = ih.h;
     inv_ = ih.inv;
+    // Coarse offsets dx >> shift_ below 2^14 in magnitude inside the box;
+    // outside_ = h^2 (1 + 2^-10) >> 2 shift_, rounded up (see scan).
+    uint32_t bits = 0;
+    while (bits < 32 && (int64_t{1} << bits) <= ih.h) ++bits;  // h < 2^bits
+    shift_ = bits > 14 ? bits - 14 : 0;
+    const int64_t h2 = int64_t{ih.h} * ih.h;
+    outside_ = static_cast<uint32_t>(((h2 + (h2 >> 10) + 1) >> (2 * shift_)) + 1);
   }
 
   bool run() {
@@ -142,22 +149,39 @@ class PairSearch {
     return static_cast<int32_t>(v < INT32_MIN ? INT32_MIN : (v > INT32_MAX ? INT32_MAX : v));
   }
 
-  // Particle sorted[p] against sorted[from..to), by chunks: first the box
-  // test |x_a - x_b| < h on every axis as 32-bit compares against bounds
-  // clamped into the Len range (x_b in [x_a - h + 1, x_a + h - 1], the same
-  // test; a loop the compiler vectorises), the survivors compacted without
-  // branches, then the exact geometry of those.
+  // A lower bound of |dx| / 2^shift_ from the coarse offset e = dx >> shift_
+  // (a floor): e for e >= 0, -e - 1 = ~e below.
+  static uint32_t coarse(int32_t a, int32_t b, uint32_t shift) {
+    // Wrapping difference: the true dx wherever the box test holds.
+    const int32_t e = static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b)) >> shift;
+    return static_cast<uint32_t>(e ^ (e >> 31));
+  }
+
+  // Particle sorted[p] against sorted[from..to), by chunks: first two exact
+  // filters in 32-bit lanes (a loop the compiler vectorises), the survivors
+  // compacted without branches, then the exact geometry of those.
+  //   box:    |x_a - x_b| < h on every axis, as compares against bounds
+  //           clamped into the Len range (x_b in [x_a - h + 1, x_a + h - 1]);
+  //   sphere: sum of the coarse lower bounds squared (each < 2^14, so the
+  //           sum fits 32 bits) at least outside_ means |r_ab| >= h (1 +
+  //           2^-10), and then both sides' q^2 round to >= 1: the rounding
+  //           of pair_geometry moves q^2 by less than 2^-16.
   void scan(uint32_t p, uint32_t from, uint32_t to) {
     const int64_t h = h_;
-    const int32_t lo[3] = {clamp_len(x_[p] - h + 1), clamp_len(y_[p] - h + 1), clamp_len(z_[p] - h + 1)};
-    const int32_t hi[3] = {clamp_len(x_[p] + h - 1), clamp_len(y_[p] + h - 1), clamp_len(z_[p] + h - 1)};
+    const int32_t xa = x_[p], ya = y_[p], za = z_[p];
+    const int32_t lo[3] = {clamp_len(int64_t{xa} - h + 1), clamp_len(int64_t{ya} - h + 1), clamp_len(int64_t{za} - h + 1)};
+    const int32_t hi[3] = {clamp_len(int64_t{xa} + h - 1), clamp_len(int64_t{ya} + h - 1), clamp_len(int64_t{za} + h - 1)};
+    const uint32_t shift = shift_, outside = outside_;
     for (uint32_t base = from; base < to; base += kChunk) {
       const uint32_t len = to - base < kChunk ? to - base : kChunk;
       const fx::Len *xs = x_ + base, *ys = y_ + base, *zs = z_ + base;
       uint8_t inside[kChunk];
-      for (uint32_t k = 0; k < len; ++k)
-        inside[k] = static_cast<uint8_t>((xs[k] >= lo[0]) & (xs[k] <= hi[0]) & (ys[k] >= lo[1]) & (ys[k] <= hi[1]) &
-                                         (zs[k] >= lo[2]) & (zs[k] <= hi[2]));
+      for (uint32_t k = 0; k < len; ++k) {
+        const uint32_t box = (xs[k] >= lo[0]) & (xs[k] <= hi[0]) & (ys[k] >= lo[1]) & (ys[k] <= hi[1]) &
+                             (zs[k] >= lo[2]) & (zs[k] <= hi[2]);
+        const uint32_t cx = coarse(xa, xs[k], shift), cy = coarse(ya, ys[k], shift), cz = coarse(za, zs[k], shift);
+        inside[k] = static_cast<uint8_t>(box & (cx * cx + cy * cy + cz * cz < outside));
+      }
       uint8_t index[kChunk];
       uint32_t m = 0;
       for (uint32_t k = 0; k < len; ++k) {
@@ -220,6 +244,7 @@ class PairSearch {
   uint32_t cap_;
   uint32_t np_ = 0;
   int64_t h_ = 0, inv_ = 0;
+  uint32_t shift_ = 0, outside_ = 0;  // the coarse sphere test of scan
   uint32_t count_a_ = 0;  // the scanning particle's neighbours and density terms so far
   int64_t dens_a_ = 0;
 };
