@@ -65,6 +65,8 @@ void bin_and_sort(SphState* st, fx::Vec3 centre) {
 // when some particle has more than max_neighbours neighbours.
 class PairSearch {
  public:
+  static constexpr uint32_t kChunk = 64;
+
   explicit PairSearch(SphState* st)
       : st_(st),
         x_(st->sorted_position[0].data()),
@@ -143,7 +145,6 @@ class PairSearch {
   }
 
  private:
-  static constexpr uint32_t kChunk = 64;
 
   static int32_t clamp_len(int64_t v) {
     return static_cast<int32_t>(v < INT32_MIN ? INT32_MIN : (v > INT32_MAX ? INT32_MAX : v));
@@ -188,7 +189,14 @@ class PairSearch {
         index[m] = static_cast<uint8_t>(k);
         m += inside[k];
       }
-      for (uint32_t t = 0; t < m; ++t) exact(p, base + index[t]);
+      // Locals across the exact calls: stores through the pair and count
+      // pointers cannot alias them, so they stay in registers.
+      uint32_t np = np_, count_a = count_a_;
+      int64_t dens_a = dens_a_;
+      for (uint32_t t = 0; t < m; ++t) exact(p, base + index[t], np, count_a, dens_a);
+      np_ = np;
+      count_a_ = count_a;
+      dens_a_ = dens_a;
     }
   }
 
@@ -196,7 +204,7 @@ class PairSearch {
   // inside the box; b's side negates each rounded axis, plus one LSB where
   // the axis rounded on an exact half (round_shift rounds halves up):
   // round(-v) = -round(v) + [v on a half].
-  void exact(uint32_t p, uint32_t q) {
+  void exact(uint32_t p, uint32_t q, uint32_t& np, uint32_t& count_a, int64_t& dens_a) {
     const int64_t inv = inv_;
     const int64_t dx = int64_t{x_[p]} - x_[q], dy = int64_t{y_[p]} - y_[q], dz = int64_t{z_[p]} - z_[q];
     // |d| < h < 2^31 and inv < 2^50 / h + 1: the products stay below 2^50.
@@ -213,15 +221,15 @@ class PairSearch {
     constexpr int64_t kOne = int64_t{1} << 30;
     const uint32_t side_a = s_ab < kOne ? 1u : 0u, side_b = s_ba < kOne ? 1u : 0u;
     const uint32_t i = sorted_[p], j = sorted_[q];
-    count_a_ += side_a;
+    count_a += side_a;
     count_[j] = static_cast<uint16_t>(count_[j] + side_b);
     const int32_t w_ab = poly6(static_cast<uint32_t>(side_a != 0 ? s_ab : kOne));
-    dens_a_ += w_ab;
+    dens_a += w_ab;
     dens_[j] += s_ba == s_ab ? w_ab : poly6(static_cast<uint32_t>(side_b != 0 ? s_ba : kOne));
     // Unconditional store, kept when a side is inside the kernel; past the
     // capacity the spare last entry takes it (and the substep falls back to
     // the ordered lists).
-    SphPair& e = pairs_[np_ < cap_ ? np_ : cap_];
+    SphPair& e = pairs_[np < cap_ ? np : cap_];
     e.a = static_cast<uint16_t>(i);
     e.b = static_cast<uint16_t>(j);
     e.sides = static_cast<uint8_t>(side_a | (side_b << 1));
@@ -232,7 +240,7 @@ class PairSearch {
     e.d[0] = static_cast<int32_t>(nx);
     e.d[1] = static_cast<int32_t>(ny);
     e.d[2] = static_cast<int32_t>(nz);
-    np_ += (side_a | side_b);
+    np += (side_a | side_b);
   }
 
   SphState* st_;
