@@ -145,7 +145,6 @@ class PairSearch {
   }
 
  private:
-
   static int32_t clamp_len(int64_t v) {
     return static_cast<int32_t>(v < INT32_MIN ? INT32_MIN : (v > INT32_MAX ? INT32_MAX : v));
   }
@@ -170,8 +169,10 @@ class PairSearch {
   void scan(uint32_t p, uint32_t from, uint32_t to) {
     const int64_t h = h_;
     const int32_t xa = x_[p], ya = y_[p], za = z_[p];
-    const int32_t lo[3] = {clamp_len(int64_t{xa} - h + 1), clamp_len(int64_t{ya} - h + 1), clamp_len(int64_t{za} - h + 1)};
-    const int32_t hi[3] = {clamp_len(int64_t{xa} + h - 1), clamp_len(int64_t{ya} + h - 1), clamp_len(int64_t{za} + h - 1)};
+    const int32_t lo[3] = {clamp_len(int64_t{xa} - h + 1), clamp_len(int64_t{ya} - h + 1),
+                           clamp_len(int64_t{za} - h + 1)};
+    const int32_t hi[3] = {clamp_len(int64_t{xa} + h - 1), clamp_len(int64_t{ya} + h - 1),
+                           clamp_len(int64_t{za} + h - 1)};
     const uint32_t shift = shift_, outside = outside_;
     for (uint32_t base = from; base < to; base += kChunk) {
       const uint32_t len = to - base < kChunk ? to - base : kChunk;
@@ -253,7 +254,7 @@ class PairSearch {
   uint32_t np_ = 0;
   int64_t h_ = 0, inv_ = 0;
   uint32_t shift_ = 0, outside_ = 0;  // the coarse sphere test of scan
-  uint32_t count_a_ = 0;  // the scanning particle's neighbours and density terms so far
+  uint32_t count_a_ = 0;              // the scanning particle's neighbours and density terms so far
   int64_t dens_a_ = 0;
 };
 

@@ -62,11 +62,11 @@ void density_and_yield(SphState* st, bool tresca) {
 // d = (x_i - x_j) / h, dv = v_j - v_i, kernel factors spiky and visc at its
 // q^2 and inv_j = 1 / rho_j, added to sum[0..2] (pressure, Q24) and
 // sum[3..5] (viscosity, Len per substep).
-inline void add_side(int64_t psum, int64_t inv_j, int64_t spiky, int64_t visc, const int64_t d[3],
-                     const int64_t dv[3], int64_t sum[6], fx::Saturation& sat) {
+inline void add_side(int64_t psum, int64_t inv_j, int64_t spiky, int64_t visc, const int64_t d[3], const int64_t dv[3],
+                     int64_t sum[6], fx::Saturation& sat) {
   // Pressure, symmetric form of Mueller 2003 eq. (10) with the spiky
   // gradient: (p_i + p_j) / (2 rho_j) (1 - q)^2 / q (r_ij / h).
-  const int64_t t = fx::round_shift(psum * inv_j, 31);                 // Q24, halved
+  const int64_t t = fx::round_shift(psum * inv_j, 31);                  // Q24, halved
   const int64_t tg = fx::sat_i32(fx::round_shift(t * spiky, 24), sat);  // Q24
   // Viscosity, Mueller 2003 eq. (14): (v_j - v_i) / rho_j * laplacian.
   const int64_t lw = fx::round_shift(visc * inv_j, 30);  // Q30
@@ -141,7 +141,7 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
     for (int a = 0; a < 3; ++a) {
       // Pressure: Q24 (units of h) -> Len via gain (Q30) and h.
       const int64_t p16 = fx::sat_i32(fx::round_shift(sums[a][i], 8), sat);  // Q16
-      const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);                      // Q16
+      const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);        // Q16
       const int64_t p_len = fx::round_shift(pg * pr.h, 16);
       const int64_t v_len =
           fx::round_shift(fx::clamp_i64(sums[3 + a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);

@@ -121,8 +121,10 @@ fx::Mat34 scaled(int32_t lin, int32_t t) {
 // `rng`, comparing after init and after each step. Returns the number of
 // steps in which some list overflowed max_neighbours (the truncation path)
 // through `overflow_steps`.
+// Also counts, through `half_pairs`, the pairs whose sides were found by
+// the two-sided search with an axis rounded on an exact half.
 void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, int steps, uint64_t seed,
-              bool extreme_poses, uint32_t* overflow_steps, uint32_t* yielded) {
+              bool extreme_poses, uint32_t* overflow_steps, uint32_t* yielded, uint32_t* half_pairs = nullptr) {
   ASSERT_TRUE(sph::sph_validate(model, 0, 0).ok()) << sph::sph_validate(model, 0, 0).message;
   Pair p;
   p.arena.assign(sph::sph_state_bytes(model) / 8 + 1, 0);
@@ -154,6 +156,9 @@ void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, in
     ASSERT_EQ(a.ok(), b.ok());
     ASSERT_TRUE(equivalent_states(p.state, p.reference)) << "after step " << t;
     if (p.state.stats.neighbour_overflow != 0) ++*overflow_steps;
+    if (half_pairs != nullptr)
+      for (uint32_t k = 0; k < p.state.pair_count; ++k)
+        if (p.state.pairs[k].half != 0 && p.state.pairs[k].sides == 3) ++*half_pairs;
     if (t % 40 == 39) {  // also the reset path
       ASSERT_TRUE(sph::sph_reset(&p.state, pose).ok());
       ASSERT_TRUE(ref::ref_reset(&p.reference, pose).ok());
@@ -165,8 +170,8 @@ void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, in
 
 enum class Layout { kUniform, kClusters, kCellBorders };
 
-void make_joint(RandomJoint* j, uint32_t n, uint32_t skin, fx::Len h, fx::Len grid_radius, Layout layout,
-                uint64_t seed) {
+void make_joint(RandomJoint* j, uint32_t n, uint32_t skin, fx::Len h, fx::Len grid_radius, Layout layout, uint64_t seed,
+                uint32_t max_neighbours = 24) {
   sinew::determinism::SplitMix64 rng(seed);
   const int64_t span = grid_radius + 2 * int64_t{h};  // some particles fall outside the grid (clamped)
   const auto draw = [&](int a, uint32_t i) -> fx::Len {
@@ -197,7 +202,7 @@ void make_joint(RandomJoint* j, uint32_t n, uint32_t skin, fx::Len h, fx::Len gr
   p.h = h;
   p.grid_radius = grid_radius;
   p.substeps = 2;
-  p.max_neighbours = 24;
+  p.max_neighbours = max_neighbours;
   p.elastic_gain = fx::kUnitOne / 50;
   p.pressure_gain = fx::kUnitOne / 20;
   p.viscosity_gain = fx::kUnitOne / 10;
@@ -254,32 +259,39 @@ TEST(SphEquivalence, RandomTissuesMatchReference) {
     fx::Len h;
     fx::Len grid_radius;
     Layout layout;
+    uint32_t max_neighbours;
   };
   // 715827883 = 2^31 / 3 rounded: 2^50 / h rounds to 3 x 2^19, so every odd
   // offset lands on an exact half in pair_geometry's rounding (d_ji != -d_ij).
+  // Lists of 24 overflow in the dense cases (the ordered path), not in the
+  // sparse ones; 96 keeps most of the half-tie tissue on the two-sided path.
   const Case cases[] = {
-      {"uniform", 600, 1 << 20, 6 << 20, Layout::kUniform},
-      {"clusters", 400, 1 << 20, 4 << 20, Layout::kClusters},
-      {"cell borders", 500, 1 << 20, 5 << 20, Layout::kCellBorders},
-      {"half ties", 400, 715827883, 715827883, Layout::kUniform},
-      {"half ties on borders", 300, 715827883, 715827883, Layout::kCellBorders},
-      {"odd h", 500, 999983, 5 * 999983, Layout::kUniform},
-      {"odd h clusters", 300, 999983, 3 * 999983, Layout::kClusters},
+      {"uniform", 600, 1 << 20, 6 << 20, Layout::kUniform, 24},
+      {"clusters", 400, 1 << 20, 4 << 20, Layout::kClusters, 24},
+      {"cell borders", 500, 1 << 20, 5 << 20, Layout::kCellBorders, 24},
+      {"half ties", 300, 715827883, 715827883, Layout::kUniform, 96},
+      {"half ties, short lists", 400, 715827883, 715827883, Layout::kUniform, 24},
+      {"half ties on borders", 300, 715827883, 715827883, Layout::kCellBorders, 96},
+      {"half ties, clusters", 160, 715827883, 715827883, Layout::kClusters, 96},
+      {"odd h", 500, 999983, 5 * 999983, Layout::kUniform, 24},
+      {"odd h clusters", 300, 999983, 3 * 999983, Layout::kClusters, 24},
   };
-  uint32_t overflow_steps = 0, yielded_total = 0;
+  uint32_t overflow_steps = 0, yielded_total = 0, half_pairs = 0;
   for (uint64_t seed = 1; seed <= 2; ++seed)
     for (const Case& c : cases) {
       SCOPED_TRACE(std::string(c.name) + " seed " + std::to_string(seed));
       RandomJoint j;
-      make_joint(&j, c.n, 64, c.h, c.grid_radius, c.layout, seed * 7919 + c.n);
+      make_joint(&j, c.n, 64, c.h, c.grid_radius, c.layout, seed * 7919 + c.n, c.max_neighbours);
       uint32_t yielded = 0;
-      run_both(j.model, kIdentityRest, 60, seed, false, &overflow_steps, &yielded);
+      run_both(j.model, kIdentityRest, 60, seed, false, &overflow_steps, &yielded, &half_pairs);
       yielded_total += yielded;
       if (HasFatalFailure()) return;
     }
-  // The cases must exercise the truncation and the yield, or they prove less.
+  // The cases must exercise the truncation, the yield and the two-sided
+  // pairs with an exact half, or they prove less.
   EXPECT_GT(overflow_steps, 0u);
   EXPECT_GT(yielded_total, 0u);
+  EXPECT_GT(half_pairs, 0u);
 }
 
 TEST(SphEquivalence, ExtremesMatchReference) {

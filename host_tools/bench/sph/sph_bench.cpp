@@ -14,7 +14,6 @@
 // Times are the thread's CPU time (clock_gettime), steadier on a shared machine.
 //   sinew-bench-sph [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
-
 #include <time.h>
 
 #include <cstdio>
@@ -216,9 +215,8 @@ int main(int argc, char** argv) {
       "sph us/particle\n");
   for (const auto& [n, row] : rows())
     std::printf("  %9u  %8u  %7.1f  %10.1f  %8.1f  %8.3g  %11.3g  %8.1f  %7.1f  %9.1f%%  %15.4f\n", n, row.substeps,
-                row.sph_s * 1e6, row.ref_sph_s * 1e6, row.sph_s > 0 ? row.ref_sph_s / row.sph_s : 0.0,
-                row.pairs_per_s, row.ref_pairs_per_s, row.tick_s * 1e6, row.lbs_s * 1e6, row.tick_s / 1e-3 * 100.0,
-                row.sph_s * 1e6 / n);
+                row.sph_s * 1e6, row.ref_sph_s * 1e6, row.sph_s > 0 ? row.ref_sph_s / row.sph_s : 0.0, row.pairs_per_s,
+                row.ref_pairs_per_s, row.tick_s * 1e6, row.lbs_s * 1e6, row.tick_s / 1e-3 * 100.0, row.sph_s * 1e6 / n);
   const auto& all = rows();
   std::printf("\ntargets\n");
   double worst_pairs = 0;
