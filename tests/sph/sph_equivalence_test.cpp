@@ -12,6 +12,7 @@
 // and the extremes sph_validate accepts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <climits>
 #include <string>
 #include <vector>
@@ -173,7 +174,8 @@ enum class Layout { kUniform, kClusters, kCellBorders };
 void make_joint(RandomJoint* j, uint32_t n, uint32_t skin, fx::Len h, fx::Len grid_radius, Layout layout, uint64_t seed,
                 uint32_t max_neighbours = 24) {
   sinew::determinism::SplitMix64 rng(seed);
-  const int64_t span = grid_radius + 2 * int64_t{h};  // some particles fall outside the grid (clamped)
+  // Some particles fall outside the grid (clamped); the range stays in Len.
+  const int64_t span = std::min<int64_t>(grid_radius + 2 * int64_t{h}, INT32_MAX);
   const auto draw = [&](int a, uint32_t i) -> fx::Len {
     (void)a;
     switch (layout) {
@@ -210,7 +212,9 @@ void make_joint(RandomJoint* j, uint32_t n, uint32_t skin, fx::Len h, fx::Len gr
   p.load_gain = fx::kUnitOne / 4;
   p.tau_f = sph::kDensOne / 8;  // low: particles yield
   p.yield_count = n / 4 + 1;
-  j->model.joint = {0, 1, {0, 0, fx::kUnitOne}, {h, 4 * h, 0}};
+  // The load 4 h out along y (clamped into the Len range).
+  const fx::Len reach = static_cast<fx::Len>(std::min<int64_t>(4 * int64_t{h}, INT32_MAX));
+  j->model.joint = {0, 1, {0, 0, fx::kUnitOne}, {h, reach, 0}};
   for (int a = 0; a < 3; ++a) {
     j->model.rest_local[a] = j->local[a];
     j->model.rest_model[a] = j->local[a];
