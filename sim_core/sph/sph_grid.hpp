@@ -1,19 +1,28 @@
-// Neighbour search on a uniform grid of cell size h centred on the joint:
-// a counting sort by cell (stable, so particles keep index order within a
-// cell) then, per particle, the 27 surrounding cells in a fixed order. The
-// order of every list is a pure function of the positions: no hashing, no
-// pointers. Particles outside the grid are clamped into its border cells
-// (still exact: every candidate's distance is checked).
+// Neighbour search on a uniform grid of cell size h centred on the joint,
+// once per substep:
+//   1. the cell of every particle (clamped into the grid's border cells) and
+//      a counting sort by cell, stable, into CSR ranges (cell_start, sorted);
+//   2. a half stencil: each particle meets the later particles of its own
+//      x-row of three cells and the full x-rows (z, y+1), (z+1, y-1..y+1),
+//      five contiguous ranges of the sorted positions, so every pair of
+//      particles in neighbouring cells is examined once. Its geometry is
+//      computed once and gives both sides exactly (SphPair), and both
+//      particles' poly6 density sums take their term at once.
+// The result equals per-particle lists over the 27 neighbouring cells, in
+// cell then index order, cut at max_neighbours: integer sums are the same in
+// any order. Only when some list would overflow max_neighbours does the cut
+// depend on that order; that substep rebuilds the pairs from the ordered
+// per-particle scan (one side per pair) so the same neighbours are dropped.
 #pragma once
 
 #include "sph_state.hpp"
 
 namespace sinew::sph {
 
-// Builds state->neighbours for the current positions; fills stats.
+// Pairs, neighbour counts and density sums for the current positions; fills stats.
 void build_neighbours(SphState* state, fx::Vec3 centre);
 
-// Density (poly6, self included) of every particle from its neighbour list.
+// Density (poly6, self included) of every particle from the density sums.
 void compute_density(SphState* state);
 
 // Linear cell index of a position (clamped into the grid).

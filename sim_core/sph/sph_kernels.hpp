@@ -90,6 +90,22 @@ inline int32_t spiky_factor(uint32_t s) { return kernel_detail::lookup(kernel_de
 // (1 - q) in Q2.30.
 inline int32_t viscosity_factor(uint32_t s) { return kernel_detail::lookup(kernel_detail::kViscosity, s); }
 
+// Both factors at once (one table position): the same words as
+// spiky_factor(s) and viscosity_factor(s).
+inline void kernel_factors(uint32_t s, int32_t* spiky, int32_t* viscosity) {
+  using namespace kernel_detail;
+  const uint32_t i = s >> kStepShift;
+  if (i >= kTableSize - 1) {
+    *spiky = kSpiky[kTableSize - 1];
+    *viscosity = kViscosity[kTableSize - 1];
+    return;
+  }
+  const int64_t frac = s & ((uint32_t{1} << kStepShift) - 1);
+  const int64_t a = kSpiky[i], b = kSpiky[i + 1], c = kViscosity[i], d = kViscosity[i + 1];
+  *spiky = static_cast<int32_t>(a + fx::round_shift((b - a) * frac, kStepShift));
+  *viscosity = static_cast<int32_t>(c + fx::round_shift((d - c) * frac, kStepShift));
+}
+
 // Normalised offset (a - b) / h in Q2.30 and s = q^2 in Q2.30 for two
 // positions closer than h on every axis; false (and nothing written) when
 // they are not within the kernel. inv_h: 2^50 / h, rounded (see InvH).

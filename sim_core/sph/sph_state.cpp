@@ -34,8 +34,17 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   s->cell = c.take<uint32_t>(n);
   s->cell_start = c.take<uint32_t>(cells + 1);
   s->sorted = c.take<uint16_t>(n);
-  s->neighbours = c.take<Neighbour>(n * m.params.max_neighbours);
-  s->neighbour_count = c.take<uint8_t>(n);
+  for (int a = 0; a < 3; ++a) {
+    s->sorted_position[a] = c.take<fx::Len>(n);
+    s->pressure_sum[a] = c.take<int64_t>(n);
+    s->viscosity_sum[a] = c.take<int64_t>(n);
+  }
+  // Every stored pair gives at least one particle a neighbour, so n x
+  // max_neighbours bound them unless a list overflows; the extra entry takes
+  // the search's unconditional store (sph_grid.cpp).
+  s->pairs = c.take<SphPair>(n * m.params.max_neighbours + 1);
+  s->neighbour_count = c.take<uint16_t>(n);
+  s->density_sum = c.take<int64_t>(n);
   s->skin_particle = c.take<uint16_t>(sv * kMaxVertexNeighbours);
   s->skin_weight = c.take<int32_t>(sv * kMaxVertexNeighbours);
   s->skin_count = c.take<uint8_t>(sv);

@@ -12,10 +12,19 @@
 
 namespace sinew::sph {
 
-struct Neighbour {
-  uint16_t j;  // particle index
+// A pair of particles within the kernel from at least one side, found once
+// per substep by the half-stencil search (sph_grid.hpp); both particles' sums
+// take their side's term from it. The two sides differ only where an axis of
+// (x_a - x_b) / h rounds on an exact half: there d_ba = -d_ab + 1 LSB, and
+// s_ba may differ from s_ab (and one side may fall outside the kernel).
+struct SphPair {
+  uint16_t a, b;  // particle indices
+  uint8_t sides;  // bit 0: b is in a's neighbourhood (a takes a term), bit 1: a in b's
+  uint8_t half;   // bit k: axis k rounded on an exact half
   uint16_t reserved;
-  uint32_t s;  // q^2, Q2.30
+  uint32_t s_ab;  // q^2 seen from a, Q2.30
+  uint32_t s_ba;  // q^2 seen from b, Q2.30
+  int32_t d[3];   // (x_a - x_b) / h seen from a, Q2.30
 };
 
 struct SphStats {
@@ -49,14 +58,19 @@ struct SphState {
   std::span<Dens> rest_density;
   std::span<Dens> rho_min;
   std::span<Dens> rho_max;
-  std::span<fx::Unit> inv_density;  // 1 / rho, Q2.30 (rho >= 1)
-  std::span<uint32_t> cell;         // linear cell index per particle
-  std::span<uint32_t> cell_start;   // cells + 1
-  std::span<uint16_t> sorted;       // particle indices by cell, then index
-  std::span<Neighbour> neighbours;  // particle i: [i * max_neighbours, + count[i])
-  std::span<uint8_t> neighbour_count;
-  std::span<uint16_t> skin_particle;  // vertex k: [k * kMaxVertexNeighbours, + skin_count[k])
-  std::span<int32_t> skin_weight;     // poly6 at rest, Q2.30
+  std::span<fx::Unit> inv_density;        // 1 / rho, Q2.30 (rho >= 1)
+  std::span<uint32_t> cell;               // linear cell index per particle
+  std::span<uint32_t> cell_start;         // cells + 1
+  std::span<uint16_t> sorted;             // particle indices by cell, then index
+  std::span<fx::Len> sorted_position[3];  // position[sorted[k]]: the search reads contiguous ranges
+  std::span<SphPair> pairs;               // this substep's pairs, [0, pair_count); n * max_neighbours + 1
+  uint32_t pair_count = 0;
+  std::span<uint16_t> neighbour_count;  // per particle, this substep, before max_neighbours
+  std::span<int64_t> density_sum;       // sum of poly6 over the neighbourhood, Q30, self included
+  std::span<int64_t> pressure_sum[3];   // per-particle sums of the pair terms, Q24 (accelerations)
+  std::span<int64_t> viscosity_sum[3];  // Len per substep
+  std::span<uint16_t> skin_particle;    // vertex k: [k * kMaxVertexNeighbours, + skin_count[k])
+  std::span<int32_t> skin_weight;       // poly6 at rest, Q2.30
   std::span<uint8_t> skin_count;
   uint32_t grid_dim = 0;
   int64_t inertia_q12 = 0;       // sum over distal particles of |r_perp|^2, rig units^2, Q12

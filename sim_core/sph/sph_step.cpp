@@ -58,36 +58,79 @@ void density_and_yield(SphState* st, bool tresca) {
   }
 }
 
-// Per-substep velocity change (Len per substep) of every particle, into scratch.
+// One side of a pair: the terms particle i takes from its neighbour j, with
+// d = (x_i - x_j) / h, dv = v_j - v_i, kernel factors spiky and visc at its
+// q^2 and inv_j = 1 / rho_j, added to sum[0..2] (pressure, Q24) and
+// sum[3..5] (viscosity, Len per substep).
+inline void add_side(int64_t psum, int64_t inv_j, int64_t spiky, int64_t visc, const int64_t d[3], const int64_t dv[3],
+                     int64_t sum[6], fx::Saturation& sat) {
+  // Pressure, symmetric form of Mueller 2003 eq. (10) with the spiky
+  // gradient: (p_i + p_j) / (2 rho_j) (1 - q)^2 / q (r_ij / h).
+  const int64_t t = fx::round_shift(psum * inv_j, 31);                  // Q24, halved
+  const int64_t tg = fx::sat_i32(fx::round_shift(t * spiky, 24), sat);  // Q24
+  // Viscosity, Mueller 2003 eq. (14): (v_j - v_i) / rho_j * laplacian.
+  const int64_t lw = fx::round_shift(visc * inv_j, 30);  // Q30
+  for (int a = 0; a < 3; ++a) {
+    sum[a] += fx::round_shift(tg * d[a], 30);
+    sum[3 + a] += fx::round_shift(dv[a] * lw, 30);
+  }
+}
+
+// Per-substep velocity change (Len per substep) of every particle, into
+// scratch. Each pair's kernel factors and velocity difference are computed
+// once for both sides (the factors twice only where its sides' q^2
+// differ). The per-particle sums are int64 and never saturate (each term
+// below 2^32, at most 96 per particle), so their order is free: the same
+// words as one list per particle. Pairs come grouped by a (the search's
+// order), so a's sums stay in registers until a changes.
 void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturation& sat) {
   const SphModel& m = *st->model;
   const SphParams& pr = m.params;
-  const InvH ih = make_inv_h(pr.h);
-  for (uint32_t i = 0; i < m.particle_count(); ++i) {
-    const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
-    const int64_t vi[3] = {st->velocity[0][i], st->velocity[1][i], st->velocity[2][i]};
-    int64_t press[3] = {0, 0, 0};  // normalised units, Q8.24
-    int64_t visc[3] = {0, 0, 0};   // Len per substep
-    const Neighbour* list = &st->neighbours[size_t{i} * pr.max_neighbours];
-    for (uint32_t k = 0; k < st->neighbour_count[i]; ++k) {
-      const uint32_t j = list[k].j;
-      PairGeometry g;
-      if (!pair_geometry(xi, {st->position[0][j], st->position[1][j], st->position[2][j]}, ih, &g)) continue;
-      // Pressure, symmetric form of Mueller 2003 eq. (10) with the spiky
-      // gradient: (p_i + p_j) / (2 rho_j) (1 - q)^2 / q (r_ij / h).
-      const int64_t psum = int64_t{st->pressure[i]} + st->pressure[j];                  // Q24
-      const int64_t t = fx::round_shift(psum * st->inv_density[j], 31);                 // Q24, halved
-      const int64_t tg = fx::sat_i32(fx::round_shift(t * spiky_factor(g.s), 24), sat);  // Q24
-      press[0] += fx::round_shift(tg * g.d.x, 30);
-      press[1] += fx::round_shift(tg * g.d.y, 30);
-      press[2] += fx::round_shift(tg * g.d.z, 30);
-      // Viscosity, Mueller 2003 eq. (14): (v_j - v_i) / rho_j * laplacian.
-      const int64_t lw = fx::round_shift(int64_t{viscosity_factor(g.s)} * st->inv_density[j], 30);  // Q30
-      for (int a = 0; a < 3; ++a) {
-        const int64_t dv = int64_t{st->velocity[a][j]} - vi[a];
-        visc[a] += fx::round_shift(dv * lw, 30);
+  const uint32_t n = m.particle_count();
+  const Dens* pressure = st->pressure.data();
+  const fx::Unit* inv_density = st->inv_density.data();
+  const fx::Len* velocity[3] = {st->velocity[0].data(), st->velocity[1].data(), st->velocity[2].data()};
+  int64_t* sums[6] = {st->pressure_sum[0].data(),  st->pressure_sum[1].data(),  st->pressure_sum[2].data(),
+                      st->viscosity_sum[0].data(), st->viscosity_sum[1].data(), st->viscosity_sum[2].data()};
+  for (int c = 0; c < 6; ++c)
+    for (uint32_t i = 0; i < n; ++i) sums[c][i] = 0;
+  const SphPair* pairs = st->pairs.data();
+  // A local count: stores to the sums cannot then alias it, so it stays in a register.
+  fx::Saturation pair_sat;
+  uint32_t current = st->pair_count != 0 ? pairs[0].a : 0;
+  int64_t acc[6] = {0, 0, 0, 0, 0, 0};
+  for (uint32_t k = 0; k < st->pair_count; ++k) {
+    const SphPair& e = pairs[k];
+    const uint32_t a = e.a, b = e.b;
+    if (a != current) {
+      for (int c = 0; c < 6; ++c) {
+        sums[c][current] += acc[c];
+        acc[c] = 0;
       }
+      current = a;
     }
+    const int64_t psum = int64_t{pressure[a]} + pressure[b];
+    int32_t spiky_ab, visc_ab;
+    kernel_factors(e.s_ab, &spiky_ab, &visc_ab);
+    const int64_t d[3] = {e.d[0], e.d[1], e.d[2]};
+    const int64_t dv[3] = {int64_t{velocity[0][b]} - velocity[0][a], int64_t{velocity[1][b]} - velocity[1][a],
+                           int64_t{velocity[2][b]} - velocity[2][a]};
+    if ((e.sides & 1u) != 0) add_side(psum, inv_density[b], spiky_ab, visc_ab, d, dv, acc, pair_sat);
+    if ((e.sides & 2u) != 0) {
+      // b's side: each axis negated, one LSB up where it rounded on a half.
+      const int64_t d_ba[3] = {-d[0] + (e.half & 1u), -d[1] + ((e.half >> 1) & 1u), -d[2] + ((e.half >> 2) & 1u)};
+      const int64_t dv_ba[3] = {-dv[0], -dv[1], -dv[2]};
+      int32_t spiky_ba = spiky_ab, visc_ba = visc_ab;
+      if (e.s_ba != e.s_ab) kernel_factors(e.s_ba, &spiky_ba, &visc_ba);
+      int64_t b_sum[6] = {0, 0, 0, 0, 0, 0};
+      add_side(psum, inv_density[a], spiky_ba, visc_ba, d_ba, dv_ba, b_sum, pair_sat);
+      for (int c = 0; c < 6; ++c) sums[c][b] += b_sum[c];
+    }
+  }
+  for (int c = 0; c < 6; ++c) sums[c][current] += acc[c];
+  sat.events += pair_sat.events;
+  for (uint32_t i = 0; i < n; ++i) {
+    const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
     // Load carried by the distal bone, applied as the rigid-body acceleration
     // beta (axis x r) of each particle bound to it, unless it yielded.
     fx::Vec3 ext{0, 0, 0};
@@ -97,10 +140,11 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
     const int32_t e[3] = {ext.x, ext.y, ext.z};
     for (int a = 0; a < 3; ++a) {
       // Pressure: Q24 (units of h) -> Len via gain (Q30) and h.
-      const int64_t p16 = fx::sat_i32(fx::round_shift(press[a], 8), sat);  // Q16
-      const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);      // Q16
+      const int64_t p16 = fx::sat_i32(fx::round_shift(sums[a][i], 8), sat);  // Q16
+      const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);        // Q16
       const int64_t p_len = fx::round_shift(pg * pr.h, 16);
-      const int64_t v_len = fx::round_shift(fx::clamp_i64(visc[a], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
+      const int64_t v_len =
+          fx::round_shift(fx::clamp_i64(sums[3 + a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
       // Elastic pull toward the skinned rest position (§4.1 tension).
       const int64_t pull = fx::round_shift((int64_t{st->ideal[a][i]} - x[a]) * pr.elastic_gain, 30);
       st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a], sat);
