@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -70,6 +71,7 @@ TEST(BvhDrive, EveryRotationOrderMatchesAnIndependentComposition) {
   };
   std::array<int, 3> order{0, 1, 2};  // XYZ, then the 5 other permutations in lexicographic order
   int permutations = 0;
+  double largest_difference = 0;
   do {
     std::string channels, row;
     Mat3 m = drive_axis_matrix(0, 0);
@@ -94,10 +96,13 @@ TEST(BvhDrive, EveryRotationOrderMatchesAnIndependentComposition) {
     for (size_t k = 0; k < 4; ++k) {
       const double expected = drive_twist_of_matrix(m, axes[k]);
       EXPECT_NEAR(tracks.values[4 + k], expected, 1e-9) << "DOF " << k;
+      largest_difference = std::max(largest_difference, std::abs(tracks.values[4 + k] - expected));
     }
     ++permutations;
   } while (std::next_permutation(order.begin(), order.end()));
   EXPECT_EQ(permutations, 6);
+  std::printf("BVH rotation orders: 6 permutations x 4 DOFs, largest difference from the matrix composition %.3g deg\n",
+              largest_difference);
 }
 
 TEST(BvhDrive, ASingleAxisFlexionIsTheDofValue) {

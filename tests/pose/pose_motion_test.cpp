@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -93,6 +94,8 @@ TEST(PoseMotion, ARenamedBvhElbowFlexionIsTheElbowInput) {
   // 90 degrees is a quarter turn, 2^30 in the binary angle (2^32 per turn).
   const int64_t quarter = int64_t{1} << 30;
   EXPECT_LE(std::llabs(int64_t{inputs[kElbowInput]} - quarter), 1) << inputs[kElbowInput];
+  std::printf("BVH elbow 90 deg -> elbow input %d (2^30 = %lld)\n", inputs[kElbowInput],
+              static_cast<long long>(quarter));
   for (size_t i = 0; i < inputs.size(); ++i)
     if (i != kElbowInput) EXPECT_EQ(inputs[i], 0) << "input " << i << ": unmapped joints stay at rest";
 
