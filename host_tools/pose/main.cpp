@@ -2,6 +2,8 @@
 // sinew-pose MODEL.gltf|.glb --bind-pose --out FILE.csv
 // sinew-pose --spec SPEC.toml --animation N --time SECONDS --out FILE.csv
 //   (the spec's [rig] source is the model; its layer tables run too)
+// sinew-pose --spec SPEC.toml --motion TAKE.bvh|TRACKS.csv --time SECONDS --out FILE.csv
+//   (a motion file drives the rig's inputs; the source may be built in)
 // Samples a glTF animation (or takes the bind pose: every node at its default
 // transform) and writes the deformed vertex positions of every skinned
 // primitive (glTF document order, glTF vertex order, glTF units, skinned world
@@ -33,7 +35,7 @@ void append_positions(const std::vector<std::array<double, 3>>& positions, std::
 
 int run(int argc, char** argv) {
   CLI::App app{"sinew-pose: deformed vertex positions of a glTF skin, through the fixed-point pipeline"};
-  std::string model, out_path, spec;
+  std::string model, out_path, spec, motion_path;
   uint32_t tick_hz = 100;
   int animation = 0;
   bool bind_pose = false;
@@ -49,9 +51,15 @@ int run(int argc, char** argv) {
   auto* anim_opt = app.add_option("--animation", animation, "animation index (0-based)")->check(CLI::NonNegativeNumber);
   auto* time_opt =
       app.add_option("--time", times, "time in seconds (repeatable; clamped to the animation's range; finite)");
-  app.add_flag("--bind-pose", bind_pose, "write the bind pose (every node at its default transform), no animation")
+  auto* bind_opt =
+      app.add_flag("--bind-pose", bind_pose, "write the bind pose (every node at its default transform), no animation")
+          ->excludes(anim_opt)
+          ->excludes(time_opt);
+  app.add_option("--motion", motion_path,
+                 "with --spec: play a motion file instead of an animation: BVH (.bvh; joints by the rig's names or "
+                 "the spec's [motion.bvh_joints]) or CSV joint tracks (time, <joint>.<dof> in degrees)")
       ->excludes(anim_opt)
-      ->excludes(time_opt);
+      ->excludes(bind_opt);
   app.add_option("--out", out_path, "output CSV file")->required();
   CLI11_PARSE(app, argc, argv);
   if (!bind_pose && times.empty()) return fail("give --time SECONDS (repeatable) or --bind-pose");
@@ -59,9 +67,13 @@ int run(int argc, char** argv) {
     if (!std::isfinite(t)) return fail("--time " + std::to_string(t) + " is not a finite number of seconds");
 
   if (model.empty() && spec.empty()) return fail("give a MODEL.gltf|.glb or --spec SPEC.toml");
+  if (!motion_path.empty() && spec.empty()) return fail("--motion needs --spec SPEC.toml (the rig it drives)");
+  const bool with_motion = !motion_path.empty();
   sinew::rigc::GltfPoser poser;
   std::string error;
-  if (!(spec.empty() ? poser.open(model, &error) : poser.open_spec(spec, tick_hz, &error))) return fail(error);
+  if (!(spec.empty() ? poser.open(model, &error) : poser.open_spec(spec, tick_hz, &error, !with_motion)))
+    return fail(error);
+  if (with_motion && !poser.set_motion(motion_path, &error)) return fail(error);
   if (!spec.empty()) model = spec;
   const sinew::rigc::CompileReport& report = poser.report();
   if (report.length_exponent_clamped)
@@ -69,11 +81,14 @@ int run(int argc, char** argv) {
                  "sinew-pose: warning: the largest coordinate (%g) is outside what the rig unit can represent; "
                  "the unit was clamped to 2^%d and positions are saturated or coarse\n",
                  report.extent, report.length_exponent);
-  if (!bind_pose && poser.model().animations.empty())
+  if (!bind_pose && !with_motion && poser.model().animations.empty())
     return fail(model + " has no animations; use --bind-pose for its bind pose");
 
   // Every pose first, so that a failure leaves no partial CSV behind.
-  std::string csv = "# sinew-pose " + model + (bind_pose ? " bind pose" : " animation " + std::to_string(animation)) +
+  std::string csv = "# sinew-pose " + model +
+                    (bind_pose     ? " bind pose"
+                     : with_motion ? " motion " + motion_path
+                                   : " animation " + std::to_string(animation)) +
                     "\n# " + sinew::rigc::format_report(report) + "\n";
   for (const std::string& line : poser.layer_report()) csv += "# layer " + line + "\n";
   std::vector<std::array<double, 3>> positions;
@@ -83,7 +98,8 @@ int run(int argc, char** argv) {
     append_positions(positions, &csv);
   }
   for (double t : times) {
-    if (!poser.pose(animation, t, &positions, &error)) return fail(error);
+    if (!(with_motion ? poser.pose_motion(t, &positions, &error) : poser.pose(animation, t, &positions, &error)))
+      return fail(error);
     char head[96];
     std::snprintf(head, sizeof(head), "# time %g s, %zu vertices: x,y,z\n", t, positions.size());
     csv += head;

@@ -7,8 +7,11 @@
 #include <cstring>
 #include <filesystem>
 
+#include "builtin_rigs.hpp"
 #include "host_tools/layers/rig_layers.hpp"
+#include "motion_tracks.hpp"
 #include "quantize.hpp"
+#include "toml_motion.hpp"
 #include "toml_spec.hpp"
 
 namespace sinew::rigc {
@@ -34,7 +37,7 @@ bool GltfPoser::open(const std::string& path, std::string* error) {
   return true;
 }
 
-bool GltfPoser::open_spec(const std::string& spec_path, uint32_t tick_hz, std::string* error) {
+bool GltfPoser::open_spec(const std::string& spec_path, uint32_t tick_hz, std::string* error, bool need_animations) {
   if (tick_hz < 13 || tick_hz > 100000) return *error = "tick rate must be 13..100000 Hz", false;
   tick_hz_ = tick_hz;
   RigSpec spec;
@@ -46,17 +49,22 @@ bool GltfPoser::open_spec(const std::string& spec_path, uint32_t tick_hz, std::s
   } catch (const toml::parse_error& e) {
     return *error = spec_path + ": " + std::string(e.description()), false;
   }
-  if (source.rfind("builtin:", 0) == 0 || source.empty())
+  const bool builtin = source.rfind("builtin:", 0) == 0 || source.empty();
+  if (builtin && need_animations)
     return *error = spec_path + ": [rig] source must be a glTF model to pose its animations", false;
-  const std::string model = (std::filesystem::path(spec_path).parent_path() / source).string();
-  if (!import_gltf(model, &gltf_, error)) return false;
-  if (gltf_.joint_node.size() != spec.joints.size())
-    return *error = spec_path + ": internal: the spec's joints differ from the model's", false;
+  if (!builtin) {
+    const std::string model = (std::filesystem::path(spec_path).parent_path() / source).string();
+    if (!import_gltf(model, &gltf_, error)) return false;
+    if (gltf_.joint_node.size() != spec.joints.size())
+      return *error = spec_path + ": internal: the spec's joints differ from the model's", false;
+  }
+  if (!load_toml_motion(spec_path, spec, &bvh_joints_, error)) return false;
   std::vector<uint8_t> bytes;
   if (!layers::add_layer_dofs(&spec, layer_specs, &layer_report_, error) ||
       !compile_rig(spec, &bytes, &report_, error) ||
       !layers::compile_layers(spec, layer_specs, &bytes, &layer_report_, error))
     return *error = spec_path + ": " + *error, false;
+  spec_ = spec;
   blob_.assign(bytes.size() / 8 + 1, 0);
   std::memcpy(blob_.data(), bytes.data(), bytes.size());
   const auto* blob = reinterpret_cast<const uint8_t*>(blob_.data());
@@ -138,6 +146,63 @@ bool GltfPoser::pose(int animation, double time, std::vector<std::array<double, 
   positions->resize(n);
   for (uint32_t v = 0; v < n; ++v)
     for (int c = 0; c < 3; ++c) (*positions)[v][static_cast<size_t>(c)] = from_len(engine->vertices.position[c][v], e);
+  return true;
+}
+
+bool GltfPoser::set_motion(const std::string& path, std::string* error) {
+  if (!with_layers_) return *error = "a motion file needs a rig spec (--spec)", false;
+  if (!load_motion_tracks(path, spec_, bvh_joints_, &tracks_, error)) return false;
+  const std::vector<std::string> names = input_names(spec_);
+  track_of_input_.assign(names.size(), -1);
+  for (size_t i = 0; i < names.size(); ++i) {
+    const size_t dot = names[i].rfind('.');
+    if (const auto c = tracks_.find(names[i].substr(0, dot), names[i].substr(dot + 1)))
+      track_of_input_[i] = static_cast<int>(*c);
+  }
+  sim_animation_ = -2;
+  return true;
+}
+
+void GltfPoser::set_motion_inputs(double time) {
+  inputs_.assign(pipeline_.input_count, 0);  // external inputs (force sensors) read 0: a motion file has none
+  size_t i = 0;
+  for (const JointSpec& j : spec_.joints)
+    for (size_t d = 0; d < j.dofs.size(); ++d, ++i) {
+      if (track_of_input_[i] < 0) continue;
+      const double v = motion::sample_track(tracks_, static_cast<size_t>(track_of_input_[i]), time);
+      inputs_[i] = j.dof_kind == DofKind::kRotation ? to_angle(v) : to_len(v, report_.length_exponent);
+    }
+}
+
+bool GltfPoser::pose_motion(double time, std::vector<std::array<double, 3>>* positions, std::string* error) {
+  constexpr int kMotion = -3;  // sim_animation_ while a motion file is simulated
+  if (tracks_.times.empty()) return *error = "no motion file set", false;
+  if (!std::isfinite(time)) return *error = "the time must be finite", false;
+  const double start = tracks_.times.front(), end = tracks_.times.back();
+  const double target = std::clamp(time, start, end);
+  const double dt = 1.0 / tick_hz_;
+  auto tick = [&](double t) {
+    set_motion_inputs(t);
+    const pipeline::PipelineStatus st = pipeline::pipeline_step(&pipeline_, inputs_);
+    if (!st.ok()) *error = std::string("pipeline: ") + st.message;
+    return st.ok();
+  };
+  if (sim_animation_ != kMotion || target < sim_time_) {
+    if (!restart_pipeline(error)) return false;
+    sim_animation_ = kMotion;
+    sim_time_ = start;
+    if (!tick(start)) return false;
+  }
+  while (sim_time_ < target) {
+    sim_time_ = std::min(target, start + (std::floor((sim_time_ - start) * tick_hz_ + 1e-9) + 1) * dt);
+    if (!tick(sim_time_)) return false;
+  }
+  const int32_t e = report_.length_exponent;
+  const uint32_t n = rig_.vertex_count();
+  positions->resize(n);
+  for (uint32_t v = 0; v < n; ++v)
+    for (int c = 0; c < 3; ++c)
+      (*positions)[v][static_cast<size_t>(c)] = from_len(pipeline_.engine.vertices.position[c][v], e);
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gltf_import.hpp"
+#include "host_tools/motion/bvh_drive.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/pipeline/pipeline.hpp"
 
@@ -24,7 +25,19 @@ class GltfPoser {
   // The animation is then simulated tick by tick at tick_hz from its start
   // to each requested time (the layers are dynamic: a lone sample would be
   // one huge step); a time earlier than the last restarts from the start.
-  bool open_spec(const std::string& spec_path, uint32_t tick_hz, std::string* error);
+  // need_animations false (to play a motion file): [rig] source may also be
+  // a built-in rig.
+  bool open_spec(const std::string& spec_path, uint32_t tick_hz, std::string* error, bool need_animations = true);
+  // After open_spec: a motion file (BVH through the spec's
+  // [motion.bvh_joints], or CSV joint tracks; motion_tracks.hpp) to play
+  // instead of an animation. Its values become the rig's commanded inputs.
+  bool set_motion(const std::string& path, std::string* error);
+  const motion::JointTracks& motion_tracks() const { return tracks_; }
+  // Skinned positions at `time` seconds of the motion (clamped to its
+  // range), simulated tick by tick at tick_hz from its first sample, as pose().
+  bool pose_motion(double time, std::vector<std::array<double, 3>>* positions, std::string* error);
+  // The rig inputs of the last motion tick (binary angles or Q12.20 rig units).
+  const std::vector<int32_t>& motion_inputs() const { return inputs_; }
   // One line per compiled layer (empty without --spec).
   const std::vector<std::string>& layer_report() const { return layer_report_; }
   const pipeline::LayerSet& layers() const { return layers_; }
@@ -48,6 +61,12 @@ class GltfPoser {
   int sim_animation_ = -2;  // the animation simulated so far (-2: none)
   double sim_time_ = 0;     // its time at the last tick
   bool set_locals(int animation, double time, std::string* error);
+  void set_motion_inputs(double time);
+  RigSpec spec_;  // with the layers' DOFs: input order
+  std::vector<motion::BvhJointName> bvh_joints_;
+  motion::JointTracks tracks_;
+  std::vector<int> track_of_input_;  // -1: no track, the DOF stays at rest
+  std::vector<int32_t> inputs_;
   bool restart_pipeline(std::string* error);
   std::vector<std::string> layer_report_;
   std::vector<uint64_t> layer_arena_, pipeline_arena_;

@@ -1,11 +1,13 @@
 #include "toml_spec.hpp"
 
-#include <filesystem>
 #include <toml++/toml.h>
+
+#include <filesystem>
 
 #include "builtin_rigs.hpp"
 #include "gltf_import.hpp"
 #include "toml_layers.hpp"
+#include "toml_motion.hpp"
 
 namespace sinew::rigc {
 namespace {
@@ -50,7 +52,8 @@ bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* la
     return false;
   }
   for (const auto& [key, node] : t) {
-    static const char* const kTables[] = {"rig", "joint", "synergy", "sph", "metaballs", "muscle", "skin", "barnet", "external_input"};
+    static const char* const kTables[] = {"rig",  "joint",  "synergy",        "sph",   "metaballs", "muscle",
+                                          "skin", "barnet", "external_input", "motion"};
     bool known = false;
     for (const char* k : kTables) known |= key.str() == k;
     if (!known) return *error = where(path, &node, std::string(key.str())) + ": unknown table", false;
@@ -119,7 +122,9 @@ bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* la
       out->synergies.push_back(spec);
     }
   }
-  return read_toml_layers(path, t, layer_specs, error);
+  // The [motion] table is checked here too, so rigc refuses a bad one.
+  std::vector<motion::BvhJointName> bvh_joints;
+  return read_toml_motion(path, t, *out, &bvh_joints, error) && read_toml_layers(path, t, layer_specs, error);
 }
 
 }  // namespace sinew::rigc

@@ -14,6 +14,9 @@
 //   target = "wrist"
 //   dof = 0
 //   gain = 0.5
+//
+//   [motion.bvh_joints]           # motion files only (toml_motion.hpp)
+//   elbow = "RightForeArm"
 #pragma once
 
 #include <string>

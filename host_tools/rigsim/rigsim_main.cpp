@@ -1,11 +1,12 @@
 // rigsim: the simulated rig as its own process. Plays a motion (the built-in
-// swing, or CSV joint tracks in degrees) at the rig's send rate, as a real
-// rig would: default joint-stream frames on a SocketCAN interface (vcan0 or
+// swing, CSV joint tracks in degrees, or a BVH take mapped onto the rig's
+// joints) at the rig's send rate, as a real rig would: default joint-stream frames on a SocketCAN interface (vcan0 or
 // real), written to a candump log, and joint registers on a libmodbus TCP
 // server on loopback; with the same fault injection as the daemon's
 // simulated-rig source.
 //   rigsim --rig arm --can vcan0 --modbus-port 1502 --duration 10 \
 //          --fault corrupt:1.0:1.5 --fault drop:2:3:elbow.0
+//   rigsim --spec my_arm.toml --motion take.bvh --candump take.log
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -25,7 +26,13 @@
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/common/monotonic_clock.hpp"
 #include "hal/modbus/sim/modbus_feeder.hpp"
+#include "host_tools/layers/rig_layers.hpp"
+#include "host_tools/motion/bvh_drive.hpp"
 #include "host_tools/motion/csv_tracks.hpp"
+#include "host_tools/rigc/motion_tracks.hpp"
+#include "host_tools/rigc/quantize.hpp"
+#include "host_tools/rigc/toml_motion.hpp"
+#include "host_tools/rigc/toml_spec.hpp"
 
 namespace {
 
@@ -82,17 +89,61 @@ bool parse_fault(const std::string& text, const sinew::firmware::LoadedRig& rig,
   return true;
 }
 
+// Compiles a rig spec as rigc does and loads it as the daemon loads a blob;
+// also returns the spec's [motion.bvh_joints] table.
+bool load_spec_rig(const std::string& path, sinew::firmware::LoadedRig* rig,
+                   std::vector<sinew::motion::BvhJointName>* bvh_joints, std::string* error) {
+  using namespace sinew;
+  rigc::RigSpec spec;
+  layers::LayerSpecs layer_specs;
+  std::vector<std::string> report;
+  std::vector<uint8_t> bytes;
+  rigc::CompileReport compiled;
+  if (!rigc::load_toml_rig(path, &spec, &layer_specs, error) || !rigc::load_toml_motion(path, spec, bvh_joints, error))
+    return false;
+  if (!layers::add_layer_dofs(&spec, layer_specs, &report, error) ||
+      !rigc::compile_rig(spec, &bytes, &compiled, error) ||
+      !layers::compile_layers(spec, layer_specs, &bytes, &report, error))
+    return *error = path + ": " + *error, false;
+  return firmware::load_rig_bytes(hal::blob_from_bytes(bytes.data(), bytes.size()), path, rig, error);
+}
+
+// The loaded rig's joints as the BVH mapping sees them: names from the input
+// names ("<joint>.<dof>"), DOF axes from the joint records (Q2.30).
+std::vector<sinew::motion::RigJointDofs> loaded_joint_dofs(const sinew::firmware::LoadedRig& rig) {
+  using namespace sinew;
+  std::vector<motion::RigJointDofs> out;
+  for (const rig::JointRecord& j : rig.rig.joints) {
+    if (j.dof_count == 0) continue;  // nothing to drive
+    motion::RigJointDofs r;
+    const std::string& first = rig.input_names[j.first_input];
+    r.name = first.substr(0, first.rfind('.'));
+    r.rotation = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation);
+    for (uint32_t d = 0; d < j.dof_count; ++d)
+      r.axes.push_back({std::ldexp(j.dof_axis[d][0], -fx::kUnitFracBits),
+                        std::ldexp(j.dof_axis[d][1], -fx::kUnitFracBits),
+                        std::ldexp(j.dof_axis[d][2], -fx::kUnitFracBits)});
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace sinew;
   CLI::App app{"rigsim: the simulated rig (CAN joint stream, Modbus registers, faults)"};
-  std::string rig_name = "arm", can_interface, candump_path, csv_path;
+  std::string rig_name = "arm", spec_path, can_interface, candump_path, csv_path;
   std::vector<std::string> fault_texts;
   double period_ms = 10.0, duration_s = 10.0;
   int modbus_port = -1;
-  app.add_option("--rig", rig_name, "built-in rig: arm or hand");
-  app.add_option("--motion", csv_path, "CSV joint tracks (time, <joint>.<dof> columns in degrees); default: the swing");
+  auto* rig_opt = app.add_option("--rig", rig_name, "built-in rig: arm or hand");
+  app.add_option("--spec", spec_path,
+                 "rig spec (TOML) compiled as rigc does, instead of --rig; its [motion.bvh_joints] maps BVH joints")
+      ->excludes(rig_opt);
+  app.add_option("--motion", csv_path,
+                 "BVH take (.bvh: joints by the rig's names or the spec's [motion.bvh_joints]) or CSV joint tracks "
+                 "(time, <joint>.<dof> columns in degrees); default: the swing");
   app.add_option("--period-ms", period_ms, "send period per input")->check(CLI::Range(0.1, 10000.0));
   app.add_option("--duration", duration_s, "seconds; 0 = until Ctrl-C")->check(CLI::Range(0.0, 1e6));
   app.add_option("--can", can_interface, "send on this SocketCAN interface (e.g. vcan0)");
@@ -104,7 +155,11 @@ int main(int argc, char** argv) {
 
   firmware::LoadedRig rig;
   std::string error;
-  if (!firmware::load_rig(rig_name, "", &rig, &error)) return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  std::vector<motion::BvhJointName> bvh_joints;
+  if (!(spec_path.empty() ? firmware::load_rig(rig_name, "", &rig, &error)
+                          : load_spec_rig(spec_path, &rig, &bvh_joints, &error)))
+    return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+  if (!spec_path.empty()) rig_name = spec_path;
   std::vector<hal::sim::InputRange> ranges(rig.rig.input_count);
   std::vector<bool> rotation(rig.rig.input_count, true);
   for (const rig::JointRecord& j : rig.rig.joints)
@@ -115,8 +170,17 @@ int main(int argc, char** argv) {
   hal::sim::RigMotion motion(ranges);
   if (!csv_path.empty()) {
     motion::JointTracks tracks;
-    if (!motion::load_csv_tracks(csv_path, &tracks, &error))
+    // A BVH take gives a track for every DOF (unmapped joints at rest, 0) at
+    // every frame; the motion below interpolates them at each send time.
+    const bool bvh = rigc::is_bvh_path(csv_path);
+    if (bvh) {
+      motion::Bvh take;
+      if (!motion::load_bvh(csv_path, &take, &error)) return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+      if (!motion::bvh_to_joint_tracks(take, loaded_joint_dofs(rig), bvh_joints, &tracks, &error))
+        return std::fprintf(stderr, "rigsim: %s: %s\n", csv_path.c_str(), error.c_str()), 2;
+    } else if (!motion::load_csv_tracks(csv_path, &tracks, &error)) {
       return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
+    }
     std::vector<bool> has(ranges.size(), false);
     std::vector<int> column(ranges.size(), -1);
     for (size_t i = 0; i < ranges.size(); ++i) {
@@ -131,6 +195,10 @@ int main(int argc, char** argv) {
       times.push_back(static_cast<uint64_t>(std::llround(std::max(0.0, tracks.times[k]) * 1e9)));
       for (size_t i = 0; i < ranges.size(); ++i) {
         const double deg = column[i] < 0 ? 0 : tracks.values[k * tracks.tracks.size() + static_cast<size_t>(column[i])];
+        if (bvh && !rotation[i]) {  // BVH positions are in model units
+          values.push_back(rigc::to_len(deg, rig.rig.length_exponent));
+          continue;
+        }
         values.push_back(static_cast<int32_t>(static_cast<uint32_t>(
             static_cast<int64_t>(std::llround(std::remainder(deg, 360.0) / 360.0 * 4294967296.0)))));
       }
