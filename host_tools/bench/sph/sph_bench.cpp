@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/bench/common/bench_summary.hpp"
 #include "host_tools/layers/sph/sph_builder.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/rig_spec.hpp"
@@ -200,6 +201,38 @@ BENCHMARK(BM_SphTickReferenceV1)->Arg(500)->Arg(1000)->Arg(2000)->Arg(4000)->Arg
 
 const char* verdict(bool met) { return met ? "met" : "NOT met"; }
 
+// The bench table's rows: pairs per second and the 1000-particle step, each
+// beside the first implementation timed on the same state in this run.
+template <typename Rows>
+bool summarise(const Rows& all) {
+  namespace sb = sinew::bench;
+  bool ok = true;
+  const auto k1 = all.find(1000);
+  if (k1 == all.end() || k1->second.sph_s <= 0) return ok;
+  const Row& r = k1->second;
+  sb::SummaryRow pairs;
+  pairs.bench = "sph";
+  pairs.measure = "neighbour pairs per second, 1000 particles";
+  pairs.figure = r.pairs_per_s;
+  pairs.unit = "pairs/s";
+  pairs.baseline = "first implementation, same state";
+  pairs.baseline_figure = r.ref_pairs_per_s;
+  pairs.target = sb::figure_at_least(kPairsTarget);
+  pairs.target_source = "performance issue: >= 1e8 neighbour pairs per second";
+  ok = sb::summary_row(pairs) && ok;
+  sb::SummaryRow step;
+  step.bench = "sph";
+  step.measure = "sph_step, 1000 particles, " + std::to_string(r.substeps) + " substeps";
+  step.figure = r.sph_s * 1e6;
+  step.unit = "us";
+  step.baseline = "first implementation, same state";
+  step.baseline_figure = r.ref_sph_s * 1e6;
+  step.target = sb::figure_at_most(kTickShareTarget * 1000);
+  step.target_source = "performance issue: within 30 % of a 1 kHz tick";
+  ok = sb::summary_row(step) && ok;
+  return ok;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -239,5 +272,5 @@ int main(int argc, char** argv) {
                   growth, verdict(growth <= kLinearTarget));
     }
   }
-  return 0;
+  return summarise(all) ? 0 : 1;
 }
