@@ -16,32 +16,18 @@
 #include <cstdint>
 
 #include "sim_core/fixed/scalar.hpp"
+#include "sim_core/fixed/sqrt.hpp"
 
 namespace sinew::sph {
 
 namespace kernel_detail {
-
-constexpr uint64_t isqrt(uint64_t v) {
-  uint64_t root = 0, bit = uint64_t{1} << 62;
-  while (bit > v) bit >>= 2;
-  while (bit != 0) {
-    if (v >= root + bit) {
-      v -= root + bit;
-      root = (root >> 1) + bit;
-    } else {
-      root >>= 1;
-    }
-    bit >>= 2;
-  }
-  return root;
-}
 
 inline constexpr int kTableBits = 10;  // 1024 intervals over s in [0, 1]
 inline constexpr int kStepShift = 30 - kTableBits;
 inline constexpr size_t kTableSize = (size_t{1} << kTableBits) + 1;
 
 // q in Q30 for s in Q30.
-constexpr int64_t q_of(int64_t s) { return static_cast<int64_t>(isqrt(static_cast<uint64_t>(s) << 30)); }
+constexpr int64_t q_of(int64_t s) { return static_cast<int64_t>(fx::isqrt_u64(static_cast<uint64_t>(s) << 30)); }
 
 // (1 - q)^2 / q in Q24; below the first table step q is clamped to 1/32
 // (coincident particles have no direction anyway).
