@@ -258,6 +258,13 @@ class RatioReporter : public benchmark::ConsoleReporter {
       std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, vector, scalar / fl, vector / fl,
                   vector / scalar);
     }
+    for (int n : {1000, 10000, 100000}) {  // the other x86 kernel, where the CPU runs it
+      const double fl = rate("BM_FloatEigenLbs/" + std::to_string(n));
+      const double scalar = rate("BM_FixedLbsKernel/scalar/" + std::to_string(n));
+      const double avx512 = rate("BM_FixedLbsKernel/avx512/" + std::to_string(n));
+      if (fl > 0 && scalar > 0 && avx512 > 0)
+        std::printf("%10d avx512 LBS %.3g v/s: %.2fx float, %.2fx scalar\n", n, avx512, avx512 / fl, avx512 / scalar);
+    }
     const sinew::skin::DqsKernel dqs_in_use = sinew::skin::dqs_kernel_default();
     std::printf("\nfixed DQS kernel in use: %s; per kernel (same outputs, word for word):\n",
                 sinew::skin::dqs_kernel_name(dqs_in_use));
@@ -331,6 +338,7 @@ BENCHMARK_CAPTURE(BM_FixedLbsKernel, scalar, sinew::skin::LbsKernel::kScalar)->A
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, neon, sinew::skin::LbsKernel::kNeon)->Arg(1000)->Arg(10000)->Arg(100000);
 #else
 BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx2, sinew::skin::LbsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx512, sinew::skin::LbsKernel::kAvx512)->Arg(1000)->Arg(10000)->Arg(100000);
 #endif
 BENCHMARK_CAPTURE(BM_FixedDqsKernel, scalar, sinew::skin::DqsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedDqsKernel, avx2, sinew::skin::DqsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);

@@ -191,6 +191,12 @@ bool lbs_kernel_supported(LbsKernel kernel) {
 #else
       return false;
 #endif
+    case LbsKernel::kAvx512:
+#if defined(__x86_64__)
+      return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0;
+#else
+      return false;
+#endif
   }
   return false;
 }
@@ -212,6 +218,8 @@ const char* lbs_kernel_name(LbsKernel kernel) {
       return "avx2";
     case LbsKernel::kNeon:
       return "neon";
+    case LbsKernel::kAvx512:
+      return "avx512";
   }
   return "unknown";
 }
@@ -248,7 +256,9 @@ uint32_t skin_vertices(LbsKernel lbs, DqsKernel dqs, const rig::Rig& rig, std::s
   const bool dual_ready = !dual_palette.empty();
   uint32_t saturated = 0;
 #if defined(__x86_64__)
-  if (lbs == LbsKernel::kAvx2 && lbs_kernel_supported(LbsKernel::kAvx2)) {
+  if (lbs == LbsKernel::kAvx512 && lbs_kernel_supported(LbsKernel::kAvx512)) {
+    saturated = detail::skin_linear_avx512(rig, palette, dual_ready, first, count, out);
+  } else if (lbs == LbsKernel::kAvx2 && lbs_kernel_supported(LbsKernel::kAvx2)) {
     saturated = detail::skin_linear_avx2(rig, palette, dual_ready, first, count, out);
   } else {
     saturated = skin_linear_scalar(rig, palette, dual_ready, first, count, out);
@@ -280,7 +290,9 @@ uint32_t skin_vertices(LbsKernel lbs, DqsKernel dqs, const rig::Rig& rig, std::s
 uint32_t skin_vertices(LbsKernel kernel, const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out) {
-  const DqsKernel dqs = kernel == LbsKernel::kAvx2 ? DqsKernel::kAvx2 : DqsKernel::kScalar;
+  // Every AVX-512 CPU has AVX2: its DQS vertices take the AVX2 DQS kernel.
+  const DqsKernel dqs =
+      kernel == LbsKernel::kAvx2 || kernel == LbsKernel::kAvx512 ? DqsKernel::kAvx2 : DqsKernel::kScalar;
   return skin_vertices(kernel, dqs, rig, palette, dual_palette, first, count, out);
 }
 

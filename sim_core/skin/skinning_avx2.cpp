@@ -87,24 +87,8 @@ inline void normalize_fast_x4(__m256i x, __m256i y, __m256i z, __m256i out[3]) {
 }
 
 void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {
-  uint32_t j = 0;
-  for (; j + 4 <= pending->count; j += 4) {
-    __m256i unit[3];
-    normalize_fast_x4(load4_epi64(pending->c[0] + j), load4_epi64(pending->c[1] + j), load4_epi64(pending->c[2] + j),
-                      unit);
-    for (int c = 0; c < 3; ++c) {
-      int64_t w[4];
-      lanes(unit[c], w);
-      for (uint32_t l = 0; l < 4; ++l) out.normal[c][pending->index[j + l]] = static_cast<int32_t>(w[l]);
-    }
-  }
-  for (; j < pending->count; ++j) {  // tail: fewer than 4 left, the scalar function
-    fx::Vec3 unit;
-    fx::normalize_fast({pending->c[0][j], pending->c[1][j], pending->c[2][j]}, &unit);
-    out.normal[0][pending->index[j]] = unit.x;
-    out.normal[1][pending->index[j]] = unit.y;
-    out.normal[2][pending->index[j]] = unit.z;
-  }
+  const int32_t* const c[3] = {pending->c[0], pending->c[1], pending->c[2]};
+  renormalise_normals_avx2(c, pending->index, pending->count, out);
   pending->count = 0;
 }
 
@@ -198,6 +182,27 @@ uint32_t run_scalar(const Job& job, uint32_t first, uint32_t count) {
 }
 
 }  // namespace
+
+void renormalise_normals_avx2(const int32_t* const c[3], const uint32_t* index, uint32_t count,
+                              const SkinnedVertices& out) {
+  uint32_t j = 0;
+  for (; j + 4 <= count; j += 4) {
+    __m256i unit[3];
+    normalize_fast_x4(load4_epi64(c[0] + j), load4_epi64(c[1] + j), load4_epi64(c[2] + j), unit);
+    for (int a = 0; a < 3; ++a) {
+      int64_t w[4];
+      lanes(unit[a], w);
+      for (uint32_t l = 0; l < 4; ++l) out.normal[a][index[j + l]] = static_cast<int32_t>(w[l]);
+    }
+  }
+  for (; j < count; ++j) {  // tail: fewer than 4 left, the scalar function
+    fx::Vec3 unit;
+    fx::normalize_fast({c[0][j], c[1][j], c[2][j]}, &unit);
+    out.normal[0][index[j]] = unit.x;
+    out.normal[1][index[j]] = unit.y;
+    out.normal[2][index[j]] = unit.z;
+  }
+}
 
 uint32_t skin_linear_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
                           uint32_t count, const SkinnedVertices& out) {

@@ -129,14 +129,22 @@ void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
   r->rig.any_dual_quaternion = c.dual;
 }
 
-// The vector kernel this target builds: NEON on aarch64, else AVX2 (which
-// SetUp skips where the CPU lacks it).
+// The vector kernels this target builds: NEON on aarch64, else AVX2 and
+// AVX-512 (each compared where the CPU has it; SetUp skips where none runs).
 constexpr LbsKernel kVectorKernel =
 #if defined(__aarch64__)
     LbsKernel::kNeon;
 #else
     LbsKernel::kAvx2;
 #endif
+constexpr LbsKernel kVectorKernels[] = {
+#if defined(__aarch64__)
+    LbsKernel::kNeon,
+#else
+    LbsKernel::kAvx2,
+    LbsKernel::kAvx512,
+#endif
+};
 
 struct KernelOutput {
   std::vector<int32_t> position[3], normal[3];
@@ -161,12 +169,16 @@ KernelOutput kernel_run(LbsKernel kernel, const KernelRig& r, bool dual, bool no
 // Runs both kernels on [first, first + count) of a built rig and compares every word.
 void kernel_expect_identical_rig(const KernelRig& r, bool dual, bool normals, uint32_t first, uint32_t count) {
   const KernelOutput want = kernel_run(LbsKernel::kScalar, r, dual, normals, first, count);
-  const KernelOutput got = kernel_run(kVectorKernel, r, dual, normals, first, count);
-  EXPECT_EQ(got.saturated, want.saturated);
-  for (int i = 0; i < 3; ++i) {
-    for (uint32_t v = 0; v < count; ++v) {
-      ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
-      ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
+  for (const LbsKernel kernel : kVectorKernels) {
+    if (!sinew::skin::lbs_kernel_supported(kernel)) continue;
+    SCOPED_TRACE(sinew::skin::lbs_kernel_name(kernel));
+    const KernelOutput got = kernel_run(kernel, r, dual, normals, first, count);
+    EXPECT_EQ(got.saturated, want.saturated);
+    for (int i = 0; i < 3; ++i) {
+      for (uint32_t v = 0; v < count; ++v) {
+        ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
+        ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
+      }
     }
   }
 }
