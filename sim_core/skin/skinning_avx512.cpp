@@ -164,26 +164,9 @@ uint32_t skin_linear_avx512(const rig::Rig& rig, std::span<const fx::Mat34> pale
   const Job512 job{&rig, palette, wide, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
   if (palette.size() > kMaxWidePalette512) return run_scalar_512(job, first, count);
   for (size_t j = 0; j < palette.size(); ++j) wide[j] = widen512(palette[j]);
-  switch (rig.influences_per_vertex) {
-    case 1:
-      return run_512<1>(job, first, count);
-    case 2:
-      return run_512<2>(job, first, count);
-    case 3:
-      return run_512<3>(job, first, count);
-    case 4:
-      return run_512<4>(job, first, count);
-    case 5:
-      return run_512<5>(job, first, count);
-    case 6:
-      return run_512<6>(job, first, count);
-    case 7:
-      return run_512<7>(job, first, count);
-    case 8:
-      return run_512<8>(job, first, count);
-    default:
-      return run_scalar_512(job, first, count);
-  }
+  return dispatch_influences(
+      rig.influences_per_vertex, [&]<uint32_t K>() { return run_512<K>(job, first, count); },
+      [&] { return run_scalar_512(job, first, count); });
 }
 
 }  // namespace sinew::skin::detail

@@ -38,6 +38,32 @@ inline uint32_t skip_dual_run(const rig::Rig& rig, uint32_t first, uint32_t i, u
   return i;
 }
 
+// The vector kernels are compiled per influence count K: runs
+// kernel.template operator()<K>() for k in 1..8, fallback() for any other k.
+template <typename Kernel, typename Fallback>
+inline auto dispatch_influences(uint32_t k, Kernel&& kernel, Fallback&& fallback) {
+  switch (k) {
+    case 1:
+      return kernel.template operator()<1>();
+    case 2:
+      return kernel.template operator()<2>();
+    case 3:
+      return kernel.template operator()<3>();
+    case 4:
+      return kernel.template operator()<4>();
+    case 5:
+      return kernel.template operator()<5>();
+    case 6:
+      return kernel.template operator()<6>();
+    case 7:
+      return kernel.template operator()<7>();
+    case 8:
+      return kernel.template operator()<8>();
+    default:
+      return fallback();
+  }
+}
+
 // One LBS vertex v written at out[index]; adds clamped linear entries to *saturated.
 void skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v, const SkinnedVertices& out,
                         uint32_t index, uint32_t* saturated);

@@ -371,26 +371,9 @@ void skin_dual_avx2(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uin
   // The plain hemisphere dot needs a near-unit palette: checked once per call.
   if (!dual_palette_near_unit(dual)) return skin_dual_scalar(rig, dual, first, count, out);
   const DualJob job{&rig, dual, &out, first, !out.normal[0].empty() && !rig.normal[0].empty()};
-  switch (rig.influences_per_vertex) {
-    case 1:
-      return run_dual<1>(job, count);
-    case 2:
-      return run_dual<2>(job, count);
-    case 3:
-      return run_dual<3>(job, count);
-    case 4:
-      return run_dual<4>(job, count);
-    case 5:
-      return run_dual<5>(job, count);
-    case 6:
-      return run_dual<6>(job, count);
-    case 7:
-      return run_dual<7>(job, count);
-    case 8:
-      return run_dual<8>(job, count);
-    default:
-      return skin_dual_scalar(rig, dual, first, count, out);
-  }
+  return dispatch_influences(
+      rig.influences_per_vertex, [&]<uint32_t K>() { return run_dual<K>(job, count); },
+      [&] { return skin_dual_scalar(rig, dual, first, count, out); });
 }
 
 }  // namespace sinew::skin::detail

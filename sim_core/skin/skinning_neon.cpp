@@ -241,26 +241,9 @@ uint32_t run_scalar(const Job& job, uint32_t first, uint32_t count) {
 uint32_t skin_linear_neon(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
                           uint32_t count, const SkinnedVertices& out) {
   const Job job{&rig, palette, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
-  switch (rig.influences_per_vertex) {
-    case 1:
-      return run<1>(job, first, count);
-    case 2:
-      return run<2>(job, first, count);
-    case 3:
-      return run<3>(job, first, count);
-    case 4:
-      return run<4>(job, first, count);
-    case 5:
-      return run<5>(job, first, count);
-    case 6:
-      return run<6>(job, first, count);
-    case 7:
-      return run<7>(job, first, count);
-    case 8:
-      return run<8>(job, first, count);
-    default:
-      return run_scalar(job, first, count);
-  }
+  return dispatch_influences(
+      rig.influences_per_vertex, [&]<uint32_t K>() { return run<K>(job, first, count); },
+      [&] { return run_scalar(job, first, count); });
 }
 
 }  // namespace sinew::skin::detail
