@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sim_core/skin/skinning.hpp"
+#include "tests/skin/adversarial_skin_rig.hpp"
 
 namespace {
 
@@ -24,35 +25,23 @@ namespace rig = sinew::rig;
 constexpr int32_t kDqsOne = int32_t{1} << 30;
 constexpr int32_t kDqsNearUnitLimit = (1 << 30) + (1 << 28);  // skinning_detail.hpp's bound
 
-// How a generated rig stresses the kernel.
+// How a generated rig stresses the kernel: its palette here, its vertices in
+// adversarial_skin_rig.hpp.
 struct DqsCase {
   uint32_t k = 4;
   uint32_t vertices = 200;
   uint32_t palette = 24;
   int real_mode = 0;      // 0 random unit, 1 at the limits, 2 one entry beyond the bound, 3 antipodal pairs
   int dual_mode = 0;      // 0 rig-sized translations, 1 int32 extremes
-  int weight_mode = 0;    // 0 convex, 1 zeros and one-hots, 2 signed (sum |w| <= 2^31), 3 one extreme weight
-  int position_mode = 0;  // 0 rig-sized, 1 full int32 and extremes
-  int normal_mode = 0;    // 0 random, 1 zero and huge, 2 no normals
+  int weight_mode = 0;    // see VertexStress
+  int position_mode = 0;  // see VertexStress
+  int normal_mode = 0;    // see VertexStress (2: no normals)
   bool mixed = false;     // some vertices LBS
 };
 
-struct DqsRig {
-  std::vector<int32_t> position[3], normal[3], weight;
-  std::vector<uint16_t> joint;
-  std::vector<uint8_t> method;
-  std::vector<fx::Mat34> palette;
-  std::vector<fx::DualQuat> dual;
-  rig::Rig rig;
-};
-
-int32_t dqs_pick(std::mt19937_64& rng, std::initializer_list<int32_t> values) {
-  return values.begin()[rng() % values.size()];
-}
-
-int32_t dqs_uniform(std::mt19937_64& rng, int64_t lo, int64_t hi) {
-  return static_cast<int32_t>(std::uniform_int_distribution<int64_t>(lo, hi)(rng));
-}
+using DqsRig = sinew_skin_test::AdversarialRig;
+using sinew_skin_test::stress_pick;
+using sinew_skin_test::stress_uniform;
 
 fx::Quat dqs_random_unit(std::mt19937_64& rng) {
   std::normal_distribution<double> g;
@@ -77,7 +66,7 @@ fx::Quat dqs_real(const DqsCase& c, uint32_t j, std::mt19937_64& rng, const std:
       const int32_t l = kDqsNearUnitLimit;
       fx::Quat q{};
       int32_t* comp[4] = {&q.w, &q.x, &q.y, &q.z};
-      for (int32_t* x : comp) *x = dqs_pick(rng, {l, -l, kDqsOne, -kDqsOne, 0, 1, -1, kDqsOne / 2});
+      for (int32_t* x : comp) *x = stress_pick(rng, {l, -l, kDqsOne, -kDqsOne, 0, 1, -1, kDqsOne / 2});
       return q;
     }
     case 2:
@@ -89,7 +78,7 @@ fx::Quat dqs_real(const DqsCase& c, uint32_t j, std::mt19937_64& rng, const std:
       // hemisphere tests of both signs and of zero.
       if (j % 2 == 1 && !so_far.empty()) {
         fx::Quat q = dqs_negated(so_far.back().real);
-        if (rng() % 2 == 0) q.w += dqs_uniform(rng, -3, 3);
+        if (rng() % 2 == 0) q.w += stress_uniform(rng, -3, 3);
         return q;
       }
       if (rng() % 4 == 0) return {0, kDqsOne, 0, 0};
@@ -106,55 +95,22 @@ void dqs_make_rig(const DqsCase& c, uint64_t seed, DqsRig* r) {
     d.real = dqs_real(c, j, rng, r->dual);
     int32_t* dual[4] = {&d.dual.w, &d.dual.x, &d.dual.y, &d.dual.z};
     for (int32_t* x : dual)
-      *x = c.dual_mode == 0 ? dqs_uniform(rng, -(1 << 24), 1 << 24)
-                            : dqs_pick(rng, {INT32_MAX, INT32_MIN, INT32_MIN + 1, 0, 1 << 30, -(1 << 30)});
+      *x = c.dual_mode == 0 ? stress_uniform(rng, -(1 << 24), 1 << 24)
+                            : stress_pick(rng, {INT32_MAX, INT32_MIN, INT32_MIN + 1, 0, 1 << 30, -(1 << 30)});
     r->dual.push_back(d);
     r->palette.push_back(fx::Mat34{{{1 << 24, 0, 0}, {0, 1 << 24, 0}, {0, 0, 1 << 24}}, {0, 0, 0}});
   }
-  for (uint32_t v = 0; v < c.vertices; ++v) {
-    for (int i = 0; i < 3; ++i) {
-      r->position[i].push_back(c.position_mode == 0 ? dqs_uniform(rng, -(1 << 22), 1 << 22)
-                               : rng() % 2          ? dqs_pick(rng, {INT32_MIN, INT32_MAX, INT32_MIN + 1, 0, -1})
-                                                    : dqs_uniform(rng, INT32_MIN, INT32_MAX));
-      if (c.normal_mode == 0) r->normal[i].push_back(dqs_uniform(rng, -(1 << 30), 1 << 30));
-      if (c.normal_mode == 1) r->normal[i].push_back(dqs_pick(rng, {INT32_MIN, INT32_MAX, 0, 1, -1, 1 << 30}));
-    }
-    if (c.normal_mode == 1 && v % 5 == 0)
-      for (int i = 0; i < 3; ++i) r->normal[i].back() = 0;  // zero normal
-    r->method.push_back(
-        static_cast<uint8_t>(c.mixed && rng() % 3 == 0 ? rig::SkinMethod::kLinear : rig::SkinMethod::kDualQuaternion));
-    int64_t left = kDqsOne;
-    const uint32_t hot = static_cast<uint32_t>(rng() % c.k);
-    for (uint32_t k = 0; k < c.k; ++k) {
-      r->joint.push_back(static_cast<uint16_t>(rng() % c.palette));
-      int32_t w = 0;
-      switch (c.weight_mode) {
-        case 0:
-          w = static_cast<int32_t>(k + 1 == c.k ? left : dqs_uniform(rng, 0, left));
-          left -= w;
-          break;
-        case 1:
-          w = rng() % 4 == 0 ? 0 : (k == hot ? kDqsOne : 0);
-          break;
-        case 2:
-          w = dqs_uniform(rng, -(int64_t{1} << 31) / 8, (int64_t{1} << 31) / 8);
-          break;
-        default:
-          w = k == hot ? dqs_pick(rng, {INT32_MAX, INT32_MIN, -kDqsOne, kDqsOne}) : 0;
-          break;
-      }
-      r->weight.push_back(w);
-    }
-  }
-  r->rig.influences_per_vertex = c.k;
-  for (int i = 0; i < 3; ++i) {
-    r->rig.position[i] = r->position[i];
-    r->rig.normal[i] = r->normal[i];
-  }
-  r->rig.influence_palette = r->joint;
-  r->rig.influence_weight = r->weight;
-  r->rig.method = r->method;
-  r->rig.any_dual_quaternion = true;
+  sinew_skin_test::VertexStress stress;
+  stress.k = c.k;
+  stress.vertices = c.vertices;
+  stress.weight_mode = c.weight_mode;
+  stress.position_mode = c.position_mode;
+  stress.normal_mode = c.normal_mode;
+  stress.method = static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
+  stress.other_method = static_cast<uint8_t>(rig::SkinMethod::kLinear);
+  stress.mixed = c.mixed;
+  stress.extreme_weights = {INT32_MAX, INT32_MIN, -kDqsOne, kDqsOne};
+  sinew_skin_test::add_stress_vertices(stress, c.palette, true, rng, r);
 }
 
 struct DqsOutput {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sim_core/skin/skinning.hpp"
+#include "tests/skin/adversarial_skin_rig.hpp"
 
 namespace {
 
@@ -20,34 +21,22 @@ using sinew::skin::LbsKernel;
 namespace fx = sinew::fx;
 namespace rig = sinew::rig;
 
-// How a generated rig stresses the kernel.
+// How a generated rig stresses the kernel: its palette here, its vertices in
+// adversarial_skin_rig.hpp.
 struct KernelCase {
   uint32_t k = 4;
   uint32_t vertices = 1000;
   uint32_t palette = 32;
   int linear_mode = 0;    // 0 random within +-64, 1 at the limits, 2 beyond +-64 (clamps), 3 rotations
-  int weight_mode = 0;    // 0 convex, 1 zeros and one-hots, 2 signed (sum |w| <= 2^31), 3 huge single weight
-  int position_mode = 0;  // 0 rig-sized, 1 full int32 and extremes
-  int normal_mode = 0;    // 0 random, 1 zero and huge, 2 no normals
+  int weight_mode = 0;    // see VertexStress
+  int position_mode = 0;  // see VertexStress
+  int normal_mode = 0;    // see VertexStress (2: no normals)
   bool dual = false;      // some vertices DQS
 };
 
-struct KernelRig {
-  std::vector<int32_t> position[3], normal[3], weight;
-  std::vector<uint16_t> joint;
-  std::vector<uint8_t> method;
-  std::vector<fx::Mat34> palette;
-  std::vector<fx::DualQuat> dual;
-  rig::Rig rig;
-};
-
-int32_t kernel_pick(std::mt19937_64& rng, std::initializer_list<int32_t> values) {
-  return values.begin()[rng() % values.size()];
-}
-
-int32_t kernel_uniform(std::mt19937_64& rng, int64_t lo, int64_t hi) {
-  return static_cast<int32_t>(std::uniform_int_distribution<int64_t>(lo, hi)(rng));
-}
+using KernelRig = sinew_skin_test::AdversarialRig;
+using sinew_skin_test::stress_pick;
+using sinew_skin_test::stress_uniform;
 
 void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
   std::mt19937_64 rng(seed);
@@ -58,75 +47,41 @@ void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
       for (int e = 0; e < 3; ++e) {
         switch (c.linear_mode) {
           case 0:
-            m.m[i][e] = kernel_uniform(rng, -kL, kL);
+            m.m[i][e] = stress_uniform(rng, -kL, kL);
             break;
           case 1:
-            m.m[i][e] = kernel_pick(rng, {-(1 << 30), 1 << 30, (1 << 30) - 1, -(1 << 30) + 1, 0});
+            m.m[i][e] = stress_pick(rng, {-(1 << 30), 1 << 30, (1 << 30) - 1, -(1 << 30) + 1, 0});
             break;
           case 2:
-            m.m[i][e] = kernel_pick(rng, {INT32_MIN, INT32_MAX, 1 << 30, -(1 << 30), (1 << 30) + 1, 7});
+            m.m[i][e] = stress_pick(rng, {INT32_MIN, INT32_MAX, 1 << 30, -(1 << 30), (1 << 30) + 1, 7});
             break;
           default:
-            m.m[i][e] = i == e ? (1 << 24) : kernel_uniform(rng, -(1 << 20), 1 << 20);
+            m.m[i][e] = i == e ? (1 << 24) : stress_uniform(rng, -(1 << 20), 1 << 20);
             break;
         }
       }
-      m.t[i] = rng() % 3 == 0 ? kernel_pick(rng, {INT32_MAX, -INT32_MAX, INT32_MIN, 0})
-                              : kernel_uniform(rng, INT32_MIN, INT32_MAX);
+      m.t[i] = rng() % 3 == 0 ? stress_pick(rng, {INT32_MAX, -INT32_MAX, INT32_MIN, 0})
+                              : stress_uniform(rng, INT32_MIN, INT32_MAX);
     }
     r->palette.push_back(m);
     fx::DualQuat d{};
-    d.real = {kernel_pick(rng, {1 << 30, -(1 << 30), 0}), 0, 0, 0};
+    d.real = {stress_pick(rng, {1 << 30, -(1 << 30), 0}), 0, 0, 0};
     if (d.real.w == 0) d.real.x = 1 << 30;
-    d.dual = {kernel_uniform(rng, -(1 << 28), 1 << 28), kernel_uniform(rng, -(1 << 28), 1 << 28),
-              kernel_uniform(rng, -(1 << 28), 1 << 28), kernel_uniform(rng, -(1 << 28), 1 << 28)};
+    d.dual = {stress_uniform(rng, -(1 << 28), 1 << 28), stress_uniform(rng, -(1 << 28), 1 << 28),
+              stress_uniform(rng, -(1 << 28), 1 << 28), stress_uniform(rng, -(1 << 28), 1 << 28)};
     r->dual.push_back(d);
   }
-  for (uint32_t v = 0; v < c.vertices; ++v) {
-    for (int i = 0; i < 3; ++i) {
-      r->position[i].push_back(c.position_mode == 0 ? kernel_uniform(rng, -(1 << 22), 1 << 22)
-                               : rng() % 2          ? kernel_pick(rng, {INT32_MIN, INT32_MAX, INT32_MIN + 1, 0, -1})
-                                                    : kernel_uniform(rng, INT32_MIN, INT32_MAX));
-      if (c.normal_mode == 0) r->normal[i].push_back(kernel_uniform(rng, -(1 << 30), 1 << 30));
-      if (c.normal_mode == 1)
-        r->normal[i].push_back(rng() % 3 == 0 ? 0 : kernel_pick(rng, {INT32_MIN, INT32_MAX, 0, 1, -1, 1 << 30}));
-    }
-    if (c.normal_mode == 1 && v % 5 == 0)
-      for (int i = 0; i < 3; ++i) r->normal[i].back() = 0;  // zero normal
-    r->method.push_back(
-        static_cast<uint8_t>(c.dual && rng() % 3 == 0 ? rig::SkinMethod::kDualQuaternion : rig::SkinMethod::kLinear));
-    int64_t left = kL;
-    const uint32_t hot = static_cast<uint32_t>(rng() % c.k);
-    for (uint32_t k = 0; k < c.k; ++k) {
-      r->joint.push_back(static_cast<uint16_t>(rng() % c.palette));
-      int32_t w = 0;
-      switch (c.weight_mode) {
-        case 0:
-          w = static_cast<int32_t>(k + 1 == c.k ? left : kernel_uniform(rng, 0, left));
-          left -= w;
-          break;
-        case 1:
-          w = rng() % 4 == 0 ? 0 : (k == hot ? (1 << 30) : 0);
-          break;
-        case 2:
-          w = kernel_uniform(rng, -(int64_t{1} << 31) / 8, (int64_t{1} << 31) / 8);
-          break;
-        default:
-          w = k == hot ? kernel_pick(rng, {INT32_MAX, INT32_MIN + 1, (1 << 30) + 1}) : 0;
-          break;
-      }
-      r->weight.push_back(w);
-    }
-  }
-  r->rig.influences_per_vertex = c.k;
-  for (int i = 0; i < 3; ++i) {
-    r->rig.position[i] = r->position[i];
-    r->rig.normal[i] = r->normal[i];
-  }
-  r->rig.influence_palette = r->joint;
-  r->rig.influence_weight = r->weight;
-  r->rig.method = r->method;
-  r->rig.any_dual_quaternion = c.dual;
+  sinew_skin_test::VertexStress stress;
+  stress.k = c.k;
+  stress.vertices = c.vertices;
+  stress.weight_mode = c.weight_mode;
+  stress.position_mode = c.position_mode;
+  stress.normal_mode = c.normal_mode;
+  stress.method = static_cast<uint8_t>(rig::SkinMethod::kLinear);
+  stress.other_method = static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
+  stress.mixed = c.dual;
+  stress.extreme_weights = {INT32_MAX, INT32_MIN + 1, (1 << 30) + 1};
+  sinew_skin_test::add_stress_vertices(stress, c.palette, c.dual, rng, r);
 }
 
 // The vector kernels this target builds: NEON on aarch64, else AVX2 and
@@ -280,14 +235,14 @@ TEST_F(SkinKernel, HalfwayCasesRoundLikeTheSpecification) {
     kernel_make_rig(c, 300 + k, &r);
     for (fx::Mat34& m : r.palette) {
       for (auto& row : m.m)
-        for (int32_t& e : row) e = kernel_uniform(rng, -7, 7);
-      for (int32_t& t : m.t) t = kernel_uniform(rng, -(1 << 27), 1 << 27);
+        for (int32_t& e : row) e = stress_uniform(rng, -7, 7);
+      for (int32_t& t : m.t) t = stress_uniform(rng, -(1 << 27), 1 << 27);
     }
-    for (int32_t& w : r.weight) w = kernel_pick(rng, {1 << 29, -(1 << 29), 1 << 28, -(1 << 28), 3 << 28});
+    for (int32_t& w : r.weight) w = stress_pick(rng, {1 << 29, -(1 << 29), 1 << 28, -(1 << 28), 3 << 28});
     for (int i = 0; i < 3; ++i)
       for (uint32_t v = 0; v < c.vertices; ++v) {
-        r.position[i][v] = kernel_uniform(rng, -255, 255) * (1 << 23);
-        r.normal[i][v] = kernel_uniform(rng, -255, 255) * (1 << 23);
+        r.position[i][v] = stress_uniform(rng, -255, 255) * (1 << 23);
+        r.normal[i][v] = stress_uniform(rng, -255, 255) * (1 << 23);
       }
     SCOPED_TRACE(testing::Message() << "K=" << k);
     kernel_expect_identical_rig(r, false, true, 0, c.vertices);
@@ -312,7 +267,7 @@ TEST_F(SkinKernel, NormalsOfEveryMagnitude) {
       for (int i = 0; i < 3; ++i) {
         const int64_t span = int64_t{1} << e;
         int64_t x = static_cast<int64_t>(rng() % static_cast<uint64_t>(2 * span + 1)) - span;
-        if (rng() % 7 == 0) x = kernel_pick(rng, {0, 1, -1, INT32_MAX, INT32_MIN});
+        if (rng() % 7 == 0) x = stress_pick(rng, {0, 1, -1, INT32_MAX, INT32_MIN});
         r.normal[i][v] = static_cast<int32_t>(std::clamp<int64_t>(x, INT32_MIN, INT32_MAX));
       }
     }
