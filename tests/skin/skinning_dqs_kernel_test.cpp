@@ -100,16 +100,15 @@ void dqs_make_rig(const DqsCase& c, uint64_t seed, DqsRig* r) {
     r->dual.push_back(d);
     r->palette.push_back(fx::Mat34{{{1 << 24, 0, 0}, {0, 1 << 24, 0}, {0, 0, 1 << 24}}, {0, 0, 0}});
   }
-  sinew_skin_test::VertexStress stress;
-  stress.k = c.k;
-  stress.vertices = c.vertices;
-  stress.weight_mode = c.weight_mode;
-  stress.position_mode = c.position_mode;
-  stress.normal_mode = c.normal_mode;
-  stress.method = static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
-  stress.other_method = static_cast<uint8_t>(rig::SkinMethod::kLinear);
-  stress.mixed = c.mixed;
-  stress.extreme_weights = {INT32_MAX, INT32_MIN, -kDqsOne, kDqsOne};
+  const sinew_skin_test::VertexStress stress{.k = c.k,
+                                             .vertices = c.vertices,
+                                             .weight_mode = c.weight_mode,
+                                             .position_mode = c.position_mode,
+                                             .normal_mode = c.normal_mode,
+                                             .method = static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion),
+                                             .other_method = static_cast<uint8_t>(rig::SkinMethod::kLinear),
+                                             .mixed = c.mixed,
+                                             .extreme_weights = {INT32_MAX, INT32_MIN, -kDqsOne, kDqsOne}};
   sinew_skin_test::add_stress_vertices(stress, c.palette, true, rng, r);
 }
 

@@ -71,16 +71,15 @@ void kernel_make_rig(const KernelCase& c, uint64_t seed, KernelRig* r) {
               stress_uniform(rng, -(1 << 28), 1 << 28), stress_uniform(rng, -(1 << 28), 1 << 28)};
     r->dual.push_back(d);
   }
-  sinew_skin_test::VertexStress stress;
-  stress.k = c.k;
-  stress.vertices = c.vertices;
-  stress.weight_mode = c.weight_mode;
-  stress.position_mode = c.position_mode;
-  stress.normal_mode = c.normal_mode;
-  stress.method = static_cast<uint8_t>(rig::SkinMethod::kLinear);
-  stress.other_method = static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
-  stress.mixed = c.dual;
-  stress.extreme_weights = {INT32_MAX, INT32_MIN + 1, (1 << 30) + 1};
+  const sinew_skin_test::VertexStress stress{.k = c.k,
+                                             .vertices = c.vertices,
+                                             .weight_mode = c.weight_mode,
+                                             .position_mode = c.position_mode,
+                                             .normal_mode = c.normal_mode,
+                                             .method = static_cast<uint8_t>(rig::SkinMethod::kLinear),
+                                             .other_method = static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion),
+                                             .mixed = c.dual,
+                                             .extreme_weights = {INT32_MAX, INT32_MIN + 1, (1 << 30) + 1}};
   sinew_skin_test::add_stress_vertices(stress, c.palette, c.dual, rng, r);
 }
 
