@@ -1,6 +1,7 @@
 // A built-in rig compiled, loaded and ready to step, for engine tests.
 #pragma once
 
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>

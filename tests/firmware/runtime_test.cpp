@@ -7,6 +7,7 @@
 
 #include "firmware/daemon/loaded_rig.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
+#include "tests/engine/rig_fixture.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/soak.hpp"
 #include "tests/support/time_units.hpp"
@@ -63,40 +64,22 @@ class FingerprintSink : public fw::OutputSink {
   void fold(uint32_t x) { value = (value ^ x) * 1099511628211u; }
 };
 
-struct Arm {
-  Arm() {
-    std::vector<uint8_t> bytes;
-    sinew::rigc::CompileReport report;
-    std::string error;
-    sinew::rigc::compile_rig(sinew::rigc::builtin_arm(), &bytes, &report, &error);
-    blob.assign(bytes.size() / 8 + 1, 0);
-    std::memcpy(blob.data(), bytes.data(), bytes.size());
-    size_t n = 0;
-    const auto* data = reinterpret_cast<const uint8_t*>(blob.data());
-    sinew::rig::rig_validate(data, bytes.size(), &n);
-    arena.assign(n / 8 + 1, 0);
-    ok = sinew::rig::rig_init(data, bytes.size(), arena.data(), arena.size() * 8, &rig).ok();
-  }
-  std::vector<uint64_t> blob, arena;
-  sinew::rig::Rig rig;
-  bool ok = false;
-};
-
-int32_t deg(double d) { return static_cast<int32_t>(d / 360.0 * 4294967296.0); }
+using sinew::test::degrees;
+using sinew::test::LoadedRig;
 
 std::vector<hal::JointSample> script() {
   std::vector<hal::JointSample> s;
   for (uint64_t t = 1; t <= 100; ++t) {
-    s.push_back({3, deg(static_cast<double>(t)), t * kMs, 0});               // elbow flexes, every ms
-    if (t <= 20) s.push_back({4, deg(static_cast<double>(t)), t * kMs, 0});  // twist stops at 20 ms
+    s.push_back({3, degrees(static_cast<double>(t)), t * kMs, 0});               // elbow flexes, every ms
+    if (t <= 20) s.push_back({4, degrees(static_cast<double>(t)), t * kMs, 0});  // twist stops at 20 ms
   }
-  s.push_back({3, deg(30), 50 * kMs, 0xEE});  // a corrupted frame
+  s.push_back({3, degrees(30), 50 * kMs, 0xEE});  // a corrupted frame
   std::stable_sort(s.begin(), s.end(), [](auto& a, auto& b) { return a.timestamp_ns < b.timestamp_ns; });
   return s;
 }
 
 uint64_t run(const sinew::rig::Rig& rig, FingerprintSink** sink_out, fw::Runtime* rt) {
-  std::vector<fw::InputLimits> limits(rig.input_count, fw::InputLimits{deg(-170), deg(170), 15 * kMs});
+  std::vector<fw::InputLimits> limits(rig.input_count, fw::InputLimits{degrees(-170), degrees(170), 15 * kMs});
   std::string error;
   EXPECT_TRUE(rt->init(rig, limits, 0, &error)) << error;
   rt->add_source(std::make_unique<ScriptedSource>(script()));
@@ -112,19 +95,19 @@ uint64_t run(const sinew::rig::Rig& rig, FingerprintSink** sink_out, fw::Runtime
 }  // namespace
 
 TEST(Runtime, StaleInputsHoldAndIdenticalInputsGiveIdenticalFrames) {
-  Arm arm;
-  ASSERT_TRUE(arm.ok);
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
   fw::Runtime a, b;
   FingerprintSink *sa = nullptr, *sb = nullptr;
-  const uint64_t fa = run(arm.rig, &sa, &a);
-  const uint64_t fb = run(arm.rig, &sb, &b);
+  const uint64_t fa = run(arm.rig(), &sa, &a);
+  const uint64_t fb = run(arm.rig(), &sb, &b);
   EXPECT_EQ(fa, fb);
   // Twist (input 4) stopped at 20 ms with a 15 ms timeout: stale, holding 20 degrees.
   EXPECT_TRUE(sa->last_status_[4] & hal::kJointStale);
-  EXPECT_EQ(a.health().values()[4], deg(20));
+  EXPECT_EQ(a.health().values()[4], degrees(20));
   // Elbow kept streaming: fresh, last value 100 degrees; the corrupt frame was counted.
   EXPECT_FALSE(sa->last_status_[3] & hal::kJointStale);
-  EXPECT_EQ(a.health().values()[3], deg(100));
+  EXPECT_EQ(a.health().values()[3], degrees(100));
   EXPECT_EQ(a.health().counters(3).rejected[static_cast<int>(hal::RejectReason::kBadCrc)], 1u);
   // Inputs that never sent are stale from the first timeout on and hold rest.
   EXPECT_TRUE(sa->last_status_[0] & hal::kJointStale);
@@ -132,14 +115,14 @@ TEST(Runtime, StaleInputsHoldAndIdenticalInputsGiveIdenticalFrames) {
 }
 
 TEST(Runtime, ClampedJointsAreFlaggedInTheFrame) {
-  Arm arm;
-  ASSERT_TRUE(arm.ok);
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
   fw::Runtime rt;
-  std::vector<fw::InputLimits> limits(arm.rig.input_count, fw::InputLimits{deg(-170), deg(170), 0});
+  std::vector<fw::InputLimits> limits(arm.rig().input_count, fw::InputLimits{degrees(-170), degrees(170), 0});
   std::string error;
-  ASSERT_TRUE(rt.init(arm.rig, limits, 0, &error));
+  ASSERT_TRUE(rt.init(arm.rig(), limits, 0, &error));
   rt.add_source(
-      std::make_unique<ScriptedSource>(std::vector<hal::JointSample>{{3, deg(160), 1, 0}}));  // elbow limit 150
+      std::make_unique<ScriptedSource>(std::vector<hal::JointSample>{{3, degrees(160), 1, 0}}));  // elbow limit 150
   const hal::PoseFrame& f = rt.step(kMs);
   EXPECT_TRUE(f.input_status[3] & hal::kJointClampedStatus);
   EXPECT_FALSE(f.input_status[0] & hal::kJointClampedStatus);

@@ -17,6 +17,7 @@
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #endif
 #include "host_tools/rigc/builtin_rigs.hpp"
+#include "tests/engine/rig_fixture.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/time_units.hpp"
 
@@ -99,34 +100,16 @@ class FrameHashSink final : public fw::OutputSink {
   std::vector<uint64_t> hashes;
 };
 
-struct TriggerArm {
-  TriggerArm() {
-    std::vector<uint8_t> bytes;
-    sinew::rigc::CompileReport report;
-    std::string error;
-    sinew::rigc::compile_rig(sinew::rigc::builtin_arm(), &bytes, &report, &error);
-    blob.assign(bytes.size() / 8 + 1, 0);
-    std::memcpy(blob.data(), bytes.data(), bytes.size());
-    size_t n = 0;
-    const auto* data = reinterpret_cast<const uint8_t*>(blob.data());
-    sinew::rig::rig_validate(data, bytes.size(), &n);
-    arena.assign(n / 8 + 1, 0);
-    ok = sinew::rig::rig_init(data, bytes.size(), arena.data(), arena.size() * 8, &rig).ok();
-  }
-  std::vector<uint64_t> blob, arena;
-  sinew::rig::Rig rig;
-  bool ok = false;
-};
-
-int32_t trigger_deg(double d) { return static_cast<int32_t>(d / 360.0 * 4294967296.0); }
+using sinew::test::degrees;
+using sinew::test::LoadedRig;
 
 // Elbow (3) and twist (4) at 500 Hz: the elbow at 0.3 ms past every second
 // tick, the twist `lag` later; the twist goes silent from `twist_stops_ns`.
 std::vector<hal::JointSample> two_inputs(uint64_t until_ns, uint64_t lag, uint64_t twist_stops_ns) {
   std::vector<hal::JointSample> s;
   for (uint64_t t = 300 * kUs, k = 0; t <= until_ns; t += 2 * kMs, ++k) {
-    s.push_back({3, trigger_deg(static_cast<double>(k % 90)), t, 0});
-    if (t + lag < twist_stops_ns) s.push_back({4, trigger_deg(-static_cast<double>(k % 45)), t + lag, 0});
+    s.push_back({3, degrees(static_cast<double>(k % 90)), t, 0});
+    if (t + lag < twist_stops_ns) s.push_back({4, degrees(-static_cast<double>(k % 45)), t + lag, 0});
   }
   return s;
 }
@@ -142,7 +125,7 @@ struct ModeRun {
 // twist can go stale (3 ms timeout); the others never time out.
 ModeRun run_mode(const sinew::rig::Rig& rig, fw::TickTrigger trigger, std::vector<hal::JointSample> script,
                  size_t slots) {
-  std::vector<fw::InputLimits> limits(rig.input_count, fw::InputLimits{trigger_deg(-170), trigger_deg(170), 0});
+  std::vector<fw::InputLimits> limits(rig.input_count, fw::InputLimits{degrees(-170), degrees(170), 0});
   limits[4].timeout_ns = 3 * kMs;
   fw::Runtime rt;
   std::string error;
@@ -173,10 +156,10 @@ ModeRun run_mode(const sinew::rig::Rig& rig, fw::TickTrigger trigger, std::vecto
 }  // namespace
 
 TEST(TickTrigger, StepsWhenEveryInputHasArrivedBeforeTheDeadline) {
-  TriggerArm arm;
-  ASSERT_TRUE(arm.ok);
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
   const uint64_t lag = 50 * kUs;
-  const ModeRun run = run_mode(arm.rig, fw::TickTrigger::kInputs, two_inputs(20 * kMs, lag, UINT64_MAX), 20);
+  const ModeRun run = run_mode(arm.rig(), fw::TickTrigger::kInputs, two_inputs(20 * kMs, lag, UINT64_MAX), 20);
   ASSERT_EQ(run.ticks.size(), 20u);
   for (size_t slot = 0; slot < run.ticks.size(); ++slot) {
     const fw::TriggeredTick& t = run.ticks[slot];
@@ -196,28 +179,28 @@ TEST(TickTrigger, StepsWhenEveryInputHasArrivedBeforeTheDeadline) {
     }
   }
   // The twist sample latched by an early tick is the one sent in its slot.
-  EXPECT_EQ(run.twist_value[4], trigger_deg(-2.0));
+  EXPECT_EQ(run.twist_value[4], degrees(-2.0));
   EXPECT_EQ(run.twist_status[4] & hal::kJointStale, 0);
 }
 
 TEST(TickTrigger, APartialSetWaitsForItsLastInput) {
-  TriggerArm arm;
-  ASSERT_TRUE(arm.ok);
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
   // The twist lags the elbow by 0.6 ms: the tick waits for it, not for the elbow.
-  const ModeRun run = run_mode(arm.rig, fw::TickTrigger::kInputs, two_inputs(10 * kMs, 600 * kUs, UINT64_MAX), 10);
+  const ModeRun run = run_mode(arm.rig(), fw::TickTrigger::kInputs, two_inputs(10 * kMs, 600 * kUs, UINT64_MAX), 10);
   ASSERT_TRUE(run.ticks[0].triggered);
   EXPECT_GE(run.ticks[0].time_ns, 900 * kUs);
   EXPECT_LE(run.ticks[0].time_ns, 900 * kUs + kPoll);
 }
 
 TEST(TickTrigger, ASilentInputFallsBackToTheDeadlineFlaggedAsAPeriodicTick) {
-  TriggerArm arm;
-  ASSERT_TRUE(arm.ok);
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
   constexpr size_t kSlots = 30;
   const uint64_t twist_stops = 10 * kMs;
   const auto script = two_inputs(kSlots * kMs, 50 * kUs, twist_stops);
-  const ModeRun periodic = run_mode(arm.rig, fw::TickTrigger::kPeriodic, script, kSlots);
-  const ModeRun inputs = run_mode(arm.rig, fw::TickTrigger::kInputs, script, kSlots);
+  const ModeRun periodic = run_mode(arm.rig(), fw::TickTrigger::kPeriodic, script, kSlots);
+  const ModeRun inputs = run_mode(arm.rig(), fw::TickTrigger::kInputs, script, kSlots);
   size_t stale_from = 0;
   for (size_t slot = 0; slot < kSlots; ++slot) {
     const uint64_t deadline = (slot + 1) * kTickPeriod;
@@ -235,13 +218,13 @@ TEST(TickTrigger, ASilentInputFallsBackToTheDeadlineFlaggedAsAPeriodicTick) {
   }
   // Last twist sample at 8.35 ms, 3 ms timeout: stale from the 12 ms deadline (slot 11).
   EXPECT_EQ(stale_from, 11u);
-  EXPECT_EQ(inputs.twist_value.back(), trigger_deg(-4.0));
+  EXPECT_EQ(inputs.twist_value.back(), degrees(-4.0));
   EXPECT_EQ(inputs.frames, periodic.frames);
 }
 
 TEST(TickTrigger, TheSameLatchedInputsGiveTheSameFramesInBothModes) {
-  TriggerArm arm;
-  ASSERT_TRUE(arm.ok);
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
   constexpr size_t kSlots = 200;
   // Jittered arrivals (a fixed LCG), still one set per two slots.
   std::vector<hal::JointSample> script;
@@ -253,8 +236,8 @@ TEST(TickTrigger, TheSameLatchedInputsGiveTheSameFramesInBothModes) {
     script.push_back({4, static_cast<int32_t>(lcg * 7u) / 32, t + (lcg >> 8) % 300 * kUs, 0});
   }
   std::stable_sort(script.begin(), script.end(), [](auto& a, auto& b) { return a.timestamp_ns < b.timestamp_ns; });
-  const ModeRun periodic = run_mode(arm.rig, fw::TickTrigger::kPeriodic, script, kSlots);
-  const ModeRun inputs = run_mode(arm.rig, fw::TickTrigger::kInputs, script, kSlots);
+  const ModeRun periodic = run_mode(arm.rig(), fw::TickTrigger::kPeriodic, script, kSlots);
+  const ModeRun inputs = run_mode(arm.rig(), fw::TickTrigger::kInputs, script, kSlots);
   size_t triggered = 0;
   for (const fw::TriggeredTick& t : inputs.ticks) triggered += t.triggered ? 1 : 0;
   EXPECT_EQ(triggered, kSlots / 2) << "every set triggers its slot's tick";
@@ -288,10 +271,10 @@ TEST(TickTrigger, ALateLoopSkipsAheadInsteadOfBursting) {
 // The simulated rig on the CAN bus with a sync frame after each set: the
 // sync trigger starts the tick on it, and the tick latches every joint.
 TEST(TickTrigger, ACanSyncFrameStartsTheTick) {
-  TriggerArm arm;
-  ASSERT_TRUE(arm.ok);
-  std::vector<hal::sim::InputRange> ranges(arm.rig.input_count);
-  for (const sinew::rig::JointRecord& j : arm.rig.joints)
+  const LoadedRig arm(sinew::rigc::builtin_arm());
+  ASSERT_TRUE(arm.ok());
+  std::vector<hal::sim::InputRange> ranges(arm.rig().input_count);
+  for (const sinew::rig::JointRecord& j : arm.rig().joints)
     for (uint32_t d = 0; d < j.dof_count; ++d) ranges[j.first_input + d] = {j.dof_min[d], j.dof_max[d]};
   for (const fw::TickTrigger trigger : {fw::TickTrigger::kSync, fw::TickTrigger::kInputs}) {
     hal::sim::SimulatedRigOptions options;
@@ -308,9 +291,9 @@ TEST(TickTrigger, ACanSyncFrameStartsTheTick) {
     ASSERT_NE(source, nullptr) << error;
     EXPECT_EQ(source->arrival_signals(), hal::kSignalsComplete | hal::kSignalsSync);
     hal::can::CanInputSource* can = source.get();
-    std::vector<fw::InputLimits> limits(arm.rig.input_count);
+    std::vector<fw::InputLimits> limits(arm.rig().input_count);
     fw::Runtime rt;
-    ASSERT_TRUE(rt.init(arm.rig, limits, 0, &error)) << error;
+    ASSERT_TRUE(rt.init(arm.rig(), limits, 0, &error)) << error;
     rt.add_source(std::move(source));
     SimulatedWaitClock clock;
     fw::TriggeredTickClock ticks(trigger, kTickPeriod, kTickPeriod, kPoll);
@@ -323,7 +306,7 @@ TEST(TickTrigger, ACanSyncFrameStartsTheTick) {
         EXPECT_GE(t.time_ns, sent);
         EXPECT_LE(t.time_ns, sent + kPoll);
         // Every joint's frame of the set was latched by this tick.
-        for (uint32_t i = 0; i < arm.rig.input_count; ++i) EXPECT_EQ(rt.health().counters(i).accepted, slot / 2 + 1);
+        for (uint32_t i = 0; i < arm.rig().input_count; ++i) EXPECT_EQ(rt.health().counters(i).accepted, slot / 2 + 1);
       } else {
         EXPECT_FALSE(t.triggered) << fw::tick_trigger_name(trigger) << " slot " << slot;
       }
