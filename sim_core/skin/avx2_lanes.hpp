@@ -1,5 +1,5 @@
-// Exact int64-lane helpers shared by the AVX2 skinning kernels. Include only
-// from files built with -mavx2 (skinning_avx2.cpp, skinning_dqs_avx2.cpp).
+// Exact int64-lane helpers shared by the AVX2 kernels, compiled for AVX2 in
+// their own region (isa_region.hpp); call them only from AVX2 code.
 // Every helper gives, lane by lane, the words of the scalar operation it
 // names in sim_core/fixed (wrapping vector adds: no UB, same bits).
 #pragma once
@@ -9,9 +9,14 @@
 #include <cstdint>
 #include <cstring>
 
+#include "sim_core/fixed/isa_region.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 
+SINEW_ISA_BEGIN("avx2")
+
 namespace sinew::skin::avx2 {
+// Internal linkage: no copy of a helper outlives its own file's AVX2 code.
+namespace {
 
 // round_shift(x, s) of scalar.hpp on every int64 lane: ((x + 2^(s-1) + 2^63)
 // >>> s) - 2^(63-s). AVX2 has no 64-bit arithmetic right shift: the 2^63
@@ -106,4 +111,7 @@ struct VarRoundShift {
   }
 };
 
+}  // namespace
 }  // namespace sinew::skin::avx2
+
+SINEW_ISA_END

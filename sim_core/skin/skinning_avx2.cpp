@@ -1,7 +1,7 @@
 // AVX2 kernel of linear blend skinning: the same output words and the same
 // saturation count as the scalar specification (skinning.cpp) for every input.
-// Built with -mavx2 for this file only, and only on x86-64; called only when
-// the CPU reports AVX2 (skinning.cpp).
+// Its functions are compiled for AVX2 (isa_region.hpp), on x86-64 only;
+// called only when the CPU reports AVX2 (skinning.cpp).
 //
 // One vertex per step, one 64-bit lane per row of the blended transform:
 //   - per call, the palette is rearranged ("widened") into sign-extended
@@ -26,7 +26,10 @@
 #include <immintrin.h>
 
 #include "avx2_lanes.hpp"
+#include "sim_core/fixed/isa_region.hpp"
 #include "skinning_detail.hpp"
+
+SINEW_ISA_BEGIN("avx2")
 
 namespace sinew::skin::detail {
 namespace {
@@ -216,3 +219,5 @@ uint32_t skin_linear_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palett
 }
 
 }  // namespace sinew::skin::detail
+
+SINEW_ISA_END

@@ -1,7 +1,8 @@
 // AVX-512 (F + VL) kernel of linear blend skinning: the same output words and
 // the same saturation count as the scalar specification (skinning.cpp) for
-// every input. Built with -mavx512f -mavx512vl for this file only, on x86-64
-// only; called only when the CPU reports both (skinning.cpp).
+// every input. Its functions are compiled for AVX-512 F + VL
+// (isa_region.hpp), on x86-64 only; called only when the CPU reports both
+// (skinning.cpp).
 //
 // The layout of the AVX2 kernel (one vertex per step, one 64-bit lane per row
 // of the blended transform, the palette widened once per call), with the
@@ -21,7 +22,10 @@
 
 #include <cstring>
 
+#include "sim_core/fixed/isa_region.hpp"
 #include "skinning_detail.hpp"
+
+SINEW_ISA_BEGIN("avx512f,avx512vl")
 
 namespace sinew::skin::detail {
 namespace {
@@ -170,3 +174,5 @@ uint32_t skin_linear_avx512(const rig::Rig& rig, std::span<const fx::Mat34> pale
 }
 
 }  // namespace sinew::skin::detail
+
+SINEW_ISA_END

@@ -1,8 +1,8 @@
 // AVX2 kernel of dual-quaternion skinning: the same output words as the
 // scalar specification (skinning.cpp: skin_dual_vertex with
-// fx::normalize_fast and fx::rot3_of_unit) for every input. Built with -mavx2
-// for this file only, and only on x86-64; called only when the CPU reports
-// AVX2 (skinning.cpp).
+// fx::normalize_fast and fx::rot3_of_unit) for every input. Its functions are
+// compiled for AVX2 (isa_region.hpp), on x86-64 only; called only when the
+// CPU reports AVX2 (skinning.cpp).
 //
 // Four DQS vertices per step, one per 64-bit lane (a last group of fewer
 // repeats its last vertex in the spare lanes and stores only the real ones):
@@ -35,7 +35,10 @@
 #include <cstring>
 
 #include "avx2_lanes.hpp"
+#include "sim_core/fixed/isa_region.hpp"
 #include "skinning_detail.hpp"
+
+SINEW_ISA_BEGIN("avx2")
 
 namespace sinew::skin::detail {
 namespace {
@@ -104,10 +107,13 @@ inline void store_lanes(std::span<int32_t> column, __m256i x, const uint32_t ind
 // Range checks of one group: a lane goes back to the scalar specification if
 // any value given to fits_i32 leaves int32, any value given to
 // not_negative is negative, or any value given to below_2_61 is not.
+// (A written constructor, not member initialisers: GCC compiles the implicit
+// one outside the file's AVX2 region.)
 struct Checks {
-  __m256i window = _mm256_setzero_si256();  // OR of x + 2^31: below 2^32 iff every x fits int32
-  __m256i sign = _mm256_setzero_si256();
-  __m256i wide = _mm256_setzero_si256();  // OR of x + 2^61: below 2^62 iff every |x| < 2^61 (and -2^61)
+  Checks() : window(_mm256_setzero_si256()), sign(_mm256_setzero_si256()), wide(_mm256_setzero_si256()) {}
+  __m256i window;  // OR of x + 2^31: below 2^32 iff every x fits int32
+  __m256i sign;
+  __m256i wide;  // OR of x + 2^61: below 2^62 iff every |x| < 2^61 (and -2^61)
 
   // x_plus is x + 2^31 for the x that must fit int32 (the caller folds the
   // 2^31 into an offset it subtracts anyway).
@@ -258,6 +264,10 @@ inline void normalise(Group* g) {
   g->dual = {remove(d.w, rq.w), remove(d.x, rq.x), remove(d.y, rq.y), remove(d.z, rq.z)};
 }
 
+// An entry of rot3_of_unit from its Q60 double product (a function, not a
+// lambda: GCC compiles lambdas outside the file's AVX2 region).
+inline __m256i rot_entry(__m256i a) { return round_shift_low<fx::kUnitFracBits - 1>(a); }
+
 // Stage 4: fx::rot3_of_unit, the translation, positions and normals; stores,
 // then the scalar specification for the lanes a check flagged.
 inline void transform(const DualJob& job, Group* g) {
@@ -269,10 +279,9 @@ inline void transform(const DualJob& job, Group* g) {
   const __m256i xy = mul(rq.x, rq.y), xz = mul(rq.x, rq.z), yz = mul(rq.y, rq.z);
   const __m256i wx = mul(rq.w, rq.x), wy = mul(rq.w, rq.y), wz = mul(rq.w, rq.z);
   const __m256i half_one = _mm256_set1_epi64x(int64_t{1} << 59);
-  const auto e = [](__m256i a) { return round_shift_low<fx::kUnitFracBits - 1>(a); };
-  const __m256i rot[3][3] = {{e(sub(half_one, add(yy, zz))), e(sub(xy, wz)), e(add(xz, wy))},
-                             {e(add(xy, wz)), e(sub(half_one, add(xx, zz))), e(sub(yz, wx))},
-                             {e(sub(xz, wy)), e(add(yz, wx)), e(sub(half_one, add(xx, yy)))}};
+  const __m256i rot[3][3] = {{rot_entry(sub(half_one, add(yy, zz))), rot_entry(sub(xy, wz)), rot_entry(add(xz, wy))},
+                             {rot_entry(add(xy, wz)), rot_entry(sub(half_one, add(xx, zz))), rot_entry(sub(yz, wx))},
+                             {rot_entry(sub(xz, wy)), rot_entry(add(yz, wx)), rot_entry(sub(half_one, add(xx, yy)))}};
   // t = w d_v - d_w r_v + r_v x d_v (Q50), exact (|t_c| < 2^62 + 2^35).
   const __m256i t[3] = {add(sub(mul(rq.w, d.x), mul(d.w, rq.x)), sub(mul(rq.y, d.z), mul(rq.z, d.y))),
                         add(sub(mul(rq.w, d.y), mul(d.w, rq.y)), sub(mul(rq.z, d.x), mul(rq.x, d.z))),
@@ -377,3 +386,5 @@ void skin_dual_avx2(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uin
 }
 
 }  // namespace sinew::skin::detail
+
+SINEW_ISA_END
