@@ -31,6 +31,8 @@
 
 SINEW_ISA_BEGIN("avx2")
 
+#include "lbs_blocks.hpp"
+
 namespace sinew::skin::detail {
 namespace {
 
@@ -63,15 +65,6 @@ inline __m256i apply_linear(const __m256i col[3], int32_t v0, int32_t v1, int32_
   return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi32(v2)));
 }
 
-// Unnormalised normals of the fast-path vertices of one block, SoA, renormalised
-// after the block so that the renormalisations of many vertices overlap.
-constexpr uint32_t kBlock = 64;
-struct PendingNormals {
-  int32_t c[3][kBlock];
-  uint32_t index[kBlock];
-  uint32_t count = 0;
-};
-
 // fx::normalize_fast on 4 vectors at once (same words): rsqrt_fast's seed and
 // Newton steps on non-negative values below 2^32 (unsigned 32x32 products),
 // then round_shift by 31 - half_shift per lane and sat_i32.
@@ -103,8 +96,6 @@ struct Job {
   bool skip_dual;
   bool normals;
 };
-
-inline bool skipped(const Job& job, uint32_t v) { return job.skip_dual && is_dual(*job.rig, v); }
 
 // One LBS vertex; false if its blended linear part might clamp (then nothing
 // was written and the caller runs the scalar specification).
@@ -152,38 +143,6 @@ inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index, PendingNor
   return true;
 }
 
-template <uint32_t K>
-uint32_t run(const Job& job, uint32_t first, uint32_t count) {
-  const rig::Rig& rig = *job.rig;
-  uint32_t saturated = 0;
-  PendingNormals pending;
-  for (uint32_t block = 0; block < count;) {
-    const uint32_t end = block + (count - block < kBlock ? count - block : kBlock);  // <= count: no wrap
-    for (uint32_t i = block; i < end;) {
-      const uint32_t v = first + i;
-      if (skipped(job, v)) {
-        i = skip_dual_run(rig, first, i, end);
-        continue;
-      }
-      if (!linear_vertex<K>(job, v, i, &pending)) skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
-      ++i;
-    }
-    finish_normals(*job.out, &pending);
-    block = end;
-  }
-  return saturated;
-}
-
-// The scalar loop of skinning.cpp, for inputs the vector path does not take.
-uint32_t run_scalar(const Job& job, uint32_t first, uint32_t count) {
-  uint32_t saturated = 0;
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t v = first + i;
-    if (!skipped(job, v)) skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
-  }
-  return saturated;
-}
-
 }  // namespace
 
 void renormalise_normals_avx2(const int32_t* const c[3], const uint32_t* index, uint32_t count,
@@ -211,11 +170,12 @@ uint32_t skin_linear_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palett
                           uint32_t count, const SkinnedVertices& out) {
   WideEntry wide[kMaxWidePalette];
   const Job job{&rig, palette, wide, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
-  if (palette.size() > kMaxWidePalette) return run_scalar(job, first, count);
+  if (palette.size() > kMaxWidePalette) return run_lbs_scalar(job, first, count);
   for (size_t j = 0; j < palette.size(); ++j) wide[j] = widen(palette[j]);
   return dispatch_influences(
-      rig.influences_per_vertex, [&]<uint32_t K>() { return run<K>(job, first, count); },
-      [&] { return run_scalar(job, first, count); });
+      rig.influences_per_vertex,
+      [&]<uint32_t K>() { return run_lbs_blocks<&linear_vertex<K>, &finish_normals>(job, first, count); },
+      [&] { return run_lbs_scalar(job, first, count); });
 }
 
 }  // namespace sinew::skin::detail

@@ -27,6 +27,8 @@
 
 SINEW_ISA_BEGIN("avx512f,avx512vl")
 
+#include "lbs_blocks.hpp"
+
 namespace sinew::skin::detail {
 namespace {
 
@@ -62,14 +64,7 @@ inline __m256i apply_linear_512(const __m256i col[3], int32_t v0, int32_t v1, in
   return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi32(v2)));
 }
 
-constexpr uint32_t kBlock512 = 64;
-struct PendingNormals512 {
-  int32_t c[3][kBlock512];
-  uint32_t index[kBlock512];
-  uint32_t count = 0;
-};
-
-inline void flush_normals(const SkinnedVertices& out, PendingNormals512* pending) {
+inline void flush_normals(const SkinnedVertices& out, PendingNormals* pending) {
   const int32_t* const c[3] = {pending->c[0], pending->c[1], pending->c[2]};
   renormalise_normals_avx2(c, pending->index, pending->count, out);
   pending->count = 0;
@@ -87,7 +82,7 @@ struct Job512 {
 // One LBS vertex; false if its blended linear part leaves [-2^30, 2^30]
 // (then nothing was written and the caller runs the specification).
 template <uint32_t K>
-inline bool linear_vertex_512(const Job512& job, uint32_t v, uint32_t index, PendingNormals512* pending) {
+inline bool linear_vertex_512(const Job512& job, uint32_t v, uint32_t index, PendingNormals* pending) {
   const rig::Rig& rig = *job.rig;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * K;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * K;
@@ -127,50 +122,18 @@ inline bool linear_vertex_512(const Job512& job, uint32_t v, uint32_t index, Pen
   return true;
 }
 
-inline bool skipped_512(const Job512& job, uint32_t v) { return job.skip_dual && is_dual(*job.rig, v); }
-
-template <uint32_t K>
-uint32_t run_512(const Job512& job, uint32_t first, uint32_t count) {
-  const rig::Rig& rig = *job.rig;
-  uint32_t saturated = 0;
-  PendingNormals512 pending;
-  for (uint32_t block = 0; block < count;) {
-    const uint32_t end = block + (count - block < kBlock512 ? count - block : kBlock512);  // <= count: no wrap
-    for (uint32_t i = block; i < end;) {
-      const uint32_t v = first + i;
-      if (skipped_512(job, v)) {
-        i = skip_dual_run(rig, first, i, end);
-        continue;
-      }
-      if (!linear_vertex_512<K>(job, v, i, &pending)) skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
-      ++i;
-    }
-    flush_normals(*job.out, &pending);
-    block = end;
-  }
-  return saturated;
-}
-
-uint32_t run_scalar_512(const Job512& job, uint32_t first, uint32_t count) {
-  uint32_t saturated = 0;
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t v = first + i;
-    if (!skipped_512(job, v)) skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
-  }
-  return saturated;
-}
-
 }  // namespace
 
 uint32_t skin_linear_avx512(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
                             uint32_t count, const SkinnedVertices& out) {
   WideEntry512 wide[kMaxWidePalette512];
   const Job512 job{&rig, palette, wide, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
-  if (palette.size() > kMaxWidePalette512) return run_scalar_512(job, first, count);
+  if (palette.size() > kMaxWidePalette512) return run_lbs_scalar(job, first, count);
   for (size_t j = 0; j < palette.size(); ++j) wide[j] = widen512(palette[j]);
   return dispatch_influences(
-      rig.influences_per_vertex, [&]<uint32_t K>() { return run_512<K>(job, first, count); },
-      [&] { return run_scalar_512(job, first, count); });
+      rig.influences_per_vertex,
+      [&]<uint32_t K>() { return run_lbs_blocks<&linear_vertex_512<K>, &flush_normals>(job, first, count); },
+      [&] { return run_lbs_scalar(job, first, count); });
 }
 
 }  // namespace sinew::skin::detail

@@ -30,6 +30,7 @@
 
 #include <cstring>
 
+#include "lbs_blocks.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "skinning_detail.hpp"
 
@@ -74,14 +75,6 @@ inline Rows apply_linear(int32x4_t lin_a, int32x4_t lin_b, int32x2_t lin_c, int3
   const int64x2_t r2 = vaddq_s64(vpaddq_s64(p3, vdupq_n_s64(0)), p4);
   return {r01, r2};
 }
-
-// Unnormalised normals of the fast-path vertices of one block, SoA.
-constexpr uint32_t kBlock = 64;
-struct PendingNormals {
-  int32_t c[3][kBlock];
-  uint32_t index[kBlock];
-  uint32_t count = 0;
-};
 
 // fx::normalize_fast on two vectors at once (same words). The Newton steps of
 // rsqrt_fast run on unsigned 32-bit lanes: for every reachable v and seed the
@@ -144,8 +137,6 @@ struct Job {
   bool normals;
 };
 
-inline bool skipped(const Job& job, uint32_t v) { return job.skip_dual && is_dual(*job.rig, v); }
-
 // One LBS vertex; false if its blended linear part would clamp (then nothing
 // was written and the caller runs the scalar specification).
 template <uint32_t K>
@@ -204,46 +195,15 @@ inline bool linear_vertex(const Job& job, uint32_t v, uint32_t index, PendingNor
   return true;
 }
 
-template <uint32_t K>
-uint32_t run(const Job& job, uint32_t first, uint32_t count) {
-  const rig::Rig& rig = *job.rig;
-  uint32_t saturated = 0;
-  PendingNormals pending;
-  for (uint32_t block = 0; block < count;) {
-    const uint32_t end = block + (count - block < kBlock ? count - block : kBlock);  // <= count: no wrap
-    for (uint32_t i = block; i < end;) {
-      const uint32_t v = first + i;
-      if (skipped(job, v)) {
-        i = skip_dual_run(rig, first, i, end);
-        continue;
-      }
-      if (!linear_vertex<K>(job, v, i, &pending)) skin_linear_vertex(rig, job.palette, v, *job.out, i, &saturated);
-      ++i;
-    }
-    finish_normals(*job.out, &pending);
-    block = end;
-  }
-  return saturated;
-}
-
-// The scalar loop of skinning.cpp, for K outside 1..8.
-uint32_t run_scalar(const Job& job, uint32_t first, uint32_t count) {
-  uint32_t saturated = 0;
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t v = first + i;
-    if (!skipped(job, v)) skin_linear_vertex(*job.rig, job.palette, v, *job.out, i, &saturated);
-  }
-  return saturated;
-}
-
 }  // namespace
 
 uint32_t skin_linear_neon(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
                           uint32_t count, const SkinnedVertices& out) {
   const Job job{&rig, palette, &out, skip_dual, !out.normal[0].empty() && !rig.normal[0].empty()};
   return dispatch_influences(
-      rig.influences_per_vertex, [&]<uint32_t K>() { return run<K>(job, first, count); },
-      [&] { return run_scalar(job, first, count); });
+      rig.influences_per_vertex,
+      [&]<uint32_t K>() { return run_lbs_blocks<&linear_vertex<K>, &finish_normals>(job, first, count); },
+      [&] { return run_lbs_scalar(job, first, count); });
 }
 
 }  // namespace sinew::skin::detail
