@@ -12,7 +12,7 @@ profile="${1:-test}"
 runtime_pkgs=(
   build-essential cmake ninja-build pkgconf git
   libtomlplusplus-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
-  libgpiod-dev libmodbus-dev
+  libgpiod-dev libmodbus-dev libzstd-dev
 )
 test_pkgs=(
   "${runtime_pkgs[@]}"
@@ -26,7 +26,7 @@ test_pkgs=(
 # the arm64 C and C++ runtime its tests run on under qemu-user.
 # (No armhf equivalent: the armhf preset builds sim_core only.)
 cross_arm64_pkgs=(
-  libgpiod-dev:arm64 libmodbus-dev:arm64 libtomlplusplus-dev:arm64 pkgconf:arm64
+  libgpiod-dev:arm64 libmodbus-dev:arm64 libtomlplusplus-dev:arm64 libzstd-dev:arm64 pkgconf:arm64
   libc6:arm64 libstdc++6:arm64
 )
 

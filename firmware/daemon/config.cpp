@@ -148,7 +148,10 @@ constexpr Key kLogSinkKeys[] = {{"type", Kind::kString},
                                 {"normals", Kind::kFlag},
                                 {"path", Kind::kString},
                                 {"sync_every_frames", Kind::kInteger, 0, 1e9},
-                                {"every_n_frames", Kind::kInteger, 1, 1e6}};
+                                {"every_n_frames", Kind::kInteger, 1, 1e6},
+                                {"compression", Kind::kString},
+                                {"compression_level", Kind::kInteger, 1, 19},
+                                {"key_every_frames", Kind::kInteger, 1, 1e9}};
 constexpr Key kRecordSinkKeys[] = {{"type", Kind::kString},
                                    {"name", Kind::kString},
                                    {"path", Kind::kString},
@@ -359,6 +362,11 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
                false;
       }
       if (!check_keys(*e, table, it->keys, origin, error)) return false;
+      if (const toml::node* packing = e->get("compression")) {
+        const std::optional<std::string> v = packing->value_exact<std::string>();
+        if (!v || (*v != "none" && *v != "zstd"))
+          return *error = at(origin, packing, table + " compression") + ": must be \"none\" or \"zstd\"", false;
+      }
       const std::string name = (*e)["name"].value_or<std::string>(std::string(*type));
       // Sources and sinks are reported, and their errors given, by name.
       for (const auto& other : *list)

@@ -145,6 +145,9 @@ bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtim
       if (!path) return *error = "sink " + s.name + ": path is required", false;
       hal::output::FrameLogOptions options;
       options.sync_every_frames = s.table["sync_every_frames"].value_or(0u);
+      options.compress = s.table["compression"].value_or<std::string>("none") == "zstd";
+      options.compression_level = s.table["compression_level"].value_or(options.compression_level);
+      options.key_every_frames = s.table["key_every_frames"].value_or(options.key_every_frames);
       auto log = std::make_unique<hal::output::FrameLogWriter>();
       if (!log->open(*path, shape, options, error)) return *error = "sink " + s.name + ": " + *error, false;
       runtime->add_sink(queued(config, std::make_unique<HalSink<hal::output::FrameLogWriter>>(std::move(log), s.name),

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "checksum.hpp"
+#include "frame_compression.hpp"
 #include "le_bytes.hpp"
 #include "pose_codec.hpp"
 
@@ -15,11 +16,11 @@ namespace {
 constexpr size_t kHeaderChecksumAt = 32;
 }
 
-void encode_log_header(const FrameShape& shape, uint8_t out[kLogHeaderBytes]) {
+void encode_log_header(const FrameShape& shape, bool compressed, uint8_t out[kLogHeaderBytes]) {
   std::memcpy(out, kLogMagic, sizeof(kLogMagic));
   store_u16(out + 8, kLogVersion);
   store_u16(out + 10, static_cast<uint16_t>(kLogHeaderBytes));
-  store_u32(out + 12, shape.normals ? kLogFlagNormals : 0u);
+  store_u32(out + 12, (shape.normals ? kLogFlagNormals : 0u) | (compressed ? kLogFlagCompressed : 0u));
   store_u32(out + 16, shape.vertex_count);
   store_u32(out + 20, shape.input_count);
   store_i32(out + 24, shape.length_exponent);
@@ -27,7 +28,8 @@ void encode_log_header(const FrameShape& shape, uint8_t out[kLogHeaderBytes]) {
   store_u64(out + kHeaderChecksumAt, xxh64({out, kHeaderChecksumAt}));
 }
 
-bool parse_log_header(std::span<const uint8_t> bytes, FrameShape* shape, std::string* why, uint32_t* metadata_bytes) {
+bool parse_log_header(std::span<const uint8_t> bytes, FrameShape* shape, std::string* why, uint32_t* metadata_bytes,
+                      bool* compressed) {
   if (bytes.size() < kLogHeaderBytes) return *why = "shorter than a frame log header", false;
   const uint8_t* p = bytes.data();
   if (std::memcmp(p, kLogMagic, sizeof(kLogMagic)) != 0) return *why = "not a frame log (bad magic)", false;
@@ -42,9 +44,10 @@ bool parse_log_header(std::span<const uint8_t> bytes, FrameShape* shape, std::st
   // Offset 28: reserved (0) in version 1, the metadata's length in version 2.
   const uint32_t metadata = load_u32(p + 28);
   const bool metadata_ok = version == kLogVersion ? metadata == 0 : metadata > 0 && metadata <= kMaxLogMetadataBytes;
-  if (load_u16(p + 10) != kLogHeaderBytes || (flags & ~kLogFlagNormals) != 0 || !metadata_ok)
+  if (load_u16(p + 10) != kLogHeaderBytes || (flags & ~(kLogFlagNormals | kLogFlagCompressed)) != 0 || !metadata_ok)
     return *why = "frame log header has unknown fields", false;
   if (metadata_bytes != nullptr) *metadata_bytes = metadata;
+  if (compressed != nullptr) *compressed = (flags & kLogFlagCompressed) != 0;
   shape->normals = (flags & kLogFlagNormals) != 0;
   shape->vertex_count = load_u32(p + 16);
   shape->input_count = load_u32(p + 20);
@@ -53,9 +56,9 @@ bool parse_log_header(std::span<const uint8_t> bytes, FrameShape* shape, std::st
   return true;
 }
 
-std::vector<uint8_t> encode_log_preamble(const FrameShape& shape, std::string_view metadata) {
+std::vector<uint8_t> encode_log_preamble(const FrameShape& shape, std::string_view metadata, bool compressed) {
   std::vector<uint8_t> out(kLogHeaderBytes + (metadata.empty() ? 0 : metadata.size() + 8));
-  encode_log_header(shape, out.data());
+  encode_log_header(shape, compressed, out.data());
   if (!metadata.empty()) {
     store_u16(out.data() + 8, kLogVersionMetadata);
     store_u32(out.data() + 28, static_cast<uint32_t>(metadata.size()));
@@ -74,7 +77,7 @@ bool read_log_preamble(int fd, uint64_t file_size, LogPreamble* out, std::string
     return *why = std::string("cannot read the header: ") + std::strerror(errno), false;
   LogPreamble p;
   uint32_t metadata_bytes = 0;
-  if (!parse_log_header(header, &p.shape, why, &metadata_bytes)) return false;
+  if (!parse_log_header(header, &p.shape, why, &metadata_bytes, &p.compressed)) return false;
   if (metadata_bytes > 0) {
     p.records_offset = kLogHeaderBytes + uint64_t{metadata_bytes} + 8;
     if (file_size < p.records_offset) return *why = "metadata block cut short", false;
@@ -113,11 +116,15 @@ void encode_record_header(std::span<const uint8_t> payload, uint8_t out[kRecordH
   store_u64(out + 8, record_checksum(out + 4, payload));
 }
 
-bool record_length_allowed(const FrameShape& shape, uint32_t payload_bytes) {
+bool record_length_allowed(const FrameShape& shape, uint32_t payload_bytes, bool compressed) {
+  if (compressed) return payload_bytes >= 2 && payload_bytes <= max_record_bytes(shape, true) - kRecordHeaderBytes;
   if (payload_bytes == pose_payload_bytes(shape.vertex_count, shape.input_count, false)) return true;
   return shape.normals && payload_bytes == pose_payload_bytes(shape.vertex_count, shape.input_count, true);
 }
 
-uint64_t max_record_bytes(const FrameShape& shape) { return kRecordHeaderBytes + max_pose_payload_bytes(shape); }
+uint64_t max_record_bytes(const FrameShape& shape, bool compressed) {
+  const uint64_t payload = max_pose_payload_bytes(shape);
+  return kRecordHeaderBytes + (compressed ? max_compressed_record_payload(payload) : payload);
+}
 
 }  // namespace sinew::hal::output

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "frame_log_format.hpp"
+#include "pose_codec.hpp"
 
 namespace sinew::hal::output {
 
@@ -25,7 +26,13 @@ bool FrameLogReader::open(const std::string& path, std::string* error) {
   }
   shape_ = preamble.shape;
   metadata_ = std::move(preamble.metadata);
-  scan_.start(fd_, static_cast<uint64_t>(st.st_size), shape_, preamble.records_offset);
+  compressed_ = preamble.compressed;
+  if (compressed_ && !decompressor_.init(static_cast<size_t>(max_pose_payload_bytes(shape_)), &why)) {
+    *error = path + ": " + why;
+    close();
+    return false;
+  }
+  scan_.start(fd_, static_cast<uint64_t>(st.st_size), shape_, preamble.records_offset, compressed_);
   return true;
 }
 
@@ -38,6 +45,10 @@ bool FrameLogReader::next(DecodedPose* out) {
   std::span<const uint8_t> payload;
   if (fd_ < 0 || !scan_.next(&payload)) return false;
   std::string why;
+  if (compressed_ && !decompressor_.decode(payload, &payload, &why)) {
+    scan_.reject_last(LogStop::kBadPayload, why);
+    return false;
+  }
   if (!decode_pose(payload, out, &why)) {
     scan_.reject_last(LogStop::kBadPayload, why);
     return false;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 
+#include "frame_compression.hpp"
 #include "frame_log_scan.hpp"
 #include "frame_shape.hpp"
 #include "pose_decode.hpp"
@@ -28,6 +29,8 @@ class FrameLogReader {
   // The log's metadata block (a recording's run description); empty for a
   // version-1 log.
   const std::string& metadata() const { return metadata_; }
+  // Whether the records are compressed (frame_compression.hpp).
+  bool compressed() const { return compressed_; }
 
   // The next intact record, decoded; false at the end or at a damaged record.
   bool next(DecodedPose* out);
@@ -44,6 +47,8 @@ class FrameLogReader {
   int fd_ = -1;
   FrameShape shape_;
   std::string metadata_;
+  bool compressed_ = false;
+  FrameDecompressor decompressor_;
   RecordScanner scan_;
 };
 

@@ -52,18 +52,21 @@ bool pread_all(int fd, uint8_t* dst, size_t n, uint64_t offset) {
 
 }  // namespace
 
-void RecordScanner::start(int fd, uint64_t file_size, const FrameShape& shape, uint64_t records_offset) {
+void RecordScanner::start(int fd, uint64_t file_size, const FrameShape& shape, uint64_t records_offset,
+                          bool compressed) {
   fd_ = fd;
   file_size_ = file_size;
   offset_ = last_offset_ = records_offset;
   records_ = 0;
   shape_ = shape;
+  compressed_ = compressed;
   // A record is read only when the file holds all of it, so the buffer never
   // needs more than the file's bytes after its header: sizing it from the
   // header's counts alone let a 41-byte file claim a gigabyte.
   const uint64_t after_header = file_size > records_offset ? file_size - records_offset : 0;
-  buffer_.assign(
-      static_cast<size_t>(std::min(max_record_bytes(shape), std::max<uint64_t>(after_header, kRecordHeaderBytes))), 0);
+  buffer_.assign(static_cast<size_t>(std::min(max_record_bytes(shape, compressed),
+                                              std::max<uint64_t>(after_header, kRecordHeaderBytes))),
+                 0);
   stop_ = LogStop::kNone;
   detail_.clear();
 }
@@ -85,7 +88,7 @@ bool RecordScanner::next(std::span<const uint8_t>* payload) {
   if (!pread_all(fd_, head, kRecordHeaderBytes, offset_)) return halt(LogStop::kIoError, std::strerror(errno));
   if (load_u32(head) != kRecordMagic) return halt(LogStop::kBadRecordHeader, "bad record magic");
   const uint32_t length = load_u32(head + 4);
-  if (!record_length_allowed(shape_, length))
+  if (!record_length_allowed(shape_, length, compressed_))
     return halt(LogStop::kBadRecordHeader, "record length " + std::to_string(length) + " does not fit the log's shape");
   if (left < kRecordHeaderBytes + length)
     return halt(LogStop::kTornTail, "record cut short (" + std::to_string(left) + " of " +

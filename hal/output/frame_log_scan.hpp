@@ -30,8 +30,10 @@ class RecordScanner {
  public:
   // Scans `fd` (not owned; read with pread) of `file_size` bytes from the
   // first record after the file header. Allocates a buffer for the largest record.
-  // records_offset: where the first record starts (after the preamble).
-  void start(int fd, uint64_t file_size, const FrameShape& shape, uint64_t records_offset = kLogHeaderBytes);
+  // records_offset: where the first record starts (after the preamble);
+  // compressed: the log's records are compressed (their lengths vary).
+  void start(int fd, uint64_t file_size, const FrameShape& shape, uint64_t records_offset = kLogHeaderBytes,
+             bool compressed = false);
 
   // The next intact record's payload (valid until the next call); false once stopped.
   bool next(std::span<const uint8_t>* payload);
@@ -57,6 +59,7 @@ class RecordScanner {
   uint64_t last_offset_ = 0;
   uint64_t records_ = 0;
   FrameShape shape_;
+  bool compressed_ = false;
   std::vector<uint8_t> buffer_;
   LogStop stop_ = LogStop::kNone;
   std::string detail_;

@@ -39,10 +39,10 @@ bool pwrite_all(int fd, const uint8_t* src, size_t n, uint64_t offset) {
 // A new log appears complete or not at all: the header goes into a fresh
 // temporary file, is synced, and the file is renamed into place. Returns the
 // temporary file's descriptor, which is the log's once renamed.
-int create_log(OutputDir& dir, const FrameShape& shape, const std::string& metadata, std::string* error) {
+int create_log(OutputDir& dir, const FrameShape& shape, const FrameLogOptions& options, std::string* error) {
   const int fd = dir.create_temp(0644, error);
   if (fd < 0) return -1;
-  const std::vector<uint8_t> preamble = encode_log_preamble(shape, metadata);
+  const std::vector<uint8_t> preamble = encode_log_preamble(shape, options.metadata, options.compress);
   if (!pwrite_all(fd, preamble.data(), preamble.size(), 0) || ::fdatasync(fd) != 0) {
     *error = dir.subject() + ": cannot write its header: " + std::strerror(errno);
     ::close(fd);
@@ -64,6 +64,9 @@ bool FrameLogWriter::open(const std::string& path, const FrameShape& shape, cons
   if (max_pose_payload_bytes(shape) == 0) return *error = "frame too large for a frame log", false;
   if (options.metadata.size() > kMaxLogMetadataBytes)
     return *error = "frame log metadata larger than " + std::to_string(kMaxLogMetadataBytes) + " bytes", false;
+  if (options.compress && !compressor_.init(static_cast<size_t>(max_pose_payload_bytes(shape)),
+                                            options.compression_level, options.key_every_frames, error))
+    return *error = "frame log " + path + ": " + *error, false;
 
   // Never through a symbolic link, in a directory others cannot swap the file in (safe_create.hpp).
   OutputDir dir;
@@ -71,7 +74,7 @@ bool FrameLogWriter::open(const std::string& path, const FrameShape& shape, cons
   bool missing = false;
   fd_ = dir.open_existing(O_RDWR, &missing, error);
   if (missing) {
-    fd_ = create_log(dir, shape, options.metadata, error);
+    fd_ = create_log(dir, shape, options, error);
   } else if (fd_ >= 0) {
     stats_.appended = true;
   }
@@ -90,7 +93,7 @@ bool FrameLogWriter::open_existing(const std::string& path, std::string* error) 
   if (::fstat(fd_, &st) != 0) return *error = os_error("cannot stat", path), false;
   const auto size = static_cast<uint64_t>(st.st_size);
   if (size == 0) {  // an empty file (e.g. made by the caller): give it a header
-    const std::vector<uint8_t> preamble = encode_log_preamble(shape_, options_.metadata);
+    const std::vector<uint8_t> preamble = encode_log_preamble(shape_, options_.metadata, options_.compress);
     if (!pwrite_all(fd_, preamble.data(), preamble.size(), 0) || ::fdatasync(fd_) != 0)
       return *error = os_error("cannot write", path), false;
     end_ = preamble.size();
@@ -101,6 +104,10 @@ bool FrameLogWriter::open_existing(const std::string& path, std::string* error) 
   if (!read_log_preamble(fd_, size, &in_log, &why)) return *error = path + ": " + why, false;
   if (in_log.shape != shape_)
     return *error = path + ": incompatible frame log (" + describe_shape_mismatch(in_log.shape, shape_) + ")", false;
+  if (in_log.compressed != options_.compress)
+    return *error = path + ": incompatible frame log (its records are " +
+                    (in_log.compressed ? "compressed, the sink's are not" : "not compressed, the sink's are") + ")",
+           false;
   // A recording appended to must describe the same run (rig, rate, layers).
   if (in_log.metadata != options_.metadata)
     return *error = path + ": incompatible frame log (its metadata describes another run" +
@@ -108,12 +115,12 @@ bool FrameLogWriter::open_existing(const std::string& path, std::string* error) 
            false;
 
   RecordScanner scan;
-  scan.start(fd_, size, shape_, in_log.records_offset);
+  scan.start(fd_, size, shape_, in_log.records_offset, in_log.compressed);
   std::span<const uint8_t> payload;
   while (scan.next(&payload)) {
   }
   if (scan.stop() == LogStop::kIoError) return *error = path + ": read error " + scan.stop_detail(), false;
-  if (scan.discarded_bytes() > max_record_bytes(shape_))
+  if (scan.discarded_bytes() > max_record_bytes(shape_, in_log.compressed))
     return *error = path + ": damaged " + scan.stop_detail() + "; appending would cut " +
                     std::to_string(scan.discarded_bytes()) + " bytes, more than one record: refusing",
            false;
@@ -126,16 +133,28 @@ bool FrameLogWriter::open_existing(const std::string& path, std::string* error) 
   return true;
 }
 
+static_assert(FrameCompressor::head_room >= kRecordHeaderBytes, "the record header goes before the packed payload");
+
 bool FrameLogWriter::write(const PoseFrame& frame) {
   if (fd_ < 0) return ++stats_.frames_dropped, false;
   const std::span<uint8_t> body(record_.data() + kRecordHeaderBytes, record_.size() - kRecordHeaderBytes);
   const size_t n = encode_pose(frame, shape_, body);
   if (n == 0) return ++stats_.frames_rejected, false;
-  encode_record_header(body.first(n), record_.data());
-  const size_t total = kRecordHeaderBytes + n;
-  if (!pwrite_all(fd_, record_.data(), total, end_)) {
+  uint8_t* record = record_.data();
+  std::span<const uint8_t> stored = body.first(n);
+  if (options_.compress) {
+    // The compressor leaves room for the record header before its output.
+    const std::span<uint8_t> packed = compressor_.encode(stored);
+    if (packed.empty()) return ++stats_.frames_dropped, false;
+    record = packed.data() - kRecordHeaderBytes;
+    stored = packed;
+  }
+  encode_record_header(stored, record);
+  const size_t total = kRecordHeaderBytes + stored.size();
+  if (!pwrite_all(fd_, record, total, end_)) {
     stats_.last_errno = errno;
     ++stats_.frames_dropped;
+    compressor_.restart();  // the next record may not be a delta to one that is not in the file
     // Cut any partial record, so the next one follows an intact log.
     if (::ftruncate(fd_, static_cast<off_t>(end_)) != 0) stats_.last_errno = errno;
     return false;
@@ -143,6 +162,7 @@ bool FrameLogWriter::write(const PoseFrame& frame) {
   end_ += total;
   ++stats_.frames_written;
   stats_.record_bytes_written += total;
+  stats_.payload_bytes += n;
   ++unsynced_;
   if (options_.sync_every_frames != 0 && unsynced_ >= options_.sync_every_frames) sync();
   return true;
@@ -172,6 +192,8 @@ std::string FrameLogWriter::status_line() const {
   std::string s = std::string(name()) + ": " + std::to_string(stats_.frames_written) + " written, " +
                   std::to_string(stats_.frames_dropped) + " dropped, " + std::to_string(stats_.frames_rejected) +
                   " rejected, " + std::to_string(end_) + " bytes, " + std::to_string(stats_.syncs) + " syncs";
+  if (options_.compress && stats_.record_bytes_written > 0)
+    s += ", zstd " + std::to_string(stats_.payload_bytes / stats_.record_bytes_written) + "x";
   if (stats_.sync_errors > 0) s += ", " + std::to_string(stats_.sync_errors) + " sync errors";
   if (stats_.last_errno != 0) s += ", last error: " + std::string(std::strerror(stats_.last_errno));
   return s;

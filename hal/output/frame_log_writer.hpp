@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "frame_compression.hpp"
 #include "frame_shape.hpp"
 #include "hal/common/pose_frame.hpp"
 
@@ -24,13 +25,21 @@ struct FrameLogOptions {
   // version-1 log). An existing log is appended to only if its metadata is
   // the same. At most kMaxLogMetadataBytes.
   std::string metadata;
+  // Compressed records (frame_compression.hpp; docs/frame-formats.md): zstd
+  // at `compression_level` (1..19) on the delta to the previous record, a
+  // key record every `key_every_frames`. An existing log is appended to only
+  // if it is compressed the same way (compressed or not).
+  bool compress = false;
+  int compression_level = 1;
+  uint32_t key_every_frames = 1000;
 };
 
 struct FrameLogStats {
   uint64_t frames_written = 0;
-  uint64_t frames_dropped = 0;   // write failed (e.g. disk full); the partial record was cut off
-  uint64_t frames_rejected = 0;  // frame does not match the log's shape
-  uint64_t record_bytes_written = 0;
+  uint64_t frames_dropped = 0;        // write failed (e.g. disk full); the partial record was cut off
+  uint64_t frames_rejected = 0;       // frame does not match the log's shape
+  uint64_t record_bytes_written = 0;  // records as written (compressed, when they are)
+  uint64_t payload_bytes = 0;         // the same records' pose payloads before compression
   uint64_t syncs = 0;
   uint64_t sync_errors = 0;
   int last_errno = 0;
@@ -57,7 +66,8 @@ class FrameLogWriter {
   bool open(const std::string& path, const FrameShape& shape, const FrameLogOptions& options, std::string* error);
 
   // Appends one record. False if the frame was rejected or dropped (counted).
-  // No allocation; one pwrite(), plus fdatasync() when the policy says so.
+  // No allocation; one pwrite(), plus fdatasync() when the policy says so;
+  // compressing first when the options say so.
   bool write(const PoseFrame& frame);
 
   void flush();  // fdatasync now
@@ -77,7 +87,8 @@ class FrameLogWriter {
   FrameShape shape_;
   FrameLogOptions options_;
   std::vector<uint8_t> record_;  // one record: header + largest payload
-  uint64_t end_ = 0;             // end of the last complete record
+  FrameCompressor compressor_;
+  uint64_t end_ = 0;  // end of the last complete record
   uint32_t unsynced_ = 0;
   FrameLogStats stats_;
 };

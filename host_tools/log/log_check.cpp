@@ -31,6 +31,7 @@ bool check_log(const std::string& path, LogCheck* out, std::string* error) {
   LogCheck c;
   c.shape = reader.shape();
   c.metadata = reader.metadata();
+  c.compressed = reader.compressed();
   XXH64_state_t* state = XXH64_createState();
   XXH64_reset(state, 0);
   hal::output::DecodedPose pose;
@@ -70,9 +71,9 @@ bool check_log(const std::string& path, LogCheck* out, std::string* error) {
 std::string describe(const std::string& path, const LogCheck& c) {
   char buf[1024];
   std::string s;
-  std::snprintf(buf, sizeof buf, "%s: %u vertices%s, %u inputs, one rig unit = 2^%d m\n", path.c_str(),
+  std::snprintf(buf, sizeof buf, "%s: %u vertices%s, %u inputs, one rig unit = 2^%d m%s\n", path.c_str(),
                 c.shape.vertex_count, c.shape.normals ? " with normals" : "", c.shape.input_count,
-                c.shape.length_exponent);
+                c.shape.length_exponent, c.compressed ? "; records zstd-compressed" : "");
   s += buf;
   if (!c.metadata.empty()) {
     // A recording: say so, and which run it holds (sinew-log render regenerates its frames).

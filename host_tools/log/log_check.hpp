@@ -15,7 +15,8 @@ namespace sinew::log_tool {
 
 struct LogCheck {
   hal::output::FrameShape shape;
-  std::string metadata;  // a recording's run description (empty for a frame log)
+  std::string metadata;     // a recording's run description (empty for a frame log)
+  bool compressed = false;  // zstd-compressed records (docs/frame-formats.md)
   uint64_t frames = 0;
   uint64_t first_tick = 0, last_tick = 0;
   uint64_t first_ns = 0, last_ns = 0;

@@ -239,6 +239,15 @@ TEST(DaemonConfig, SourceAndSinkKeysAreKnownTypedAndRangeChecked) {
             std::string::npos);
   EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\nsync_every_frames = -1\n").find("[[sink]] sync_every_frames"),
             std::string::npos);
+  EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\ncompression = \"lz4\"\n")
+                .find("[[sink]] compression: must be \"none\" or \"zstd\""),
+            std::string::npos);
+  EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\ncompression = \"zstd\"\ncompression_level = 20\n")
+                .find("[[sink]] compression_level"),
+            std::string::npos);
+  EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\ncompression = \"zstd\"\nkey_every_frames = 0\n")
+                .find("[[sink]] key_every_frames"),
+            std::string::npos);
   EXPECT_NE(sink("type = \"udp\"\nport = 47800\nmax_datagram_bytes = -1\n").find("[[sink]] max_datagram_bytes"),
             std::string::npos);
   EXPECT_NE(sink("type = \"udp\"\nport = 47800\nnormal = true\n").find("[[sink]] normal: unknown key"),

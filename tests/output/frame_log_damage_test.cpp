@@ -1,6 +1,7 @@
 // Frame log recovery: a copy truncated at every byte offset, and a copy with
 // each single byte corrupted. The reader must return exactly the intact
-// records before the damage, with their exact contents, and never more.
+// records before the damage, with their exact contents, and never more; for
+// logs of plain and of compressed records alike.
 #include "frame_log_fixture.hpp"
 #include "hal/output/frame_log_format.hpp"
 
@@ -10,10 +11,12 @@ namespace {
 using hal::output::kLogHeaderBytes;
 using hal::output::LogStop;
 
-class FrameLogDamageTest : public FrameLogTest {
+class FrameLogDamageTest : public FrameLogTest, public testing::WithParamInterface<bool> {
  protected:
   void SetUp() override {
-    ends_ = write_frames(dir_.file("original.log"), 0, kFrames);
+    hal::output::FrameLogOptions options;
+    options.compress = GetParam();
+    ends_ = write_frames(dir_.file("original.log"), 0, kFrames, options);
     original_ = read_bytes(dir_.file("original.log"));
     ASSERT_EQ(original_.size(), ends_.back());
   }
@@ -30,7 +33,7 @@ class FrameLogDamageTest : public FrameLogTest {
   std::vector<uint8_t> original_;
 };
 
-TEST_F(FrameLogDamageTest, TruncatedAtEveryByteRecoversTheCompleteFrames) {
+TEST_P(FrameLogDamageTest, TruncatedAtEveryByteRecoversTheCompleteFrames) {
   const std::string path = dir_.file("cut.log");
   for (size_t cut = 0; cut <= original_.size(); ++cut) {
     SCOPED_TRACE("cut at " + std::to_string(cut));
@@ -50,7 +53,7 @@ TEST_F(FrameLogDamageTest, TruncatedAtEveryByteRecoversTheCompleteFrames) {
   }
 }
 
-TEST_F(FrameLogDamageTest, CorruptByteStopsAtItsRecord) {
+TEST_P(FrameLogDamageTest, CorruptByteStopsAtItsRecord) {
   const std::string path = dir_.file("corrupt.log");
   for (const uint8_t flip : {uint8_t{0x01}, uint8_t{0x80}, uint8_t{0xFF}}) {
     for (size_t at = 0; at < original_.size(); ++at) {
@@ -75,7 +78,7 @@ TEST_F(FrameLogDamageTest, CorruptByteStopsAtItsRecord) {
   }
 }
 
-TEST_F(FrameLogDamageTest, StopMessageSaysWhereAndWhy) {
+TEST_P(FrameLogDamageTest, StopMessageSaysWhereAndWhy) {
   const std::string path = dir_.file("cut.log");
   write_bytes(path, original_.data(), ends_[1] + 7);
   hal::output::FrameLogReader reader;
@@ -89,6 +92,9 @@ TEST_F(FrameLogDamageTest, StopMessageSaysWhereAndWhy) {
   EXPECT_EQ(reader.stop_message(), "torn-tail at offset " + std::to_string(ends_[1]) +
                                        ": record header cut short (7 of 16 bytes); 7 bytes discarded");
 }
+
+INSTANTIATE_TEST_SUITE_P(PlainAndCompressed, FrameLogDamageTest, testing::Bool(),
+                         [](const testing::TestParamInfo<bool>& p) { return p.param ? "zstd" : "plain"; });
 
 }  // namespace
 }  // namespace sinew::test

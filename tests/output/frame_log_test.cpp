@@ -82,7 +82,7 @@ TEST_F(FrameLogTest, AHugeShapeInAShortFileAllocatesNoMoreThanTheFile) {
   huge.normals = true;
   ASSERT_GT(hal::output::max_record_bytes(huge), uint64_t{400} << 20);
   std::vector<uint8_t> bytes(kLogHeaderBytes + 12, 0);
-  hal::output::encode_log_header(huge, bytes.data());
+  hal::output::encode_log_header(huge, false, bytes.data());
   const std::string path = dir_.file("claims.log");
   write_bytes(path, bytes.data(), bytes.size());
 
