@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# sinew-view on the daemon's live UDP stream: sinewd offline with the
+# simulated rig and every layer on sends its frames to sinew-view; headless
+# Chromium opens the page. Passes when the 3D view shows the mesh (pixels
+# other than the background over a good part of the view), the input panel
+# lists every input of the rig with a health state, and the step-time chart
+# has steps.
+#   view_live_test.sh SINEWD SINEW_VIEW OUT_DIR
+SINEWD="$1" SINEW_VIEW="$2" OUT_DIR="$3"
+source "$(dirname "$0")/view_common.sh"
+
+udp_port=$base_port http_port=$((base_port + 1))
+start_view "$http_port" --udp "$udp_port" --bind 127.0.0.1 --rig arm
+daemon_config "$work/live.toml" "[[sink]]
+type = \"udp\"
+name = \"udp\"
+host = \"127.0.0.1\"
+port = $udp_port"
+"$SINEWD" --config "$work/live.toml" > "$work/daemon.out" 2>&1 || { echo "FAIL: sinewd"; cat "$work/daemon.out"; exit 1; }
+
+probe "http://127.0.0.1:$http_port/" "$OUT_DIR/view_live.png" 1 > "$work/live.json" ||
+  { echo "FAIL: page probe"; cat "$work/live.json"; cat "$work/view-$http_port.log"; exit 1; }
+cat "$work/live.json"; echo
+status=0
+check() { if [ "$(json "$work/live.json" "$1")" != True ]; then echo "FAIL: $2"; status=1; else echo "ok: $2"; fi; }
+check "j['error'] == ''" "no error banner"
+# The arm fills a good part of the view once framed; a blank or black canvas
+# has (almost) none. 2 % of 880 x 720 is 12672 pixels.
+check "j['drawnPixels'] > 0.02 * j['viewPixels']" "the mesh is drawn ($(json "$work/live.json" "j['drawnPixels']") pixels)"
+check "len(j['rigInputs']) == 8" "the rig's 8 inputs (docs/frame-formats.md: the built-in arm has 8)"
+check "[r[0] for r in j['inputRows']] == j['rigInputs']" "the input panel lists every input by name"
+check "all(r[2] in ('fresh', 'held', 'stale', 'rejected') for r in j['inputRows'])" "every input has a health state"
+check "j['chart'].split(' ')[0].isdigit() and int(j['chart'].split(' ')[0]) > 0" "the step-time chart has steps"
+check "'deadline misses' in j['chart']" "the chart counts deadline misses"
+exit $status
