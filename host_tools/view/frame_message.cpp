@@ -46,7 +46,7 @@ std::vector<uint8_t> assemble(const std::string& json, const std::vector<float>&
   out.resize(at + values.size() * 4);
   // The page reads them as a Float32Array: little-endian, as every host the
   // viewer runs on (x86-64, aarch64) stores them.
-  std::memcpy(out.data() + at, values.data(), values.size() * 4);
+  if (!values.empty()) std::memcpy(out.data() + at, values.data(), values.size() * 4);
   return out;
 }
 
@@ -132,8 +132,9 @@ std::vector<uint8_t> frame_message(const ViewRig& rig, const hal::output::Decode
   j.key("tick").number(pose.tick);
   j.key("timestamp_ns").number(pose.timestamp_ns);
   add_playback(j, playback, counters, error);
+  // A mismatched stream's inputs are not the rig's: not listed under its names.
   j.key("inputs").open_array();
-  for (uint32_t i = 0; i < pose.input_count; ++i) {
+  for (uint32_t i = 0; i < (error.empty() ? pose.input_count : 0); ++i) {
     j.open_object();
     j.key("raw").number(pose.input_value[i]);
     if (i < rig.input_unit.size()) j.key("value").number(input_display_value(rig, i, pose.input_value[i]));

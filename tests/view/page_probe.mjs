@@ -148,10 +148,12 @@ try {
       inputRows: [...document.querySelectorAll('#inputs tbody tr')].map((r) => [...r.cells].map((c) => c.textContent)),
       chart: document.getElementById('chart-summary') ? document.getElementById('chart-summary').textContent : ''
     }))()`);
-    if (shown && (shown.framesDrawn >= minFrames || (minFrames === 0 && shown.error))) break;
+    // MIN_FRAMES 0: wait for the error banner instead (a rig/stream mismatch).
+    const ready = (s) => s && (minFrames > 0 ? s.framesDrawn >= minFrames : s.error !== '');
+    if (ready(shown)) break;
     await sleep(200);
   }
-  if (!shown || (shown.framesDrawn < minFrames && !(minFrames === 0 && shown.error)))
+  if (!(shown && (minFrames > 0 ? shown.framesDrawn >= minFrames : shown.error !== '')))
     throw new Error('the page drew ' + (shown ? shown.framesDrawn : 0) + ' frames before the timeout: ' +
                     JSON.stringify(shown));
   await sleep(300);  // the last frame's panels

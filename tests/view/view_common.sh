@@ -35,13 +35,15 @@ start_view() {
 
 # probe URL PNG [MIN_FRAMES]: prints the page's state as JSON.
 probe() {
+  echo "[${SECONDS}s] opening $1" >&2
   node --experimental-websocket --no-warnings "$here/page_probe.mjs" "$1" "$2" "${3:-1}" 40
 }
 
 # json FILE EXPR: a Python expression over the probe's JSON (as `j`).
 json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
 
-# daemon_config FILE SINK_TOML: the built-in arm, every layer on, offline,
+# daemon_config FILE SINK_TOML: 0.6 s at 100 Hz (short: the sanitizer build
+# steps every layer in tens of ms), the built-in arm, every layer on, offline,
 # fed by the simulated rig (as tests/integration's every-layer runs).
 daemon_config() {
   cat > "$1" <<TOML
@@ -51,7 +53,7 @@ builtin = "arm"
 default_period_ms = 10.0
 [loop]
 rate_hz = 100
-duration_s = 2.0
+duration_s = 0.6
 stats_interval_s = 0
 mode = "offline"
 [layers]
