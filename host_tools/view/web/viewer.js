@@ -7,6 +7,12 @@ import {drawStepChart, updateInputTable} from './panels.js';
 const $ = (id) => document.getElementById(id);
 const params = new URLSearchParams(location.search);
 const fixedTime = params.has('t') ? Number(params.get('t')) : null;
+// ?show=a,b: overlays switched on at load (mesh, displacement, skeleton,
+// sph, metaballs, muscles, barnet), e.g. for a screenshot of every layer.
+for (const name of (params.get('show') || '').split(',').filter(Boolean)) {
+  const box = document.getElementById('show-' + name);
+  if (box) box.checked = true;
+}
 const state = {rig: null, framesDrawn: 0, lastFrame: null, fitted: false, scrubbing: false};
 window.sinewView = state;  // for the tests: frames drawn, the last frame's time
 
@@ -152,7 +158,7 @@ function updateScene(msg) {
   if (!balls || balls.count !== ballCount) {
     if (balls) scene.remove(balls);
     balls = new THREE.InstancedMesh(ballGeometry,
-        new THREE.MeshBasicMaterial({color: 0x66ccff, wireframe: true, transparent: true, opacity: 0.35}), ballCount);
+        new THREE.MeshBasicMaterial({color: 0x66ccff, wireframe: true, transparent: true, opacity: 0.15}), ballCount);
     scene.add(balls);
   }
   const m = new THREE.Matrix4();
