@@ -16,8 +16,10 @@ const [url, pngPath, minFramesArg, timeoutArg] = process.argv.slice(2);
 const minFrames = Number(minFramesArg || 1);
 const deadline = Date.now() + 1000 * Number(timeoutArg || 30);
 const chromium = process.env.CHROMIUM || 'chromium';
-// The 3D view's canvas and its clear colour (host_tools/view/web: #scene).
-const VIEW = {x: 0, y: 0, w: 880, h: 720}, BACKGROUND = [0x1e, 0x22, 0x28];
+// The 3D view's canvas (880 x 720 at the page's top left, host_tools/view/web:
+// #scene) and its clear colour. The band the error banner covers at the top
+// and the legend's at the bottom are left out: only the scene is counted.
+const VIEW = {x: 0, y: 48, w: 880, h: 632}, BACKGROUND = [0x1e, 0x22, 0x28];
 
 if (url === '--diff') diffAndExit(pngPath, minFramesArg);
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));

@@ -24,9 +24,11 @@ cat "$work/live.json"; echo
 status=0
 check() { if [ "$(json "$work/live.json" "$1")" != True ]; then echo "FAIL: $2"; status=1; else echo "ok: $2"; fi; }
 check "j['error'] == ''" "no error banner"
-# The arm fills a good part of the view once framed; a blank or black canvas
-# has (almost) none. 2 % of 880 x 720 is 12672 pixels.
-check "j['drawnPixels'] > 0.02 * j['viewPixels']" "the mesh is drawn ($(json "$work/live.json" "j['drawnPixels']") pixels)"
+# The page frames the arm's bounding sphere at 1.3 x its radius: its
+# silhouette covers well over 5 % of the view (a sphere so framed covers
+# ~20 %; the arm is thinner); a blank canvas has none (the mismatch page of
+# view_replay, which draws no mesh, checks that the count can fail).
+check "j['drawnPixels'] > 0.05 * j['viewPixels']" "the mesh is drawn ($(json "$work/live.json" "j['drawnPixels']") pixels)"
 check "len(j['rigInputs']) == 8" "the rig's 8 inputs (docs/frame-formats.md: the built-in arm has 8)"
 check "[r[0] for r in j['inputRows']] == j['rigInputs']" "the input panel lists every input by name"
 check "all(r[2] in ('fresh', 'held', 'stale', 'rejected') for r in j['inputRows'])" "every input has a health state"
