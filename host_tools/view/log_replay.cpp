@@ -109,6 +109,12 @@ int run_replay(const ViewContext& ctx, const std::string& log_path) {
     last_clock = now;
     for (const std::string& c : ctx.server->take_commands()) dirty |= apply_command(c, &playback);
     if (ctx.server->take_new_pages()) dirty = true;
+    if (ctx.server->pages() == 0) {
+      // Nobody watching: the replay waits (re-stepping the layers costs a
+      // core), and a page that connects starts where it stopped.
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      continue;
+    }
     if (playback.playing) {
       playback.time_s += wall_s * playback.speed;
       if (playback.time_s > playback.end_s) playback.time_s = playback.start_s;  // loops

@@ -3,7 +3,9 @@
 // page shows as JSON: frames drawn, the frame's time, the input table, the
 // chart's summary, the error banner, and the screenshot's pixels inside the
 // 3D view that differ from its background (the mesh and overlays).
-//   node --experimental-websocket page_probe.mjs URL OUT.png [MIN_FRAMES] [TIMEOUT_S]
+//   node --experimental-websocket page_probe.mjs MIN_FRAMES TIMEOUT_S URL OUT.png [URL OUT.png ...]
+// One JSON line per page, in order, from one browser (pages opened in turn).
+// MIN_FRAMES 0 waits for the error banner instead of drawn frames.
 //   node page_probe.mjs --diff A.png B.png   pixels of the 3D view that differ
 // Node's own modules only (zlib for the PNG): no packages.
 import {spawn} from 'node:child_process';
@@ -12,8 +14,8 @@ import os from 'node:os';
 import path from 'node:path';
 import zlib from 'node:zlib';
 
-const [url, pngPath, minFramesArg, timeoutArg] = process.argv.slice(2);
-const minFrames = Number(minFramesArg || 1);
+const [minFramesArg, timeoutArg, ...pages] = process.argv.slice(2);
+const minFrames = Number(minFramesArg);
 const deadline = Date.now() + 1000 * Number(timeoutArg || 30);
 const chromium = process.env.CHROMIUM || 'chromium';
 // The 3D view's canvas (880 x 720 at the page's top left, host_tools/view/web:
@@ -21,7 +23,7 @@ const chromium = process.env.CHROMIUM || 'chromium';
 // and the legend's at the bottom are left out: only the scene is counted.
 const VIEW = {x: 0, y: 48, w: 880, h: 632}, BACKGROUND = [0x1e, 0x22, 0x28];
 
-if (url === '--diff') diffAndExit(pngPath, minFramesArg);
+if (minFramesArg === '--diff') diffAndExit(timeoutArg, pages[0]);
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'sinew-view-probe-'));
 const browser = spawn(chromium, [
@@ -136,6 +138,13 @@ try {
   await cdp.call('Page.enable');
   // The page's size, whatever the window's decorations take.
   await cdp.call('Emulation.setDeviceMetricsOverride', {width: 1320, height: 740, deviceScaleFactor: 1, mobile: false});
+  for (let k = 0; k + 1 < pages.length; k += 2) await probePage(cdp, pages[k], pages[k + 1]);
+  finish(0);
+} catch (e) {
+  fail(String(e && e.stack || e));
+}
+
+async function probePage(cdp, url, pngPath) {
   await cdp.call('Page.navigate', {url});
   const read = async (expr) => (await cdp.call('Runtime.evaluate', {expression: expr, returnByValue: true})).result.value;
   let shown = null;
@@ -170,9 +179,6 @@ try {
       const d = Math.max(...[0, 1, 2].map((c) => Math.abs(image.pixels[at + c] - BACKGROUND[c])));
       if (d > 24) ++drawn;
     }
-  console.log(JSON.stringify({ok: true, ...shown, width: image.width, height: image.height,
+  console.log(JSON.stringify({ok: true, url, ...shown, width: image.width, height: image.height,
                               viewPixels: VIEW.w * VIEW.h, drawnPixels: drawn}));
-  finish(0);
-} catch (e) {
-  fail(String(e && e.stack || e));
 }

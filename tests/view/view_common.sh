@@ -33,10 +33,11 @@ start_view() {
   echo "FAIL: sinew-view did not serve its page on port $port"; cat "$work/view-$port.log"; exit 1
 }
 
-# probe URL PNG [MIN_FRAMES]: prints the page's state as JSON.
+# probe MIN_FRAMES URL PNG [URL PNG ...]: prints each page's state as a JSON
+# line (one browser opens the pages in turn).
 probe() {
-  echo "[${SECONDS}s] opening $1" >&2
-  node --experimental-websocket --no-warnings "$here/page_probe.mjs" "$1" "$2" "${3:-1}" 40
+  echo "[${SECONDS}s] opening ${*:2}" >&2
+  node --experimental-websocket --no-warnings "$here/page_probe.mjs" "$1" 40 "${@:2}"
 }
 
 # json FILE EXPR: a Python expression over the probe's JSON (as `j`).

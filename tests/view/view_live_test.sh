@@ -18,7 +18,7 @@ host = \"127.0.0.1\"
 port = $udp_port"
 "$SINEWD" --config "$work/live.toml" > "$work/daemon.out" 2>&1 || { echo "FAIL: sinewd"; cat "$work/daemon.out"; exit 1; }
 
-probe "http://127.0.0.1:$http_port/" "$OUT_DIR/view_live.png" 1 > "$work/live.json" ||
+probe 1 "http://127.0.0.1:$http_port/" "$OUT_DIR/view_live.png" > "$work/live.json" ||
   { echo "FAIL: page probe"; cat "$work/live.json"; cat "$work/view-$http_port.log"; exit 1; }
 cat "$work/live.json"; echo
 status=0
