@@ -40,8 +40,9 @@ probe() {
   node --experimental-websocket --no-warnings "$here/page_probe.mjs" "$1" 40 "${@:2}"
 }
 
-# json FILE EXPR: a Python expression over the probe's JSON (as `j`).
-json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+# json FILE EXPR: a JavaScript expression over the probe's JSON (as `j`),
+# printed (node is there: npm and the probe need it).
+json() { node -e "const j = JSON.parse(require('fs').readFileSync(process.argv[1], 'utf8')); console.log($2)" "$1"; }
 
 # daemon_config FILE SINK_TOML: 0.6 s at 100 Hz (short: the sanitizer build
 # steps every layer in tens of ms), the built-in arm, every layer on, offline,

@@ -22,16 +22,16 @@ probe 1 "http://127.0.0.1:$http_port/" "$OUT_DIR/view_live.png" > "$work/live.js
   { echo "FAIL: page probe"; cat "$work/live.json"; cat "$work/view-$http_port.log"; exit 1; }
 cat "$work/live.json"; echo
 status=0
-check() { if [ "$(json "$work/live.json" "$1")" != True ]; then echo "FAIL: $2"; status=1; else echo "ok: $2"; fi; }
-check "j['error'] == ''" "no error banner"
+check() { if [ "$(json "$work/live.json" "$1")" != true ]; then echo "FAIL: $2"; status=1; else echo "ok: $2"; fi; }
+check "j.error === ''" "no error banner"
 # The page frames the arm's bounding sphere at 1.3 x its radius: its
 # silhouette covers well over 5 % of the view (a sphere so framed covers
 # ~20 %; the arm is thinner); a blank canvas has none (the mismatch page of
 # view_replay, which draws no mesh, checks that the count can fail).
-check "j['drawnPixels'] > 0.05 * j['viewPixels']" "the mesh is drawn ($(json "$work/live.json" "j['drawnPixels']") pixels)"
-check "len(j['rigInputs']) == 8" "the rig's 8 inputs (docs/frame-formats.md: the built-in arm has 8)"
-check "[r[0] for r in j['inputRows']] == j['rigInputs']" "the input panel lists every input by name"
-check "all(r[2] in ('fresh', 'held', 'stale', 'rejected') for r in j['inputRows'])" "every input has a health state"
-check "j['chart'].split(' ')[0].isdigit() and int(j['chart'].split(' ')[0]) > 0" "the step-time chart has steps"
-check "'deadline misses' in j['chart']" "the chart counts deadline misses"
+check "j.drawnPixels > 0.05 * j.viewPixels" "the mesh is drawn ($(json "$work/live.json" "j.drawnPixels") pixels)"
+check "j.rigInputs.length === 8" "the rig's 8 inputs (docs/frame-formats.md: the built-in arm has 8)"
+check "JSON.stringify(j.inputRows.map((r) => r[0])) === JSON.stringify(j.rigInputs)" "the input panel lists every input by name"
+check "j.inputRows.every((r) => ['fresh', 'held', 'stale', 'rejected'].includes(r[2]))" "every input has a health state"
+check "/^[0-9]+ steps/.test(j.chart) && parseInt(j.chart, 10) > 0" "the step-time chart has steps"
+check "j.chart.includes('deadline misses')" "the chart counts deadline misses"
 exit $status

@@ -26,10 +26,10 @@ sed -n 2p "$work/pages.json" > "$work/t0.5.json"
 for t in 0.1 0.5; do
   cat "$work/t$t.json"
   # The frame shown is the last at or before t: within one tick (10 ms).
-  if [ "$(json "$work/t$t.json" "abs(j['timeS'] - $t) <= 0.0101 and j['error'] == ''")" != True ]; then
-    echo "FAIL: the page at ?t=$t shows time $(json "$work/t$t.json" "j['timeS']")"; status=1
+  if [ "$(json "$work/t$t.json" "Math.abs(j.timeS - $t) <= 0.0101 && j.error === ''")" != true ]; then
+    echo "FAIL: the page at ?t=$t shows time $(json "$work/t$t.json" "j.timeS")"; status=1
   fi
-  if [ "$(json "$work/t$t.json" "j['drawnPixels'] > 0.05 * j['viewPixels']")" != True ]; then
+  if [ "$(json "$work/t$t.json" "j.drawnPixels > 0.05 * j.viewPixels")" != true ]; then
     echo "FAIL: no mesh drawn at t=$t"; status=1
   fi
 done
@@ -37,7 +37,7 @@ diff_json="$(node "$here/page_probe.mjs" --diff "$OUT_DIR/view_replay_t0.1.png" 
 echo "$diff_json"
 # The arm moves between the two times: a good number of the view's pixels
 # change (a re-encoded identical frame changes none).
-differing="$(python3 -c "import json,sys; print(json.loads(sys.argv[1])['differingPixels'])" "$diff_json")"
+differing="$(node -e "console.log(JSON.parse(process.argv[1]).differingPixels)" "$diff_json")"
 if [ "$differing" -lt 2000 ]; then echo "FAIL: the two times give the same image ($differing pixels differ)"; status=1
 else echo "ok: scrubbing to two times gives two images ($differing pixels differ)"; fi
 
@@ -47,11 +47,11 @@ start_view "$mismatch_port" --log "$work/run.log" --rig hand
 probe 0 "http://127.0.0.1:$mismatch_port/" "$OUT_DIR/view_mismatch.png" > "$work/mismatch.json" ||
   { echo "FAIL: page probe (mismatch)"; cat "$work/mismatch.json"; exit 1; }
 cat "$work/mismatch.json"; echo
-if [ "$(json "$work/mismatch.json" "'rig/stream mismatch' in j['error']")" != True ]; then
+if [ "$(json "$work/mismatch.json" "j.error.includes('rig/stream mismatch')")" != true ]; then
   echo "FAIL: no mismatch error on the page"; status=1
 else echo "ok: a rig/stream mismatch shows on the page"; fi
 # ... and draws no surface: the pixel count of the checks above is near zero.
-if [ "$(json "$work/mismatch.json" "j['drawnPixels'] < 0.005 * j['viewPixels']")" != True ]; then
-  echo "FAIL: the mismatch page's view is not empty ($(json "$work/mismatch.json" "j['drawnPixels']") pixels)"; status=1
+if [ "$(json "$work/mismatch.json" "j.drawnPixels < 0.005 * j.viewPixels")" != true ]; then
+  echo "FAIL: the mismatch page's view is not empty ($(json "$work/mismatch.json" "j.drawnPixels") pixels)"; status=1
 else echo "ok: the mismatched stream is not drawn"; fi
 exit $status
