@@ -60,7 +60,7 @@ async function devtoolsPort() {
   throw new Error('chromium did not open its DevTools port');
 }
 
-function session(wsUrl) {
+function devtoolsConnection(wsUrl) {
   const socket = new WebSocket(wsUrl);
   let next = 1;
   const waiting = new Map();
@@ -133,7 +133,7 @@ try {
   const port = await devtoolsPort();
   const targets = await (await fetch(`http://127.0.0.1:${port}/json/list`)).json();
   const page = targets.find((t) => t.type === 'page');
-  const cdp = session(page.webSocketDebuggerUrl);
+  const cdp = devtoolsConnection(page.webSocketDebuggerUrl);
   await cdp.opened;
   await cdp.call('Page.enable');
   // The page's size, whatever the window's decorations take.
