@@ -20,7 +20,13 @@ test_pkgs=(
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user-static
   can-utils
   debootstrap
+  # sinew-view and its browser tests (host only: the board needs none of it)
+  libcivetweb-dev chromium
 )
+# npm for the viewer's page (three.js from its lockfile). A Node.js that
+# bundles npm (e.g. NodeSource's) conflicts with Debian's npm package, so it
+# is asked for only when no npm is on the PATH.
+if ! command -v npm >/dev/null 2>&1; then test_pkgs+=(npm); fi
 # The aarch64 preset cross-builds hal/ and the firmware: their libraries as
 # arm64 multiarch packages, pkgconf:arm64 for aarch64-linux-gnu-pkg-config, and
 # the arm64 C and C++ runtime its tests run on under qemu-user.
