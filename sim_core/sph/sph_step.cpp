@@ -237,7 +237,9 @@ SphStatus sph_step(SphState* st, const SphInputs& in) {
 
   // Once the joint has yielded it takes no further load (§4.2: "the object
   // is no longer subjected to force"): the torque is capped at its value then.
-  int64_t torque = fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
+  // A measured joint already shows the load's flexion: it takes no torque.
+  int64_t torque =
+      in.joint_measured ? 0 : fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
   if (in.tresca && st->joint_yielded) torque = fx::clamp_i64(torque, -st->yield_torque_q12, st->yield_torque_q12);
   // Angular acceleration x dt^2 of the distal bone: torque x load_gain / I.
   const fx::Unit beta = fx::sat_i32(
@@ -254,7 +256,9 @@ SphStatus sph_step(SphState* st, const SphInputs& in) {
     st->joint_yielded = true;
     st->yield_torque_q12 = torque < 0 ? -torque : torque;
   }
-  st->bend = measure_bend(*st, f);
+  // A measured joint is not bent a second time: the particles' rotation
+  // about it stays in the skin offsets below (anchored on the measured bone).
+  st->bend = in.joint_measured ? fx::Angle{0} : measure_bend(*st, f);
   const fx::Mat34 flex = fx::mat34_from_quat(fx::quat_from_axis_angle(m.joint.axis, st->bend), {0, 0, 0});
   st->distal_flexed = fx::mul(*f.distal, flex);
   skin_displacement(st, sat);

@@ -19,6 +19,12 @@ struct SphInputs {
   std::span<const fx::Mat34> transforms;  // one per rig joint, model space
   fx::Vec3 force{0, 0, 0};                // newtons, Q16.16, model space, acting at joint.load_point; |c| <= 2^30
   bool tresca = true;                     // apply the yield condition of eqs. (3)-(4)
+  // The driven joint's angle in `transforms` is measured (a wearable's
+  // sensor), hence already the truth under the external force: the force
+  // does not turn the distal bone again, the bend stays 0 and the particles
+  // only move the soft tissue (eq. (2) skin offsets). docs/sph.md, "Measured
+  // and simulated joints".
+  bool joint_measured = false;
 };
 
 // Returns kBadInput, changing nothing, if a transform is missing or the

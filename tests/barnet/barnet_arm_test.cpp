@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "arm_metrics.hpp"
@@ -32,16 +33,34 @@ TEST(BarnetArm, BindPoseReproducesTheRestSkin) {
     const int32_t want[3] = {r.x, r.y, r.z};
     for (int c = 0; c < 3; ++c) worst_node = std::max<int64_t>(worst_node, std::llabs(int64_t{got[c]} - want[c]));
   }
-  double worst_skin = 0;
-  for (uint32_t w = 0; w < s.model().wrap.size(); ++w)
-    worst_skin = std::max(worst_skin, distance(wrapped(s, w), rest(s, w)));
+  // Each wrapped vertex is bary . (a, b, c) + offset n: off by its nodes'
+  // error (the 2 LSB above plus the builder's 0.5 LSB rounding, weighted by
+  // |bary|), the Q2.30 barycentrics (2^-31 x |node|), the unit normal's few
+  // 2^-30 times the offset, the offset's and the output's rounding (0.5 LSB
+  // each), on each of three axes (sqrt 3 for the distance).
+  double worst_skin = 0, worst_ratio = 0;
+  for (uint32_t w = 0; w < s.model().wrap.size(); ++w) {
+    const bn::WrapRecord& r = s.model().wrap[w];
+    double bary = 0, node = 0;
+    for (int k = 0; k < 3; ++k) {
+      bary += std::abs(std::ldexp(r.bary[k], -30));
+      const sinew::fx::Vec3 p = s.model().nodes[s.model().triangles[r.triangle].node[k]].rest;
+      node = std::max({node, std::abs(s.metres(p.x)), std::abs(s.metres(p.y)), std::abs(s.metres(p.z))});
+    }
+    const double bound = std::sqrt(3.0) * (s.metres(1) * (2.5 * bary + 1.0) + 3 * node * 0x1p-31 +
+                                           std::abs(s.metres(r.offset)) * 0x1p-27);
+    const double d = distance(wrapped(s, w), rest(s, w));
+    worst_skin = std::max(worst_skin, d);
+    worst_ratio = std::max(worst_ratio, d / bound);
+  }
   std::printf(
       "barnet arm: bind pose: %zu nodes (%u free), largest node deviation %lld LSB; %zu wrapped vertices, "
       "largest deviation %.3g m (Len LSB %.3g m)\n",
       s.model().nodes.size(), s.state().free_count, static_cast<long long>(worst_node), s.model().wrap.size(),
       worst_skin, s.metres(1));
   EXPECT_LE(worst_node, 2);
-  EXPECT_LT(worst_skin, 1e-7);
+  std::printf("barnet arm: bind pose: worst wrapped vertex at %.3f of its derived bound\n", worst_ratio);
+  EXPECT_LE(worst_ratio, 1.0);
 }
 
 TEST(BarnetArm, BulgeGrowsWithFlexionAndVolumeIsRestored) {
@@ -70,7 +89,8 @@ TEST(BarnetArm, BulgeGrowsWithFlexionAndVolumeIsRestored) {
     previous_bulge = bulge;
     if (deg >= 90) EXPECT_GT(v_net, v_lbs) << "the net restores volume smooth skinning loses";
   }
-  EXPECT_GT(previous_bulge, 0.004);
+  // Positive beyond one Len LSB (the solve's error, ldlt_skyline.hpp).
+  EXPECT_GT(previous_bulge, s.metres(1));
 }
 
 TEST(BarnetArm, ZeroAllocationsAcrossThousandsOfSteps) {
