@@ -313,8 +313,9 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
                         "([[sph]] particles, [skin] iterations, [[external_input]] min/max) and switch them "
                         "on here with sph, metaballs, barnet, anatomy = true",
                false;
-    if (!known_keys_only(*layers, "layers", {"sph", "metaballs", "barnet", "anatomy", "skin_iterations", "tresca"},
-                         origin, error) ||
+    if (!known_keys_only(*layers, "layers",
+                         {"sph", "metaballs", "barnet", "anatomy", "skin_iterations", "tresca", "sph_joint"}, origin,
+                         error) ||
         !read_flag(*layers, "sph", &c.layer_sph, origin, error) ||
         !read_flag(*layers, "metaballs", &c.layer_metaballs, origin, error) ||
         !read_flag(*layers, "barnet", &c.layer_barnet, origin, error) ||
@@ -322,6 +323,12 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
         !read_flag(*layers, "tresca", &c.layer_tresca, origin, error) ||
         !read_number(*layers, "skin_iterations", 0, 256, &c.layer_skin_iterations, origin, error))
       return false;
+    if (const toml::node* joint = layers->get("sph_joint")) {
+      const std::optional<std::string> v = joint->value_exact<std::string>();
+      if (!v || (*v != "simulated" && *v != "measured"))
+        return *error = at(origin, joint, "[layers] sph_joint") + ": must be \"simulated\" or \"measured\"", false;
+      c.layer_sph_joint_measured = *v == "measured";
+    }
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!known_keys_only(*rt, "realtime",

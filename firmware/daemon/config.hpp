@@ -45,12 +45,13 @@ struct DaemonConfig {
   std::vector<SourceConfig> sources;
   std::vector<SinkConfig> sinks;
   // [layers]: which of the rig's compiled layers run (all off by default).
-  bool layer_sph = false;         // SPH elastic joints with the Tresca yield (docs/sph.md)
-  bool layer_metaballs = false;   // volume-preserving metaballs skin (docs/metaballs.md)
-  bool layer_barnet = false;      // force-density bar-nets (docs/barnet.md)
-  bool layer_anatomy = false;     // muscles + elastic skin (docs/anatomy.md)
-  bool layer_tresca = true;       // the SPH yield condition, eqs. (3)-(4)
-  int layer_skin_iterations = 0;  // elastic-skin relaxations per tick; 0: the rig's
+  bool layer_sph = false;                 // SPH elastic joints with the Tresca yield (docs/sph.md)
+  bool layer_metaballs = false;           // volume-preserving metaballs skin (docs/metaballs.md)
+  bool layer_barnet = false;              // force-density bar-nets (docs/barnet.md)
+  bool layer_anatomy = false;             // muscles + elastic skin (docs/anatomy.md)
+  bool layer_tresca = true;               // the SPH yield condition, eqs. (3)-(4)
+  bool layer_sph_joint_measured = false;  // [layers] sph_joint = "measured": the sensors' angles are the truth
+  int layer_skin_iterations = 0;          // elastic-skin relaxations per tick; 0: the rig's
 };
 
 // Reads and validates a config file; errors name the file, line and key.

@@ -88,6 +88,7 @@ bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::P
   o.barnet = config.layer_barnet;
   o.anatomy = config.layer_anatomy;
   o.tresca = config.layer_tresca;
+  o.sph_joint_measured = config.layer_sph_joint_measured;
   o.skin_iterations = static_cast<uint32_t>(config.layer_skin_iterations);
   o.tick_hz = config.rate_hz;
   *out = o;

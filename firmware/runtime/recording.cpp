@@ -44,7 +44,9 @@ std::string encode_run_description(const RunDescription& run) {
                 static_cast<int>(kFirstLine.size()), kFirstLine.data(), run.rig_xxh64, run.rig_bytes, o.tick_hz,
                 o.sph ? "true" : "false", o.metaballs ? "true" : "false", o.barnet ? "true" : "false",
                 o.anatomy ? "true" : "false", o.tresca ? "true" : "false", o.skin_iterations);
-  return buf;
+  // Written only when set, so that the description of a simulated-joint run
+  // (and every recording made before the key existed) stays as it was.
+  return std::string(buf) + (o.sph_joint_measured ? "sph_joint_measured = true\n" : "");
 }
 
 bool parse_run_description(std::string_view text, RunDescription* out, std::string* error) {
@@ -71,11 +73,10 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
       std::string_view key;
       bool* field;
     };
-    const Flag flags[] = {{"sph", &o.sph},
-                          {"metaballs", &o.metaballs},
-                          {"barnet", &o.barnet},
-                          {"anatomy", &o.anatomy},
-                          {"tresca", &o.tresca}};
+    const Flag flags[] = {
+        {"sph", &o.sph},       {"metaballs", &o.metaballs},
+        {"barnet", &o.barnet}, {"anatomy", &o.anatomy},
+        {"tresca", &o.tresca}, {"sph_joint_measured", &o.sph_joint_measured}};  // optional: bit 9 is not required
     bool ok = false;
     unsigned bit = 0;
     if (key == "rig_xxh64") {
@@ -100,7 +101,8 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
     seen |= bit;
   }
   if (line_no == 0) return *error = "empty recording description", false;
-  if (seen != (1u << 9) - 1) return *error = "recording description lacks a key (rig, tick rate and layers)", false;
+  constexpr unsigned kRequired = (1u << 9) - 1;  // every key but sph_joint_measured
+  if ((seen & kRequired) != kRequired) return *error = "recording description lacks a key (rig, tick rate and layers)", false;
   *out = run;
   return true;
 }

@@ -109,6 +109,7 @@ PipelineStatus run_sph(Pipeline* p, std::span<const int32_t> inputs) {
     sph::SphInputs in;
     in.transforms = p->engine.model;
     in.tresca = p->options.tresca;
+    in.joint_measured = p->options.sph_joint_measured;
     if (layer.force_input != kNoExternalInput &&
         !sph::sph_flexion_force(p->sph_model[i], p->engine.model, inputs[rig.input_count + layer.force_input],
                                 &in.force))

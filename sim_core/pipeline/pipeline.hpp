@@ -43,7 +43,12 @@ const char* stage_name(Stage s);
 struct PipelineOptions {
   // Switch compiled layers off at run time (a layer the rig lacks is off).
   bool sph = true, metaballs = true, barnet = true, anatomy = true;
-  bool tresca = true;            // the SPH yield condition, eqs. (3)-(4)
+  bool tresca = true;  // the SPH yield condition, eqs. (3)-(4)
+  // The SPH joints' angles are measured (a wearable's sensors), hence already
+  // the truth under the load: the particles move the soft tissue only and do
+  // not bend the joint again (sph::SphInputs::joint_measured; docs/sph.md,
+  // "Measured and simulated joints"). false: the joints are simulated.
+  bool sph_joint_measured = false;
   uint32_t skin_iterations = 0;  // elastic-skin relaxations per tick; 0 keeps the rig's
   // The loop's tick rate; 0: the rate the rig's SPH joints were compiled
   // for. Another rate converts their gains at init (sph_gains_for_rate).

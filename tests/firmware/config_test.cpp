@@ -239,6 +239,9 @@ TEST(DaemonConfig, SourceAndSinkKeysAreKnownTypedAndRangeChecked) {
             std::string::npos);
   EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\nsync_every_frames = -1\n").find("[[sink]] sync_every_frames"),
             std::string::npos);
+  EXPECT_NE(error_of(rig + "[layers]\nsph_joint = \"both\"\n")
+                .find("[layers] sph_joint: must be \"simulated\" or \"measured\""),
+            std::string::npos);
   EXPECT_NE(sink("type = \"log\"\npath = \"f.log\"\ncompression = \"lz4\"\n")
                 .find("[[sink]] compression: must be \"none\" or \"zstd\""),
             std::string::npos);

@@ -29,6 +29,12 @@ TEST(RunDescription, RoundTripsEveryField) {
   EXPECT_TRUE(back.options.anatomy);
   EXPECT_FALSE(back.options.tresca);
   EXPECT_EQ(back.options.skin_iterations, 7u);
+  EXPECT_FALSE(back.options.sph_joint_measured);
+  // A measured-joint run says so (and only then: older descriptions stay as they were).
+  EXPECT_EQ(fw::encode_run_description(run).find("sph_joint_measured"), std::string::npos);
+  run.options.sph_joint_measured = true;
+  ASSERT_TRUE(fw::parse_run_description(fw::encode_run_description(run), &back, &error)) << error;
+  EXPECT_TRUE(back.options.sph_joint_measured);
 }
 
 TEST(RunDescription, RefusesWhatItCannotReproduce) {

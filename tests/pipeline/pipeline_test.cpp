@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <set>
 
 #include "sim_core/skeleton/pose.hpp"
@@ -239,4 +240,36 @@ TEST(Pipeline, RefusesShortInputsAndTooManyRelaxations) {
   o.skin_iterations = 300;
   EXPECT_FALSE(arm->start(o, &error));
   EXPECT_NE(error.find("skin_iterations"), std::string::npos) << error;
+}
+
+// docs/sph.md, "Measured and simulated joints": with the elbow measured, the
+// skeleton is the inputs' whatever the load (every joint transform as in
+// plain skinning, so every vertex off the SPH tissue too), and the particles
+// still move the tissue's skin; with it simulated, the same load bends the
+// forearm away from the commanded pose.
+TEST(PipelineMeasuredJoint, TheMeasuredElbowAngleIsTheInputs) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const int steps = sinew::test::emulated() ? 10 : 30;
+  const auto plain = run(arm.get(), only(false, false, false, false), steps);
+  const std::vector<sinew::fx::Mat34> plain_model(arm->pipeline.engine.model.begin(), arm->pipeline.engine.model.end());
+  pl::PipelineOptions measured = only(true, false, false, false);
+  measured.sph_joint_measured = true;
+  const auto tissue_only = run(arm.get(), measured, steps);
+  for (size_t j = 0; j < plain_model.size(); ++j) {
+    const sinew::fx::Mat34& a = plain_model[j];
+    const sinew::fx::Mat34& b = arm->pipeline.engine.model[j];
+    EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "joint " << j << " moved off the measured pose";
+  }
+  std::set<uint32_t> tissue(arm->layers.sph[0].model.skin_vertex.begin(), arm->layers.sph[0].model.skin_vertex.end());
+  const Comparison c = compare(*arm, plain, tissue_only, tissue);
+  std::printf("measured elbow: %zu of %zu tissue vertices moved (largest %.2f mm), %zu others moved\n", c.inside_moved,
+              tissue.size(), c.largest_inside_mm, c.outside_moved);
+  EXPECT_EQ(c.outside_moved, 0u);
+  EXPECT_GT(c.inside_moved, 0u);
+
+  run(arm.get(), only(true, false, false, false), steps);  // simulated: the load bends the forearm
+  const uint32_t forearm = arm->layers.sph[0].model.joint.distal_joint;
+  const sinew::fx::Mat34& bent = arm->pipeline.engine.model[forearm];
+  EXPECT_NE(std::memcmp(&bent, &plain_model[forearm], sizeof bent), 0) << "the simulated joint did not bend";
 }
