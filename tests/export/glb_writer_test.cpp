@@ -71,9 +71,10 @@ TEST(GlbWriter, ContainerHeaderChunksAndAlignment) {
   EXPECT_EQ(accessor_floats(glb, static_cast<size_t>(a)), std::vector<float>({1, 2, 3}));
   EXPECT_EQ(glb.doc["accessors"][0]["min"], nlohmann::json({1.0}));
   EXPECT_EQ(glb.doc["accessors"][0]["max"], nlohmann::json({3.0}));
-  // The JSON chunk is padded with spaces, the BIN chunk with zeros.
-  EXPECT_EQ(bytes[20 + glb.json_length - 1] == ' ' || bytes[20 + glb.json_length - 1] == '}', true);
-  EXPECT_EQ(bytes[bytes.size() - 1], 0);
+  // The JSON chunk is padded with spaces, the gaps between views with zeros.
+  const char json_end = static_cast<char>(bytes[20 + glb.json_length - 1]);
+  EXPECT_TRUE(json_end == ' ' || json_end == '}') << json_end;
+  for (size_t i = 5; i < 8; ++i) EXPECT_EQ(glb.bin[i], 0) << "alignment padding at " << i;
 }
 
 TEST(GlbWriter, AWrongElementCountThrows) {
