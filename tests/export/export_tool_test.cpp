@@ -248,5 +248,45 @@ TEST(PoseGlb, AnAnimationPlayedThroughTheLayersExportsAndValidates) {
   EXPORT_VALIDATE(glb_path, dir + "/pose.validator.json");
 }
 
+// A motion file through the built-in arm: the elbow node's rotation keys
+// follow the commanded angle. The elbow turns 90 degrees from its rest
+// rotation by the last frame, so |<rest, q>| = cos(45 deg) (the quaternion
+// of the relative turn has w = cos(angle / 2)).
+TEST(PoseGlb, AMotionFileTurnsTheElbowNode) {
+  const std::string dir = testing::TempDir() + "/export_pose_motion";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir + "/arm.toml") << "[rig]\nsource = \"builtin:arm\"\n";
+  std::ofstream(dir + "/elbow.csv") << "time,elbow.0\n0,0\n0.5,90\n";
+  const std::string glb_path = dir + "/elbow.glb";
+  const ExportRun run = export_run(std::string(SINEW_POSE_EXE) + " --spec " + dir + "/arm.toml --motion " + dir +
+                                       "/elbow.csv --fps 10 --glb " + glb_path + " --out " + dir + "/elbow.csv.out",
+                                   dir + "/pose.out");
+  ASSERT_EQ(run.status, 0) << run.out;
+  EXPECT_TRUE(fs::exists(dir + "/elbow.csv.out")) << "--out still writes the CSV beside the glb";
+  ParsedGlb glb;
+  ASSERT_EQ(parse_glb(read_file_bytes(glb_path), &glb), "");
+  ASSERT_EQ(glb.doc["meshes"][0]["primitives"][0]["targets"].size(), 6u);  // 0, 0.1, ..., 0.5 s
+  size_t elbow = 0;
+  for (size_t n = 0; n < glb.doc["nodes"].size(); ++n)
+    if (glb.doc["nodes"][n]["name"] == "elbow") elbow = n;
+  ASSERT_GT(elbow, 0u) << "no elbow node";
+  const nlohmann::json& rest = glb.doc["nodes"][elbow]["rotation"];
+  const nlohmann::json& anim = glb.doc["animations"][0];
+  std::vector<float> keys;
+  for (const auto& channel : anim["channels"])
+    if (channel["target"]["node"] == elbow && channel["target"]["path"] == "rotation")
+      keys = accessor_floats(glb, anim["samplers"][channel["sampler"].get<size_t>()]["output"].get<size_t>());
+  ASSERT_EQ(keys.size(), 24u);
+  double first = 0, last = 0;
+  for (size_t c = 0; c < 4; ++c) {
+    first += rest[c].get<double>() * double{keys[c]};
+    last += rest[c].get<double>() * double{keys[20 + c]};
+  }
+  EXPECT_NEAR(std::fabs(first), 1.0, 1e-6) << "at rest at 0 s";
+  EXPECT_NEAR(std::fabs(last), std::sqrt(0.5), 1e-5) << "90 degrees at 0.5 s";
+  EXPORT_VALIDATE(glb_path, dir + "/pose.validator.json");
+}
+
 }  // namespace
 }  // namespace sinew::test
