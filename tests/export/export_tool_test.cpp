@@ -178,7 +178,7 @@ TEST_F(ExportToolTest, HostileLogsAreRefusedAndLeaveNoFile) {
       {"truncated", log.substr(0, log.size() - 1000), "arm", "is damaged: torn-tail"},
       {"corrupt", corrupt, "arm", "is damaged: bad-"},
       {"mismatch", log, "hand", "does not match the rig: vertex count"},
-      {"notalog", "this is not a frame log at all, just text bytes....", "arm", "hostile/notalog.log"},
+      {"notalog", "this is not a frame log at all, just text bytes....", "arm", "notalog.log: not a frame log"},
   };
   for (const Case& c : cases) {
     const std::string in = file("hostile/" + c.name + ".log"), out = file("hostile/" + c.name + ".glb");
