@@ -130,9 +130,10 @@ int run(int argc, char** argv) {
     return fail(error);
   for (size_t k = 1; !glb_path.empty() && k < times.size(); ++k)
     if (!(times[k] > times[k - 1])) return fail("--glb: the --time values must increase");
+  const bool with_glb = !glb_path.empty();
   sinew::gltf_export::SurfaceClip clip;
   clip.generator = "sinew-pose";
-  sinew::gltf_export::set_rest_from_rig(poser.rig(), &clip);
+  if (with_glb) sinew::gltf_export::set_rest_from_rig(poser.rig(), &clip);
   clip.notes = {{"source", model},
                 {"played", bind_pose     ? "bind pose"
                            : with_motion ? motion_path
@@ -148,20 +149,20 @@ int run(int argc, char** argv) {
   std::vector<std::array<double, 3>> positions;
   if (bind_pose) {
     if (!poser.pose(-1, 0.0, &positions, &error)) return fail(error);
-    capture_frame(poser, 0.0, &clip);
+    if (with_glb) capture_frame(poser, 0.0, &clip);
     csv += "# bind pose, " + std::to_string(positions.size()) + " vertices: x,y,z\n";
     append_positions(positions, &csv);
   }
   for (double t : times) {
     if (!(with_motion ? poser.pose_motion(t, &positions, &error) : poser.pose(animation, t, &positions, &error)))
       return fail(error);
-    if (!bind_pose) capture_frame(poser, t - times.front(), &clip);
+    if (with_glb && !bind_pose) capture_frame(poser, t - times.front(), &clip);
     char head[96];
     std::snprintf(head, sizeof(head), "# time %g s, %zu vertices: x,y,z\n", t, positions.size());
     csv += head;
     append_positions(positions, &csv);
   }
-  if (!glb_path.empty()) {
+  if (with_glb) {
     std::vector<uint8_t> glb;
     if (!sinew::gltf_export::encode_clip_glb(clip, &glb, &error)) return fail(glb_path + ": " + error);
     const std::string_view bytes(reinterpret_cast<const char*>(glb.data()), glb.size());
