@@ -4,6 +4,7 @@
 // and no file left behind.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -42,7 +43,8 @@ ExportRun export_run(const std::string& command, const std::string& out_path) {
 class ExportToolTest : public testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::string(testing::TempDir() + "/export_tool");
+    // One directory per test process: ctest runs these tests in parallel.
+    dir_ = new std::string(testing::TempDir() + "/export_tool_" + std::to_string(::getpid()));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     const std::string config = *dir_ + "/run.toml";
@@ -55,6 +57,8 @@ class ExportToolTest : public testing::Test {
     daemon_ = new ExportRun(export_run(std::string(SINEWD_EXE) + " --config " + config, *dir_ + "/daemon.out"));
   }
   static void TearDownTestSuite() {
+    std::error_code ignored;
+    fs::remove_all(*dir_, ignored);
     delete dir_;
     delete daemon_;
   }
