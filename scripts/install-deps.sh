@@ -4,7 +4,8 @@
 #   runtime: what building and running the main job needs
 #   test:    everything the full test suite needs (cross toolchains, qemu-user,
 #            and the arm64 builds of the firmware's libraries for the aarch64
-#            preset, which adds arm64 as a dpkg foreign architecture)
+#            preset, which adds arm64 as a dpkg foreign architecture; node and
+#            npm for the glTF validator when no nodejs package is installed)
 set -euo pipefail
 
 profile="${1:-test}"
@@ -41,6 +42,19 @@ case "$profile" in
   test) wanted=("${test_pkgs[@]}" "${cross_arm64_pkgs[@]}") ;;
   *) echo "install-deps: unknown profile '$profile' (runtime|test)" >&2; exit 2 ;;
 esac
+
+# Node and npm for the Khronos glTF validator of the export tests
+# (tests/export): Debian's nodejs and npm, only when no nodejs package is
+# installed (another repository's nodejs ships its own npm, which Debian's npm
+# package would conflict with), and npm alone when a nodejs has no npm.
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+if [ "$profile" = test ]; then
+  if ! installed nodejs; then
+    wanted+=(nodejs npm)
+  elif ! installed npm && ! dpkg -S "$(command -v npm 2>/dev/null || echo /nonexistent)" >/dev/null 2>&1; then
+    wanted+=(npm)
+  fi
+fi
 
 missing=()
 for p in "${wanted[@]}"; do

@@ -4,6 +4,9 @@
 //   (the spec's [rig] source is the model; its layer tables run too)
 // sinew-pose --spec SPEC.toml --motion TAKE.bvh|TRACKS.csv --time SECONDS --out FILE.csv
 //   (a motion file drives the rig's inputs; the source may be built in)
+// Any of these with --glb FILE.glb (and --out optional): the same poses as a
+// glTF binary (docs/export.md): without --time, the whole animation or
+// motion sampled at --fps.
 // Samples a glTF animation (or takes the bind pose: every node at its default
 // transform) and writes the deformed vertex positions of every skinned
 // primitive (glTF document order, glTF vertex order, glTF units, skinned world
@@ -15,6 +18,8 @@
 #include <exception>
 #include <string>
 
+#include "host_tools/export/clip_glb.hpp"
+#include "host_tools/export/rig_clip.hpp"
 #include "host_tools/rigc/gltf_poser.hpp"
 #include "host_tools/rigc/output_file.hpp"
 
@@ -31,6 +36,35 @@ void append_positions(const std::vector<std::array<double, 3>>& positions, std::
     std::snprintf(line, sizeof(line), "%.9g,%.9g,%.9g\n", p[0], p[1], p[2]);
     *csv += line;
   }
+}
+
+// The pose the poser holds, as the next frame of the clip.
+void capture_frame(const sinew::rigc::GltfPoser& poser, double time_s, sinew::gltf_export::SurfaceClip* clip) {
+  const sinew::engine::Engine& engine = poser.posed_engine();
+  sinew::gltf_export::FixedFrame frame;
+  for (int c = 0; c < 3; ++c) {
+    frame.position[c] = engine.vertices.position[c];
+    frame.normal[c] = engine.vertices.normal[c];
+  }
+  sinew::gltf_export::append_frame(poser.rig(), time_s, frame, engine.locals, clip);
+}
+
+// Without --time, a glb samples the whole animation (or motion) at fps.
+bool glb_times(const sinew::rigc::GltfPoser& poser, bool with_motion, int animation, double fps,
+               std::vector<double>* times, std::string* error) {
+  double start = 0, end = 0;
+  if (with_motion) {
+    start = poser.motion_tracks().times.front(), end = poser.motion_tracks().times.back();
+  } else if (!sinew::rigc::animation_range(poser.model(), animation, &start, &end, error)) {
+    return false;
+  }
+  const double frames = std::floor((end - start) * fps + 1e-9) + 1;
+  if (frames > sinew::gltf_export::kMaxExportFrames)
+    return *error = "--glb: " + std::to_string(static_cast<uint64_t>(frames)) + " frames at --fps " +
+                    std::to_string(fps) + "; lower --fps or give --time values",
+           false;
+  for (double k = 0; k < frames; ++k) times->push_back(start + k / fps);
+  return true;
 }
 
 int run(int argc, char** argv) {
@@ -60,9 +94,16 @@ int run(int argc, char** argv) {
                  "the spec's [motion.bvh_joints]) or CSV joint tracks (time, <joint>.<dof> in degrees)")
       ->excludes(anim_opt)
       ->excludes(bind_opt);
-  app.add_option("--out", out_path, "output CSV file")->required();
+  std::string glb_path;
+  double fps = 30;
+  app.add_option("--out", out_path, "output CSV file");
+  app.add_option("--glb", glb_path,
+                 "also write the poses as a glTF binary (morph-target surface and skeleton animation); without "
+                 "--time, the whole animation or motion at --fps");
+  app.add_option("--fps", fps, "with --glb and no --time: frames per second sampled")->check(CLI::Range(0.1, 1000.0));
   CLI11_PARSE(app, argc, argv);
-  if (!bind_pose && times.empty()) return fail("give --time SECONDS (repeatable) or --bind-pose");
+  if (out_path.empty() && glb_path.empty()) return fail("give --out FILE.csv, --glb FILE.glb, or both");
+  if (!bind_pose && times.empty() && glb_path.empty()) return fail("give --time SECONDS (repeatable) or --bind-pose");
   for (double t : times)
     if (!std::isfinite(t)) return fail("--time " + std::to_string(t) + " is not a finite number of seconds");
 
@@ -84,6 +125,20 @@ int run(int argc, char** argv) {
   if (!bind_pose && !with_motion && poser.model().animations.empty())
     return fail(model + " has no animations; use --bind-pose for its bind pose");
 
+  if (!glb_path.empty() && !bind_pose && times.empty() &&
+      !glb_times(poser, with_motion, animation, fps, &times, &error))
+    return fail(error);
+  for (size_t k = 1; !glb_path.empty() && k < times.size(); ++k)
+    if (!(times[k] > times[k - 1])) return fail("--glb: the --time values must increase");
+  const bool with_glb = !glb_path.empty();
+  sinew::gltf_export::SurfaceClip clip;
+  clip.generator = "sinew-pose";
+  if (with_glb) sinew::gltf_export::set_rest_from_rig(poser.rig(), &clip);
+  clip.notes = {{"source", model},
+                {"played", bind_pose     ? "bind pose"
+                           : with_motion ? motion_path
+                                         : "animation " + std::to_string(animation)}};
+
   // Every pose first, so that a failure leaves no partial CSV behind.
   std::string csv = "# sinew-pose " + model +
                     (bind_pose     ? " bind pose"
@@ -94,18 +149,26 @@ int run(int argc, char** argv) {
   std::vector<std::array<double, 3>> positions;
   if (bind_pose) {
     if (!poser.pose(-1, 0.0, &positions, &error)) return fail(error);
+    if (with_glb) capture_frame(poser, 0.0, &clip);
     csv += "# bind pose, " + std::to_string(positions.size()) + " vertices: x,y,z\n";
     append_positions(positions, &csv);
   }
   for (double t : times) {
     if (!(with_motion ? poser.pose_motion(t, &positions, &error) : poser.pose(animation, t, &positions, &error)))
       return fail(error);
+    if (with_glb && !bind_pose) capture_frame(poser, t - times.front(), &clip);
     char head[96];
     std::snprintf(head, sizeof(head), "# time %g s, %zu vertices: x,y,z\n", t, positions.size());
     csv += head;
     append_positions(positions, &csv);
   }
-  if (!sinew::rigc::write_output_file(out_path, csv, &error)) return fail(error);
+  if (with_glb) {
+    std::vector<uint8_t> glb;
+    if (!sinew::gltf_export::encode_clip_glb(clip, &glb, &error)) return fail(glb_path + ": " + error);
+    const std::string_view bytes(reinterpret_cast<const char*>(glb.data()), glb.size());
+    if (!sinew::rigc::write_output_file(glb_path, bytes, &error)) return fail(error);
+  }
+  if (!out_path.empty() && !sinew::rigc::write_output_file(out_path, csv, &error)) return fail(error);
   if (report.renormalized_vertices > 0)
     std::fprintf(stderr, "sinew-pose: note: %u vertices had weights not summing to 1; renormalised\n",
                  report.renormalized_vertices);

@@ -45,6 +45,10 @@ class GltfPoser {
   // order), in glTF units.
   bool pose(int animation, double time, std::vector<std::array<double, 3>>* positions, std::string* error);
   const CompileReport& report() const { return report_; }
+  const rig::Rig& rig() const { return rig_; }
+  // The engine holding the last pose: its joint locals and skinned vertices
+  // (the pipeline's with a spec). For exports.
+  const engine::Engine& posed_engine() const { return with_layers_ ? pipeline_.engine : engine_; }
   const tinygltf::Model& model() const { return gltf_.model; }
 
  private:
