@@ -5,7 +5,8 @@
 #   test:    everything the full test suite needs (cross toolchains, qemu-user,
 #            and the arm64 builds of the firmware's libraries for the aarch64
 #            preset, which adds arm64 as a dpkg foreign architecture; node and
-#            npm for the glTF validator when no nodejs package is installed)
+#            npm for the viewer and the glTF validator when no nodejs package is
+#            installed)
 set -euo pipefail
 
 profile="${1:-test}"
@@ -24,10 +25,6 @@ test_pkgs=(
   # sinew-view and its browser tests (host only: the board needs none of it)
   libcivetweb-dev chromium
 )
-# npm for the viewer's page (three.js from its lockfile). A Node.js that
-# bundles npm (e.g. NodeSource's) conflicts with Debian's npm package, so it
-# is asked for only when no npm is on the PATH.
-if ! command -v npm >/dev/null 2>&1; then test_pkgs+=(npm); fi
 # The aarch64 preset cross-builds hal/ and the firmware: their libraries as
 # arm64 multiarch packages, pkgconf:arm64 for aarch64-linux-gnu-pkg-config, and
 # the arm64 C and C++ runtime its tests run on under qemu-user.
@@ -43,7 +40,8 @@ case "$profile" in
   *) echo "install-deps: unknown profile '$profile' (runtime|test)" >&2; exit 2 ;;
 esac
 
-# Node and npm for the Khronos glTF validator of the export tests
+# Node and npm for the viewer's page (three.js from its lockfile), its browser
+# tests' probe and the Khronos glTF validator of the export tests
 # (tests/export): Debian's nodejs and npm, only when no nodejs package is
 # installed (another repository's nodejs ships its own npm, which Debian's npm
 # package would conflict with), and npm alone when a nodejs has no npm.
