@@ -449,19 +449,20 @@ class Builder {
     // Solver: one rig unit is 2^e model units, so per-length quantities
     // (N / unit, N s / unit) scale by 2^e and accelerations by 2^-e.
     es::SkinSolverParams& o = out_.solver;
+    const SkinSolverSpec& d = s.solver;
     const double unit = std::ldexp(1.0, e_);
-    o.mode = static_cast<uint8_t>(s.dynamic ? es::SkinMode::kDynamic : es::SkinMode::kStatic);
-    o.tolerance = len(s.tolerance);
-    o.fat_thickness = len(s.fat_global);
-    if (s.dynamic) {
-      o.substep_hz = static_cast<uint32_t>(std::max(0, s.substep_hz));
-      o.max_substeps = static_cast<uint32_t>(std::max(0, s.max_substeps));
-      o.constraint_passes = static_cast<uint32_t>(std::max(0, s.constraint_passes));
-      o.vertex_mass = rigc::to_fixed(s.vertex_mass, es::kMassFracBits);
-      o.stiffness_scale = rigc::to_fixed(s.stiffness_scale * unit, es::kQ16FracBits);
-      o.anchor_damping = rigc::to_fixed(s.anchor_damping * unit, es::kQ16FracBits);
-      o.band_damping = rigc::to_fixed(s.band_damping * unit, es::kQ16FracBits);
-      o.gravity = {len(s.gravity[0]), len(s.gravity[1]), len(s.gravity[2])};
+    o.mode = static_cast<uint8_t>(d.dynamic ? es::SkinMode::kDynamic : es::SkinMode::kStatic);
+    o.tolerance = len(d.tolerance);
+    o.fat_thickness = len(d.fat_global);
+    if (d.dynamic) {
+      o.substep_hz = static_cast<uint32_t>(std::max(0, d.substep_hz));
+      o.max_substeps = static_cast<uint32_t>(std::max(0, d.max_substeps));
+      o.constraint_passes = static_cast<uint32_t>(std::max(0, d.constraint_passes));
+      o.vertex_mass = rigc::to_fixed(d.vertex_mass, es::kMassFracBits);
+      o.stiffness_scale = rigc::to_fixed(d.stiffness_scale * unit, es::kQ16FracBits);
+      o.anchor_damping = rigc::to_fixed(d.anchor_damping * unit, es::kQ16FracBits);
+      o.band_damping = rigc::to_fixed(d.band_damping * unit, es::kQ16FracBits);
+      o.gravity = {len(d.gravity[0]), len(d.gravity[1]), len(d.gravity[2])};
     }
     return true;
   }
