@@ -152,9 +152,11 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   if (omega2 > h2)
     return bad_input("substep_hz", "substeps too long for the skin's stiffest vertex (h * omega > 1)",
                      fx::isqrt_fast(static_cast<uint64_t>(omega2 >> kQ16FracBits)), true);
-  g.external[0] = int64_t{sp.gravity.x} - tick.base_acceleration.x;
-  g.external[1] = int64_t{sp.gravity.y} - tick.base_acceleration.y;
-  g.external[2] = int64_t{sp.gravity.z} - tick.base_acceleration.z;
+  // Q24.8 -> Q44.20: |g - a| < 2^32, shifted < 2^44.
+  constexpr int kToMotion = 20 - kAccelFracBits;
+  g.external[0] = (int64_t{sp.gravity.x} - tick.base_acceleration.x) * (int64_t{1} << kToMotion);
+  g.external[1] = (int64_t{sp.gravity.y} - tick.base_acceleration.y) * (int64_t{1} << kToMotion);
+  g.external[2] = (int64_t{sp.gravity.z} - tick.base_acceleration.z) * (int64_t{1} << kToMotion);
 
   SkinStats fresh;
   fresh.steps = s.stats.steps;

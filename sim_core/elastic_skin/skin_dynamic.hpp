@@ -32,7 +32,7 @@ namespace sinew::elastic_skin {
 struct SkinTick {
   uint32_t tick_hz = 0;  // steps per second, 1..kMaxTickHz (dynamic mode only)
   // Acceleration of the frame the bones are given in (e.g. a robot's base on
-  // a moving vehicle), rig units / s^2, Q12.20: the skin feels -a_base.
+  // a moving vehicle), rig units / s^2, Q24.8: the skin feels -a_base.
   fx::Vec3 base_acceleration{0, 0, 0};
 };
 

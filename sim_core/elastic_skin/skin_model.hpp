@@ -93,6 +93,9 @@ enum class SkinMode : uint8_t {
 using Q16 = int32_t;
 inline constexpr int kQ16FracBits = 16;
 inline constexpr int kMassFracBits = 24;  // vertex mass, Q8.24 kg
+// Accelerations (gravity, base), Q24.8 rig units / s^2: range for small rig
+// units (9.81 m/s^2 is 2511 units/s^2 at 2^-8 m per unit, beyond Q12.20).
+inline constexpr int kAccelFracBits = 8;
 inline constexpr uint32_t kMaxSubsteps = 64;
 inline constexpr uint32_t kMaxTickHz = 100000;
 inline constexpr uint32_t kMaxSubstepHz = 1u << 20;
@@ -131,7 +134,7 @@ struct SkinSolverParams {
   // Fat thickness added to every vertex's own (§5.6: global + per point),
   // both modes, Len >= 0.
   fx::Len fat_thickness = 0;
-  fx::Vec3 gravity{0, 0, 0};  // rig units / s^2, Q12.20 (e.g. {0, -9.81, 0} for y up, metres)
+  fx::Vec3 gravity{0, 0, 0};  // rig units / s^2, Q24.8 (kAccelFracBits; e.g. y up, metres: {0, -2511, 0})
 };
 
 struct SkinModel {

@@ -16,6 +16,7 @@ namespace sinew::test {
 inline fx::Len to_len(double units) { return static_cast<fx::Len>(std::llround(units * 1048576.0)); }
 inline double from_len(int64_t len) { return static_cast<double>(len) / 1048576.0; }
 inline int32_t to_q16(double v) { return static_cast<int32_t>(std::llround(v * 65536.0)); }
+inline int32_t to_accel(double v) { return static_cast<int32_t>(std::llround(v * 256.0)); }  // Q24.8
 inline int32_t to_q24(double v) { return static_cast<int32_t>(std::llround(v * 16777216.0)); }
 
 class DynamicSkin {

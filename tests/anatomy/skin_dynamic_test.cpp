@@ -17,6 +17,7 @@
 namespace es = sinew::elastic_skin;
 using sinew::test::DynamicSkin;
 using sinew::test::from_len;
+using sinew::test::to_accel;
 using sinew::test::to_len;
 using sinew::test::to_q16;
 using sinew::test::to_q24;
@@ -239,7 +240,7 @@ TEST(SkinDynamic, NoPointInsideAnActivePrimitiveAfterAStep) {
   for (int i = 0; i < kRingCount; ++i)
     s.add_edge(static_cast<uint32_t>(i), static_cast<uint32_t>((i + 1) % kRingCount), 1.0, 0.0975);
   s.add_sphere(0, 0, 0, 0.2);
-  s.model.solver.gravity = {0, to_len(-9.81), 0};
+  s.model.solver.gravity = {0, to_accel(-9.81), 0};
   ASSERT_TRUE(s.finish());
   const sinew::fx::Unit limit = sinew::fx::kUnitOne - (sinew::fx::kUnitOne >> 10);
   uint32_t pushed = 0;
@@ -269,7 +270,7 @@ TEST(SkinDynamic, PointPushedAgainstAPrimitiveKeepsItsTangentialMotion) {
   s.add_vertex(0, 0, 0, 0.0);
   s.add_sphere(0, -1, 0, 1.0);
   s.model.solver.anchor_damping = 0;
-  s.model.solver.gravity = {0, to_len(-9.81), 0};
+  s.model.solver.gravity = {0, to_accel(-9.81), 0};
   ASSERT_TRUE(s.finish());
   ASSERT_TRUE(s.step(1000).ok());  // starts at rest on its anchor
   s.state.velocity[0][0] = to_len(0.5);
@@ -347,11 +348,11 @@ TEST(SkinDynamic, GravitySagsTheSkinByMgOverK) {
   // accelerating upwards at 9.81 doubles the sag (the skin feels -a_base).
   DynamicSkin s;
   s.add_vertex(0, 0, 0, 1.0);
-  s.model.solver.gravity = {0, to_len(-9.81), 0};
+  s.model.solver.gravity = {0, to_accel(-9.81), 0};
   ASSERT_TRUE(s.finish());
   for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(1000).ok());
   EXPECT_NEAR(s.pos(1, 0), -0.01 * 9.81 / 50.0, 4e-6);
-  for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(1000, {0, to_len(9.81), 0}).ok());
+  for (int k = 0; k < 2000; ++k) ASSERT_TRUE(s.step(1000, {0, to_accel(9.81), 0}).ok());
   EXPECT_NEAR(s.pos(1, 0), -2 * 0.01 * 9.81 / 50.0, 4e-6);
 }
 

@@ -462,7 +462,8 @@ class Builder {
       o.stiffness_scale = rigc::to_fixed(d.stiffness_scale * unit, es::kQ16FracBits);
       o.anchor_damping = rigc::to_fixed(d.anchor_damping * unit, es::kQ16FracBits);
       o.band_damping = rigc::to_fixed(d.band_damping * unit, es::kQ16FracBits);
-      o.gravity = {len(d.gravity[0]), len(d.gravity[1]), len(d.gravity[2])};
+      const auto accel = [&](double a) { return rigc::to_fixed(std::ldexp(a, -e_), es::kAccelFracBits); };
+      o.gravity = {accel(d.gravity[0]), accel(d.gravity[1]), accel(d.gravity[2])};
     }
     return true;
   }
