@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -163,7 +162,8 @@ TEST(RigSpecs, FuzzSeedsAreCurrent) {
 // the loaded model, converted to rig units; a bad mode names the table.
 TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
   std::ifstream in(kSource + "/rigs/arm.toml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
   const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
   const size_t at = text.find(skin);
   ASSERT_NE(at, std::string::npos);
