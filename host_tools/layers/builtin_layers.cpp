@@ -16,7 +16,10 @@ bool builtin_layers(const std::string& name, LayerSpecs* out) {
                          {0, 0, 0},
                          1.0,
                          spec + ": [[muscle]]"});
-    s.skin = {true, spec + ": [skin]", 4, true};
+    s.skin.on = true;
+    s.skin.where = spec + ": [skin]";
+    s.skin.iterations = 4;
+    s.skin.warm_start = true;
     s.barnets.push_back({{"elbow", -1, spec + ": [[barnet]] joint"}, 8, 7, 0, 0});
   } else if (name == "hand") {
     s.sph.push_back({{"index_pip", -1, spec + ": [[sph]] joint"}, 300, 0, 0, 0, 60, ""});
@@ -27,7 +30,10 @@ bool builtin_layers(const std::string& name, LayerSpecs* out) {
                          {0, 0, 0},
                          1.0,
                          spec + ": [[muscle]]"});
-    s.skin = {true, spec + ": [skin]", 4, true};
+    s.skin.on = true;
+    s.skin.where = spec + ": [skin]";
+    s.skin.iterations = 4;
+    s.skin.warm_start = true;
     s.barnets.push_back({{"middle_pip", -1, spec + ": [[barnet]] joint"}, 8, 7, 0, 0});
   } else {
     return false;

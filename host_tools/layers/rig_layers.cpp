@@ -231,6 +231,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     anatomy_build::SkinRequest skin;
     skin.iterations = layers.skin.iterations;
     skin.warm_start = layers.skin.warm_start;
+    skin.solver = layers.skin.solver;
     anatomy_build::AnatomySpec anatomy;
     std::vector<anatomy_build::MusclePath> paths;
     const std::string& where = layers.muscles.front().where;

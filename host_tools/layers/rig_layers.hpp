@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/layers/anatomy/anatomy_spec.hpp"
 #include "host_tools/rigc/rig_spec.hpp"
 
 namespace sinew::layers {
@@ -50,8 +51,10 @@ struct MuscleTable {
 struct SkinTable {
   bool on = false;
   std::string where;
-  int iterations = 10;     // relaxations per tick
-  bool warm_start = true;  // start each tick from the last one's skin (LEMAN)
+  int iterations = 10;                   // relaxations per tick
+  bool warm_start = true;                // start each tick from the last one's skin (LEMAN)
+  std::string mode = "static";           // "static" (relaxation) | "dynamic" (LEMAN §3 mass-spring)
+  anatomy_build::SkinSolverSpec solver;  // mode is written into solver.dynamic
 };
 
 struct BarnetTable {

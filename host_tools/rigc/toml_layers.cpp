@@ -168,9 +168,47 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
            }) &&
       single("skin", &s.skin.on, &s.skin.where,
              [&](const toml::table& e) {
-               return known_keys(path, e, "[skin]", {"iterations", "warm_start"}, error) &&
-                      read_int(path, e, "[skin]", "iterations", 1, 256, &s.skin.iterations, error) &&
-                      read_bool(path, e, "[skin]", "warm_start", &s.skin.warm_start, error);
+               const std::string n = "[skin]";
+               anatomy_build::SkinSolverSpec& d = s.skin.solver;
+               if (!known_keys(path, e, n,
+                               {"iterations", "warm_start", "mode", "tolerance", "fat", "substep_hz", "max_substeps",
+                                "constraint_passes", "vertex_mass", "stiffness_scale", "anchor_damping", "band_damping",
+                                "gravity"},
+                               error) ||
+                   !read_int(path, e, n, "iterations", 1, 256, &s.skin.iterations, error) ||
+                   !read_bool(path, e, n, "warm_start", &s.skin.warm_start, error) ||
+                   !read_string(path, e, n, "mode", &s.skin.mode, error) ||
+                   !read_number(path, e, n, "tolerance", &d.tolerance, error) ||
+                   !read_number(path, e, n, "fat", &d.fat_global, error) ||
+                   !read_int(path, e, n, "substep_hz", 1, 1 << 20, &d.substep_hz, error) ||
+                   !read_int(path, e, n, "max_substeps", 1, 64, &d.max_substeps, error) ||
+                   !read_int(path, e, n, "constraint_passes", 1, 4, &d.constraint_passes, error) ||
+                   !read_number(path, e, n, "vertex_mass", &d.vertex_mass, error) ||
+                   !read_number(path, e, n, "stiffness_scale", &d.stiffness_scale, error) ||
+                   !read_number(path, e, n, "anchor_damping", &d.anchor_damping, error) ||
+                   !read_number(path, e, n, "band_damping", &d.band_damping, error))
+                 return false;
+               if (const toml::node* g = e.get("gravity")) {
+                 const toml::array* a = g->as_array();
+                 bool good = a != nullptr && a->size() == 3;
+                 for (size_t i = 0; good && i < 3; ++i) {
+                   const auto v = a->get(i)->value<double>();
+                   good = v && std::isfinite(*v);
+                   if (good) d.gravity[i] = *v;
+                 }
+                 if (!good) return *error = at(path, g, n + " gravity") + " must be an array of 3 numbers", false;
+               }
+               if (s.skin.mode != "static" && s.skin.mode != "dynamic")
+                 return *error = at(path, &e, n) + " mode must be \"static\" or \"dynamic\"", false;
+               d.dynamic = s.skin.mode == "dynamic";
+               if (d.tolerance < 0 || d.fat_global < 0 || d.stiffness_scale < 0 || d.anchor_damping < 0 ||
+                   d.band_damping < 0)
+                 return *error = at(path, &e, n) +
+                                 " tolerance, fat, stiffness_scale, anchor_damping and band_damping must be >= 0",
+                        false;
+               if (!(d.vertex_mass > 0 && d.vertex_mass < 128))
+                 return *error = at(path, &e, n) + " vertex_mass must be in (0, 128) kg", false;
+               return true;
              }) &&
       each("barnet",
            [&](const toml::table& e) {

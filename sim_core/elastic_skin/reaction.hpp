@@ -16,6 +16,16 @@ namespace sinew::elastic_skin {
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
                                     SkinState* s);
 
+// Dynamic mode (LEMAN §3, §6.11): one Gauss-Seidel pass over the vertices;
+// each primitive in turn moves the fat point out by its whole penetration
+// and the vertex with it, and the vertex's velocity loses only its inward
+// normal component (along the move): the point slides tangentially. `fine`
+// (Q28.36) follows the move. Returns the number of vertices moved.
+uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s);
+
+// Fat thickness of vertex v: its own plus the solver's global one (Len).
+fx::Len fat_of(const SkinModel& model, uint32_t v);
+
 // Fat points still inside an active primitive by more than `tolerance`
 // (Q2.30 on the inside/outside function: F < 1 - tolerance).
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,

@@ -32,6 +32,31 @@ int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx
   return fx::round_shift(int64_t{k} * m, fx::kUnitFracBits);
 }
 
+bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k_out,
+               fx::Vec3* f_out) {
+  const fx::Vec3 w = fx::sub(at(position, e.b), at(position, e.a));
+  const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
+  const int64_t len = fx::isqrt_fast(wx * wx + wy * wy + wz * wz);  // < 3 * 2^62
+  const int64_t excess = len - e.rest;
+  const int64_t k = effective_stiffness(p, e.k, excess, e.rest);
+  // Elastic force on a: excess along w / |w| (towards b when stretched).
+  if (k == 0 || len == 0) return false;
+  if (len < (int64_t{1} << 30)) {
+    // One division per edge: ratio = excess / len in Q2.30, then w * ratio.
+    // |w_c| <= len bounds each product by |excess| * 2^30 < 2^62.
+    const int64_t ratio = fx::div_round(excess * (int64_t{1} << fx::kUnitFracBits), len);
+    *f_out = {fx::sat_i32(fx::round_shift(w.x * ratio, fx::kUnitFracBits)),
+              fx::sat_i32(fx::round_shift(w.y * ratio, fx::kUnitFracBits)),
+              fx::sat_i32(fx::round_shift(w.z * ratio, fx::kUnitFracBits))};
+  } else {  // edges longer than half the Len range: via the unit direction
+    fx::Vec3 dir{};
+    fx::normalize_to_unit(w, &dir);
+    *f_out = muscle::along(dir, fx::sat_i32(excess));
+  }
+  *k_out = k;
+  return true;
+}
+
 fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
   const uint32_t n = model.vertex_count;
   for (int c = 0; c < 3; ++c)
@@ -39,26 +64,9 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
   for (uint32_t v = 0; v < n; ++v) s->weight[v] = 0;
 
   for (const Edge& e : model.edges) {
-    const fx::Vec3 w = fx::sub(at(s->position, e.b), at(s->position, e.a));
-    const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
-    const int64_t len = fx::isqrt_fast(wx * wx + wy * wy + wz * wz);  // < 3 * 2^62
-    const int64_t excess = len - e.rest;
-    const int64_t k = effective_stiffness(model.params, e.k, excess, e.rest);
-    // Elastic force on a: excess along w / |w| (towards b when stretched).
-    if (k == 0 || len == 0) continue;
-    fx::Vec3 f;
-    if (len < (int64_t{1} << 30)) {
-      // One division per edge: ratio = excess / len in Q2.30, then w * ratio.
-      // |w_c| <= len bounds each product by |excess| * 2^30 < 2^62.
-      const int64_t ratio = fx::div_round(excess * (int64_t{1} << fx::kUnitFracBits), len);
-      f = {fx::sat_i32(fx::round_shift(w.x * ratio, fx::kUnitFracBits)),
-           fx::sat_i32(fx::round_shift(w.y * ratio, fx::kUnitFracBits)),
-           fx::sat_i32(fx::round_shift(w.z * ratio, fx::kUnitFracBits))};
-    } else {  // edges longer than half the Len range: via the unit direction
-      fx::Vec3 dir{};
-      fx::normalize_to_unit(w, &dir);
-      f = muscle::along(dir, fx::sat_i32(excess));
-    }
+    int64_t k = 0;
+    fx::Vec3 f{};
+    if (!edge_pull(model.params, e, s->position, &k, &f)) continue;
     accumulate(s, e.a, k, f);
     accumulate(s, e.b, k, {fx::neg_sat(f.x), fx::neg_sat(f.y), fx::neg_sat(f.z)});
   }

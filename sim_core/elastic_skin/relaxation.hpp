@@ -14,6 +14,11 @@
 
 namespace sinew::elastic_skin {
 
+// The elastic pull of edge e on its endpoint a (towards b when stretched,
+// the opposite on b): *k the push-back-scaled stiffness (Q16.16) and *f =
+// excess * w / |w| (Len). False when the edge pulls with nothing.
+bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k, fx::Vec3* f);
+
 // Runs one round and returns the largest relaxation vector length (Len).
 fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s);
 

@@ -80,8 +80,61 @@ struct SkinParams {
   // critically damped: no overshoot); the last iteration removes all of it.
   fx::Unit reaction_gain = fx::kUnitOne / 2;  // (0, 1]
   uint32_t newton_steps = 3;                  // per push-out, 1..kMaxNewtonSteps
-  uint8_t warm_start = 0;  // 1: start from the last step's skin (LEMAN); 0: from the virtual anchors (§5.1)
+  uint8_t warm_start = 0;    // 1: start from the last step's skin (LEMAN); 0: from the virtual anchors (§5.1)
   uint8_t reserved[3] = {};  // explicit, zeroed: the record's bytes go into rig blobs as they are
+};
+
+enum class SkinMode : uint8_t {
+  kStatic = 0,   // quasi-static relaxation every step (§5.2): no state but the warm start
+  kDynamic = 1,  // LEMAN §3 mass-spring surface: per-vertex mass and velocity, integrated in time
+};
+
+// Q16.16 physical quantities of the dynamic mode (kg, N per rig unit, ...).
+using Q16 = int32_t;
+inline constexpr int kQ16FracBits = 16;
+inline constexpr int kMassFracBits = 24;  // vertex mass, Q8.24 kg
+// Accelerations (gravity, base), Q24.8 rig units / s^2: range for small rig
+// units (9.81 m/s^2 is 2511 units/s^2 at 2^-8 m per unit, beyond Q12.20).
+inline constexpr int kAccelFracBits = 8;
+inline constexpr uint32_t kMaxSubsteps = 64;
+inline constexpr uint32_t kMaxTickHz = 100000;
+inline constexpr uint32_t kMaxSubstepHz = 1u << 20;
+inline constexpr uint32_t kMaxConstraintPasses = 4;
+
+// The solver switch and its parameters (both modes). Physical units: one
+// rig unit of length is the unit below (with length_exponent 0 it is a
+// metre, and every quantity is SI); time in seconds, mass in kg.
+//
+// Dynamic mode (LEMAN §3): m dv/dt = sum of spring forces + dashpots + m g
+// - m a_base, integrated by semi-implicit (symplectic) Euler with the
+// dashpots taken implicitly:
+//   v' = v + (a_springs + a_ext + sum c_i/m (v_i - v)) / (H + sum c_i/m)
+//   x' = x + v' / H,  H = tick_hz * n  (substep rate, 1/s)
+// n = ceil(substep_hz / tick_hz) fixed substeps per tick (<= max_substeps),
+// so the substep h = 1/H does not depend on the tick rate whenever
+// substep_hz is a multiple of it. Anchors and rubber-band targets move
+// linearly across a tick's substeps. Springs are explicit: stable for
+// h * omega < 2; a step is refused unless h * omega_max <= 1 (margin 2),
+// omega_max^2 <= max over vertices of (k_a + 2 sum k_e + sum k_r) / m
+// (Gershgorin). Implicit dashpots are unconditionally stable.
+struct SkinSolverParams {
+  uint8_t mode = 0;  // SkinMode
+  uint8_t reserved[3] = {};
+  // Static mode (§5.2): stop after the first iteration whose largest move is
+  // below this (Len); 0 runs every iteration. The last iteration run removes
+  // all penetration either way.
+  fx::Len tolerance = 0;
+  uint32_t substep_hz = 4000;      // dynamic: target substep rate (Hz), 1..kMaxSubstepHz
+  uint32_t max_substeps = 16;      // dynamic: bound on n, 1..kMaxSubsteps
+  uint32_t constraint_passes = 3;  // dynamic: Gauss-Seidel reaction passes per substep (§6.11), 1..4
+  int32_t vertex_mass = 167772;    // kg per skin vertex, Q8.24 (0.01 kg), > 0
+  Q16 stiffness_scale = 50 << 16;  // N per rig unit for a model stiffness of 1.0 (k = k_model * scale), >= 0
+  Q16 anchor_damping = 1 << 15;    // N s per rig unit, dashpot beside each anchor spring, >= 0
+  Q16 band_damping = 1 << 15;      // N s per rig unit, dashpot beside each rubber band, >= 0
+  // Fat thickness added to every vertex's own (§5.6: global + per point),
+  // both modes, Len >= 0.
+  fx::Len fat_thickness = 0;
+  fx::Vec3 gravity{0, 0, 0};  // rig units / s^2, Q24.8 (kAccelFracBits; e.g. y up, metres: {0, -2511, 0})
 };
 
 struct SkinModel {
@@ -93,6 +146,7 @@ struct SkinModel {
   std::span<const Edge> edges;
   std::span<const RubberBand> bands;
   SkinParams params;
+  SkinSolverParams solver;
 };
 
 }  // namespace sinew::elastic_skin

@@ -15,6 +15,13 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   for (int a = 0; a < 3; ++a) s->force[a] = c.take<int64_t>(n);
   s->weight = c.take<int64_t>(n);
   s->max_relax = c.take<fx::Len>(kMaxIterations);
+  const bool dynamic = model.solver.mode == static_cast<uint8_t>(SkinMode::kDynamic);
+  const size_t dn = dynamic ? n : 0, bands = dynamic ? model.bands.size() : 0;
+  for (int a = 0; a < 3; ++a) s->fine[a] = c.take<int64_t>(dn);
+  for (int a = 0; a < 3; ++a) s->velocity[a] = c.take<int64_t>(dn);
+  for (int a = 0; a < 3; ++a) s->anchor_start[a] = c.take<fx::Len>(dn);
+  for (int a = 0; a < 3; ++a) s->band_start[a] = c.take<fx::Len>(bands);
+  for (int a = 0; a < 3; ++a) s->band_end[a] = c.take<fx::Len>(bands);
   return c;
 }
 

@@ -22,6 +22,9 @@ struct SkinStats {
   uint32_t reactions = 0;       // vertices pushed out of a primitive, last step (all iterations)
   uint32_t inside_after = 0;    // fat points still inside an active primitive after the step (F < 1 - 2^-10)
   uint32_t saturated = 0;       // clamped accumulations, last step
+  uint8_t converged = 0;        // static: stopped on solver.tolerance before the iteration count
+  uint32_t substeps = 0;        // dynamic: substeps run in the last step
+  fx::Len residual = 0;         // static: == max_relax_last; dynamic: largest move of the last substep
 };
 
 struct SkinState {
@@ -36,6 +39,12 @@ struct SkinState {
   // entries): the largest net move of a vertex in that round, relaxation and
   // constraints together, so it tends to zero at (constrained) equilibrium.
   std::span<fx::Len> max_relax;
+  // Dynamic mode only (empty in static mode):
+  std::span<int64_t> fine[3];          // positions, Q28.36 rig units (position = fine rounded to Q12.20)
+  std::span<int64_t> velocity[3];      // Q44.20 rig units / s
+  std::span<fx::Len> anchor_start[3];  // virtual anchors at the start of the step
+  std::span<fx::Len> band_start[3];    // rubber-band targets at the start of the step, one per band
+  std::span<fx::Len> band_end[3];      // ... at its end
   uint8_t started = 0;
   SkinStats stats;
 };

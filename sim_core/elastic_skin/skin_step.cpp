@@ -5,6 +5,7 @@
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "skin_dynamic.hpp"
 #include "skin_validate.hpp"
 #include "virtual_anchors.hpp"
 
@@ -38,6 +39,11 @@ LayerStatus bad_input(const char* field, const char* problem) {
 
 LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles, const muscle::MuscleState& mstate,
                       std::span<const fx::Mat34> bones, SkinState* state) {
+  return skin_step(model, muscles, mstate, bones, SkinTick{}, state);
+}
+
+LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles, const muscle::MuscleState& mstate,
+                      std::span<const fx::Mat34> bones, const SkinTick& tick, SkinState* state) {
   if (state == nullptr) return bad_input("state", "null");
   if (bones.size() < model.joint_count) return bad_input("bones", "fewer transforms than the model's joints");
   if (state->vertex_count != model.vertex_count || state->weight.size() != model.vertex_count)
@@ -49,8 +55,13 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   const LayerStatus checked = skin_check_indices(model, muscles, static_cast<uint32_t>(bones.size()));
   if (!checked.ok()) return checked;
 
+  if (model.solver.mode == static_cast<uint8_t>(SkinMode::kDynamic))
+    return skin_dynamic_step(model, muscles, mstate, bones, tick, state);
+
   SkinState& s = *state;
-  s.stats = SkinStats{s.stats.steps, 0, 0, 0, 0, 0, 0, 0};
+  SkinStats fresh;
+  fresh.steps = s.stats.steps;
+  s.stats = fresh;
   const bool warm = model.params.warm_start != 0 && s.started != 0;
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
     const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
@@ -66,19 +77,32 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
       s.position[2][v] = a.position.z;
     }
   }
+  // §5.2: relax until the largest move falls below the tolerance or the
+  // iteration count runs out; the last iteration run removes all remaining
+  // penetration.
   const uint32_t iterations = model.params.iterations;
+  const fx::Len tolerance = model.solver.tolerance;
+  uint32_t run = 0;
   for (uint32_t i = 0; i < iterations; ++i) {
     for (int c = 0; c < 3; ++c)
       for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
     relax_once(model, mstate, &s);
     s.stats.collisions += collide_with_anchor_spheres(model, &s);
-    const fx::Unit gain = i + 1 == iterations ? fx::kUnitOne : model.params.reaction_gain;
+    const bool last = i + 1 == iterations;
+    const fx::Unit gain = last ? fx::kUnitOne : model.params.reaction_gain;
     s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s);
     s.max_relax[i] = largest_move(s, model.vertex_count);
+    run = i + 1;
+    if (!last && tolerance > 0 && s.max_relax[i] < tolerance) {
+      if (gain < fx::kUnitOne) s.stats.reactions += apply_reaction_constraints(model, mstate, fx::kUnitOne, &s);
+      s.stats.converged = 1;
+      break;
+    }
   }
-  s.stats.iterations = iterations;
+  s.stats.iterations = run;
   s.stats.max_relax_first = s.max_relax[0];
-  s.stats.max_relax_last = s.max_relax[iterations - 1];
+  s.stats.max_relax_last = s.max_relax[run - 1];
+  s.stats.residual = s.stats.max_relax_last;
   s.stats.inside_after = count_inside(model, mstate, kInsideTolerance, s);
   s.started = 1;
   ++s.stats.steps;

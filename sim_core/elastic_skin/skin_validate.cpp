@@ -45,6 +45,23 @@ LayerStatus check_params(const SkinParams& p) {
   return {};
 }
 
+LayerStatus check_solver(const SkinSolverParams& p) {
+  if (p.mode > static_cast<uint8_t>(SkinMode::kDynamic)) return bad("skin solver", -1, "mode", "unknown", p.mode, true);
+  if (p.tolerance < 0) return bad("skin solver", -1, "tolerance", "negative", p.tolerance, true);
+  if (p.fat_thickness < 0) return bad("skin solver", -1, "fat_thickness", "negative", p.fat_thickness, true);
+  if (p.mode != static_cast<uint8_t>(SkinMode::kDynamic)) return {};
+  if (p.substep_hz < 1 || p.substep_hz > kMaxSubstepHz)
+    return bad("skin solver", -1, "substep_hz", "must be 1..2^20", p.substep_hz, true);
+  if (p.max_substeps < 1 || p.max_substeps > kMaxSubsteps)
+    return bad("skin solver", -1, "max_substeps", "must be 1..64", p.max_substeps, true);
+  if (p.constraint_passes < 1 || p.constraint_passes > kMaxConstraintPasses)
+    return bad("skin solver", -1, "constraint_passes", "must be 1..4", p.constraint_passes, true);
+  if (p.vertex_mass <= 0) return bad("skin solver", -1, "vertex_mass", "must be > 0", p.vertex_mass, true);
+  if (p.stiffness_scale < 0 || p.anchor_damping < 0 || p.band_damping < 0)
+    return bad("skin solver", -1, "stiffness_scale/anchor_damping/band_damping", "negative");
+  return {};
+}
+
 }  // namespace
 
 LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel& muscles, uint32_t joints) {
@@ -77,7 +94,8 @@ LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel
       return bad("skin anchor", v, "stiffness", "above 256", model.anchor_stiffness[v], true);
     if (model.fat[v] < 0) return bad("skin fat", v, "thickness", "negative", model.fat[v], true);
   }
-  return check_params(model.params);
+  const LayerStatus params = check_params(model.params);
+  return params.ok() ? check_solver(model.solver) : params;
 }
 
 LayerStatus skin_validate(const rig::Rig& rig, const muscle::MuscleModel& muscles, const SkinModel& model) {

@@ -123,12 +123,27 @@ inline constexpr uint32_t kMusclesArrays = 2;
 // region_weight (Unit, (0, 1]): the relaxed skin displaces those vertices by
 // weight x (relaxed - skinned); every other vertex keeps its skinned
 // position bit for bit. Both empty: the whole skin, weight 1.
+//
+// Layer version 1 (every section): the params are SkinSectionParams and the
+// solver is elastic_skin::SkinSolverParams{} (static relaxation, no
+// tolerance, no global fat). Layer version 2 (SKIN only) appends the solver
+// record: SkinSectionParamsV2 (dynamic mode, tolerance, global fat). Writers
+// emit version 1 whenever the solver record is the default, so rigs without
+// the new settings keep their bytes; a loader that knows only version 1
+// refuses a version 2 SKIN section (kBadVersion) instead of misreading it.
 struct SkinSectionParams {
   uint32_t joint_count, vertex_count;
   elastic_skin::SkinParams params;
 };
+struct SkinSectionParamsV2 {
+  uint32_t joint_count, vertex_count;
+  elastic_skin::SkinParams params;
+  elastic_skin::SkinSolverParams solver;
+};
+inline constexpr uint32_t kSkinSectionVersion2 = 2;
 static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anchor) == 80 &&
-              sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20);
+              sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20 &&
+              sizeof(elastic_skin::SkinSolverParams) == 52 && sizeof(SkinSectionParamsV2) == 88);
 inline constexpr uint32_t kSkinArrays = 7;
 
 // BNET params. Arrays: inverse_bind, nodes, bars, loads, triangles, wrap.

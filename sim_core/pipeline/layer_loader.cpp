@@ -143,7 +143,11 @@ struct Layout {
   const ArraySpec* arrays;
 };
 
-bool layout_of(uint32_t id, Layout* out) {
+bool layout_of(uint32_t id, uint32_t version, Layout* out) {
+  if (id == kSectionElasticSkin && version == kSkinSectionVersion2) {
+    *out = {sizeof(SkinSectionParamsV2), kSkinArrays, kSkinSpec};
+    return true;
+  }
   switch (id) {
     case kSectionSphJoint:
       *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
@@ -179,7 +183,6 @@ struct SectionView {
 
 LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, uint32_t size, SectionView* out) {
   Layout layout{};
-  layout_of(id, &layout);
   out->id = id;
   out->instance = instance;
   out->base = base;
@@ -188,9 +191,11 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
     return fail(LoadError::kSectionSize, id, instance, "size", -1, "shorter than the 32-byte layer header", size, true);
   std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
   const LayerSectionHeader& h = out->header;
-  if (h.layer_version != kLayerSectionVersion)
+  const bool skin_v2 = id == kSectionElasticSkin && h.layer_version == kSkinSectionVersion2;
+  if (h.layer_version != kLayerSectionVersion && !skin_v2)
     return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
                 h.layer_version, true);
+  layout_of(id, h.layer_version, &layout);
   if (h.params_size != layout.params_size)
     return fail(LoadError::kSectionSize, id, instance, "params_size", -1, "does not match this layer's record",
                 h.params_size, true);
@@ -368,7 +373,15 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
 LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::MuscleModel& muscles,
                      elastic_skin::SkinModel* out, std::span<const uint32_t>* region,
                      std::span<const fx::Unit>* region_weight) {
-  const SkinSectionParams p = params_of<SkinSectionParams>(v);
+  SkinSectionParamsV2 p{};
+  if (v.header.layer_version == kSkinSectionVersion2) {
+    p = params_of<SkinSectionParamsV2>(v);
+  } else {  // version 1: the default solver (static relaxation)
+    const SkinSectionParams p1 = params_of<SkinSectionParams>(v);
+    p.joint_count = p1.joint_count;
+    p.vertex_count = p1.vertex_count;
+    p.params = p1.params;
+  }
   *out = {p.joint_count,
           p.vertex_count,
           array_of<elastic_skin::Anchor>(v, 0),
@@ -376,7 +389,8 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
           array_of<fx::Len>(v, 2),
           array_of<elastic_skin::Edge>(v, 3),
           array_of<elastic_skin::RubberBand>(v, 4),
-          p.params};
+          p.params,
+          p.solver};
   *region = array_of<uint32_t>(v, 5);
   *region_weight = array_of<fx::Unit>(v, 6);
   if (out->vertex_count != rig.vertex_count())

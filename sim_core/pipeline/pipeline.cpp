@@ -187,8 +187,12 @@ PipelineStatus run_anatomy(Pipeline* p) {
   if (!p->layers->has_skin) return {};
   elastic_skin::SkinModel model = p->layers->skin;
   if (p->options.skin_iterations != 0) model.params.iterations = p->options.skin_iterations;
+  // The dynamic skin's time step: the loop's rate, else the rate the rig
+  // was built for, else rigc's default rate (1 kHz).
+  elastic_skin::SkinTick tick;
+  tick.tick_hz = p->options.tick_hz != 0 ? p->options.tick_hz : (p->layers->rate_hz != 0 ? p->layers->rate_hz : 1000);
   const muscle::LayerStatus ss =
-      elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, &p->skin);
+      elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, tick, &p->skin);
   if (!ss.ok()) return fail(PipelineError::kLayer, "elastic skin", ss.message);
   const std::span<const uint32_t> region = p->layers->skin_region;
   if (region.empty()) {

@@ -52,6 +52,8 @@ struct PipelineOptions {
   uint32_t skin_iterations = 0;  // elastic-skin relaxations per tick; 0 keeps the rig's
   // The loop's tick rate; 0: the rate the rig's SPH joints were compiled
   // for. Another rate converts their gains at init (sph_gains_for_rate).
+  // The dynamic elastic skin takes its time step from it too (0 and no SPH
+  // rate: 1 kHz).
   uint32_t tick_hz = 0;
 };
 

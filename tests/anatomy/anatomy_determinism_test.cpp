@@ -77,3 +77,34 @@ TEST(AnatomyDeterminism, ArmMatchesGolden) {
   EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
   EXPECT_EQ(digest, sinew::test::golden::kAnatomyArm) << "anatomy outputs changed";
 }
+
+TEST(AnatomyDeterminism, ArmDynamicSkinMatchesGolden) {
+  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+    s.skin.solver.dynamic = true;
+    s.skin.solver.gravity[1] = -9.81;
+  });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  det::OutputHash h;
+  uint32_t reactions = 0;
+  for (int s = 0; s < kSteps; ++s) {
+    for (uint32_t i = 0; i < arm.rig().input_count; ++i) arm.inputs()[i] = trajectory(i, static_cast<uint32_t>(s));
+    ASSERT_TRUE(arm.step().ok());
+    const sinew::elastic_skin::SkinState& sk = arm.skin();
+    for (int c = 0; c < 3; ++c) {
+      for (sinew::fx::Len v : sk.position[c]) h.add_i32(v);
+      for (int64_t v : sk.velocity[c]) h.add_i64(v);
+    }
+    h.add_u32(sk.stats.substeps);
+    h.add_u32(sk.stats.reactions);
+    h.add_u32(sk.stats.inside_after);
+    h.add_i32(sk.stats.residual);
+    reactions += sk.stats.reactions;
+  }
+  const uint64_t digest = h.digest();
+  det::print_determinism_line("anatomy-arm-dynamic", digest);
+  std::printf("anatomy-arm-dynamic: %d steps, %u reactions, last step largest move %.4f mm\n", kSteps, reactions,
+              arm.metres(arm.skin().stats.residual) * 1e3);
+  EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
+  EXPECT_EQ(arm.skin().stats.inside_after, 0u);
+  EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmDynamic) << "dynamic anatomy outputs changed";
+}

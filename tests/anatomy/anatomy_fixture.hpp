@@ -73,7 +73,10 @@ class ArmAnatomy {
   // engine -> muscles -> skin; returns the first failing status.
   muscle::LayerStatus step() {
     muscle::LayerStatus st = step_muscles();
-    if (st.ok()) st = elastic_skin::skin_step(skin_model_, muscle_model_, muscles_, engine_.model, &skin_);
+    // 1 kHz: the dynamic skin's tick (the static one ignores it).
+    if (st.ok())
+      st = elastic_skin::skin_step(skin_model_, muscle_model_, muscles_, engine_.model,
+                                   elastic_skin::SkinTick{1000, {}}, &skin_);
     return st;
   }
   // engine -> muscles only.

@@ -5,6 +5,7 @@
 // refused with the spec's line.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -155,4 +156,48 @@ TEST(RigSpecs, FuzzSeedsAreCurrent) {
   std::ifstream f(kSource + "/tests/fuzz/corpus/rig/rigged_simple_layers.rig", std::ios::binary);
   const std::vector<uint8_t> seed((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   EXPECT_EQ(seed, c.blob) << "regenerate tests/fuzz/corpus/rig/rigged_simple_layers.rig with rigc";
+}
+
+// The elastic skin's solver keys (docs/anatomy.md, "Dynamic mode") reach
+// the loaded model, converted to rig units; a bad mode names the table.
+TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
+  std::ifstream in(kSource + "/rigs/arm.toml");
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
+  const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
+  const size_t at = text.find(skin);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + skin.size(),
+              "mode = \"dynamic\"\nvertex_mass = 0.02\nstiffness_scale = 40\nanchor_damping = 0.25\n"
+              "band_damping = 0.125\nsubstep_hz = 2000\nmax_substeps = 8\nconstraint_passes = 2\n"
+              "tolerance = 0.001\nfat = 0.002\ngravity = [0, -9.81, 0]\n");
+  const std::string path = kSource + "/tests/data/skin_solver_keys.toml";
+  std::ofstream(path) << text;
+  const Compiled c = compile_spec(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(c.ok) << c.error;
+  Loaded l;
+  std::string error;
+  ASSERT_TRUE(load(c.blob, &l, &error)) << error;
+  ASSERT_TRUE(l.layers.has_skin);
+  const sinew::elastic_skin::SkinSolverParams& s = l.layers.skin.solver;
+  const int e = l.rig.length_exponent;  // one rig unit is 2^e model units
+  EXPECT_EQ(s.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kDynamic));
+  EXPECT_EQ(s.substep_hz, 2000u);
+  EXPECT_EQ(s.max_substeps, 8u);
+  EXPECT_EQ(s.constraint_passes, 2u);
+  EXPECT_EQ(s.vertex_mass, std::lround(0.02 * 16777216.0));
+  EXPECT_EQ(s.stiffness_scale, std::lround(std::ldexp(40.0, e) * 65536.0));
+  EXPECT_EQ(s.anchor_damping, std::lround(std::ldexp(0.25, e) * 65536.0));
+  EXPECT_EQ(s.band_damping, std::lround(std::ldexp(0.125, e) * 65536.0));
+  EXPECT_EQ(s.tolerance, std::lround(std::ldexp(0.001, 20 - e)));
+  EXPECT_EQ(s.fat_thickness, std::lround(std::ldexp(0.002, 20 - e)));
+  EXPECT_EQ(s.gravity.y, std::lround(std::ldexp(-9.81, 8 - e)));  // Q24.8
+  EXPECT_EQ(s.gravity.x, 0);
+
+  const std::string bad = spec_error("skin_bad_mode.toml",
+                                     "[rig]\nsource = \"builtin:arm\"\n[[muscle]]\norigin = "
+                                     "\"shoulder\"\ninsertion = \"elbow\"\n[skin]\nmode = "
+                                     "\"wobbly\"\n");
+  EXPECT_NE(bad.find("mode must be \"static\" or \"dynamic\""), std::string::npos) << bad;
 }

@@ -93,7 +93,8 @@ struct Scene {
     sinew::engine::engine_step(&engine, inputs);
   }
   void step_muscles() { muscle::muscle_step(mm, engine.model, &ms); }
-  void step_skin() { es::skin_step(sm, mm, ms, engine.model, &ss); }
+  // The dynamic skin needs the loop's rate; the static one ignores it.
+  void step_skin() { es::skin_step(sm, mm, ms, engine.model, es::SkinTick{1000, {0, 0, 0}}, &ss); }
 };
 
 // No muscles: every vertex anchors to its bones (any rig).
@@ -110,6 +111,14 @@ ab::AnatomySpec bones_only(const rigc::RigSpec& spec) {
 ab::AnatomySpec arm_warm(const rigc::RigSpec& spec) {
   ab::AnatomySpec a = ab::arm_anatomy(spec);
   a.skin.warm_start = true;
+  return a;
+}
+
+// The arm with the dynamic skin (LEMAN §3) at its defaults: 4 substeps at
+// 1 kHz, 3 reaction passes each.
+ab::AnatomySpec arm_dynamic(const rigc::RigSpec& spec) {
+  ab::AnatomySpec a = ab::arm_anatomy(spec);
+  a.skin.solver.dynamic = true;
   return a;
 }
 
@@ -288,6 +297,36 @@ void summary(double min_seconds) {
         "arm, 2 warm-started relaxations per step (LEMAN's regime): engine + muscles + skin %.1f us, "
         "%.1fx LBS alone\n",
         step * 1e6, step / lbs);
+  }
+  // Dynamic skin beside the static one (same run): engine + muscles + skin
+  // per 1 kHz tick, and the skin step alone, against LBS and against the
+  // 2-warm-iteration static skin.
+  Scene dynamic("arm, dynamic skin", rigc::builtin_arm(rigc::SkinChoice::kLinear), arm_dynamic, 1);
+  if (dynamic.ok && warm.ok) {
+    const double lbs = mean_seconds([&](uint64_t i) { dynamic.step_engine(i); }, min_seconds);
+    const auto full = [&](Scene& s) {
+      return mean_seconds(
+          [&](uint64_t i) {
+            s.step_engine(i);
+            s.step_muscles();
+            s.step_skin();
+          },
+          min_seconds);
+    };
+    const double dyn = full(dynamic), stat = full(warm);
+    dynamic.step_engine(7);
+    dynamic.step_muscles();
+    warm.step_engine(7);
+    warm.step_muscles();
+    const double dyn_skin = mean_seconds([&](uint64_t) { dynamic.step_skin(); }, min_seconds);
+    const double stat_skin = mean_seconds([&](uint64_t) { warm.step_skin(); }, min_seconds);
+    std::printf(
+        "arm, dynamic skin at 1 kHz (%u substeps x %u reaction passes): engine + muscles + skin %.1f us (%.1fx LBS "
+        "alone, %.2fx the 2-warm-iteration static skin); skin step %.1f us vs static %.1f us (%.2fx)\n",
+        dynamic.ss.stats.substeps, dynamic.sm.solver.constraint_passes, dyn * 1e6, dyn / lbs, dyn / stat,
+        dyn_skin * 1e6, stat_skin * 1e6, dyn_skin / stat_skin);
+  } else if (!dynamic.ok) {
+    std::printf("dynamic skin skipped: %s\n", dynamic.error.c_str());
   }
   Scene tube("tube 75k", tube_75k(), bones_only, 30);
   if (!tube.ok) {

@@ -141,7 +141,8 @@ class Builder {
                    b.axis[0] * b.side[1] - b.axis[1] * b.side[0]};
     P3 local;
     for (size_t i = 0; i < 3; ++i)
-      local[i] = a.param[0] * b.length * b.axis[i] + a.param[1] * b.radius * b.side[i] + a.param[2] * b.radius * third[i];
+      local[i] =
+          a.param[0] * b.length * b.axis[i] + a.param[1] * b.radius * b.side[i] + a.param[2] * b.radius * third[i];
     return to_vec(local);
   }
   bool bone_ok(int bone) const { return bone >= 0 && static_cast<uint32_t>(bone) < rig_.joint_count(); }
@@ -445,6 +446,25 @@ class Builder {
     p.reaction_gain = rigc::to_fixed(s.reaction_gain, 30);
     p.newton_steps = static_cast<uint32_t>(std::max(0, s.newton_steps));
     p.warm_start = s.warm_start ? 1 : 0;
+    // Solver: one rig unit is 2^e model units, so per-length quantities
+    // (N / unit, N s / unit) scale by 2^e and accelerations by 2^-e.
+    es::SkinSolverParams& o = out_.solver;
+    const SkinSolverSpec& d = s.solver;
+    const double unit = std::ldexp(1.0, e_);
+    o.mode = static_cast<uint8_t>(d.dynamic ? es::SkinMode::kDynamic : es::SkinMode::kStatic);
+    o.tolerance = len(d.tolerance);
+    o.fat_thickness = len(d.fat_global);
+    if (d.dynamic) {
+      o.substep_hz = static_cast<uint32_t>(std::max(0, d.substep_hz));
+      o.max_substeps = static_cast<uint32_t>(std::max(0, d.max_substeps));
+      o.constraint_passes = static_cast<uint32_t>(std::max(0, d.constraint_passes));
+      o.vertex_mass = rigc::to_fixed(d.vertex_mass, es::kMassFracBits);
+      o.stiffness_scale = rigc::to_fixed(d.stiffness_scale * unit, es::kQ16FracBits);
+      o.anchor_damping = rigc::to_fixed(d.anchor_damping * unit, es::kQ16FracBits);
+      o.band_damping = rigc::to_fixed(d.band_damping * unit, es::kQ16FracBits);
+      const auto accel = [&](double a) { return rigc::to_fixed(std::ldexp(a, -e_), es::kAccelFracBits); };
+      o.gravity = {accel(d.gravity[0]), accel(d.gravity[1]), accel(d.gravity[2])};
+    }
     return true;
   }
 

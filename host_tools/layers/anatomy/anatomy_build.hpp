@@ -39,11 +39,13 @@ struct AnatomyModel {
   std::vector<elastic_skin::RubberBand> bands;
   uint32_t joint_count = 0, ring_vertices = 8;
   elastic_skin::SkinParams params;
+  elastic_skin::SkinSolverParams solver;
   BuildReport report;
 
   muscle::MuscleModel muscle_model() const { return {joint_count, ring_vertices, muscles, primitives}; }
   elastic_skin::SkinModel skin_model() const {
-    return {joint_count, static_cast<uint32_t>(anchors.size()), anchors, anchor_stiffness, fat, edges, bands, params};
+    return {joint_count, static_cast<uint32_t>(anchors.size()), anchors, anchor_stiffness, fat, edges, bands, params,
+            solver};
   }
 };
 

@@ -64,6 +64,22 @@ struct RubberBandSpec {
   double stiffness = 0.5;
 };
 
+// The skin solver (elastic_skin::SkinSolverParams) in model units, seconds
+// and kg; the builder converts to rig units.
+struct SkinSolverSpec {
+  double tolerance = 0;   // static: stop relaxing once the largest move is below this; 0: every iteration
+  double fat_global = 0;  // added to every vertex's fat (LEMAN §5.6)
+  bool dynamic = false;   // LEMAN §3 mass-spring skin instead of the static relaxation
+  int substep_hz = 4000;  // dynamic: target substep rate
+  int max_substeps = 16;
+  int constraint_passes = 3;
+  double vertex_mass = 0.01;      // kg per vertex
+  double stiffness_scale = 50;    // N per model unit for a model stiffness of 1
+  double anchor_damping = 0.5;    // N s per model unit
+  double band_damping = 0.5;      // N s per model unit
+  double gravity[3] = {0, 0, 0};  // model units / s^2
+};
+
 struct SkinSpec {
   int iterations = 30;
   double anchor_coefficient = 0.1;  // C_a of eq. (2)
@@ -80,6 +96,7 @@ struct SkinSpec {
   // surface is rejected ("anchor outside every component").
   double max_anchor_distance = 0.06;
   std::vector<RubberBandSpec> bands;
+  SkinSolverSpec solver;
 };
 
 struct AnatomySpec {

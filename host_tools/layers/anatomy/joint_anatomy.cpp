@@ -143,6 +143,7 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
   a.skin.iterations = skin.iterations;
   a.skin.warm_start = skin.warm_start;
   a.skin.anchor_coefficient = skin.anchor_coefficient;
+  a.skin.solver = skin.solver;
   a.skin.collision_radius = 0.44 * mean_radius;
   a.skin.fat = 0.13 * mean_radius;
   double farthest = 0;

@@ -26,6 +26,7 @@ struct SkinRequest {
   int iterations = 10;
   bool warm_start = true;
   double anchor_coefficient = 0.1;
+  SkinSolverSpec solver;  // static relaxation by default
 };
 
 // A muscle's rest path in the mesh's bind space (origin and insertion

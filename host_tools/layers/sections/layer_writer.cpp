@@ -26,6 +26,8 @@ class SectionBuilder {
     table_ = bytes_.size();
     bytes_.resize(table_ + size_t{array_count} * sizeof(pipeline::LayerArrayEntry), 0);
   }
+  // Overrides the header's layer version (sections with several versions).
+  void version(uint32_t v) { std::memcpy(bytes_.data(), &v, sizeof(v)); }
   template <typename T>
   SectionBuilder& array(std::span<const T> values) {
     bytes_.resize(align8(bytes_.size()), 0);
@@ -98,11 +100,19 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
 
 LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<const uint32_t> region,
                           std::span<const fx::Unit> region_weight) {
-  pipeline::SkinSectionParams p{};
+  // Version 1 while the solver record is the default (the bytes of rigs
+  // without the new settings do not change); version 2 otherwise.
+  const elastic_skin::SkinSolverParams defaults{};
+  const bool v2 = std::memcmp(&m.solver, &defaults, sizeof(defaults)) != 0;
+  pipeline::SkinSectionParamsV2 p{};
   p.joint_count = m.joint_count;
   p.vertex_count = m.vertex_count;
   p.params = m.params;
-  SectionBuilder b = builder(pipeline::kSectionElasticSkin, 0, p, pipeline::kSkinArrays);
+  p.solver = m.solver;
+  SectionBuilder b = v2 ? builder(pipeline::kSectionElasticSkin, 0, p, pipeline::kSkinArrays)
+                        : SectionBuilder(pipeline::kSectionElasticSkin, 0, &p, sizeof(pipeline::SkinSectionParams),
+                                         pipeline::kSkinArrays);
+  if (v2) b.version(pipeline::kSkinSectionVersion2);
   b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
   b.array(region).array(region_weight);
   return b.finish();
