@@ -52,7 +52,7 @@ int run_live(const ViewContext& ctx, const std::string& bind_address, uint16_t u
         if (have_frame && pose.tick <= last_tick && !shadow.reset(&error))
           return std::fprintf(stderr, "sinew-view: %s\n", error.c_str()), 1;
         period.add(pose);
-        history.push_back(shadow.step(pose.tick, pose.input_value));
+        history.push_back(shadow.step_frame(pose));
         if (history.size() > kHistorySteps) history.pop_front();
         last_tick = pose.tick;
       }

@@ -135,7 +135,7 @@ int run_replay(const ViewContext& ctx, const std::string& log_path) {
       }
       for (; stepped <= target; ++stepped) {
         const hal::output::DecodedPose& f = replay.frames[stepped];
-        history.push_back(shadow.step(f.tick, f.input_value));
+        history.push_back(shadow.step_frame(f));
         if (history.size() > kHistorySteps) history.pop_front();
       }
     }

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   ctx.rig = &rig;
   ctx.server = &server;
   ctx.tick_hz = tick_hz;
+  ctx.options.tick_hz = tick_hz;  // the layers step at the stream's rate (else taken from the frames)
   ctx.stop = &g_stop;
   const int status =
       log->count() > 0 ? sinew::view::run_replay(ctx, log_path) : sinew::view::run_live(ctx, bind, udp_port);

@@ -9,6 +9,8 @@ namespace sinew::view {
 bool ShadowPipeline::init(const ViewRig& rig, const pipeline::PipelineOptions& options, std::string* error) {
   rig_ = &rig;
   options_ = options;
+  rate_known_ = options.tick_hz != 0;
+  have_first_ = false;
   return reset(error);
 }
 
@@ -22,6 +24,31 @@ bool ShadowPipeline::reset(std::string* error) {
   for (auto& axis : plain_) axis.assign(r.vertex_count(), 0);
   steps_ = 0;
   return true;
+}
+
+ShadowStep ShadowPipeline::step_frame(const hal::output::DecodedPose& pose) {
+  if (!rate_known_ && !have_first_) {
+    have_first_ = true;
+    first_tick_ = pose.tick;
+    first_ns_ = pose.timestamp_ns;
+    first_inputs_ = pose.input_value;
+  } else if (!rate_known_ && pose.tick > first_tick_ && pose.timestamp_ns > first_ns_) {
+    rate_known_ = true;
+    const double hz =
+        1e9 * static_cast<double>(pose.tick - first_tick_) / static_cast<double>(pose.timestamp_ns - first_ns_);
+    const auto rate = static_cast<uint32_t>(std::min(hz, 1e6) + 0.5);
+    const pipeline::PipelineOptions before = options_;
+    options_.tick_hz = rate;
+    std::string error;
+    if (!reset(&error)) {
+      // A rate the layers refuse (e.g. SPH needing over 16 substeps): the
+      // rig's own rate, as before.
+      options_ = before;
+      (void)reset(&error);
+    }
+    (void)step(first_tick_, first_inputs_);
+  }
+  return step(pose.tick, pose.input_value);
 }
 
 ShadowStep ShadowPipeline::step(uint64_t tick, std::span<const int32_t> inputs) {

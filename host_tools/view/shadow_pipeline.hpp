@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "hal/output/pose_decode.hpp"
 #include "sim_core/pipeline/pipeline.hpp"
 #include "view_rig.hpp"
 
@@ -30,12 +31,24 @@ struct ShadowStep {
 
 class ShadowPipeline {
  public:
-  // Builds the pipeline with every layer the rig carries; false with *error.
+  // Builds the pipeline with the layers `options` leaves on; false with
+  // *error. options.tick_hz: the stream's tick rate (--tick-hz), or 0 to
+  // take it from the frames (step_frame).
   bool init(const ViewRig& rig, const pipeline::PipelineOptions& options, std::string* error);
-  // Back to the rig's rest state (a replay seeking backwards).
+  // Back to the rig's rest state (a replay seeking backwards); the stream's
+  // rate, once known, is kept.
   bool reset(std::string* error);
-  // One tick with the frame's inputs (the rig's, then external ones).
-  ShadowStep step(uint64_t tick, std::span<const int32_t> inputs);
+  // One tick with the frame's inputs (the rig's, then external ones), at the
+  // stream's tick rate. sinewd converts the SPH gains to its loop's rate
+  // (pipeline::sph_gains_for_rate), so the same inputs stepped at another
+  // rate leave the particles and the bend elsewhere than the daemon's. Unless
+  // init fixed the rate, the first frame is stepped at the rig's compiled
+  // rate; the second gives the rate (tick and timestamp differences, to the
+  // nearest hertz) and, when it differs, the pipeline restarts at it and
+  // re-steps the first frame before this one.
+  ShadowStep step_frame(const hal::output::DecodedPose& pose);
+  // The rate the layers are stepped at; 0: the rig's compiled rate.
+  uint32_t tick_hz() const { return options_.tick_hz; }
 
   uint64_t steps() const { return steps_; }
   const pipeline::Pipeline& state() const { return pipeline_; }
@@ -50,6 +63,12 @@ class ShadowPipeline {
   pipeline::Pipeline pipeline_;
   std::vector<int32_t> plain_[3];
   uint64_t steps_ = 0;
+  bool rate_known_ = false;
+  bool have_first_ = false;
+  uint64_t first_tick_ = 0, first_ns_ = 0;
+  std::vector<int32_t> first_inputs_;
+
+  ShadowStep step(uint64_t tick, std::span<const int32_t> inputs);
 };
 
 }  // namespace sinew::view

@@ -54,7 +54,7 @@ TEST(ViewFrameMessage, PositionsAreTheFramesInMetresAndTheArraysFillTheMessage) 
   sinew::view::ShadowPipeline shadow;
   std::string error;
   ASSERT_TRUE(shadow.init(rig, {}, &error)) << error;
-  shadow.step(pose.tick, pose.input_value);  // rest inputs: plain skinning gives the rest pose
+  shadow.step_frame(pose);  // rest inputs: plain skinning gives the rest pose
   const std::deque<sinew::view::ShadowStep> history;
   const auto m = sinew::view::frame_message(rig, pose, &shadow, history, 1000000, {}, {}, "");
   const std::string json = message_json_for_view_test(m);

@@ -157,7 +157,16 @@ async function probePage(cdp, url, pngPath) {
       status: document.getElementById('status') ? document.getElementById('status').textContent : '',
       rigInputs: window.sinewView && window.sinewView.rig ? window.sinewView.rig.inputs.map((i) => i.name) : [],
       inputRows: [...document.querySelectorAll('#inputs tbody tr')].map((r) => [...r.cells].map((c) => c.textContent)),
-      chart: document.getElementById('chart-summary') ? document.getElementById('chart-summary').textContent : ''
+      chart: document.getElementById('chart-summary') ? document.getElementById('chart-summary').textContent : '',
+      // The drawn frame's skeleton and SPH particles' centroid, metres.
+      joints: window.sinewView && window.sinewView.lastMessage ? Array.from(window.sinewView.lastMessage.data.joints) : [],
+      sphCentroid: (() => {
+        const p = window.sinewView && window.sinewView.lastMessage ? window.sinewView.lastMessage.data.sph_position : null;
+        if (!p || p.length === 0) return null;
+        const c = [0, 0, 0];
+        for (let k = 0; k < p.length; ++k) c[k % 3] += p[k] / (p.length / 3);
+        return c;
+      })()
     }))()`);
     // MIN_FRAMES 0: wait for the error banner instead (a rig/stream mismatch).
     const ready = (s) => s && (minFrames > 0 ? s.framesDrawn >= minFrames : s.error !== '');

@@ -18,7 +18,7 @@ host = \"127.0.0.1\"
 port = $udp_port"
 "$SINEWD" --config "$work/live.toml" > "$work/daemon.out" 2>&1 || { echo "FAIL: sinewd"; cat "$work/daemon.out"; exit 1; }
 
-probe 1 "http://127.0.0.1:$http_port/" "$OUT_DIR/view_live.png" > "$work/live.json" ||
+probe 1 "http://127.0.0.1:$http_port/?show=metaballs,muscles,barnet" "$OUT_DIR/view_live.png" > "$work/live.json" ||
   { echo "FAIL: page probe"; cat "$work/live.json"; cat "$work/view-$http_port.log"; exit 1; }
 cat "$work/live.json"; echo
 status=0
@@ -34,4 +34,9 @@ check "JSON.stringify(j.inputRows.map((r) => r[0])) === JSON.stringify(j.rigInpu
 check "j.inputRows.every((r) => ['fresh', 'held', 'stale', 'rejected'].includes(r[2]))" "every input has a health state"
 check "/^[0-9]+ steps/.test(j.chart) && parseInt(j.chart, 10) > 0" "the step-time chart has steps"
 check "j.chart.includes('deadline misses')" "the chart counts deadline misses"
+# The SPH particles fill a capsule centred on the elbow (joint 1), +-80 mm
+# along the bone (docs/sph.md): their centroid lies within that of the
+# elbow of the drawn frame, whatever the pose.
+check "j.sphCentroid !== null && Math.hypot(...j.sphCentroid.map((c, i) => c - j.joints[3 + i])) < 0.08" \
+  "the SPH particles sit at the elbow ($(json "$work/live.json" "(1000 * Math.hypot(...j.sphCentroid.map((c, i) => c - j.joints[3 + i]))).toFixed(1)") mm from it)"
 exit $status
