@@ -94,6 +94,13 @@ struct MetaballModel {
   std::span<const BulgeRecord> bulges;
   uint32_t pbd_iterations = 0;  // stretch-projection sweeps per step
   fx::Unit jiggle_damping = 0;  // velocity kept per step, [0, 1)
+  // 0: ball_jiggle and jiggle_damping are per-step gains of the ball's own
+  // motion (a jiggle ball lags a moving bone). > 0: they are
+  // metaballs::jiggle_gains for this tick rate (Hz): the swing is that of
+  // flesh on the bone, the damping acts on the motion relative to the
+  // kinematic centre and the bone's acceleration drives it, so the motion is
+  // the continuous one of jiggle_gains.hpp at every tick.
+  uint32_t jiggle_rate_hz = 0;
 
   // Deformation by normal balls, eq. (4): [vertex * kVertexBalls + k].
   std::span<const uint16_t> vertex_ball;

@@ -29,16 +29,45 @@ bool project(const BallPair& p, std::span<fx::Vec3> c) {
   return true;
 }
 
+// Secondary deformation in physical units (jiggle_gains.hpp): the swing
+// e = c - c_target of a jiggle ball follows
+//   e_{n+1} = (1 - k) ((1 + d) e_n - d e_{n-1}) - g (T_{n+1} - 2 T_n + T_{n-1}),
+// the damped oscillator e'' + 2 sigma e' + omega0^2 e = -T'' sampled at each
+// tick: the free swing is exact, and with g = r = sqrt((1 - k) d) a sudden
+// change of the bone's velocity starts the swing of the continuous impulse
+// response to within theta / sin(theta) (second order in dt).
+void swing_relative(const MetaballModel& m, MetaballState* s, uint32_t b) {
+  const fx::Vec3 target = s->ball_target[b];
+  const fx::Unit kept = fx::kUnitOne - m.ball_jiggle[b];
+  const fx::Unit drive = static_cast<fx::Unit>(fx::isqrt_u64(static_cast<uint64_t>(int64_t{kept} * m.jiggle_damping)));
+  const fx::Vec3 e = fx::sub(s->ball_center[b], s->ball_last_target[b]);
+  const fx::Vec3 e_previous = s->ball_previous[b];
+  const fx::Vec3 step = fx::sub(target, s->ball_last_target[b]);
+  const fx::Vec3 accel = fx::sub(step, s->ball_last_step[b]);
+  const fx::Vec3 free = fx::scale(fx::add(e, fx::scale(fx::sub(e, e_previous), m.jiggle_damping)), kept);
+  s->ball_previous[b] = e;
+  s->ball_center[b] = fx::add(target, fx::sub(free, fx::scale(accel, drive)));
+  s->ball_last_target[b] = target;
+  s->ball_last_step[b] = step;
+}
+
 }  // namespace
 
 void solve_pbd(const MetaballModel& m, MetaballState* s) {
   const uint32_t nb = m.ball_count();
+  const bool relative = m.jiggle_rate_hz != 0;
   for (uint32_t b = 0; b < nb; ++b) {
     const fx::Vec3 target = s->ball_target[b];
     const fx::Unit k = m.ball_jiggle[b];
-    if (k == 0 || !s->primed || !s->features.pbd) {
-      s->ball_previous[b] = target;
+    if (k == 0 || !s->primed || !s->features.pbd || !s->features.jiggle) {
+      s->ball_previous[b] = relative ? fx::Vec3{0, 0, 0} : target;
       s->ball_center[b] = target;
+      s->ball_last_target[b] = target;
+      s->ball_last_step[b] = {0, 0, 0};
+      continue;
+    }
+    if (relative) {
+      swing_relative(m, s, b);
       continue;
     }
     // Secondary deformation: damped Verlet prediction p = x + damping (x -

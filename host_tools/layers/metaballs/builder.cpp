@@ -8,6 +8,7 @@
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/quantize.hpp"
 #include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/metaballs/jiggle_gains.hpp"
 
 namespace sinew::metaballs_build {
 namespace {
@@ -241,6 +242,21 @@ bool apply_regions(const rigc::RigSpec& spec, const Options& o, Build* b, std::s
   return true;
 }
 
+// Jiggle in physical units: one stiffness and damping for every jiggle ball,
+// from the swing frequency and W_t at the rate the model is built for.
+bool apply_jiggle_gains(const Options& o, Build* b, std::string* error) {
+  mb::JiggleGains gains;
+  if (!mb::jiggle_gains(rigc::to_fixed(o.jiggle_frequency, 16), rigc::to_fixed(o.jiggle_window, 16), o.rate_hz, &gains))
+    return *error = "jiggle_frequency/jiggle_window: the rate " + std::to_string(o.rate_hz) +
+                    " Hz cannot carry this swing (need rate > 4 f and a window of several periods)",
+           false;
+  for (fx::Unit& k : b->ball_jiggle)
+    if (k > 0) k = gains.stiffness;
+  b->jiggle_damping = gains.damping;
+  b->jiggle_rate_hz = o.rate_hz;
+  return true;
+}
+
 void make_pairs(const Options& o, const std::vector<double>& radius, const Geometry& g, Build* b) {
   const size_t n = b->ball_rest.size();
   for (size_t i = 0; i < n; ++i)
@@ -252,6 +268,7 @@ void make_pairs(const Options& o, const std::vector<double>& radius, const Geome
       const double reach = o.pair_reach * (radius[i] + radius[k]);
       if (rest == 0 || std::ldexp(static_cast<double>(rest), g.e - 20) >= reach) continue;
       const bool ji = b->ball_jiggle[i] > 0, jk = b->ball_jiggle[k] > 0;
+      if ((ji || jk) && o.jiggle_frequency > 0) continue;  // the rate-free spring carries the region
       mb::BallPair p{static_cast<uint16_t>(i),
                      static_cast<uint16_t>(k),
                      static_cast<fx::Len>(rest),
@@ -479,6 +496,7 @@ metaballs::MetaballModel Build::model() const {
   m.bulges = bulges;
   m.pbd_iterations = pbd_iterations;
   m.jiggle_damping = jiggle_damping;
+  m.jiggle_rate_hz = jiggle_rate_hz;
   m.vertex_ball = vertex_ball;
   m.vertex_weight = vertex_weight;
   m.vertex_disp = vertex_disp;
@@ -591,6 +609,7 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
   if (b.pairs.size() > mb::kMaxPairs) return *error = "pair_reach: more than 32768 stretch pairs (lower it)", false;
   b.pbd_iterations = static_cast<uint32_t>(o.pbd_iterations);
   b.jiggle_damping = rigc::to_fixed(o.jiggle_damping, 30);
+  if (o.jiggle_frequency > 0 && !apply_jiggle_gains(o, &b, error)) return false;
   if (!make_vertex_weights(g, o, radius, &b, error) || !make_joint_balls(spec, g, o, &b, error)) return false;
   b.smoothing_passes = static_cast<uint32_t>(o.smoothing_passes);
   b.smoothing_rate = rigc::to_fixed(o.smoothing_rate, 30);

@@ -37,6 +37,7 @@ struct Build {
   std::vector<metaballs::BulgeRecord> bulges;
   uint32_t pbd_iterations = 0;
   fx::Unit jiggle_damping = 0;
+  uint32_t jiggle_rate_hz = 0;  // > 0: physical jiggle gains for this rate
   std::vector<uint16_t> vertex_ball;
   std::vector<fx::Unit> vertex_weight;
   std::vector<fx::Vec3> vertex_disp;

@@ -33,6 +33,9 @@ std::string check_options(const Options& o) {
     return "pbd_iterations: must be in [0, 16]";
   if (!in(o.jiggle_damping, 0, 0.999)) return "jiggle_damping: must be in [0, 1)";
   if (!in(o.jiggle_stretch_stiffness, 0, 1)) return "jiggle_stretch_stiffness: must be in [0, 1]";
+  if (!in(o.jiggle_frequency, 0, 1000)) return "jiggle_frequency: must be in [0, 1000] Hz";
+  if (o.jiggle_frequency > 0 && !in(o.jiggle_window, 0.001, 1000)) return "jiggle_window: must be in [0.001, 1000] s";
+  if (o.rate_hz == 0) return "rate_hz: must be > 0";
   for (size_t i = 0; i < o.jiggle.size(); ++i) {
     const JiggleRegion& r = o.jiggle[i];
     if (std::string p = region_problem("jiggle", i, r.bone, r.from, r.to); !p.empty()) return p;

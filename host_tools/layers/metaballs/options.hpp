@@ -4,6 +4,7 @@
 // rig spec). Lengths are in model units (the rig spec's), fractions in [0, 1].
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,16 @@ struct Options {
   // Jiggle: damping is the velocity kept per step, in [0, 1).
   double jiggle_damping = 0.9;
   double jiggle_stretch_stiffness = 0.5;
+  // Jiggle in physical units (metaballs::jiggle_gains): when
+  // jiggle_frequency > 0 every jiggle ball swings at jiggle_frequency (Hz)
+  // and its swing falls to 5 % within the time window jiggle_window (W_t,
+  // seconds) at any tick rate; the per-step stiffness and damping are
+  // computed for rate_hz, and the regions' `stiffness`, jiggle_damping and
+  // the stretch pairs of jiggle balls (whose per-step projection would tie
+  // the swing to the rate) are not used.
+  double jiggle_frequency = 0;
+  double jiggle_window = 0.4;
+  uint32_t rate_hz = 1000;
   std::vector<JiggleRegion> jiggle;
   std::vector<BulgeRegion> bulge;
   // Joint balls at every joint with a parent and a degree of freedom (or the
