@@ -67,7 +67,8 @@ struct Options {
   int smoothing_passes = 2;
   double smoothing_rate = 0.5;
   // Overlap candidates: vertices and balls within overlap_reach surface radii
-  // of the joint.
+  // of the joint; 0: derived from the joint's DOF range, complete over it
+  // (docs/metaballs.md, "Why the offline candidate lists are complete").
   double overlap_reach = 2.5;
 };
 
