@@ -29,6 +29,26 @@ bool project(const BallPair& p, std::span<fx::Vec3> c) {
   return true;
 }
 
+// Keeps a ball at its rest distance from its action line's point: C =
+// |c - L| - rest, the ball moved along (c - L) by stiffness * C.
+void project_action(const MetaballModel& m, const MetaballState& s, const ActionBall& a, std::span<fx::Vec3> c) {
+  const ActionLine& line = m.action_lines[a.line];
+  const fx::Vec3 o = fx::transform_point(s.bone[line.origin_bone], line.origin_rest);
+  const fx::Vec3 i = fx::transform_point(s.bone[line.insertion_bone], line.insertion_rest);
+  const fx::Vec3 point = fx::add(o, fx::scale(fx::sub(i, o), a.along));
+  fx::Vec3& ball = c[a.ball];
+  const fx::Vec3 diff = fx::sub(ball, point);
+  const uint64_t n2 = static_cast<uint64_t>(int64_t{diff.x} * diff.x) +
+                      static_cast<uint64_t>(int64_t{diff.y} * diff.y) + static_cast<uint64_t>(int64_t{diff.z} * diff.z);
+  if (n2 == 0) return;  // on the line: no direction to push along
+  fx::Vec3 dir;
+  fx::normalize_fast(diff, &dir);
+  const int64_t correction =
+      fx::sat_i32(fx::round_shift((int64_t{fx::isqrt_fast(n2)} - a.rest) * a.stiffness, fx::kUnitFracBits));
+  const auto move = [&](int32_t d) { return fx::sat_i32(fx::round_shift(correction * d, fx::kUnitFracBits)); };
+  ball = fx::sub(ball, {move(dir.x), move(dir.y), move(dir.z)});
+}
+
 // Secondary deformation in physical units (jiggle_gains.hpp): the swing
 // e = c - c_target of a jiggle ball follows
 //   e_{n+1} = (1 - k) ((1 + d) e_n - d e_{n-1}) - g (T_{n+1} - 2 T_n + T_{n-1}),
@@ -82,8 +102,12 @@ void solve_pbd(const MetaballModel& m, MetaballState* s) {
   s->primed = true;
   s->stats.skipped_pairs = 0;
   if (!s->features.pbd) return;
-  for (uint32_t it = 0; it < m.pbd_iterations; ++it)
+  const bool actions = s->features.action_lines && !m.action_balls.empty();
+  for (uint32_t it = 0; it < m.pbd_iterations; ++it) {
     for (const BallPair& p : m.pairs) s->stats.skipped_pairs += project(p, s->ball_center) ? 0u : 1u;
+    if (actions)
+      for (const ActionBall& a : m.action_balls) project_action(m, *s, a, s->ball_center);
+  }
 }
 
 }  // namespace sinew::metaballs::detail

@@ -14,8 +14,9 @@ namespace sinew::metaballs {
 
 // Stages a caller may switch off (tests compare with and without them).
 struct Features {
-  bool pbd = true;     // stretch constraints and jiggle springs
-  bool jiggle = true;  // jiggle springs (off: jiggle balls follow their kinematic centre)
+  bool pbd = true;           // stretch constraints and jiggle springs
+  bool jiggle = true;        // jiggle springs (off: jiggle balls follow their kinematic centre)
+  bool action_lines = true;  // the model's action-line constraints (it has none by default)
   bool bulge = true;
   bool joint_balls = true;  // eq. (5) and the blend of eq. (1)
   bool smoothing = true;

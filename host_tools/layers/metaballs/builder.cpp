@@ -258,6 +258,61 @@ bool apply_jiggle_gains(const Options& o, Build* b, std::string* error) {
   return true;
 }
 
+// A point `at` of the way along bone j: from its joint to its first child
+// (or, for a leaf, the joint itself).
+Vec3d along_bone(const rigc::RigSpec& spec, const Geometry& g, int j, double at) {
+  for (size_t c = static_cast<size_t>(j) + 1; c < spec.joints.size(); ++c)
+    if (spec.joints[c].parent == j) {
+      const Vec3d& a = g.joint_pos[static_cast<size_t>(j)];
+      return add(a, mul(sub(g.joint_pos[c], a), at));
+    }
+  return g.joint_pos[static_cast<size_t>(j)];
+}
+
+// Action lines: the segment's rest ends, and the balls of its two bones
+// within reach of it, each with its parameter and rest distance (the
+// step's own integer length, so C = 0 at rest).
+bool make_action_lines(const rigc::RigSpec& spec, const Geometry& g, const Options& o, Build* b, std::string* error) {
+  for (size_t i = 0; i < o.action_lines.size(); ++i) {
+    const ActionLineSpec& l = o.action_lines[i];
+    const int jo = find_bone(spec, l.origin), ji = find_bone(spec, l.insertion);
+    if (jo < 0) return *error = named("action_lines", i, "origin", "no bone named '" + l.origin + "'"), false;
+    if (ji < 0) return *error = named("action_lines", i, "insertion", "no bone named '" + l.insertion + "'"), false;
+    const Vec3d side{l.side[0], l.side[1], l.side[2]};
+    const Vec3d po = add(along_bone(spec, g, jo, l.origin_at), side),
+                pi = add(along_bone(spec, g, ji, l.insertion_at), side);
+    mb::ActionLine rec{static_cast<uint16_t>(jo), static_cast<uint16_t>(ji), 0, to_len3(po, g.e), to_len3(pi, g.e)};
+    if (!within_coords(rec.origin_rest) || !within_coords(rec.insertion_rest))
+      return *error = named("action_lines", i, "side", "an end lies outside +-1024 rig units"), false;
+    const Vec3d seg = sub(pi, po);
+    const double len2 = dot(seg, seg);
+    if (!(len2 > 0)) return *error = named("action_lines", i, "origin/insertion", "the line has no length"), false;
+    const auto line = static_cast<uint16_t>(b->action_lines.size());
+    b->action_lines.push_back(rec);
+    size_t attached = 0;
+    for (size_t k = 0; k < b->ball_rest.size(); ++k) {
+      if (b->ball_bone[k] != jo && b->ball_bone[k] != ji) continue;
+      const fx::Vec3 c = b->ball_rest[k];
+      const Vec3d cd{std::ldexp(static_cast<double>(c.x), g.e - 20), std::ldexp(static_cast<double>(c.y), g.e - 20),
+                     std::ldexp(static_cast<double>(c.z), g.e - 20)};
+      const double t = std::min(1.0, std::max(0.0, dot(sub(cd, po), seg) / len2));
+      if (!(dist(cd, add(po, mul(seg, t))) < l.reach)) continue;
+      mb::ActionBall a{static_cast<uint16_t>(k), line, rigc::to_fixed(t, 30), 0, rigc::to_fixed(l.stiffness, 30)};
+      // The rest distance exactly as the step measures it: the line's point
+      // in integers from the quantised ends.
+      const fx::Vec3 point = fx::add(rec.origin_rest, fx::scale(fx::sub(rec.insertion_rest, rec.origin_rest), a.along));
+      const fx::Vec3 d = isub(c, point);
+      a.rest = static_cast<fx::Len>(fx::isqrt_u64(static_cast<uint64_t>(int64_t{d.x} * d.x) +
+                                                  static_cast<uint64_t>(int64_t{d.y} * d.y) +
+                                                  static_cast<uint64_t>(int64_t{d.z} * d.z)));
+      b->action_balls.push_back(a);
+      ++attached;
+    }
+    if (attached == 0) return *error = named("action_lines", i, "reach", "no ball of its bones within reach"), false;
+  }
+  return true;
+}
+
 void make_pairs(const Options& o, const std::vector<double>& radius, const Geometry& g, Build* b) {
   const size_t n = b->ball_rest.size();
   for (size_t i = 0; i < n; ++i)
@@ -580,6 +635,8 @@ metaballs::MetaballModel Build::model() const {
   m.ball_weight = ball_weight;
   m.ball_jiggle = ball_jiggle;
   m.pairs = pairs;
+  m.action_lines = action_lines;
+  m.action_balls = action_balls;
   m.bulges = bulges;
   m.pbd_iterations = pbd_iterations;
   m.jiggle_damping = jiggle_damping;
@@ -693,6 +750,7 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
       !apply_regions(spec, o, &b, error))
     return false;
   make_pairs(o, radius, g, &b);
+  if (!make_action_lines(spec, g, o, &b, error)) return false;
   if (b.pairs.size() > mb::kMaxPairs) return *error = "pair_reach: more than 32768 stretch pairs (lower it)", false;
   b.pbd_iterations = static_cast<uint32_t>(o.pbd_iterations);
   b.jiggle_damping = rigc::to_fixed(o.jiggle_damping, 30);

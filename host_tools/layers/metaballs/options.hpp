@@ -30,6 +30,20 @@ struct BulgeRegion {
   double gain = 0.3;
 };
 
+// An action line (a simplified muscle or tendon): from the point `origin_at`
+// along bone `origin` (0 its joint, 1 its end) to `insertion_at` along bone
+// `insertion`, both shifted by `side` (model units, e.g. to the belly's side
+// of the bones). The balls of either bone within `reach` (model units) of the
+// segment at rest follow it, each keeping its rest distance from its point
+// of the line with `stiffness` per PBD sweep.
+struct ActionLineSpec {
+  std::string origin, insertion;
+  double origin_at = 0.3, insertion_at = 0.2;
+  double side[3] = {0, 0, 0};
+  double reach = 0.05;
+  double stiffness = 0.5;
+};
+
 struct Options {
   // Placement: balls along each bone, `ball_spacing` apart; if
   // target_ball_count > 0 the spacing is chosen to give about that many.
@@ -57,6 +71,7 @@ struct Options {
   uint32_t rate_hz = 1000;
   std::vector<JiggleRegion> jiggle;
   std::vector<BulgeRegion> bulge;
+  std::vector<ActionLineSpec> action_lines;  // none by default
   // Joint balls at every joint with a parent and a degree of freedom (or the
   // named ones). Region: full weight up to joint_inner, none beyond
   // joint_outer, both in multiples of the joint's surface radius (the
