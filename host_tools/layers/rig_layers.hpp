@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/layers/metaballs/options.hpp"
 #include "host_tools/rigc/rig_spec.hpp"
 
 namespace sinew::layers {
@@ -37,6 +38,9 @@ struct MetaballsTable {
   bool on = false;
   std::string where;
   double ball_spacing = 0;  // 0: 0.22 x the mean skin radius (at most 3000 balls along the bones)
+  // Every other [metaballs] key (docs/metaballs.md); ball_spacing above and
+  // the rig's rate_hz override theirs.
+  metaballs_build::Options options;
 };
 
 struct MuscleTable {
