@@ -29,13 +29,18 @@ bool project(const BallPair& p, std::span<fx::Vec3> c) {
   return true;
 }
 
-// Keeps a ball at its rest distance from its action line's point: C =
-// |c - L| - rest, the ball moved along (c - L) by stiffness * C.
-void project_action(const MetaballModel& m, const MetaballState& s, const ActionBall& a, std::span<fx::Vec3> c) {
+// The point of its action line an action ball keeps its distance from:
+// L = O + along (I - O), the ends carried by their bones.
+fx::Vec3 action_line_point(const MetaballModel& m, const MetaballState& s, const ActionBall& a) {
   const ActionLine& line = m.action_lines[a.line];
   const fx::Vec3 o = fx::transform_point(s.bone[line.origin_bone], line.origin_rest);
   const fx::Vec3 i = fx::transform_point(s.bone[line.insertion_bone], line.insertion_rest);
-  const fx::Vec3 point = fx::add(o, fx::scale(fx::sub(i, o), a.along));
+  return fx::add(o, fx::scale(fx::sub(i, o), a.along));
+}
+
+// Keeps a ball at its rest distance from its action line's point: C =
+// |c - L| - rest, the ball moved along (c - L) by stiffness * C.
+void project_action(const ActionBall& a, fx::Vec3 point, std::span<fx::Vec3> c) {
   fx::Vec3& ball = c[a.ball];
   const fx::Vec3 diff = fx::sub(ball, point);
   const uint64_t n2 = static_cast<uint64_t>(int64_t{diff.x} * diff.x) +
@@ -103,10 +108,13 @@ void solve_pbd(const MetaballModel& m, MetaballState* s) {
   s->stats.skipped_pairs = 0;
   if (!s->features.pbd) return;
   const bool actions = s->features.action_lines && !m.action_balls.empty();
+  if (actions)
+    for (size_t k = 0; k < m.action_balls.size(); ++k) s->action_point[k] = action_line_point(m, *s, m.action_balls[k]);
   for (uint32_t it = 0; it < m.pbd_iterations; ++it) {
     for (const BallPair& p : m.pairs) s->stats.skipped_pairs += project(p, s->ball_center) ? 0u : 1u;
     if (actions)
-      for (const ActionBall& a : m.action_balls) project_action(m, *s, a, s->ball_center);
+      for (size_t k = 0; k < m.action_balls.size(); ++k)
+        project_action(m.action_balls[k], s->action_point[k], s->ball_center);
   }
 }
 

@@ -19,6 +19,7 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->ball_target = c.take<fx::Vec3>(nb);
   s->ball_last_target = c.take<fx::Vec3>(nb);
   s->ball_last_step = c.take<fx::Vec3>(nb);
+  s->action_point = c.take<fx::Vec3>(m.action_balls.size());
   s->ball_rotation = c.take<fx::Rot3>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());

@@ -47,6 +47,8 @@ struct MetaballState {
   // c - c_target one step earlier).
   std::span<fx::Vec3> ball_last_target;
   std::span<fx::Vec3> ball_last_step;
+  // Per action ball: its point of the line this step (the line is kinematic).
+  std::span<fx::Vec3> action_point;
   std::span<fx::Rot3> ball_rotation;  // R^lambda
   std::span<fx::Unit> ball_scale;     // r / r0 in [1, 2), Q2.30
   // Per joint-region vertex.
