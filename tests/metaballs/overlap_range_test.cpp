@@ -61,7 +61,8 @@ void count_pose(ArmScene& s, RangeCount* counts) {
              rad * rad;
     };
     const auto span_of = [](auto whole, uint32_t b, uint32_t e) {
-      std::vector<uint32_t> out(whole.begin() + b, whole.begin() + e);
+      const auto part = whole.subspan(b, e - b);
+      std::vector<uint32_t> out(part.begin(), part.end());
       std::sort(out.begin(), out.end());
       return out;
     };
