@@ -9,7 +9,7 @@ bool builtin_layers(const std::string& name, LayerSpecs* out) {
   const std::string spec = "rigs/" + name + ".toml";
   if (name == "arm") {
     s.sph.push_back({{"elbow", -1, spec + ": [[sph]] joint"}, 500, 0, 0, 0, 60, ""});
-    s.metaballs = {true, spec + ": [metaballs]", 0};
+    s.metaballs = {true, spec + ": [metaballs]", 0, {}};
     s.muscles.push_back({"biceps",
                          {"shoulder", -1, spec + ": [[muscle]] origin"},
                          {"elbow", -1, spec + ": [[muscle]] insertion"},
@@ -23,7 +23,7 @@ bool builtin_layers(const std::string& name, LayerSpecs* out) {
     s.barnets.push_back({{"elbow", -1, spec + ": [[barnet]] joint"}, 8, 7, 0, 0});
   } else if (name == "hand") {
     s.sph.push_back({{"index_pip", -1, spec + ": [[sph]] joint"}, 300, 0, 0, 0, 60, ""});
-    s.metaballs = {true, spec + ": [metaballs]", 0};
+    s.metaballs = {true, spec + ": [metaballs]", 0, {}};
     s.muscles.push_back({"index_flexor",
                          {"index_mcp", -1, spec + ": [[muscle]] origin"},
                          {"index_pip", -1, spec + ": [[muscle]] insertion"},

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "host_tools/layers/anatomy/anatomy_spec.hpp"
+#include "host_tools/layers/metaballs/options.hpp"
 #include "host_tools/rigc/rig_spec.hpp"
 
 namespace sinew::layers {
@@ -38,6 +39,9 @@ struct MetaballsTable {
   bool on = false;
   std::string where;
   double ball_spacing = 0;  // 0: 0.22 x the mean skin radius (at most 3000 balls along the bones)
+  // Every other [metaballs] key (docs/metaballs.md); ball_spacing above and
+  // the rig's rate_hz override theirs.
+  metaballs_build::Options options;
 };
 
 struct MuscleTable {

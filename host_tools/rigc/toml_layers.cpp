@@ -81,6 +81,95 @@ bool read_joint(const std::string& path, const toml::table& t, const std::string
 
 const toml::table* table_of(const toml::node& n) { return n.as_table(); }
 
+// [[metaballs.<name>]] inside the [metaballs] table: each an array of tables.
+template <typename Read>
+bool each_in(const std::string& path, const toml::table& t, const char* name, Read&& read, std::string* error) {
+  const toml::node* n = t.get(name);
+  if (n == nullptr) return true;
+  const std::string label = std::string("[[metaballs.") + name + "]]";
+  const toml::array* a = n->as_array();
+  if (a == nullptr) return *error = at(path, n, label) + " must be an array of tables", false;
+  for (const toml::node& e : *a) {
+    const toml::table* tt = e.as_table();
+    if (tt == nullptr) return *error = at(path, &e, label) + " must be a table", false;
+    if (!read(*tt, label)) return false;
+  }
+  return true;
+}
+
+// The [metaballs] table (docs/metaballs.md, "TOML keys"); the builder checks
+// the ranges (metaballs_build::check_options).
+bool read_metaballs(const std::string& path, const toml::table& e, layers::MetaballsTable* out, std::string* error) {
+  metaballs_build::Options& o = out->options;
+  const std::string n = "[metaballs]";
+  if (!known_keys(path, e, n,
+                  {"ball_spacing", "pbd_iterations", "stretch_stiffness", "jiggle_damping", "jiggle_stretch_stiffness",
+                   "jiggle_frequency", "jiggle_window", "overlap_reach", "smoothing_passes", "smoothing_rate",
+                   "joint_inner", "joint_outer", "jiggle", "bulge", "action_line"},
+                  error) ||
+      !read_number(path, e, n, "ball_spacing", &out->ball_spacing, error) ||
+      !read_int(path, e, n, "pbd_iterations", 0, 16, &o.pbd_iterations, error) ||
+      !read_number(path, e, n, "stretch_stiffness", &o.stretch_stiffness, error) ||
+      !read_number(path, e, n, "jiggle_damping", &o.jiggle_damping, error) ||
+      !read_number(path, e, n, "jiggle_stretch_stiffness", &o.jiggle_stretch_stiffness, error) ||
+      !read_number(path, e, n, "jiggle_frequency", &o.jiggle_frequency, error) ||
+      !read_number(path, e, n, "jiggle_window", &o.jiggle_window, error) ||
+      !read_number(path, e, n, "overlap_reach", &o.overlap_reach, error) ||
+      !read_int(path, e, n, "smoothing_passes", 0, 8, &o.smoothing_passes, error) ||
+      !read_number(path, e, n, "smoothing_rate", &o.smoothing_rate, error) ||
+      !read_number(path, e, n, "joint_inner", &o.joint_inner, error) ||
+      !read_number(path, e, n, "joint_outer", &o.joint_outer, error))
+    return false;
+  const auto jiggle = [&](const toml::table& t, const std::string& label) {
+    metaballs_build::JiggleRegion r;
+    if (!known_keys(path, t, label, {"bone", "from", "to", "stiffness"}, error) ||
+        !read_string(path, t, label, "bone", &r.bone, error) || !read_number(path, t, label, "from", &r.from, error) ||
+        !read_number(path, t, label, "to", &r.to, error) ||
+        !read_number(path, t, label, "stiffness", &r.stiffness, error))
+      return false;
+    o.jiggle.push_back(r);
+    return true;
+  };
+  const auto bulge = [&](const toml::table& t, const std::string& label) {
+    metaballs_build::BulgeRegion r;
+    if (!known_keys(path, t, label, {"bone", "from", "to", "angle_a", "angle_b", "gain"}, error) ||
+        !read_string(path, t, label, "bone", &r.bone, error) || !read_number(path, t, label, "from", &r.from, error) ||
+        !read_number(path, t, label, "to", &r.to, error) ||
+        !read_string(path, t, label, "angle_a", &r.angle_a, error) ||
+        !read_string(path, t, label, "angle_b", &r.angle_b, error) ||
+        !read_number(path, t, label, "gain", &r.gain, error))
+      return false;
+    o.bulge.push_back(r);
+    return true;
+  };
+  const auto action_line = [&](const toml::table& t, const std::string& label) {
+    metaballs_build::ActionLineSpec l;
+    if (!known_keys(path, t, label, {"origin", "origin_at", "insertion", "insertion_at", "side", "reach", "stiffness"},
+                    error) ||
+        !read_string(path, t, label, "origin", &l.origin, error) ||
+        !read_number(path, t, label, "origin_at", &l.origin_at, error) ||
+        !read_string(path, t, label, "insertion", &l.insertion, error) ||
+        !read_number(path, t, label, "insertion_at", &l.insertion_at, error) ||
+        !read_number(path, t, label, "reach", &l.reach, error) ||
+        !read_number(path, t, label, "stiffness", &l.stiffness, error))
+      return false;
+    if (const toml::node* side = t.get("side")) {
+      const toml::array* a = side->as_array();
+      bool good = a != nullptr && a->size() == 3;
+      for (size_t i = 0; good && i < 3; ++i) {
+        const auto v = a->get(i)->value<double>();
+        good = v && std::isfinite(*v);
+        if (good) l.side[i] = *v;
+      }
+      if (!good) return *error = at(path, side, label + " side") + " must be an array of 3 numbers", false;
+    }
+    o.action_lines.push_back(l);
+    return true;
+  };
+  return each_in(path, e, "jiggle", jiggle, error) && each_in(path, e, "bulge", bulge, error) &&
+         each_in(path, e, "action_line", action_line, error);
+}
+
 }  // namespace
 
 bool read_toml_layers(const std::string& path, const toml::table& t, layers::LayerSpecs* out, std::string* error) {
@@ -135,10 +224,7 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
              return true;
            }) &&
       single("metaballs", &s.metaballs.on, &s.metaballs.where,
-             [&](const toml::table& e) {
-               return known_keys(path, e, "[metaballs]", {"ball_spacing"}, error) &&
-                      read_number(path, e, "[metaballs]", "ball_spacing", &s.metaballs.ball_spacing, error);
-             }) &&
+             [&](const toml::table& e) { return read_metaballs(path, e, &s.metaballs, error); }) &&
       each("muscle",
            [&](const toml::table& e) {
              layers::MuscleTable x;

@@ -24,6 +24,8 @@ namespace sinew::metaballs {
 inline constexpr uint32_t kMaxJoints = 1024;
 inline constexpr uint32_t kMaxBalls = 4096;
 inline constexpr uint32_t kMaxPairs = 8 * kMaxBalls;
+inline constexpr uint32_t kMaxActionLines = 256;
+inline constexpr uint32_t kMaxActionBalls = kMaxBalls;
 inline constexpr uint32_t kMaxVertices = 1u << 20;
 inline constexpr uint32_t kMaxJointBalls = kMaxJoints;
 inline constexpr uint32_t kMaxNeighbours = 16;  // per joint-region vertex
@@ -53,6 +55,28 @@ struct BulgeRecord {
   uint16_t bone_a, bone_b;
   uint16_t reserved;
   fx::Unit gain;
+};
+
+// An action line (the paper's simplified muscle or tendon, its ref. [5]):
+// the segment from a point carried by bone `origin_bone` to one carried by
+// `insertion_bone`, both given at rest in model space (Len). Posed, its ends
+// are T_origin origin_rest and T_insertion insertion_rest.
+struct ActionLine {
+  uint16_t origin_bone, insertion_bone;
+  uint32_t reserved;
+  fx::Vec3 origin_rest, insertion_rest;
+};
+
+// A ball that follows an action line: a PBD constraint keeps it at its rest
+// distance from the line's point at `along` (0 origin, 1 insertion):
+//   C = |c - L(along)| - rest,  L(t) = O + t (I - O),
+// projected with `stiffness` per iteration, the line kinematic (it moves only
+// the ball). As the joint moves, the line's point moves and the ball with it.
+struct ActionBall {
+  uint16_t ball, line;
+  fx::Unit along;      // [0, 1]
+  fx::Len rest;        // >= 0
+  fx::Unit stiffness;  // [0, 1]
 };
 
 // A joint ball, eq. (5): centred on the skeleton joint `joint`, which joins
@@ -92,8 +116,17 @@ struct MetaballModel {
   std::span<const fx::Unit> ball_jiggle;  // spring stiffness in (0, 1], 0 = kinematic
   std::span<const BallPair> pairs;
   std::span<const BulgeRecord> bulges;
-  uint32_t pbd_iterations = 0;  // stretch-projection sweeps per step
-  fx::Unit jiggle_damping = 0;  // velocity kept per step, [0, 1)
+  std::span<const ActionLine> action_lines;  // none: no action lines (the default)
+  std::span<const ActionBall> action_balls;  // projected after the pairs in every sweep
+  uint32_t pbd_iterations = 0;               // stretch-projection sweeps per step
+  fx::Unit jiggle_damping = 0;               // velocity kept per step, [0, 1)
+  // 0: ball_jiggle and jiggle_damping are per-step gains of the ball's own
+  // motion (a jiggle ball lags a moving bone). > 0: they are
+  // metaballs::jiggle_gains for this tick rate (Hz): the swing is that of
+  // flesh on the bone, the damping acts on the motion relative to the
+  // kinematic centre and the bone's acceleration drives it, so the motion is
+  // the continuous one of jiggle_gains.hpp at every tick.
+  uint32_t jiggle_rate_hz = 0;
 
   // Deformation by normal balls, eq. (4): [vertex * kVertexBalls + k].
   std::span<const uint16_t> vertex_ball;

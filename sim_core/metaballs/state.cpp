@@ -17,6 +17,9 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->ball_center = c.take<fx::Vec3>(nb);
   s->ball_previous = c.take<fx::Vec3>(nb);
   s->ball_target = c.take<fx::Vec3>(nb);
+  s->ball_last_target = c.take<fx::Vec3>(nb);
+  s->ball_last_step = c.take<fx::Vec3>(nb);
+  s->action_point = c.take<fx::Vec3>(m.action_balls.size());
   s->ball_rotation = c.take<fx::Rot3>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
@@ -47,7 +50,8 @@ Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballStat
   if (layout(model, static_cast<uint8_t*>(memory), bytes, &st).failed())
     return arena_error("smaller than state_bytes(model)");
   for (uint32_t b = 0; b < model.ball_count(); ++b) {
-    st.ball_center[b] = st.ball_previous[b] = st.ball_target[b] = model.ball_rest[b];
+    st.ball_center[b] = st.ball_previous[b] = st.ball_target[b] = st.ball_last_target[b] = model.ball_rest[b];
+    st.ball_last_step[b] = {0, 0, 0};
     st.ball_scale[b] = fx::kUnitOne;
   }
   *out = st;

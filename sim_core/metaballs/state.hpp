@@ -14,7 +14,9 @@ namespace sinew::metaballs {
 
 // Stages a caller may switch off (tests compare with and without them).
 struct Features {
-  bool pbd = true;  // stretch constraints and jiggle springs
+  bool pbd = true;           // stretch constraints and jiggle springs
+  bool jiggle = true;        // jiggle springs (off: jiggle balls follow their kinematic centre)
+  bool action_lines = true;  // the model's action-line constraints (it has none by default)
   bool bulge = true;
   bool joint_balls = true;  // eq. (5) and the blend of eq. (1)
   bool smoothing = true;
@@ -40,6 +42,13 @@ struct MetaballState {
   std::span<fx::Vec3> ball_center;    // after PBD, Len
   std::span<fx::Vec3> ball_previous;  // jiggle balls: centre one step earlier
   std::span<fx::Vec3> ball_target;    // kinematic centre of eq. (2), Len
+  // Jiggle balls of a model with jiggle_rate_hz > 0: the kinematic centre one
+  // step earlier and its last step (ball_previous then holds the swing
+  // c - c_target one step earlier).
+  std::span<fx::Vec3> ball_last_target;
+  std::span<fx::Vec3> ball_last_step;
+  // Per action ball: its point of the line this step (the line is kinematic).
+  std::span<fx::Vec3> action_point;
   std::span<fx::Rot3> ball_rotation;  // R^lambda
   std::span<fx::Unit> ball_scale;     // r / r0 in [1, 2), Q2.30
   // Per joint-region vertex.

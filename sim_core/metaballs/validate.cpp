@@ -94,6 +94,23 @@ void check_balls(const MetaballModel& m, Checker& c) {
       c.fail(Error::kValue, "pairs.share_b", static_cast<int64_t>(p), "shares do not sum to 2^30");
     c.range("pairs.stiffness", p, q.stiffness, 0, kOne);
   }
+  if (!c.limit("action_lines", m.action_lines.size(), kMaxActionLines)) return;
+  for (size_t i = 0; i < m.action_lines.size() && !c.failed(); ++i) {
+    const ActionLine& l = m.action_lines[i];
+    c.index("action_lines.origin_bone", i, l.origin_bone, static_cast<int64_t>(nj));
+    c.index("action_lines.insertion_bone", i, l.insertion_bone, static_cast<int64_t>(nj));
+    c.coords("action_lines.origin_rest", i, l.origin_rest);
+    c.coords("action_lines.insertion_rest", i, l.insertion_rest);
+  }
+  if (!c.limit("action_balls", m.action_balls.size(), kMaxActionBalls)) return;
+  for (size_t i = 0; i < m.action_balls.size() && !c.failed(); ++i) {
+    const ActionBall& a = m.action_balls[i];
+    c.index("action_balls.ball", i, a.ball, static_cast<int64_t>(nb));
+    c.index("action_balls.line", i, a.line, static_cast<int64_t>(m.action_lines.size()));
+    c.range("action_balls.along", i, a.along, 0, kOne);
+    c.range("action_balls.rest", i, a.rest, 0, kCoordLimit);
+    c.range("action_balls.stiffness", i, a.stiffness, 0, kOne);
+  }
   if (!c.limit("bulges", m.bulges.size(), nb)) return;
   for (size_t i = 0; i < m.bulges.size() && !c.failed(); ++i) {
     const BulgeRecord& r = m.bulges[i];

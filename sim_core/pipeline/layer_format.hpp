@@ -100,6 +100,7 @@ inline constexpr uint32_t kSphArrays = 11;
 // vertex_ball, vertex_weight, vertex_disp, joint_balls, jv_vertex, jv_ball,
 // jv_alpha, jv_blend, jv_disp, jv_laplacian, jv_neighbour_begin,
 // jv_neighbours, jv_inv_count, overlaps, overlap_vertices, overlap_balls.
+// The header's rate_hz is the model's jiggle_rate_hz (0: per-step gains).
 struct MetaballsSectionParams {
   uint32_t joint_count, vertex_count;
   uint32_t pbd_iterations;

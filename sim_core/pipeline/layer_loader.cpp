@@ -323,6 +323,7 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
   m.vertex_count = p.vertex_count;
   m.pbd_iterations = p.pbd_iterations;
   m.jiggle_damping = p.jiggle_damping;
+  m.jiggle_rate_hz = v.header.rate_hz;  // > 0: physical jiggle gains built for this rate
   m.smoothing_passes = p.smoothing_passes;
   m.smoothing_rate = p.smoothing_rate;
   m.inverse_bind = array_of<fx::Mat34>(v, 0);

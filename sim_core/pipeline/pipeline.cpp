@@ -309,6 +309,10 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
   }
   p.metaballs_on = b.metaballs != nullptr;
   if (p.metaballs_on) {
+    // Physical jiggle gains hold for the rate they were built for only.
+    const uint32_t jiggle_hz = layers.metaballs.jiggle_rate_hz;
+    if (jiggle_hz != 0 && options.tick_hz != 0 && options.tick_hz != jiggle_hz)
+      return fail(PipelineError::kBadModel, "metaballs", "jiggle gains were built for another tick rate");
     const metaballs::Status st =
         metaballs::init(layers.metaballs, b.metaballs, metaballs::state_bytes(layers.metaballs), &p.metaballs);
     if (!st.ok()) return fail(PipelineError::kBadModel, "metaballs", st.message);

@@ -73,6 +73,25 @@ class ArmScene {
     return metaballs::step(&state_, engine_.model, output()).ok();
   }
 
+  // Any DOF of any joint (degrees about the DOF's axis), others at rest.
+  struct DofAngle {
+    std::string joint;
+    int dof = 0;
+    double degrees = 0;
+  };
+  bool pose_dofs(const std::vector<DofAngle>& angles) {
+    skeleton::rest_locals(rig_, locals_);
+    for (const DofAngle& a : angles) rotate(a.joint.c_str(), a.degrees, a.dof);
+    if (!engine::engine_step_locals(&engine_, locals_)) return false;
+    return metaballs::step(&state_, engine_.model, output()).ok();
+  }
+  // A DOF's limits in degrees.
+  double dof_limit_deg(int joint, int dof, bool upper) const {
+    const rig::JointRecord& r = rig_.joints[static_cast<size_t>(joint)];
+    const int32_t a = upper ? r.dof_max[dof] : r.dof_min[dof];
+    return static_cast<double>(a) / 4294967296.0 * 360.0;
+  }
+
   skin::SkinnedVertices output() {
     skin::SkinnedVertices v;
     for (int a = 0; a < 3; ++a) v.position[a] = out_[a];
@@ -92,10 +111,10 @@ class ArmScene {
   metaballs::MetaballState& state() { return state_; }
 
  private:
-  void rotate(const char* joint, double degrees) {
+  void rotate(const char* joint, double degrees, int dof = 0) {
     const int j = rigc::joint_index(spec_, joint);
     const rig::JointRecord& r = rig_.joints[static_cast<size_t>(j)];
-    const fx::Vec3 axis{r.dof_axis[0][0], r.dof_axis[0][1], r.dof_axis[0][2]};
+    const fx::Vec3 axis{r.dof_axis[dof][0], r.dof_axis[dof][1], r.dof_axis[dof][2]};
     const auto angle = static_cast<fx::Angle>(static_cast<uint32_t>(std::llround(degrees / 360.0 * 4294967296.0)));
     fx::Quat& q = locals_[static_cast<size_t>(j)].rotation;
     q = fx::mul(q, fx::quat_from_axis_angle(axis, angle));

@@ -3,7 +3,9 @@
 // dense procedural arm tube of 31248 vertices and 500 balls (the paper:
 // Armadillo 34594 vertices / 564 balls, human 24461 / 512); /1 the built-in
 // arm the board runs (4192 vertices, 65 balls). Prints each frame's CPU time,
-// the ratio against LBS and the share of a 1 kHz tick on this machine.
+// the ratio against LBS and the share of a 1 kHz tick on this machine, and
+// the cost of each newer behaviour (physical jiggle, action lines, overlap
+// lists from the joints' ranges) beside LBS and the base metaballs model.
 //   sinew-bench-metaballs [--benchmark_min_time=0.5]
 #include <benchmark/benchmark.h>
 
@@ -117,7 +119,16 @@ rigc::RigSpec arm(int which, rigc::SkinChoice method) {
   return which == 0 ? dense_arm(method) : rigc::builtin_arm(method);
 }
 
-Scene* make_scene(int which) {
+// Model variants, each one new behaviour on top of the base model (per-step
+// jiggle and bulging on the upper arm):
+//   0 base; 1 jiggle in physical units (4 Hz, W_t 0.4 s at 1 kHz: the
+//   relative-motion swing, its stretch pairs dropped); 2 base + one action
+//   line (upper arm to forearm, inner side); 3 base with the overlap
+//   candidates derived from the joints' ranges (overlap_reach = 0).
+constexpr int kVariants = 4;
+const char* const kVariantName[kVariants] = {"metaballs", "physical jiggle", "action line", "range overlap lists"};
+
+Scene* make_scene(int which, int variant) {
   auto* sc = new Scene;
   load(arm(which, rigc::SkinChoice::kLinear), &sc->lbs);
   load(arm(which, rigc::SkinChoice::kDualQuaternion), &sc->dqs);
@@ -126,6 +137,20 @@ Scene* make_scene(int which) {
     o.target_ball_count = 500;
     o.pair_reach = 0.04;  // ~3 neighbours each side at this density
   }
+  if (variant == 1) {
+    o.jiggle_frequency = 4;
+    o.jiggle_window = 0.4;
+    o.rate_hz = 1000;
+  }
+  if (variant == 2) {
+    mbb::ActionLineSpec l;
+    l.origin = "shoulder";
+    l.insertion = "elbow";
+    l.side[1] = 0.03;
+    l.reach = 0.04;
+    o.action_lines.push_back(l);
+  }
+  if (variant == 3) o.overlap_reach = 0;
   {
     o.jiggle.push_back({"shoulder", 0.3, 0.7, 0.1});
     o.bulge.push_back({"shoulder", 0.3, 0.7, "shoulder", "elbow", 0.3});
@@ -148,15 +173,17 @@ Scene* make_scene(int which) {
     sc->locals.resize(j);
     sc->flags.resize(j);
     sc->joint_model.resize(j);
-    std::printf("%s; built offline in %.2f s\n", mbb::summary(sc->build).c_str(), build_s);
+    std::printf("%s: %s, %zu action balls, %zu overlap candidate vertices; built offline in %.2f s\n",
+                kVariantName[variant], mbb::summary(sc->build).c_str(), sc->build.action_balls.size(),
+                sc->build.overlap_vertices.size(), build_s);
   }
   return sc;
 }
 
-Scene& scene(int which) {
-  static Scene* scenes[2] = {nullptr, nullptr};
-  if (scenes[which] == nullptr) scenes[which] = make_scene(which);
-  return *scenes[which];
+Scene& scene(int which, int variant = 0) {
+  static Scene* scenes[2][kVariants] = {};
+  if (scenes[which][variant] == nullptr) scenes[which][variant] = make_scene(which, variant);
+  return *scenes[which][variant];
 }
 
 double cpu_ns() {
@@ -238,10 +265,28 @@ void BM_MetaballsPrimaryOnly(benchmark::State& state) {
   scene(static_cast<int>(state.range(0))).state.features = {};
 }
 
+// Each new behaviour's model, every stage on; compared with LBS and the
+// base metaballs model in the summary.
+std::map<std::string, double> g_variant_ns[2];
+
+void BM_MetaballsVariant(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0)), variant = static_cast<int>(state.range(1));
+  Scene& s = scene(which, variant);
+  s.state.features = {};
+  uint64_t i = 0;
+  const double t0 = cpu_ns();
+  for (auto _ : state) metaballs_frame(s, i++);
+  const double ns = (cpu_ns() - t0) / static_cast<double>(i);
+  g_variant_ns[which][kVariantName[variant]] = ns;
+  state.counters["frame_us"] = ns / 1000.0;
+  state.SetLabel(kVariantName[variant]);
+}
+
 BENCHMARK(BM_Lbs)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Dqs)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Metaballs)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MetaballsPrimaryOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MetaballsVariant)->ArgsProduct({{0, 1}, {0, 1, 2, 3}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
@@ -266,6 +311,13 @@ int main(int argc, char** argv) {
       std::printf(", primary deformation only %.1f us (%.2fx LBS)", m.at("metaballs-primary") / 1000,
                   m.at("metaballs-primary") / m.at("lbs"));
     std::printf("\n");
+    const auto& v = g_variant_ns[which];
+    if (v.count(kVariantName[0]))
+      for (int k = 1; k < kVariants; ++k)
+        if (v.count(kVariantName[k]))
+          std::printf("  new behaviour: %s %.1f us (%.2fx LBS, %+.1f us against the base model's %.1f us)\n",
+                      kVariantName[k], v.at(kVariantName[k]) / 1000, v.at(kVariantName[k]) / m.at("lbs"),
+                      (v.at(kVariantName[k]) - v.at(kVariantName[0])) / 1000, v.at(kVariantName[0]) / 1000);
     char measure[96];
     std::snprintf(measure, sizeof(measure), "metaballs frame, %u vertices, %u balls",
                   scene(which).lbs.rig.vertex_count(), scene(which).model.ball_count());

@@ -8,6 +8,8 @@
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/quantize.hpp"
 #include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/trig.hpp"
+#include "sim_core/metaballs/jiggle_gains.hpp"
 
 namespace sinew::metaballs_build {
 namespace {
@@ -241,6 +243,76 @@ bool apply_regions(const rigc::RigSpec& spec, const Options& o, Build* b, std::s
   return true;
 }
 
+// Jiggle in physical units: one stiffness and damping for every jiggle ball,
+// from the swing frequency and W_t at the rate the model is built for.
+bool apply_jiggle_gains(const Options& o, Build* b, std::string* error) {
+  mb::JiggleGains gains;
+  if (!mb::jiggle_gains(rigc::to_fixed(o.jiggle_frequency, 16), rigc::to_fixed(o.jiggle_window, 16), o.rate_hz, &gains))
+    return *error = "jiggle_frequency/jiggle_window: the rate " + std::to_string(o.rate_hz) +
+                    " Hz cannot carry this swing (need rate > 4 f and a window of several periods)",
+           false;
+  for (fx::Unit& k : b->ball_jiggle)
+    if (k > 0) k = gains.stiffness;
+  b->jiggle_damping = gains.damping;
+  b->jiggle_rate_hz = o.rate_hz;
+  return true;
+}
+
+// A point `at` of the way along bone j: from its joint to its first child
+// (or, for a leaf, the joint itself).
+Vec3d along_bone(const rigc::RigSpec& spec, const Geometry& g, int j, double at) {
+  for (size_t c = static_cast<size_t>(j) + 1; c < spec.joints.size(); ++c)
+    if (spec.joints[c].parent == j) {
+      const Vec3d& a = g.joint_pos[static_cast<size_t>(j)];
+      return add(a, mul(sub(g.joint_pos[c], a), at));
+    }
+  return g.joint_pos[static_cast<size_t>(j)];
+}
+
+// Action lines: the segment's rest ends, and the balls of its two bones
+// within reach of it, each with its parameter and rest distance (the
+// step's own integer length, so C = 0 at rest).
+bool make_action_lines(const rigc::RigSpec& spec, const Geometry& g, const Options& o, Build* b, std::string* error) {
+  for (size_t i = 0; i < o.action_lines.size(); ++i) {
+    const ActionLineSpec& l = o.action_lines[i];
+    const int jo = find_bone(spec, l.origin), ji = find_bone(spec, l.insertion);
+    if (jo < 0) return *error = named("action_lines", i, "origin", "no bone named '" + l.origin + "'"), false;
+    if (ji < 0) return *error = named("action_lines", i, "insertion", "no bone named '" + l.insertion + "'"), false;
+    const Vec3d side{l.side[0], l.side[1], l.side[2]};
+    const Vec3d po = add(along_bone(spec, g, jo, l.origin_at), side),
+                pi = add(along_bone(spec, g, ji, l.insertion_at), side);
+    mb::ActionLine rec{static_cast<uint16_t>(jo), static_cast<uint16_t>(ji), 0, to_len3(po, g.e), to_len3(pi, g.e)};
+    if (!within_coords(rec.origin_rest) || !within_coords(rec.insertion_rest))
+      return *error = named("action_lines", i, "side", "an end lies outside +-1024 rig units"), false;
+    const Vec3d seg = sub(pi, po);
+    const double len2 = dot(seg, seg);
+    if (!(len2 > 0)) return *error = named("action_lines", i, "origin/insertion", "the line has no length"), false;
+    const auto line = static_cast<uint16_t>(b->action_lines.size());
+    b->action_lines.push_back(rec);
+    size_t attached = 0;
+    for (size_t k = 0; k < b->ball_rest.size(); ++k) {
+      if (b->ball_bone[k] != jo && b->ball_bone[k] != ji) continue;
+      const fx::Vec3 c = b->ball_rest[k];
+      const Vec3d cd{std::ldexp(static_cast<double>(c.x), g.e - 20), std::ldexp(static_cast<double>(c.y), g.e - 20),
+                     std::ldexp(static_cast<double>(c.z), g.e - 20)};
+      const double t = std::min(1.0, std::max(0.0, dot(sub(cd, po), seg) / len2));
+      if (!(dist(cd, add(po, mul(seg, t))) < l.reach)) continue;
+      mb::ActionBall a{static_cast<uint16_t>(k), line, rigc::to_fixed(t, 30), 0, rigc::to_fixed(l.stiffness, 30)};
+      // The rest distance exactly as the step measures it: the line's point
+      // in integers from the quantised ends.
+      const fx::Vec3 point = fx::add(rec.origin_rest, fx::scale(fx::sub(rec.insertion_rest, rec.origin_rest), a.along));
+      const fx::Vec3 d = isub(c, point);
+      a.rest = static_cast<fx::Len>(fx::isqrt_u64(static_cast<uint64_t>(int64_t{d.x} * d.x) +
+                                                  static_cast<uint64_t>(int64_t{d.y} * d.y) +
+                                                  static_cast<uint64_t>(int64_t{d.z} * d.z)));
+      b->action_balls.push_back(a);
+      ++attached;
+    }
+    if (attached == 0) return *error = named("action_lines", i, "reach", "no ball of its bones within reach"), false;
+  }
+  return true;
+}
+
 void make_pairs(const Options& o, const std::vector<double>& radius, const Geometry& g, Build* b) {
   const size_t n = b->ball_rest.size();
   for (size_t i = 0; i < n; ++i)
@@ -252,6 +324,7 @@ void make_pairs(const Options& o, const std::vector<double>& radius, const Geome
       const double reach = o.pair_reach * (radius[i] + radius[k]);
       if (rest == 0 || std::ldexp(static_cast<double>(rest), g.e - 20) >= reach) continue;
       const bool ji = b->ball_jiggle[i] > 0, jk = b->ball_jiggle[k] > 0;
+      if ((ji || jk) && o.jiggle_frequency > 0) continue;  // the rate-free spring carries the region
       mb::BallPair p{static_cast<uint16_t>(i),
                      static_cast<uint16_t>(k),
                      static_cast<fx::Len>(rest),
@@ -324,6 +397,56 @@ std::vector<std::vector<uint32_t>> neighbours(const rigc::RigSpec& spec) {
     if (l.size() > mb::kMaxNeighbours) l.resize(mb::kMaxNeighbours);
   }
   return n;
+}
+
+// Rotates v by the unit quaternion q (w, x, y, z): v + 2 w (u x v) + 2 u x (u x v).
+Vec3d rotate(const rigc::Quatd& q, const Vec3d& v) {
+  const Vec3d u{q[1], q[2], q[3]};
+  const auto cross = [](const Vec3d& a, const Vec3d& c) {
+    return Vec3d{a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2], a[0] * c[1] - a[1] * c[0]};
+  };
+  const Vec3d t = mul(cross(u, v), 2);
+  return add(add(v, mul(t, q[0])), cross(u, t));
+}
+
+// The smallest angle beta between the two bones' directions from joint j
+// that its DOFs allow, as cos and sin (sin >= 0): the rest angle less the
+// sum of the DOFs' largest |angle| (a DOF about bone b's own axis twists,
+// it does not bend). A translation DOF, or a bend reaching the rest angle,
+// folds the bones: sin = 0, cos = 1. cos and sin come from the integer
+// fx::sin_cos, so the model stays bit-identical everywhere.
+void tightest_fold(const rigc::RigSpec& spec, int j, const Vec3d& u_a, const Vec3d& u_b, double* cos_beta,
+                   double* sin_beta) {
+  rigc::Quatd q{1, 0, 0, 0};
+  std::vector<int> chain;
+  for (int k = j; k >= 0; k = spec.joints[static_cast<size_t>(k)].parent) chain.push_back(k);
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    const rigc::Quatd& l = spec.joints[static_cast<size_t>(*it)].rotation;
+    q = {q[0] * l[0] - q[1] * l[1] - q[2] * l[2] - q[3] * l[3], q[0] * l[1] + q[1] * l[0] + q[2] * l[3] - q[3] * l[2],
+         q[0] * l[2] - q[1] * l[3] + q[2] * l[0] + q[3] * l[1], q[0] * l[3] + q[1] * l[2] - q[2] * l[1] + q[3] * l[0]};
+  }
+  const rigc::JointSpec& js = spec.joints[static_cast<size_t>(j)];
+  double bend = 0;
+  for (const rigc::DofSpec& d : js.dofs) {
+    if (js.dof_kind != rigc::DofKind::kRotation) bend = 360;
+    const Vec3d axis = rotate(q, d.axis);
+    if (std::fabs(dot(axis, u_b)) > 0.999 * norm(axis)) continue;  // a twist
+    bend += std::max(std::fabs(d.min), std::fabs(d.max));
+  }
+  // The rest angle between the bones, in degrees via the integer atan2.
+  const double c0 = dot(u_a, u_b);
+  const Vec3d x{u_a[1] * u_b[2] - u_a[2] * u_b[1], u_a[2] * u_b[0] - u_a[0] * u_b[2],
+                u_a[0] * u_b[1] - u_a[1] * u_b[0]};
+  const double s0 = norm(x);
+  const fx::Angle rest = fx::atan2_angle(rigc::to_fixed(s0, 30), rigc::to_fixed(c0, 30));
+  const double rest_deg = static_cast<double>(rest) / 4294967296.0 * 360.0;
+  if (!(bend < rest_deg)) {
+    *cos_beta = 1, *sin_beta = 0;
+    return;
+  }
+  const fx::SinCos sc = fx::sin_cos(static_cast<fx::Angle>(rigc::to_angle(rest_deg - bend)));
+  *cos_beta = std::ldexp(static_cast<double>(sc.cos), -30);
+  *sin_beta = std::max(0.0, std::ldexp(static_cast<double>(sc.sin), -30));
 }
 
 bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Options& o, Build* b, std::string* error) {
@@ -402,6 +525,10 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
   // Overlap candidates: per joint ball, each bone's vertices and balls near the
   // joint.
   uint64_t work = 0;
+  std::vector<double> largest_radius(b->ball_rest.size());  // bulged at most by 1 + gain
+  for (size_t k = 0; k < largest_radius.size(); ++k)
+    largest_radius[k] = std::ldexp(static_cast<double>(b->ball_radius[k]), g.e - 20);
+  for (const mb::BulgeRecord& r : b->bulges) largest_radius[r.ball] *= 1 + std::ldexp(static_cast<double>(r.gain), -30);
   for (size_t r = 0; r < regions.size(); ++r) {
     const Region& reg = regions[r];
     const Vec3d& pj = g.joint_pos[static_cast<size_t>(reg.joint)];
@@ -412,20 +539,52 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
     rec.bone_b = static_cast<uint16_t>(reg.c);
     Vec3d centroid[2] = {{0, 0, 0}, {0, 0, 0}};
     size_t count[2] = {0, 0};
+    // Range-derived candidates (overlap_reach = 0): a vertex at s along its
+    // bone's direction u from the joint and rho from that axis reaches the
+    // other side of the interior plane at a fold beta only if
+    //   s (1 - cos beta) < rho sin beta,
+    // loosest at the joint's tightest fold (docs/metaballs.md); rho gets a
+    // 25 % margin for the soft deformation. A ball can hold such a vertex only
+    // if its centre lies within its largest (bulged) radius of one.
+    const bool ranged = o.overlap_reach == 0;
+    Vec3d axis[2] = {{0, 0, 0}, {0, 0, 0}};
+    double cos_fold = 1, sin_fold = 0, farthest[2] = {0, 0};
+    if (ranged) {
+      for (int side = 0; side < 2; ++side) {
+        const int bone = side == 0 ? reg.a : reg.c;
+        size_t n = 0;
+        for (size_t v = 0; v < nv; ++v)
+          if (g.dominant[v] == bone) axis[side] = add(axis[side], g.vertex[v]), ++n;
+        if (n > 0) axis[side] = sub(mul(axis[side], 1.0 / static_cast<double>(n)), pj);
+        const double len = norm(axis[side]);
+        if (len > 1e-12) axis[side] = mul(axis[side], 1.0 / len);
+      }
+      tightest_fold(spec, reg.joint, axis[0], axis[1], &cos_fold, &sin_fold);
+    }
+    const auto can_cross = [&](size_t v, int side) {
+      if (!ranged) return dist(g.vertex[v], pj) < reach;
+      const Vec3d d = sub(g.vertex[v], pj);
+      const double along = dot(d, axis[side]);
+      const double rho = norm(sub(d, mul(axis[side], along)));
+      const bool folded_flat = cos_fold == 1 && sin_fold == 0;  // every vertex may cross
+      return folded_flat || along * (1 - cos_fold) < 1.25 * rho * sin_fold;
+    };
     const auto add_vertices = [&](int bone, int side) {
       for (size_t v = 0; v < nv; ++v)
-        if (g.dominant[v] == bone && dist(g.vertex[v], pj) < reach) {
+        if (g.dominant[v] == bone && can_cross(v, side)) {
+          farthest[side] = std::max(farthest[side], dist(g.vertex[v], pj));
           b->overlap_vertices.push_back(static_cast<uint32_t>(v));
           centroid[side] = add(centroid[side], g.vertex[v]);
           ++count[side];
         }
     };
-    const auto add_balls = [&](int bone) {
+    const auto add_balls = [&](int bone, int other_side) {
       for (size_t k = 0; k < b->ball_rest.size(); ++k) {
         const fx::Vec3 c = b->ball_rest[k];
         const Vec3d cd{std::ldexp(static_cast<double>(c.x), g.e - 20), std::ldexp(static_cast<double>(c.y), g.e - 20),
                        std::ldexp(static_cast<double>(c.z), g.e - 20)};
-        if (b->ball_bone[k] == bone && dist(cd, pj) < reach) b->overlap_balls.push_back(static_cast<uint16_t>(k));
+        const double limit = ranged ? farthest[other_side] + largest_radius[k] : reach;
+        if (b->ball_bone[k] == bone && dist(cd, pj) < limit) b->overlap_balls.push_back(static_cast<uint16_t>(k));
       }
     };
     const uint32_t v0 = static_cast<uint32_t>(b->overlap_vertices.size()),
@@ -434,9 +593,9 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
     const uint32_t v1 = static_cast<uint32_t>(b->overlap_vertices.size());
     add_vertices(reg.c, 1);
     const uint32_t v2 = static_cast<uint32_t>(b->overlap_vertices.size());
-    add_balls(reg.a);
+    add_balls(reg.a, 1);
     const uint32_t b1 = static_cast<uint32_t>(b->overlap_balls.size());
-    add_balls(reg.c);
+    add_balls(reg.c, 0);
     const uint32_t b2 = static_cast<uint32_t>(b->overlap_balls.size());
     if (count[0] == 0 || count[1] == 0) {  // one-sided joint: nothing can overlap
       b->overlap_vertices.resize(v0);
@@ -476,9 +635,12 @@ metaballs::MetaballModel Build::model() const {
   m.ball_weight = ball_weight;
   m.ball_jiggle = ball_jiggle;
   m.pairs = pairs;
+  m.action_lines = action_lines;
+  m.action_balls = action_balls;
   m.bulges = bulges;
   m.pbd_iterations = pbd_iterations;
   m.jiggle_damping = jiggle_damping;
+  m.jiggle_rate_hz = jiggle_rate_hz;
   m.vertex_ball = vertex_ball;
   m.vertex_weight = vertex_weight;
   m.vertex_disp = vertex_disp;
@@ -588,9 +750,11 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
       !apply_regions(spec, o, &b, error))
     return false;
   make_pairs(o, radius, g, &b);
+  if (!make_action_lines(spec, g, o, &b, error)) return false;
   if (b.pairs.size() > mb::kMaxPairs) return *error = "pair_reach: more than 32768 stretch pairs (lower it)", false;
   b.pbd_iterations = static_cast<uint32_t>(o.pbd_iterations);
   b.jiggle_damping = rigc::to_fixed(o.jiggle_damping, 30);
+  if (o.jiggle_frequency > 0 && !apply_jiggle_gains(o, &b, error)) return false;
   if (!make_vertex_weights(g, o, radius, &b, error) || !make_joint_balls(spec, g, o, &b, error)) return false;
   b.smoothing_passes = static_cast<uint32_t>(o.smoothing_passes);
   b.smoothing_rate = rigc::to_fixed(o.smoothing_rate, 30);

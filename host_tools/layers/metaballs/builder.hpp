@@ -35,8 +35,11 @@ struct Build {
   std::vector<fx::Unit> ball_weight, ball_jiggle;
   std::vector<metaballs::BallPair> pairs;
   std::vector<metaballs::BulgeRecord> bulges;
+  std::vector<metaballs::ActionLine> action_lines;
+  std::vector<metaballs::ActionBall> action_balls;
   uint32_t pbd_iterations = 0;
   fx::Unit jiggle_damping = 0;
+  uint32_t jiggle_rate_hz = 0;  // > 0: physical jiggle gains for this rate
   std::vector<uint16_t> vertex_ball;
   std::vector<fx::Unit> vertex_weight;
   std::vector<fx::Vec3> vertex_disp;

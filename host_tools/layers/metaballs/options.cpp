@@ -33,6 +33,9 @@ std::string check_options(const Options& o) {
     return "pbd_iterations: must be in [0, 16]";
   if (!in(o.jiggle_damping, 0, 0.999)) return "jiggle_damping: must be in [0, 1)";
   if (!in(o.jiggle_stretch_stiffness, 0, 1)) return "jiggle_stretch_stiffness: must be in [0, 1]";
+  if (!in(o.jiggle_frequency, 0, 1000)) return "jiggle_frequency: must be in [0, 1000] Hz";
+  if (o.jiggle_frequency > 0 && !in(o.jiggle_window, 0.001, 1000)) return "jiggle_window: must be in [0.001, 1000] s";
+  if (o.rate_hz == 0) return "rate_hz: must be > 0";
   for (size_t i = 0; i < o.jiggle.size(); ++i) {
     const JiggleRegion& r = o.jiggle[i];
     if (std::string p = region_problem("jiggle", i, r.bone, r.from, r.to); !p.empty()) return p;
@@ -46,6 +49,17 @@ std::string check_options(const Options& o) {
       return "bulge[" + std::to_string(i) + "].angle_a/angle_b: need two different bones";
     if (!in(r.gain, 0, 0.999)) return "bulge[" + std::to_string(i) + "].gain: must be in [0, 1)";
   }
+  for (size_t i = 0; i < o.action_lines.size(); ++i) {
+    const ActionLineSpec& l = o.action_lines[i];
+    const std::string n = "action_lines[" + std::to_string(i) + "]";
+    if (l.origin.empty() || l.insertion.empty()) return n + ".origin/insertion: need two bones";
+    if (!in(l.origin_at, 0, 1) || !in(l.insertion_at, 0, 1)) return n + ".origin_at/insertion_at: must be in [0, 1]";
+    for (double x : l.side)
+      if (!std::isfinite(x)) return n + ".side: must be finite";
+    if (!(l.reach > 0) || !std::isfinite(l.reach)) return n + ".reach: must be a positive length";
+    if (!in(l.stiffness, 0, 1)) return n + ".stiffness: must be in [0, 1]";
+  }
+  if (o.action_lines.size() > mb::kMaxActionLines) return "action_lines: more than 256";
   if (!(o.joint_inner >= 0) || !(o.joint_outer > o.joint_inner) || !std::isfinite(o.joint_outer))
     return "joint_inner/joint_outer: need 0 <= joint_inner < joint_outer";
   if (o.smoothing_passes < 0 || o.smoothing_passes > static_cast<int>(mb::kMaxSmoothingPasses))

@@ -4,6 +4,7 @@
 // rig spec). Lengths are in model units (the rig spec's), fractions in [0, 1].
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,20 @@ struct BulgeRegion {
   double gain = 0.3;
 };
 
+// An action line (a simplified muscle or tendon): from the point `origin_at`
+// along bone `origin` (0 its joint, 1 its end) to `insertion_at` along bone
+// `insertion`, both shifted by `side` (model units, e.g. to the belly's side
+// of the bones). The balls of either bone within `reach` (model units) of the
+// segment at rest follow it, each keeping its rest distance from its point
+// of the line with `stiffness` per PBD sweep.
+struct ActionLineSpec {
+  std::string origin, insertion;
+  double origin_at = 0.3, insertion_at = 0.2;
+  double side[3] = {0, 0, 0};
+  double reach = 0.05;
+  double stiffness = 0.5;
+};
+
 struct Options {
   // Placement: balls along each bone, `ball_spacing` apart; if
   // target_ball_count > 0 the spacing is chosen to give about that many.
@@ -44,8 +59,19 @@ struct Options {
   // Jiggle: damping is the velocity kept per step, in [0, 1).
   double jiggle_damping = 0.9;
   double jiggle_stretch_stiffness = 0.5;
+  // Jiggle in physical units (metaballs::jiggle_gains): when
+  // jiggle_frequency > 0 every jiggle ball swings at jiggle_frequency (Hz)
+  // and its swing falls to 5 % within the time window jiggle_window (W_t,
+  // seconds) at any tick rate; the per-step stiffness and damping are
+  // computed for rate_hz, and the regions' `stiffness`, jiggle_damping and
+  // the stretch pairs of jiggle balls (whose per-step projection would tie
+  // the swing to the rate) are not used.
+  double jiggle_frequency = 0;
+  double jiggle_window = 0.4;
+  uint32_t rate_hz = 1000;
   std::vector<JiggleRegion> jiggle;
   std::vector<BulgeRegion> bulge;
+  std::vector<ActionLineSpec> action_lines;  // none by default
   // Joint balls at every joint with a parent and a degree of freedom (or the
   // named ones). Region: full weight up to joint_inner, none beyond
   // joint_outer, both in multiples of the joint's surface radius (the
@@ -56,7 +82,8 @@ struct Options {
   int smoothing_passes = 2;
   double smoothing_rate = 0.5;
   // Overlap candidates: vertices and balls within overlap_reach surface radii
-  // of the joint.
+  // of the joint; 0: derived from the joint's DOF range, complete over it
+  // (docs/metaballs.md, "Why the offline candidate lists are complete").
   double overlap_reach = 2.5;
 };
 

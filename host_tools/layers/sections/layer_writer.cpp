@@ -81,7 +81,7 @@ LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t forc
 LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
   const pipeline::MetaballsSectionParams p{m.joint_count,    m.vertex_count,     m.pbd_iterations,
                                            m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
-  SectionBuilder b = builder(pipeline::kSectionMetaballs, 0, p, pipeline::kMetaballsArrays);
+  SectionBuilder b = builder(pipeline::kSectionMetaballs, m.jiggle_rate_hz, p, pipeline::kMetaballsArrays);
   b.array(m.inverse_bind).array(m.ball_rest).array(m.ball_radius).array(m.ball_bone).array(m.ball_joint);
   b.array(m.ball_weight).array(m.ball_jiggle).array(m.pairs).array(m.bulges);
   b.array(m.vertex_ball).array(m.vertex_weight).array(m.vertex_disp);
