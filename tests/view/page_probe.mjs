@@ -1,9 +1,11 @@
-// Opens a sinew-view page in headless Chromium through the DevTools protocol,
+// Opens a sinew-view page in headless Chromium through the DevTools protocol
+// (over --remote-debugging-pipe: no WebSocket client, which Debian 12's
+// Node 18 lacks),
 // waits until it has drawn frames, saves a screenshot and prints what the
 // page shows as JSON: frames drawn, the frame's time, the input table, the
 // chart's summary, the error banner, and the screenshot's pixels inside the
 // 3D view that differ from its background (the mesh and overlays).
-//   node --experimental-websocket page_probe.mjs MIN_FRAMES TIMEOUT_S URL OUT.png [URL OUT.png ...]
+//   node page_probe.mjs MIN_FRAMES TIMEOUT_S URL OUT.png [URL OUT.png ...]
 // One JSON line per page, in order, from one browser (pages opened in turn).
 // MIN_FRAMES 0 waits for the error banner instead of drawn frames.
 //   node page_probe.mjs --diff A.png B.png   pixels of the 3D view that differ
@@ -29,7 +31,8 @@ const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'sinew-view-probe-'));
 const browser = spawn(chromium, [
   '--headless=new', '--no-sandbox', '--no-first-run', '--no-default-browser-check', '--disable-dev-shm-usage',
   '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1320,740', '--hide-scrollbars',
-  '--remote-debugging-port=0', `--user-data-dir=${profile}`, 'about:blank'], {stdio: ['ignore', 'ignore', 'pipe']});
+  '--remote-debugging-pipe', `--user-data-dir=${profile}`, 'about:blank'],
+  {stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe']});  // fd 3: commands in, fd 4: replies out
 let browserLog = '';
 browser.stderr.on('data', (d) => { browserLog += d; });
 
@@ -48,36 +51,30 @@ function finish(code) {
   browser.kill('SIGKILL');
 }
 
-async function devtoolsPort() {
-  const file = path.join(profile, 'DevToolsActivePort');
-  while (Date.now() < deadline) {
-    if (fs.existsSync(file)) {
-      const lines = fs.readFileSync(file, 'utf8').split('\n');
-      if (lines[0]) return Number(lines[0]);
-    }
-    await sleep(100);
-  }
-  throw new Error('chromium did not open its DevTools port');
-}
-
-function devtoolsConnection(wsUrl) {
-  const socket = new WebSocket(wsUrl);
-  let next = 1;
+// DevTools messages over Chromium's pipe: JSON, each ended by a NUL byte.
+// `sessionId` addresses a page attached with Target.attachToTarget (flatten).
+function devtoolsPipe() {
+  const commands = browser.stdio[3], replies = browser.stdio[4];
+  let next = 1, pending = Buffer.alloc(0);
   const waiting = new Map();
-  socket.onmessage = (event) => {
-    const msg = JSON.parse(event.data);
-    if (msg.id && waiting.has(msg.id)) {
-      waiting.get(msg.id)(msg);
-      waiting.delete(msg.id);
+  replies.on('data', (chunk) => {
+    pending = Buffer.concat([pending, chunk]);
+    for (let end = pending.indexOf(0); end >= 0; end = pending.indexOf(0)) {
+      const msg = JSON.parse(pending.subarray(0, end).toString('utf8'));
+      pending = pending.subarray(end + 1);
+      if (msg.id && waiting.has(msg.id)) {
+        waiting.get(msg.id)(msg);
+        waiting.delete(msg.id);
+      }
     }
-  };
-  const opened = new Promise((resolve, reject) => { socket.onopen = resolve; socket.onerror = reject; });
-  const call = (method, params = {}) => new Promise((resolve, reject) => {
+  });
+  const call = (method, params = {}, sessionId = undefined) => new Promise((resolve, reject) => {
+    if (Date.now() > deadline) return reject(new Error(method + ': past the deadline'));
     const id = next++;
     waiting.set(id, (msg) => msg.error ? reject(new Error(method + ': ' + msg.error.message)) : resolve(msg.result));
-    socket.send(JSON.stringify({id, method, params}));
+    commands.write(JSON.stringify(sessionId ? {id, method, params, sessionId} : {id, method, params}) + '\0');
   });
-  return {opened, call};
+  return {call};
 }
 
 // PNG (8-bit RGB or RGBA, non-interlaced, as Chromium writes it) to pixels.
@@ -130,11 +127,15 @@ function diffAndExit(a, b) {
 }
 
 try {
-  const port = await devtoolsPort();
-  const targets = await (await fetch(`http://127.0.0.1:${port}/json/list`)).json();
-  const page = targets.find((t) => t.type === 'page');
-  const cdp = devtoolsConnection(page.webSocketDebuggerUrl);
-  await cdp.opened;
+  const root = devtoolsPipe();
+  let page;
+  while (!page && Date.now() < deadline) {  // the first tab appears once the browser is up
+    page = (await root.call('Target.getTargets')).targetInfos.find((t) => t.type === 'page');
+    if (!page) await sleep(100);
+  }
+  if (!page) throw new Error('chromium opened no page');
+  const {sessionId} = await root.call('Target.attachToTarget', {targetId: page.targetId, flatten: true});
+  const cdp = {call: (method, params = {}) => root.call(method, params, sessionId)};
   await cdp.call('Page.enable');
   // The page's size, whatever the window's decorations take.
   await cdp.call('Emulation.setDeviceMetricsOverride', {width: 1320, height: 740, deviceScaleFactor: 1, mobile: false});

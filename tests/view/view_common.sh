@@ -37,7 +37,7 @@ start_view() {
 # line (one browser opens the pages in turn).
 probe() {
   echo "[${SECONDS}s] opening ${*:2}" >&2
-  node --experimental-websocket --no-warnings "$here/page_probe.mjs" "$1" 40 "${@:2}"
+  node --no-warnings "$here/page_probe.mjs" "$1" 40 "${@:2}"
 }
 
 # json FILE EXPR: a JavaScript expression over the probe's JSON (as `j`),
