@@ -112,7 +112,7 @@ RangeCount sweep_arm(const sinew::metaballs_build::Options& o);
 TEST(MetaballsOverlapRange, OfflineCandidatesCoverEveryOverlapOverTheJointsRanges) {
   for (const double reach : {0.0, 2.5}) {
     sinew::metaballs_build::Options o = sinew::test::arm_options();
-    o.overlap_reach = reach;  // 0: derived from the joints' ranges; 2.5: the fixed default
+    o.overlap_reach = reach;  // 0: derived from the joints' ranges (the default); 2.5 radii: the former default
     const RangeCount c = sweep_arm(o);
     std::printf("overlap range, overlap_reach %.1f%s: %d poses, %llu overlapping vertex-ball pairs, %llu missing\n",
                 reach, reach == 0 ? " (from the range)" : "", c.poses, static_cast<unsigned long long>(c.overlapping),

@@ -28,7 +28,7 @@ rate_hz = 500
 [metaballs]
 jiggle_frequency = 3.0
 jiggle_window = 0.5
-overlap_reach = 0
+overlap_reach = 1.5
 
 [[metaballs.jiggle]]
 bone = "shoulder"
@@ -72,7 +72,7 @@ TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
   const auto& o = layers.metaballs.options;
   EXPECT_EQ(o.jiggle_frequency, 3.0);
   EXPECT_EQ(o.jiggle_window, 0.5);
-  EXPECT_EQ(o.overlap_reach, 0.0);
+  EXPECT_EQ(o.overlap_reach, 1.5);  // not the default (0)
   ASSERT_EQ(o.jiggle.size(), 1u);
   ASSERT_EQ(o.bulge.size(), 1u);
   EXPECT_EQ(o.bulge[0].gain, 0.2);

@@ -124,9 +124,10 @@ rigc::RigSpec arm(int which, rigc::SkinChoice method) {
 //   0 base; 1 jiggle in physical units (4 Hz, W_t 0.4 s at 1 kHz: the
 //   relative-motion swing, its stretch pairs dropped); 2 base + one action
 //   line (upper arm to forearm, inner side); 3 base with the overlap
-//   candidates derived from the joints' ranges (overlap_reach = 0).
+//   candidates within 2.5 surface radii of the joints (the former default;
+//   the base derives them from the joints' ranges, overlap_reach = 0).
 constexpr int kVariants = 4;
-const char* const kVariantName[kVariants] = {"metaballs", "physical jiggle", "action line", "range overlap lists"};
+const char* const kVariantName[kVariants] = {"metaballs", "physical jiggle", "action line", "2.5-radii overlap lists"};
 
 Scene* make_scene(int which, int variant) {
   auto* sc = new Scene;
@@ -150,7 +151,7 @@ Scene* make_scene(int which, int variant) {
     l.reach = 0.04;
     o.action_lines.push_back(l);
   }
-  if (variant == 3) o.overlap_reach = 0;
+  if (variant == 3) o.overlap_reach = 2.5;
   {
     o.jiggle.push_back({"shoulder", 0.3, 0.7, 0.1});
     o.bulge.push_back({"shoulder", 0.3, 0.7, "shoulder", "elbow", 0.3});

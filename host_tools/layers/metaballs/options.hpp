@@ -81,10 +81,11 @@ struct Options {
   double joint_outer = 1.6;
   int smoothing_passes = 2;
   double smoothing_rate = 0.5;
-  // Overlap candidates: vertices and balls within overlap_reach surface radii
-  // of the joint; 0: derived from the joint's DOF range, complete over it
-  // (docs/metaballs.md, "Why the offline candidate lists are complete").
-  double overlap_reach = 2.5;
+  // Overlap candidates: 0 (the default) derives them from the joint's DOF
+  // range, complete over it (docs/metaballs.md, "Why the offline candidate
+  // lists are complete"); > 0: the vertices and balls within that many
+  // surface radii of the joint, which can miss overlaps at deep flexion.
+  double overlap_reach = 0;
 };
 
 // Empty if the options are usable, else a message naming the field.
