@@ -6,7 +6,7 @@
 
 namespace sinew::test::golden {
 
-inline constexpr uint64_t kMetaballsModel = 0x75d78e5e9ae129a0ull;
+inline constexpr uint64_t kMetaballsModel = 0x43f3aceefacdc74aull;
 inline constexpr uint64_t kMetaballsArm = 0xbb87c7e49d5344b1ull;
 
 }  // namespace sinew::test::golden

@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0x37eff3df23287b0eu;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x4e739052eb86e67bu;
+inline constexpr uint64_t kArmLayersBlob = 0x13cb7325f611e53cu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x98397ea79d0e75d5u;
 }  // namespace sinew::test::golden
