@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0x37eff3df23287b0eu;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x4e739052eb86e67bu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x6c12e55b0edbfccdu;
 }  // namespace sinew::test::golden
