@@ -5,6 +5,7 @@
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "sim_core/muscle/vec_ops.hpp"
 #include "skin_dynamic.hpp"
 #include "skin_validate.hpp"
 #include "virtual_anchors.hpp"
@@ -29,6 +30,29 @@ fx::Len largest_move(const SkinState& s, uint32_t n) {
     if (d2 > worst) worst = d2;
   }
   return fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
+}
+
+// The last step's offset of a vertex from its anchor, turned with the
+// anchor's normal (old -> fresh, both Q2.30 units) by the smallest rotation
+// that takes one to the other (Rodrigues, k = old x fresh, c = old . fresh):
+//   R v = c v + k x v + (k . v) k / (1 + c).
+// Within 2^-10 of a half turn the axis is undefined: the vertex starts
+// cold, on its anchor (offset 0).
+fx::Vec3 carried_offset(fx::Vec3 offset, fx::Vec3 old_normal, fx::Vec3 fresh_normal) {
+  const int64_t c = muscle::component(old_normal, fresh_normal);  // Q2.30
+  const int64_t one_plus_c = fx::kUnitOne + c;
+  if (one_plus_c < (fx::kUnitOne >> 10)) return {0, 0, 0};
+  const fx::Vec3 k = muscle::cross_unit(old_normal, fresh_normal);  // |k| <= 1, Q2.30
+  const fx::Vec3 kxv = fx::cross(k, offset, fx::kUnitFracBits);     // Len
+  const int64_t kv = muscle::component(offset, k);                  // Len
+  const int64_t o[3] = {offset.x, offset.y, offset.z}, kk[3] = {k.x, k.y, k.z}, cr[3] = {kxv.x, kxv.y, kxv.z};
+  int32_t out[3];
+  for (int a = 0; a < 3; ++a) {
+    // (k . v) k_a / (1 + c): |k . v| < 2^33, |k_a| <= 2^30: the product fits.
+    const int64_t axial = fx::div_round(kv * kk[a], one_plus_c);
+    out[a] = fx::sat_i32(fx::round_shift(c * o[a], fx::kUnitFracBits) + cr[a] + axial);
+  }
+  return {out[0], out[1], out[2]};
 }
 
 LayerStatus bad_input(const char* field, const char* problem) {
@@ -65,16 +89,24 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   const bool warm = model.params.warm_start != 0 && s.started != 0;
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
     const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
-    s.anchor[0][v] = a.position.x;
-    s.anchor[1][v] = a.position.y;
-    s.anchor[2][v] = a.position.z;
-    s.normal[0][v] = a.normal.x;
-    s.normal[1][v] = a.normal.y;
-    s.normal[2][v] = a.normal.z;
-    if (!warm) {
-      s.position[0][v] = a.position.x;
-      s.position[1][v] = a.position.y;
-      s.position[2][v] = a.position.z;
+    const fx::Len p[3] = {a.position.x, a.position.y, a.position.z};
+    const fx::Unit nrm[3] = {a.normal.x, a.normal.y, a.normal.z};
+    // Warm start (LEMAN §3): the last skin carried with its anchor, its
+    // offset turned as the anchor's normal turned. The last skin left where
+    // it was would trail every bone move by more than a few relaxations
+    // make up (the skin ballooned off a fast-moving limb).
+    fx::Vec3 offset{0, 0, 0};
+    if (warm) {
+      const fx::Vec3 last{fx::sat_i32(int64_t{s.position[0][v]} - s.anchor[0][v]),
+                          fx::sat_i32(int64_t{s.position[1][v]} - s.anchor[1][v]),
+                          fx::sat_i32(int64_t{s.position[2][v]} - s.anchor[2][v])};
+      offset = carried_offset(last, {s.normal[0][v], s.normal[1][v], s.normal[2][v]}, a.normal);
+    }
+    const int32_t off[3] = {offset.x, offset.y, offset.z};
+    for (int c = 0; c < 3; ++c) {
+      s.position[c][v] = fx::sat_i32(int64_t{p[c]} + off[c]);
+      s.anchor[c][v] = p[c];
+      s.normal[c][v] = nrm[c];
     }
   }
   // §5.2: relax until the largest move falls below the tolerance or the

@@ -224,11 +224,35 @@ class Builder {
     double residual = 0;
   };
 
-  MuscleHit nearest_muscle(const P3& p) {
+  // Whether joint j lies on the chain from the muscle's origin bone down to
+  // its insertion bone: the bones that move the muscle (§4.2).
+  bool on_muscle_chain(uint32_t m, uint32_t j) const {
+    const muscle::MuscleRecord& r = out_.muscles[m];
+    for (int32_t at = static_cast<int32_t>(r.insertion[0].bone); at >= 0;
+         at = rig_.joints[static_cast<uint32_t>(at)].parent) {
+      if (static_cast<uint32_t>(at) == j) return true;
+      if (static_cast<uint32_t>(at) == r.origin[0].bone) return false;
+    }
+    return false;
+  }
+
+  // A skin vertex rides on a muscle only when the bones its skinning follows
+  // are the muscle's own: a muscle near the skin at rest but moved by other
+  // bones (a neighbouring finger's flexor) would carry the vertex away from
+  // its limb as soon as either moves.
+  bool muscle_moves_vertex(uint32_t m, uint32_t v) const {
+    uint32_t ja = 0, jb = 0;
+    double wb = 0;
+    bone_pair(v, &ja, &jb, &wb);
+    return on_muscle_chain(m, ja) && (wb <= 0 || on_muscle_chain(m, jb));
+  }
+
+  MuscleHit nearest_muscle(const P3& p, uint32_t v) {
     MuscleHit best;
     const uint32_t ring = mstate_.ring_vertices;
     for (uint32_t m = 0; m < out_.muscles.size(); ++m)
       for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k) {
+        if (!muscle_moves_vertex(m, v)) break;
         fx::Vec3 cf[8];
         es::muscle_cell(mstate_, m, k, cf);
         P3 corners[8];
@@ -310,7 +334,7 @@ class Builder {
     for (uint32_t v = 0; v < n; ++v) {
       const P3& p = rest_[v];
       const P3 normal = rest_normal(v);
-      const MuscleHit hit = nearest_muscle(p);
+      const MuscleHit hit = nearest_muscle(p, v);
       const double bone = bone_distance(p);
       const double nearest = std::min(bone, hit.distance);
       if (!(nearest <= spec_.skin.max_anchor_distance))
