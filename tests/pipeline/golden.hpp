@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0x13cb7325f611e53cu;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x98397ea79d0e75d5u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x10b7b3ff7a2ba757u;
 }  // namespace sinew::test::golden
