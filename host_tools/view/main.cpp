@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
-#include <sstream>
 
+#include "host_tools/run/pipeline_run.hpp"
 #include "view_loop.hpp"
 
 namespace {
@@ -23,27 +23,6 @@ std::string default_web_root() {
   if (n <= 0) return "web";
   std::string exe(path, static_cast<size_t>(n));
   return exe.substr(0, exe.rfind('/') + 1) + "web";
-}
-
-bool parse_layers(const std::string& text, sinew::pipeline::PipelineOptions* o) {
-  if (text == "all") return true;
-  o->sph = o->metaballs = o->barnet = o->anatomy = false;
-  if (text == "none") return true;
-  std::stringstream list(text);
-  std::string name;
-  while (std::getline(list, name, ',')) {
-    if (name == "sph")
-      o->sph = true;
-    else if (name == "metaballs")
-      o->metaballs = true;
-    else if (name == "barnet")
-      o->barnet = true;
-    else if (name == "anatomy")
-      o->anatomy = true;
-    else
-      return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -69,13 +48,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   sinew::view::ViewContext ctx;
-  if (!parse_layers(layers, &ctx.options)) {
-    std::fprintf(stderr, "sinew-view: --layers %s: expected all, none or sph,metaballs,barnet,anatomy\n",
-                 layers.c_str());
+  std::string error;
+  if (!sinew::run::parse_layer_list(layers, &ctx.options, &error)) {
+    std::fprintf(stderr, "sinew-view: %s\n", error.c_str());
     return 2;
   }
   sinew::view::ViewRig rig;
-  std::string error;
   if (!sinew::view::load_view_rig(rig_name, &rig, &error)) {
     std::fprintf(stderr, "sinew-view: %s\n", error.c_str());
     return 2;
