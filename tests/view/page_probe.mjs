@@ -32,7 +32,9 @@ const browser = spawn(chromium, [
   '--headless=new', '--no-sandbox', '--no-first-run', '--no-default-browser-check', '--disable-dev-shm-usage',
   '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--window-size=1320,740', '--hide-scrollbars',
   '--remote-debugging-pipe', `--user-data-dir=${profile}`, 'about:blank'],
-  {stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe']});  // fd 3: commands in, fd 4: replies out
+  // fd 3: commands in, fd 4: replies out; its own process group, so that
+  // its helper processes (GPU, renderer, crash handler) end with it.
+  {stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe'], detached: true});
 let browserLog = '';
 browser.stderr.on('data', (d) => { browserLog += d; });
 
@@ -41,14 +43,31 @@ function fail(why) {
   finish(1);
 }
 function finish(code) {
-  // The profile is removed once the browser has exited (it writes to it).
+  // The profile is removed once the browser has exited (it writes to it). A
+  // helper process may still write a file while the directory goes: retry,
+  // and never let the clean-up turn a finished probe into a failure.
   const done = () => {
-    fs.rmSync(profile, {recursive: true, force: true, maxRetries: 5});
+    for (let attempt = 1; ; ++attempt) {
+      try {
+        fs.rmSync(profile, {recursive: true, force: true});
+        break;
+      } catch (e) {
+        if (attempt === 20) {
+          process.stderr.write(`page_probe: could not remove ${profile}: ${e.code}\n`);
+          break;
+        }
+        Atomics.wait(new Int32Array(new SharedArrayBuffer(4)), 0, 0, 50);  // 50 ms
+      }
+    }
     process.exit(code);
   };
   if (browser.exitCode !== null || browser.signalCode !== null) done();
   browser.once('exit', done);
-  browser.kill('SIGKILL');
+  try {
+    process.kill(-browser.pid, 'SIGKILL');  // the whole group
+  } catch {
+    browser.kill('SIGKILL');
+  }
 }
 
 // DevTools messages over Chromium's pipe: JSON, each ended by a NUL byte.
