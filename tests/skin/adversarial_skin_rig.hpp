@@ -80,7 +80,7 @@ inline void add_stress_vertices(const VertexStress& s, uint32_t palette, bool an
           w = stress_uniform(rng, -(int64_t{1} << 31) / 8, (int64_t{1} << 31) / 8);
           break;
         default:
-          w = k == hot ? s.extreme_weights[rng() % s.extreme_weights.size()] : 0;
+          w = k == hot ? s.extreme_weights[static_cast<size_t>(rng() % s.extreme_weights.size())] : 0;
           break;
       }
       r->weight.push_back(w);
