@@ -331,9 +331,10 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     }
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
-    if (!known_keys_only(*rt, "realtime",
-                         {"fifo_priority", "cpu", "lock_memory", "io_fifo_priority", "io_cpu", "sink_ring_frames"},
-                         origin, error))
+    if (!known_keys_only(
+            *rt, "realtime",
+            {"fifo_priority", "cpu", "lock_memory", "io_fifo_priority", "io_cpu", "sink_ring_frames", "io_poll_us"},
+            origin, error))
       return false;
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;
@@ -341,6 +342,16 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*rt, "io_fifo_priority", 0, 99, &c.realtime.io_fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "io_cpu", -1, 1023, &c.realtime.io_cpu, origin, error)) return false;
     if (!read_number(*rt, "sink_ring_frames", 1, 65536, &c.realtime.sink_ring_frames, origin, error)) return false;
+    if (!read_number(*rt, "io_poll_us", 0, 100000, &c.realtime.io_poll_us, origin, error)) return false;
+    // A polled I/O thread must come round at least twice while its ring
+    // fills, or a full ring drops frames however fast the sink is.
+    const uint64_t ring_us = static_cast<uint64_t>(c.realtime.sink_ring_frames) * 1'000'000u / c.rate_hz;
+    if (c.realtime.io_poll_us > 0 && 2u * static_cast<uint64_t>(c.realtime.io_poll_us) > ring_us) {
+      *error = origin + ": [realtime] io_poll_us = " + std::to_string(c.realtime.io_poll_us) +
+               " is more than half the ring's " + std::to_string(ring_us) + " us (sink_ring_frames " +
+               std::to_string(c.realtime.sink_ring_frames) + " at " + std::to_string(c.rate_hz) + " Hz)";
+      return false;
+    }
   }
   if (const toml::table* in = t["inputs"].as_table()) {
     if (!known_keys_only(*in, "inputs", {"timeout_factor", "default_period_ms", "range_margin_deg"}, origin, error))

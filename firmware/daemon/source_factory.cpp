@@ -122,6 +122,7 @@ std::unique_ptr<OutputSink> queued(const DaemonConfig& config, std::unique_ptr<O
   options.lossless = config.mode != RunMode::kLive;  // no deadline: wait rather than lose frames
   options.fifo_priority = config.mode == RunMode::kLive ? config.realtime.io_fifo_priority : 0;
   options.cpu = config.mode == RunMode::kLive ? config.realtime.io_cpu : -1;
+  options.poll_ns = config.mode == RunMode::kLive ? static_cast<uint64_t>(config.realtime.io_poll_us) * 1000u : 0;
   std::string report;
   std::unique_ptr<OutputSink> q = std::make_unique<AsyncSink>(std::move(sink), dims, options, &report);
   if (!report.empty()) std::printf("%s", report.c_str());

@@ -1,5 +1,7 @@
 #include "async_sink.hpp"
 
+#include <time.h>
+
 #include "realtime.hpp"
 
 namespace sinew::firmware {
@@ -56,6 +58,15 @@ void AsyncSink::run() {
       refresh_status();
     }
     if (stopping_.load() && ring_.empty()) break;
+    if (options_.poll_ns > 0) {
+      // Polled: nobody wakes this thread for a frame; stop and flush are
+      // seen at the next poll.
+      const timespec pause{static_cast<time_t>(options_.poll_ns / 1'000'000'000u),
+                           static_cast<long>(options_.poll_ns % 1'000'000'000u)};
+      while (clock_nanosleep(CLOCK_MONOTONIC, 0, &pause, nullptr) == EINTR) {
+      }
+      continue;
+    }
     const uint32_t seen = wake_count_.load();
     consumer_sleeping_.store(true);
     if (ring_.empty() && !flush_requested_.load() && !stopping_.load()) wake_count_.wait(seen);

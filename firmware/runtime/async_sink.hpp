@@ -26,6 +26,12 @@ struct AsyncSinkOptions {
   bool lossless = false;     // wait for a slot instead of dropping
   int fifo_priority = 0;     // the I/O thread's SCHED_FIFO priority; 0: default policy
   int cpu = -1;              // pin the I/O thread to this CPU; -1: no affinity
+  // 0: the tick wakes the I/O thread for each frame (one futex wake and, on
+  // another CPU, an inter-processor interrupt per frame). > 0: the I/O thread
+  // wakes on its own every poll_ns and drains what is queued, so the tick
+  // makes no system call at all; a frame leaves up to poll_ns later. Keep it
+  // well below the ring's duration (ring_frames periods).
+  uint64_t poll_ns = 0;
 };
 
 class AsyncSink final : public OutputSink {
@@ -40,7 +46,8 @@ class AsyncSink final : public OutputSink {
 
   const char* name() const override { return inner_->name(); }
   // Tick thread: one copy into the ring, no lock, no allocation, no system
-  // call unless the I/O thread sleeps (one futex wake). False: dropped.
+  // call unless the I/O thread sleeps on a wake-up (one futex wake; never
+  // with poll_ns > 0). False: dropped.
   bool write(const hal::PoseFrame& frame) override;
   // Asks the I/O thread to flush the wrapped sink; returns at once.
   void flush() override;
@@ -55,6 +62,8 @@ class AsyncSink final : public OutputSink {
   uint64_t ring_drops() const { return ring_drops_.load(std::memory_order_relaxed); }
   uint64_t sink_drops() const { return sink_drops_.load(std::memory_order_relaxed); }
   size_t ring_high_water() const { return high_water_.load(std::memory_order_relaxed); }
+  // Wake-ups sent to the I/O thread (frames, flushes, the stop).
+  uint32_t wakes() const { return wake_count_.load(std::memory_order_relaxed); }
 
  private:
   void run();

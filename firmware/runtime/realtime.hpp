@@ -19,6 +19,10 @@ struct RealtimeOptions {
   int io_fifo_priority = 0;  // 1..99 SCHED_FIFO for the I/O threads; 0 keeps the default policy
   int io_cpu = -1;           // pin the I/O threads to this CPU; -1 = no affinity
   int sink_ring_frames = 128;
+  // 0: the tick wakes an I/O thread per frame; > 0: the I/O threads drain
+  // their rings every io_poll_us and the tick makes no system call for
+  // output (a frame leaves up to io_poll_us later).
+  int io_poll_us = 0;
 };
 
 // Applies the options to the calling thread/process. Returns one line per

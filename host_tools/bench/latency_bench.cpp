@@ -22,9 +22,18 @@
 // the same run: no sink; a frame log (fdatasync every 1000 frames) and a UDP
 // stream written in the tick thread; the same two through sinewd's I/O
 // threads (AsyncSink). The p99 ratio of the last to the first is what the
-// I/O threads buy.
+// I/O threads buy. Every setup runs with the same thread placement, the one
+// the daemon's [realtime] table gives a board: the tick thread pinned to
+// --tick-cpu at SCHED_FIFO --tick-fifo, the I/O threads and the loopback
+// receiver pinned to --io-cpu, the I/O threads at SCHED_FIFO --io-fifo (each
+// step applied when permitted and reported). Defaults on a machine with two
+// or more CPUs: tick on the last CPU at 80, I/O on CPU 0 at 40; a CPU of -1
+// and a priority of 0 leave the placement to the kernel.
 //   sinew-bench-latency [--ticks N] [--paced-ticks N] [--trigger-poll-us U]
+//                       [--tick-cpu C] [--io-cpu C] [--tick-fifo P] [--io-fifo P]
 #include <netinet/in.h>
+#include <pthread.h>
+#include <sched.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -40,6 +49,7 @@
 
 #include "firmware/daemon/loaded_rig.hpp"
 #include "firmware/runtime/async_sink.hpp"
+#include "firmware/runtime/realtime.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_trigger.hpp"
 #include "firmware/sinks/hal_sink.hpp"
@@ -231,7 +241,7 @@ void run_live(const char* builtin, size_t ticks, uint64_t poll_ns) {
   }
 }
 
-enum class SinkSetup { kNone, kInTickThread, kIoThreads };
+enum class SinkSetup { kNone, kInTickThread, kIoThreads, kIoThreadsPolled };
 
 const char* setup_name(SinkSetup s) {
   switch (s) {
@@ -241,6 +251,8 @@ const char* setup_name(SinkSetup s) {
       return "log+udp in tick thread";
     case SinkSetup::kIoThreads:
       return "log+udp on I/O threads";
+    case SinkSetup::kIoThreadsPolled:
+      return "log+udp, I/O polled 500us";
   }
   return "";
 }
@@ -248,7 +260,7 @@ const char* setup_name(SinkSetup s) {
 // A UDP port on loopback drained by a thread, so the stream is really sent.
 class UdpDrain {
  public:
-  UdpDrain() {
+  explicit UdpDrain(int cpu) {
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     sockaddr_in a{};
     a.sin_family = AF_INET;
@@ -266,6 +278,7 @@ class UdpDrain {
       std::vector<uint8_t> buf(65536);
       while (!stop_.load()) (void)::recv(fd_, buf.data(), buf.size(), 0);
     });
+    if (cpu >= 0) (void)firmware::apply_thread_realtime(thread_.native_handle(), 0, cpu, "receiver");
   }
   ~UdpDrain() {
     stop_.store(true);
@@ -289,8 +302,15 @@ void sleep_until_ns(uint64_t t) {
 
 // The runtime on `rig`, ticking in real time at 1 kHz for `ticks`, with the
 // sinks of `setup`. Returns the step times.
+// Where the threads run: the tick thread (the caller), the I/O threads and
+// the receiver.
+struct Placement {
+  int tick_cpu = -1, io_cpu = -1, tick_fifo = 0, io_fifo = 0;
+};
+
 std::vector<uint64_t> paced_steps(const firmware::LoadedRig& rig, SinkSetup setup, size_t ticks,
-                                  const std::string& log_path, uint16_t udp_port, std::string* sink_report) {
+                                  const std::string& log_path, uint16_t udp_port, const Placement& placement,
+                                  std::string* sink_report) {
   std::string error;
   std::vector<hal::InputLimits> limits(rig.rig.input_count);
   firmware::Runtime runtime;
@@ -315,13 +335,27 @@ std::vector<uint64_t> paced_steps(const firmware::LoadedRig& rig, SinkSetup setu
   }
   for (auto& sink : sinks) {
     if (!sink) continue;
-    if (setup == SinkSetup::kIoThreads) {
+    if (setup == SinkSetup::kIoThreads || setup == SinkSetup::kIoThreadsPolled) {
       const firmware::FrameDims dims{rig.rig.vertex_count(), rig.rig.input_count, false};
       std::string report;
-      sink = std::make_unique<firmware::AsyncSink>(std::move(sink), dims, firmware::AsyncSinkOptions{}, &report);
+      firmware::AsyncSinkOptions options;
+      options.fifo_priority = placement.io_fifo;
+      options.cpu = placement.io_cpu;
+      if (setup == SinkSetup::kIoThreadsPolled) options.poll_ns = 500'000;
+      sink = std::make_unique<firmware::AsyncSink>(std::move(sink), dims, options, &report);
     }
     runtime.add_sink(std::move(sink));
   }
+  // The tick thread's placement, taken after the sinks' threads exist so
+  // they do not inherit it, and given back at the end; what was not
+  // permitted is said once.
+  firmware::RealtimeOptions tick;
+  tick.fifo_priority = placement.tick_fifo;
+  tick.cpu = placement.tick_cpu;
+  const std::string placed = firmware::apply_realtime(tick);
+  static bool placement_reported = false;
+  if (!placement_reported && !placed.empty()) std::printf("tick thread: %s", placed.c_str());
+  placement_reported = true;
   std::vector<uint64_t> steps;
   steps.reserve(ticks);
   const uint64_t start = hal::monotonic_ns() + 1'000'000;
@@ -333,13 +367,19 @@ std::vector<uint64_t> paced_steps(const firmware::LoadedRig& rig, SinkSetup setu
     runtime.step(tick_ns, k);
     steps.push_back(hal::monotonic_ns() - t0);
   }
+  sched_param normal{};
+  (void)pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+  cpu_set_t all;
+  CPU_ZERO(&all);
+  for (long c = 0; c < ::sysconf(_SC_NPROCESSORS_ONLN) && c < CPU_SETSIZE; ++c) CPU_SET(static_cast<size_t>(c), &all);
+  (void)pthread_setaffinity_np(pthread_self(), sizeof all, &all);
   const uint64_t lost = runtime.close_sinks();
   *sink_report = "frames lost by the sinks " + std::to_string(lost);
   std::remove(log_path.c_str());
   return steps;
 }
 
-void run_sinks(const char* builtin, size_t ticks) {
+void run_sinks(const char* builtin, size_t ticks, const Placement& placement) {
   firmware::LoadedRig rig;
   std::string error;
   if (!firmware::load_rig(builtin, "", &rig, &error)) {
@@ -350,20 +390,21 @@ void run_sinks(const char* builtin, size_t ticks) {
   const char* dir = ::mkdtemp(dir_template);
   if (dir == nullptr) std::exit(1);
   const std::string log_path = std::string(dir) + "/bench.log";
-  UdpDrain drain;
+  UdpDrain drain(placement.io_cpu);
   double p99_none = 0;
-  for (SinkSetup setup : {SinkSetup::kNone, SinkSetup::kInTickThread, SinkSetup::kIoThreads}) {
+  for (SinkSetup setup :
+       {SinkSetup::kNone, SinkSetup::kInTickThread, SinkSetup::kIoThreads, SinkSetup::kIoThreadsPolled}) {
     std::string report;
-    const std::vector<uint64_t> steps = paced_steps(rig, setup, ticks, log_path, drain.port(), &report);
+    const std::vector<uint64_t> steps = paced_steps(rig, setup, ticks, log_path, drain.port(), placement, &report);
     const double p99 = percentile(steps, 0.99);
     if (setup == SinkSetup::kNone) p99_none = p99;
-    std::printf("%-5s paced 1 kHz, %-24s | step p50 %7.1f us p99 %7.1f us max %8.1f us | p99 / no sink %.3f%s%s\n",
+    std::printf("%-5s paced 1 kHz, %-26s | step p50 %7.1f us p99 %7.1f us max %8.1f us | p99 / no sink %.3f%s%s\n",
                 builtin, setup_name(setup), percentile(steps, 0.5), p99, percentile(steps, 1.0), p99 / p99_none,
                 setup == SinkSetup::kNone ? "" : " | ", setup == SinkSetup::kNone ? "" : report.c_str());
-    if (setup == SinkSetup::kIoThreads) {
+    if (setup == SinkSetup::kIoThreadsPolled) {
       sinew::bench::SummaryRow row;
       row.bench = "latency";
-      row.measure = std::string(builtin) + ", paced 1 kHz, log + UDP sinks on I/O threads, step p99";
+      row.measure = std::string(builtin) + ", paced 1 kHz, log + UDP sinks on polled I/O threads, step p99";
       row.figure = p99;
       row.unit = "us";
       row.baseline = "no sink, same run";
@@ -388,6 +429,16 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--trigger-poll-us") == 0) poll_ns = std::strtoull(argv[i + 1], nullptr, 10) * 1000;
   }
   if (poll_ns == 0) poll_ns = 1000;
+  const long cpus = ::sysconf(_SC_NPROCESSORS_ONLN);
+  Placement placement;
+  if (cpus >= 2) placement = {static_cast<int>(cpus - 1), 0, 80, 40};
+  for (int i = 1; i + 1 < argc; ++i) {
+    const int v = static_cast<int>(std::strtol(argv[i + 1], nullptr, 10));
+    if (std::strcmp(argv[i], "--tick-cpu") == 0) placement.tick_cpu = v;
+    if (std::strcmp(argv[i], "--io-cpu") == 0) placement.io_cpu = v;
+    if (std::strcmp(argv[i], "--tick-fifo") == 0) placement.tick_fifo = v;
+    if (std::strcmp(argv[i], "--io-fifo") == 0) placement.io_fifo = v;
+  }
   if (ticks == 0) ticks = 1;
   if (paced_ticks == 0) paced_ticks = 1;
   std::printf("sinew-bench-latency: %zu ticks at 1 kHz (virtual deadlines), frames at 500 Hz per input\n", ticks);
@@ -399,8 +450,11 @@ int main(int argc, char** argv) {
       paced_ticks, static_cast<double>(poll_ns) / 1000.0);
   run_live("arm", paced_ticks, poll_ns);
   run_live("hand", paced_ticks, poll_ns);
-  std::printf("sinks: %zu ticks paced in real time at 1 kHz per setup, in this run\n", paced_ticks);
-  run_sinks("arm", paced_ticks);
-  run_sinks("hand", paced_ticks);
+  std::printf(
+      "sinks: %zu ticks paced in real time at 1 kHz per setup, in this run; tick thread cpu %d fifo %d, I/O "
+      "threads cpu %d fifo %d\n",
+      paced_ticks, placement.tick_cpu, placement.tick_fifo, placement.io_cpu, placement.io_fifo);
+  run_sinks("arm", paced_ticks, placement);
+  run_sinks("hand", paced_ticks, placement);
   return g_latency_summary_ok ? 0 : 1;
 }

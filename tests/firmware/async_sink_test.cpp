@@ -8,6 +8,7 @@
 
 #include <condition_variable>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "tests/support/alloc_guard.hpp"
@@ -177,4 +178,64 @@ TEST(AsyncSink, WriteDoesNotAllocate) {
   }
   EXPECT_EQ(counter.allocations(), 0u);
   sink.close();
+}
+
+// Polled I/O threads: the tick never wakes the I/O thread for a frame (no
+// system call in write()), yet every frame leaves within a few polls; the
+// per-frame mode wakes it (the figure the poll removes).
+TEST(AsyncSink, PolledIoThreadDrainsWithoutBeingWoken) {
+  for (const uint64_t poll_ns : {uint64_t{0}, uint64_t{500'000}}) {
+    auto gate = std::make_unique<GateSink>();
+    GateSink* g = gate.get();
+    std::string report;
+    fw::AsyncSinkOptions options;
+    options.ring_frames = 64;
+    options.poll_ns = poll_ns;
+    fw::AsyncSink sink(std::move(gate), kDims, options, &report);
+    TickFrame f(0);
+    for (uint64_t t = 0; t < 40; ++t) {
+      f.set(t);
+      EXPECT_TRUE(sink.write(f.frame));
+      std::this_thread::sleep_for(std::chrono::microseconds(200));  // the I/O thread catches up and sleeps
+    }
+    // Delivered without close(): 200 polls of 0.5 ms is far beyond one.
+    for (int wait = 0; wait < 200; ++wait) {
+      {
+        const std::lock_guard<std::mutex> lock(g->mutex);
+        if (g->ticks.size() == 40) break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    {
+      const std::lock_guard<std::mutex> lock(g->mutex);
+      ASSERT_EQ(g->ticks.size(), 40u) << "poll_ns " << poll_ns;
+      for (uint64_t t = 0; t < 40; ++t) EXPECT_EQ(g->ticks[t], t);
+    }
+    if (poll_ns > 0)
+      EXPECT_EQ(sink.wakes(), 0u);
+    else
+      EXPECT_GT(sink.wakes(), 0u);
+    sink.close();
+    EXPECT_EQ(sink.ring_drops(), 0u);
+  }
+}
+
+TEST(AsyncSink, PolledLosslessDeliversEveryFrameInOrder) {
+  auto gate = std::make_unique<GateSink>();
+  GateSink* g = gate.get();
+  std::string report;
+  fw::AsyncSinkOptions options;
+  options.ring_frames = 4;
+  options.lossless = true;
+  options.poll_ns = 100'000;
+  fw::AsyncSink sink(std::move(gate), kDims, options, &report);
+  TickFrame f(0);
+  for (uint64_t t = 0; t < 2000; ++t) {
+    f.set(t);
+    EXPECT_TRUE(sink.write(f.frame));
+  }
+  sink.close();
+  ASSERT_EQ(g->ticks.size(), 2000u);
+  for (uint64_t t = 0; t < 2000; ++t) ASSERT_EQ(g->ticks[t], t);
+  EXPECT_EQ(g->corrupt, 0u);
 }

@@ -342,3 +342,18 @@ TEST(DaemonConfig, CandumpPathMustBeARegularFile) {
   }
   std::remove(fifo.c_str());
 }
+
+// A polled I/O thread must come round at least twice per ring, or a full
+// ring drops frames however fast the sink is: 128 frames at 1 kHz is
+// 128 ms, so 64 000 us passes and 64 001 us does not.
+TEST(DaemonConfig, IoPollMustDrainTwicePerRing) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n[loop]\nrate_hz = 1000\n[realtime]\nsink_ring_frames = 128\n";
+  DaemonConfig c;
+  std::string error;
+  ASSERT_TRUE(parse_config(rig + "io_poll_us = 64000\n", "test.toml", &c, &error)) << error;
+  EXPECT_EQ(c.realtime.io_poll_us, 64000);
+  EXPECT_NE(error_of(rig + "io_poll_us = 64001\n").find("io_poll_us = 64001 is more than half the ring's 128000 us"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "io_poll_us = -1\n").find("io_poll_us"), std::string::npos);
+  EXPECT_NE(error_of(rig + "io_poll_us = \"500\"\n").find("io_poll_us"), std::string::npos);
+}
