@@ -6,6 +6,20 @@
 
 namespace sinew::firmware {
 
+namespace {
+
+uint64_t io_thread_now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<uint64_t>(ts.tv_sec) * 1'000'000'000u + static_cast<uint64_t>(ts.tv_nsec);
+}
+
+// How stale the wrapped sink's line in status_line() may get while frames
+// flow: the daemon's statistics read it every few seconds.
+constexpr uint64_t kStatusRefreshNs = 250'000'000;
+
+}  // namespace
+
 AsyncSink::AsyncSink(std::unique_ptr<OutputSink> inner, const FrameDims& dims, const AsyncSinkOptions& options,
                      std::string* report)
     : inner_(std::move(inner)), options_(options) {
@@ -47,11 +61,18 @@ void AsyncSink::flush() {
 }
 
 void AsyncSink::run() {
+  uint64_t refreshed_ns = io_thread_now_ns();
   for (;;) {
+    bool wrote = false;
     while (const hal::PoseFrame* frame = ring_.front()) {
       if (!inner_->write(*frame)) sink_drops_.fetch_add(1, std::memory_order_relaxed);
       ring_.pop();
+      wrote = true;
       if (producer_waiting_.load()) ring_.tail().notify_one();
+    }
+    if (wrote && io_thread_now_ns() - refreshed_ns >= kStatusRefreshNs) {
+      refresh_status();
+      refreshed_ns = io_thread_now_ns();
     }
     if (flush_requested_.exchange(false)) {
       inner_->flush();

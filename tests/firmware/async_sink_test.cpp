@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <condition_variable>
+#include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -238,4 +240,42 @@ TEST(AsyncSink, PolledLosslessDeliversEveryFrameInOrder) {
   ASSERT_EQ(g->ticks.size(), 2000u);
   for (uint64_t t = 0; t < 2000; ++t) ASSERT_EQ(g->ticks[t], t);
   EXPECT_EQ(g->corrupt, 0u);
+}
+
+namespace {
+// Says how many frames it has written, as the frame log and UDP sinks do.
+class CountingStatusSink final : public fw::OutputSink {
+ public:
+  const char* name() const override { return "counting"; }
+  bool write(const hal::PoseFrame&) override {
+    ++written;
+    return true;
+  }
+  void flush() override {}
+  std::string status_line() const override { return "written " + std::to_string(written); }
+  uint64_t written = 0;  // I/O thread only
+};
+}  // namespace
+
+// The daemon's periodic statistics read status_line() without a flush; the
+// wrapped sink's counters must be the running ones, not those at open.
+TEST(AsyncSink, StatusFollowsTheWritesWithoutAFlush) {
+  for (const uint64_t poll_ns : {uint64_t{0}, uint64_t{500'000}}) {
+    std::string report;
+    fw::AsyncSinkOptions options;
+    options.poll_ns = poll_ns;
+    fw::AsyncSink sink(std::make_unique<CountingStatusSink>(), kDims, options, &report);
+    EXPECT_EQ(sink.status_line().rfind("written 0;", 0), 0u) << sink.status_line();
+    TickFrame f(0);
+    // Frames for 1.5 s, one a millisecond: several refresh periods.
+    for (uint64_t t = 0; t < 1500; ++t) {
+      f.set(t);
+      EXPECT_TRUE(sink.write(f.frame));
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    const std::string line = sink.status_line();
+    const uint64_t shown = std::strtoull(line.c_str() + std::strlen("written "), nullptr, 10);
+    EXPECT_GE(shown, 500u) << "poll_ns " << poll_ns << ": " << line;
+    sink.close();
+  }
 }
