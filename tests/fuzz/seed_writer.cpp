@@ -64,12 +64,12 @@ void write_file(const fs::path& path, uint8_t mode, const std::vector<uint8_t>& 
   if (!out) std::fprintf(stderr, "cannot write %s\n", path.c_str()), std::exit(1);
 }
 
-std::vector<uint8_t> log_bytes(uint32_t vertices, bool normals, int records) {
+std::vector<uint8_t> log_bytes(uint32_t vertices, bool normals, int records, const FrameLogOptions& options = {}) {
   const fs::path tmp = fs::temp_directory_path() / ("sinew-seed-" + std::to_string(getpid()) + ".log");
   fs::remove(tmp);
   FrameLogWriter writer;
   std::string error;
-  if (!writer.open(tmp.string(), shape(vertices, normals), {}, &error))
+  if (!writer.open(tmp.string(), shape(vertices, normals), options, &error))
     std::fprintf(stderr, "%s\n", error.c_str()), std::exit(1);
   for (int t = 0; t < records; ++t) writer.write(Pose(vertices, static_cast<uint64_t>(t), normals).frame);
   writer.close();
@@ -112,6 +112,17 @@ int main(int argc, char** argv) {
   std::vector<uint8_t> torn = log_bytes(3, false, 2);
   torn.resize(torn.size() - 7);
   write_file(root / "frame_log" / "torn_tail", 1, torn);
+  // Version 2: a metadata block after the header (sinewd's run description).
+  FrameLogOptions described;
+  described.metadata = "rig arm 0123456789abcdef\nrate_hz 1000\nlayers metaballs barnet\n";
+  write_file(root / "frame_log" / "metadata", 1, log_bytes(3, false, 2, described));
+  // Compressed records: a key, deltas, and a key again (key_every_frames 3).
+  FrameLogOptions zstd = described;
+  zstd.compress = true;
+  zstd.key_every_frames = 3;
+  write_file(root / "frame_log" / "zstd_keys_and_deltas", 1, log_bytes(4, true, 7, zstd));
+  zstd.metadata.clear();
+  write_file(root / "frame_log" / "zstd_plain_header", 1, log_bytes(3, false, 3, zstd));
 
   const FrameShape plain = shape(3, false), with_normals = shape(2, true);
   const auto one = datagrams(Pose(3, 0, false), plain, 0x01020304, 0, 1400);
