@@ -3,6 +3,7 @@
 #define ZSTD_STATIC_LINKING_ONLY  // ZSTD_initStaticCCtx: a context in memory sized at init
 #include <zstd.h>
 
+#include <algorithm>
 #include <cstring>
 
 namespace sinew::hal::output {
@@ -94,12 +95,19 @@ std::span<uint8_t> FrameCompressor::encode(std::span<const uint8_t> payload) {
 
 FrameDecompressor::~FrameDecompressor() { ZSTD_freeDCtx(dctx_); }
 
-bool FrameDecompressor::init(size_t max_payload, std::string* error) {
+uint64_t zstd_max_decoded_bytes(uint64_t compressed) {
+  constexpr uint64_t kRatio = 128 * 1024 / 4;
+  return compressed > UINT64_MAX / kRatio ? UINT64_MAX : compressed * kRatio;
+}
+
+bool FrameDecompressor::init(size_t max_payload, uint64_t compressed_bytes, std::string* error) {
   ZSTD_freeDCtx(dctx_);
   dctx_ = ZSTD_createDCtx();
   if (dctx_ == nullptr) return *error = "cannot set up the zstd decompression context", false;
-  planes_.assign(max_payload, 0);
-  payload_.assign(max_payload, 0);
+  const size_t capacity =
+      static_cast<size_t>(std::min<uint64_t>(max_payload, zstd_max_decoded_bytes(compressed_bytes)));
+  planes_.assign(capacity, 0);
+  payload_.assign(capacity, 0);
   previous_bytes_ = 0;
   return true;
 }
@@ -115,7 +123,9 @@ bool FrameDecompressor::decode(std::span<const uint8_t> record, std::span<const 
   if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
     return *why = "compressed record is not a zstd frame with its content size", false;
   if (size > planes_.size())
-    return *why = "compressed record holds " + std::to_string(size) + " bytes, more than the log's frames", false;
+    return *why = "compressed record claims " + std::to_string(size) +
+                  " bytes, more than the log's frames hold or its file's compressed bytes can decode to",
+           false;
   const bool delta = kind == kRecordKindDelta;
   if (delta && previous_bytes_ != size)
     return *why = previous_bytes_ == 0 ? "delta record without a record before it"

@@ -67,6 +67,11 @@ class FrameCompressor {
   int level_ = 1;
 };
 
+// The most `compressed` bytes of zstd frames can decode to (RFC 8878
+// §3.1.1.2): a block yields at most 128 KiB and takes at least 4 bytes (a
+// 3-byte header and one RLE byte), so at most 32 768 bytes a byte.
+uint64_t zstd_max_decoded_bytes(uint64_t compressed);
+
 // Host side (allocates at init only).
 class FrameDecompressor {
  public:
@@ -75,11 +80,16 @@ class FrameDecompressor {
   FrameDecompressor(const FrameDecompressor&) = delete;
   FrameDecompressor& operator=(const FrameDecompressor&) = delete;
 
-  bool init(size_t max_payload, std::string* error);
+  // Buffers for records of at most `max_payload` bytes once decoded, and at
+  // most what `compressed_bytes` of zstd frames can decode to (a header's
+  // shape can claim gigabytes a short file never holds; see
+  // zstd_max_decoded_bytes).
+  bool init(size_t max_payload, uint64_t compressed_bytes, std::string* error);
 
   // The pose payload of one record payload, valid until the next call; false
   // with the reason if the record does not decode (a damaged record).
   bool decode(std::span<const uint8_t> record, std::span<const uint8_t>* payload, std::string* why);
+  size_t capacity() const { return planes_.size(); }  // the largest decoded record it holds
 
  private:
   ZSTD_DCtx_s* dctx_ = nullptr;

@@ -27,7 +27,9 @@ bool FrameLogReader::open(const std::string& path, std::string* error) {
   shape_ = preamble.shape;
   metadata_ = std::move(preamble.metadata);
   compressed_ = preamble.compressed;
-  if (compressed_ && !decompressor_.init(static_cast<size_t>(max_pose_payload_bytes(shape_)), &why)) {
+  const uint64_t file_bytes = static_cast<uint64_t>(st.st_size);
+  const uint64_t record_bytes = file_bytes > preamble.records_offset ? file_bytes - preamble.records_offset : 0;
+  if (compressed_ && !decompressor_.init(static_cast<size_t>(max_pose_payload_bytes(shape_)), record_bytes, &why)) {
     *error = path + ": " + why;
     close();
     return false;
