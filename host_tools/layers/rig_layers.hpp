@@ -70,7 +70,8 @@ struct BarnetTable {
   // [[external_input]] has the name. force_input: activation 0 at 0, 1 at
   // force_input_full (its unit) instead of the flexion; q_input: scales every
   // bar's force density by its value.
-  std::string force_input, q_input;
+  std::string force_input = {};
+  std::string q_input = {};
   double force_input_full = 40;
 };
 
