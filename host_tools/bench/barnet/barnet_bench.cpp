@@ -197,12 +197,8 @@ bool summary() {
         500);
     std::snprintf(what, sizeof(what), "  + q from an input (refactor, %llu products)",
                   static_cast<unsigned long long>(r.state().refactor_products));
-    std::printf(
-        "  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)
-        ", what, t_refactor * 1e6,
-            t_refactor /
-            t_lbs,
-        t_refactor / t);
+    std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)\n", what, t_refactor * 1e6,
+                t_refactor / t_lbs, t_refactor / t);
   }
   return ok;
 }
