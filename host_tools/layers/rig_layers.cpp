@@ -133,6 +133,16 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
                                       [&](const ExternalInputTable& e) { return e.name == sph_force[i]; });
     if (!declared) external.push_back({sph_force[i], "N", "force", -40, 40, layers.sph[i].joint.where});
   }
+  // Each bar-net's force and force-density inputs, if undeclared.
+  for (const BarnetTable& t : layers.barnets) {
+    auto declare = [&external, &t](const std::string& name, const ExternalInputTable& as) {
+      if (name.empty()) return;
+      if (std::none_of(external.begin(), external.end(), [&](const ExternalInputTable& e) { return e.name == name; }))
+        external.push_back(as);
+    };
+    declare(t.force_input, {t.force_input, "N", "force", -40, 40, t.joint.where});
+    declare(t.q_input, {t.q_input, "", "scalar", 1.0 / 256, 256, t.joint.where});
+  }
   std::vector<pipeline::ExternalInputRecord> records;
   for (const ExternalInputTable& e : external) {
     pipeline::ExternalInputRecord r{};
@@ -291,6 +301,12 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     o.rings = t.rings;
     o.ring_step = t.ring_step;
     o.force = t.force;
+    o.external_count = static_cast<uint32_t>(records.size());
+    for (size_t k = 0; k < records.size(); ++k) {
+      if (!t.force_input.empty() && t.force_input == records[k].name) o.force_input = static_cast<int>(k);
+      if (!t.q_input.empty() && t.q_input == records[k].name) o.q_input = static_cast<int>(k);
+    }
+    o.force_input_hi = t.force_input_full;
     barnet::NetSpec net;
     barnet::BarnetBuild built;
     if (!barnet::joint_net(spec, g, j, o, &net, error) || !barnet::build_barnet(net, spec, &built, error))

@@ -66,6 +66,13 @@ struct BarnetTable {
   int segments = 8, rings = 7;
   double ring_step = 0;  // 0: 0.65 x the skin radius
   double force = 0;      // 0: 1.1 x the skin radius (q x model units)
+  // External inputs, declared (N, force, +-40; scalar, [1/256, 256]) if no
+  // [[external_input]] has the name. force_input: activation 0 at 0, 1 at
+  // force_input_full (its unit) instead of the flexion; q_input: scales every
+  // bar's force density by its value.
+  std::string force_input = {};
+  std::string q_input = {};
+  double force_input_full = 40;
 };
 
 struct ExternalInputTable {

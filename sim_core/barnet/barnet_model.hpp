@@ -10,6 +10,8 @@
 //   forces (loads)             Force Q8.24 in units of (1 force density) x (1 rig unit)
 //   weights, barycentrics      Unit  Q2.30, summing to 2^30
 //   angles                     signed binary angles (int32 view, 2^32 = a turn)
+//   external input values      Q16.16 in the input's unit (pipeline ExternalInputRecord)
+//   force-density scales       Q16.16, clamped to [kMinForceDensityScale, kMaxForceDensityScale]
 #pragma once
 
 #include <cstdint>
@@ -35,6 +37,13 @@ inline constexpr uint32_t kMaxFreeNodes = 1024;
 inline constexpr uint32_t kMaxBars = 16384;
 inline constexpr uint32_t kMaxBarsPerNode = 16;
 inline constexpr uint32_t kMaxLoads = 1024;
+inline constexpr uint32_t kMaxExternalInputs = 64;
+inline constexpr uint32_t kMaxForceDensityInputs = 64;
+// A force-density scale read from an input is clamped to [2^-8, 2^8] (Q16.16),
+// and the scaled q to [kMinForceDensity, kMaxForceDensity]: the factor's
+// bounds (ldlt_skyline.hpp) then hold for every value the input can take.
+inline constexpr int32_t kMinForceDensityScale = int32_t{1} << 8;
+inline constexpr int32_t kMaxForceDensityScale = int32_t{1} << 24;
 inline constexpr uint32_t kMaxTriangles = 8192;
 inline constexpr uint32_t kMaxWrapVertices = 1u << 20;
 inline constexpr uint32_t kMaxNodeInfluences = 4;
@@ -66,17 +75,35 @@ struct BarRecord {
   ForceDensity q = 0;
 };
 
-// A load on a free node, bound to one joint angle: activation
-// t = clamp((angle - angle_lo) / (angle_hi - angle_lo), 0, 1) and the load
-// is t * force, expressed in the bind pose's model frame and carried by the
+// A load on a free node, bound to one input v: activation
+// t = clamp((v - angle_lo) / (angle_hi - angle_lo), 0, 1) and the load is
+// t * force, expressed in the bind pose's model frame and carried by the
 // skinning matrix of `joint` (so it turns with that bone). Several loads on
 // one node add up (superposition).
+// `input` counts over the runtime's input array: below input_count it is a
+// joint angle (lo, hi signed binary angles); from input_count on it is the
+// external input input - input_count (a sensor force, say), and lo, hi are
+// Q16.16 values in that input's unit, so the input's value scales the force
+// linearly between them.
 struct LoadRecord {
   uint32_t node = 0;
   uint16_t joint = 0;
-  uint16_t input = 0;                  // index into the joint-angle inputs
-  int32_t angle_lo = 0, angle_hi = 0;  // signed binary angles, lo != hi
+  uint16_t input = 0;                  // joint angle, or input_count + external input index
+  int32_t angle_lo = 0, angle_hi = 0;  // angles, or Q16.16 input values; lo != hi
   fx::Vec3 force;                      // Force, at full activation
+};
+
+// A run of bars whose force densities follow an external input: each step
+// q' = clamp(q * clamp(v, 2^-8, 2^8), q_min, q_max), v the input's Q16.16
+// value read as a dimensionless scale (rounded once). Runs may overlap: their
+// scales then multiply, in record order. A model with any of these records
+// re-assembles and re-factorises D every step (a fixed cost, see
+// BarnetState::refactor_products).
+struct ForceDensityInput {
+  uint32_t input = 0;  // external input index (0 .. external_count - 1)
+  uint32_t first_bar = 0;
+  uint32_t bar_count = 0;  // >= 1; first_bar + bar_count <= bars
+  uint32_t reserved = 0;   // explicit, zeroed
 };
 
 // A triangle of the control mesh (node indices). Its normal is
@@ -105,6 +132,8 @@ struct BarnetModel {
   std::span<const LoadRecord> loads;
   std::span<const ControlTriangle> triangles;
   std::span<const WrapRecord> wrap;
+  uint32_t external_count = 0;                       // external inputs the loads and q_inputs may read
+  std::span<const ForceDensityInput> q_inputs = {};  // empty: D is factorised once, at init
 };
 
 enum class Error : uint8_t {

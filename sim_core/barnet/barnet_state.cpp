@@ -1,5 +1,6 @@
 #include "barnet_state.hpp"
 
+#include "barnet_refactor.hpp"
 #include "barnet_validate.hpp"
 #include "status_message.hpp"
 
@@ -8,7 +9,7 @@ namespace {
 
 // Byte layout of the arena, every segment 8-byte aligned.
 struct Layout {
-  size_t first, offset, lower, recip, shift, skin, load, skinned, work, normal, scratch, total;
+  size_t first, offset, lower, recip, shift, q, skin, load, skinned, work, normal, scratch, total;
 };
 
 size_t align8(size_t v) { return (v + 7) & ~size_t{7}; }
@@ -42,6 +43,7 @@ Layout layout(const BarnetModel& m, uint32_t free, uint64_t profile) {
   l.lower = take(static_cast<size_t>(profile) * sizeof(int32_t));
   l.recip = take(n * sizeof(int64_t));
   l.shift = take(n * sizeof(int32_t));
+  l.q = take(m.bars.size() * sizeof(ForceDensity));
   l.skin = take(m.joint_count * sizeof(fx::Mat34));
   l.load = take(3 * n * sizeof(int64_t));
   l.skinned = take(3 * n * sizeof(fx::Len));
@@ -124,6 +126,7 @@ Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, Ba
   st.factor.lower = carve<int32_t>(base, l.lower, static_cast<size_t>(profile));
   st.factor.recip = carve<int64_t>(base, l.recip, free);
   st.factor.shift = carve<int32_t>(base, l.shift, free);
+  st.q = carve<ForceDensity>(base, l.q, model.bars.size());
   st.skin = carve<fx::Mat34>(base, l.skin, model.joint_count);
   for (size_t c = 0; c < 3; ++c) {
     st.load[c] = carve<int64_t>(base, l.load + c * free * sizeof(int64_t), free);
@@ -146,18 +149,11 @@ Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, Ba
   st.factor.offset[0] = 0;
   for (uint32_t i = 0; i < free; ++i) st.factor.offset[i + 1] = st.factor.offset[i] + (i - st.factor.first[i]);
 
-  // Assemble D = C^T Q C (eq. (3)): D_ii = sum of q on node i's bars,
-  // D_ij = -sum of q on bars between free nodes i and j; Q16.16.
-  for (int32_t& v : st.factor.lower) v = 0;
-  for (int64_t& v : st.factor.recip) v = 0;
-  for (const BarRecord& b : model.bars) {
-    if (b.a < free) st.factor.recip[b.a] += b.q;
-    if (b.b < free) st.factor.recip[b.b] += b.q;
-    if (b.a < free && b.b < free) {
-      const uint32_t hi = b.a > b.b ? b.a : b.b, lo = b.a > b.b ? b.b : b.a;
-      st.factor.lower[st.factor.offset[hi] + (lo - st.factor.first[hi])] -= b.q;
-    }
-  }
+  // Assemble D = C^T Q C (eq. (3)) from the model's force densities.
+  fx::Saturation unused;
+  scale_force_densities(model, {}, st.q, unused);
+  assemble_matrix(model.bars, st.q, st.factor);
+  st.refactor_products = refactor_products(st.factor);
   const uint32_t bad = ldlt_factor(st.factor, st.work);
   if (bad < free)
     return fail(Error::kSingular, "nodes", bad, "kind", "singular bar-net: LDL^T pivot below 2^-24 at this free node");

@@ -25,12 +25,16 @@ struct BarnetState {
   const BarnetModel* model = nullptr;
   uint32_t free_count = 0;
   SkylineFactor factor;
+  std::span<ForceDensity> q;      // per bar, the force density of this step (the model's, scaled by q_inputs)
   std::span<fx::Mat34> skin;      // per joint: global x inverse bind
   std::span<int64_t> load[3];     // per free node, Force (Q.24), this step
   std::span<fx::Len> skinned[3];  // per free node, smooth-skinned position
   std::span<int64_t> work;        // per free node, solve vector
   std::span<fx::Vec3> normal;     // per control triangle, Q2.30 unit normal
   uint32_t profile = 0;           // entries of L
+  // Work of one factorisation of D (64x64-bit products, barnet_refactor.hpp):
+  // paid at init, and at every step when the model has q_inputs.
+  uint64_t refactor_products = 0;
   StepStats stats;
 };
 

@@ -1,5 +1,6 @@
 #include "barnet_step.hpp"
 
+#include "barnet_refactor.hpp"
 #include "status_message.hpp"
 #include "wide_sat.hpp"
 
@@ -52,6 +53,8 @@ Status check_spans(const BarnetModel& m, const StepInputs& in, const StepOutputs
   if (in.bones.size() < m.joint_count) return fail(Error::kBadSpan, "inputs.bones: fewer than joint_count transforms");
   if (in.joint_angles.size() < m.input_count)
     return fail(Error::kBadSpan, "inputs.joint_angles: fewer than input_count angles");
+  if (in.external.size() < m.external_count)
+    return fail(Error::kBadSpan, "inputs.external: fewer than external_count values");
   for (size_t c = 0; c < 3; ++c) {
     if (out.node[c].size() < m.nodes.size()) return fail(Error::kBadSpan, "outputs.node: shorter than the node count");
     if (out.skin[c].size() < m.wrap.size()) return fail(Error::kBadSpan, "outputs.skin: shorter than the wrap count");
@@ -88,12 +91,24 @@ Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out
     }
   }
 
-  // 2. Loads bound to joint angles, carried by their bone (superposed).
+  // 2. Loads bound to joint angles or external inputs, carried by their
+  //    bone (superposed).
   for (const LoadRecord& l : m.loads) {
-    const fx::Unit t = activation(in.joint_angles[l.input], l.angle_lo, l.angle_hi);
+    const int32_t v = l.input < m.input_count ? in.joint_angles[l.input] : in.external[l.input - m.input_count];
+    const fx::Unit t = activation(v, l.angle_lo, l.angle_hi);
     if (t == 0) continue;
     const fx::Vec3 f = fx::transform_vector(st->skin[l.joint], fx::scale(l.force, t));
     for (size_t c = 0; c < 3; ++c) st->load[c][l.node] += component(f, c);
+  }
+
+  // Force densities from inputs: D = C^T Q C re-assembled from this step's
+  // q and re-factorised, the same work every step (barnet_refactor.hpp).
+  // The pivots stay >= q_min / n because every scaled q stays >= q_min and
+  // the net's connectivity was checked at init; the guard below cannot fire.
+  if (!m.q_inputs.empty()) {
+    scale_force_densities(m, in.external, st->q, sat);
+    assemble_matrix(m.bars, st->q, st->factor);
+    if (ldlt_factor(st->factor, st->work) < free) ++sat.events;
   }
 
   // 3. Eq. (4), per axis: x = D^-1 (p - D_f x_f), with p = D s + D_f s_f +
@@ -105,16 +120,18 @@ Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out
   };
   for (size_t c = 0; c < 3; ++c) {
     for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->load[c][i] * (int64_t{1} << 12), sat);
-    for (const BarRecord& b : m.bars) {
+    for (uint32_t k = 0; k < m.bars.size(); ++k) {
+      const BarRecord& b = m.bars[k];
+      const int64_t q = st->q[k];
       // Row a of [D D_f] s is sum over a's bars of q (s_a - s_b).
-      const int64_t qd = int64_t{b.q} * (skinned(c, b.a) - skinned(c, b.b));  // |qd| < 2^57
+      const int64_t qd = q * (skinned(c, b.a) - skinned(c, b.b));  // |qd| < 2^57
       if (b.a < free) st->work[b.a] = clamp_vector(st->work[b.a] + qd, sat);
       if (b.b < free) st->work[b.b] = clamp_vector(st->work[b.b] - qd, sat);
       // -D_f x_f: +q x_f on a free node's bar to a fixed node.
       if (b.a < free && b.b >= free)
-        st->work[b.a] = clamp_vector(st->work[b.a] + int64_t{b.q} * out.node[c][b.b], sat);
+        st->work[b.a] = clamp_vector(st->work[b.a] + q * out.node[c][b.b], sat);
       else if (b.b < free && b.a >= free)
-        st->work[b.b] = clamp_vector(st->work[b.b] + int64_t{b.q} * out.node[c][b.a], sat);
+        st->work[b.b] = clamp_vector(st->work[b.b] + q * out.node[c][b.a], sat);
     }
     ldlt_solve(st->factor, st->work, sat);
     for (uint32_t i = 0; i < free; ++i) {

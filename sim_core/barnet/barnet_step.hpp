@@ -2,7 +2,9 @@
 // joint angles in; node positions and wrapped fine-skin positions out.
 //   1. control mesh skinning: every node's smooth-skinned position s; fixed
 //      nodes keep it (x_f = s_f);
-//   2. loads: each LoadRecord adds t(angle) * force, carried by its bone;
+//   2. loads: each LoadRecord adds t(angle or external input) * force,
+//      carried by its bone; with ForceDensityInputs, D is re-assembled
+//      from the scaled q and re-factorised (fixed work per step);
 //   3. eq. (4): x = D^-1 (p - D_f x_f) for x, y and z independently, with
 //      the factor computed at init and p = D s + D_f s_f + loads (the load
 //      holding the net at the skinned shape, plus the bound loads);
@@ -17,8 +19,9 @@
 namespace sinew::barnet {
 
 struct StepInputs {
-  std::span<const fx::Mat34> bones;       // model-space joint transforms, >= joint_count
-  std::span<const int32_t> joint_angles;  // signed binary angles, >= input_count
+  std::span<const fx::Mat34> bones;        // model-space joint transforms, >= joint_count
+  std::span<const int32_t> joint_angles;   // signed binary angles, >= input_count
+  std::span<const int32_t> external = {};  // external inputs, Q16.16 in their units, >= external_count
 };
 
 struct StepOutputs {

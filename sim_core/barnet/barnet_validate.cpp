@@ -48,8 +48,20 @@ Status check_loads(const BarnetModel& m, uint32_t free) {
     if (l.node >= m.nodes.size()) return fail(Error::kBadIndex, "loads", i, "node", "is not a node");
     if (l.node >= free) return fail(Error::kBadIndex, "loads", i, "node", "is a fixed node (loads act on free nodes)");
     if (l.joint >= m.joint_count) return fail(Error::kBadIndex, "loads", i, "joint", "is not a joint of the rig");
-    if (l.input >= m.input_count) return fail(Error::kBadIndex, "loads", i, "input", "is not an input of the rig");
+    if (l.input >= m.input_count + m.external_count)
+      return fail(Error::kBadIndex, "loads", i, "input", "is neither a joint angle nor an external input of the rig");
     if (l.angle_lo == l.angle_hi) return fail(Error::kBadValue, "loads", i, "angle_hi", "must differ from angle_lo");
+  }
+  return {};
+}
+
+Status check_q_inputs(const BarnetModel& m) {
+  for (uint32_t i = 0; i < m.q_inputs.size(); ++i) {
+    const ForceDensityInput& r = m.q_inputs[i];
+    if (r.input >= m.external_count) return fail(Error::kBadIndex, "q_inputs", i, "input", "is not an external input");
+    if (r.bar_count == 0) return fail(Error::kBadValue, "q_inputs", i, "bar_count", "must be at least 1");
+    if (uint64_t{r.first_bar} + r.bar_count > m.bars.size())
+      return fail(Error::kBadIndex, "q_inputs", i, "bar_count", "the run of bars ends beyond the last bar");
   }
   return {};
 }
@@ -86,6 +98,8 @@ Status barnet_validate(const BarnetModel& m) {
   if (m.triangles.size() > kMaxTriangles) return fail(Error::kLimit, "triangles: more than 8192");
   if (m.wrap.size() > kMaxWrapVertices) return fail(Error::kLimit, "wrap: more than 2^20 vertices");
   if (m.joint_count == 0 || m.joint_count > kMaxJoints) return fail(Error::kLimit, "joint_count: must be 1 to 1024");
+  if (m.external_count > kMaxExternalInputs) return fail(Error::kLimit, "external_count: more than 64");
+  if (m.q_inputs.size() > kMaxForceDensityInputs) return fail(Error::kLimit, "q_inputs: more than 64");
   if (m.inverse_bind.size() != m.joint_count)
     return fail(Error::kBadIndex, "inverse_bind: needs one matrix per joint (joint_count)");
   Status s = check_nodes(m);
@@ -98,6 +112,8 @@ Status barnet_validate(const BarnetModel& m) {
   s = check_bars(m);
   if (!s.ok()) return s;
   s = check_loads(m, free);
+  if (!s.ok()) return s;
+  s = check_q_inputs(m);
   if (!s.ok()) return s;
   return check_mesh(m);
 }

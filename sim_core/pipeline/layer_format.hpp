@@ -148,9 +148,20 @@ static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anc
 inline constexpr uint32_t kSkinArrays = 7;
 
 // BNET params. Arrays: inverse_bind, nodes, bars, loads, triangles, wrap.
+// Layer version 1: loads read joint angles only, q is constant; the last
+// params word is 0 written, not checked. Layer version 2 (BNET) adds the
+// inputs: the last params word is the count of external inputs (EXTI) the
+// net was built against, loads may read them (LoadRecord::input from
+// input_count on), and a 7th array, q_inputs (ForceDensityInput), scales runs
+// of bars' q from them. Writers emit version 1 for a net with neither, so
+// those rigs keep their bytes; a version-1-only loader refuses version 2.
 struct BarnetSectionParams {
-  uint32_t joint_count, input_count, vertex_count, reserved;
+  uint32_t joint_count, input_count, vertex_count;
+  uint32_t external_count;  // version 2; version 1: reserved, 0
 };
+inline constexpr uint32_t kBarnetSectionVersion2 = 2;
+static_assert(sizeof(barnet::ForceDensityInput) == 16);
+inline constexpr uint32_t kBarnetArraysV2 = 7;
 static_assert(sizeof(barnet::NodeRecord) == 40 && sizeof(barnet::BarRecord) == 12 && sizeof(barnet::LoadRecord) == 28 &&
               sizeof(barnet::ControlTriangle) == 12 && sizeof(barnet::WrapRecord) == 24);
 inline constexpr uint32_t kBarnetArrays = 6;

@@ -133,6 +133,15 @@ constexpr ArraySpec kBarnetSpec[kBarnetArrays] = {
     {sizeof(barnet::ControlTriangle), barnet::kMaxTriangles, "triangles"},
     {sizeof(barnet::WrapRecord), barnet::kMaxWrapVertices, "wrap"},
 };
+constexpr ArraySpec kBarnetSpecV2[kBarnetArraysV2] = {
+    {kMat, barnet::kMaxJoints, "inverse_bind"},
+    {sizeof(barnet::NodeRecord), barnet::kMaxNodes, "nodes"},
+    {sizeof(barnet::BarRecord), barnet::kMaxBars, "bars"},
+    {sizeof(barnet::LoadRecord), barnet::kMaxLoads, "loads"},
+    {sizeof(barnet::ControlTriangle), barnet::kMaxTriangles, "triangles"},
+    {sizeof(barnet::WrapRecord), barnet::kMaxWrapVertices, "wrap"},
+    {sizeof(barnet::ForceDensityInput), barnet::kMaxForceDensityInputs, "q_inputs"},
+};
 constexpr ArraySpec kExternalSpec[kExternalInputArrays] = {
     {sizeof(ExternalInputRecord), kMaxExternalInputs, "inputs"},
 };
@@ -146,6 +155,10 @@ struct Layout {
 bool layout_of(uint32_t id, uint32_t version, Layout* out) {
   if (id == kSectionElasticSkin && version == kSkinSectionVersion2) {
     *out = {sizeof(SkinSectionParamsV2), kSkinArrays, kSkinSpec};
+    return true;
+  }
+  if (id == kSectionBarnet && version == kBarnetSectionVersion2) {
+    *out = {sizeof(BarnetSectionParams), kBarnetArraysV2, kBarnetSpecV2};
     return true;
   }
   switch (id) {
@@ -192,7 +205,8 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
   std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
   const LayerSectionHeader& h = out->header;
   const bool skin_v2 = id == kSectionElasticSkin && h.layer_version == kSkinSectionVersion2;
-  if (h.layer_version != kLayerSectionVersion && !skin_v2)
+  const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
+  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2)
     return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
                 h.layer_version, true);
   layout_of(id, h.layer_version, &layout);
@@ -413,8 +427,9 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
   return {};
 }
 
-LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, barnet::BarnetModel* out) {
+LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, uint32_t external_count, barnet::BarnetModel* out) {
   const BarnetSectionParams p = params_of<BarnetSectionParams>(v);
+  const bool v2 = v.header.layer_version == kBarnetSectionVersion2;
   *out = {p.joint_count,
           p.input_count,
           p.vertex_count,
@@ -423,10 +438,19 @@ LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, barnet::Barnet
           array_of<barnet::BarRecord>(v, 2),
           array_of<barnet::LoadRecord>(v, 3),
           array_of<barnet::ControlTriangle>(v, 4),
-          array_of<barnet::WrapRecord>(v, 5)};
+          array_of<barnet::WrapRecord>(v, 5),
+          0,
+          {}};
   if (p.joint_count != rig.joint_count() || p.input_count != rig.input_count || p.vertex_count != rig.vertex_count())
     return fail(LoadError::kBadValue, v.id, v.instance, "joint_count", -1,
                 "joint, input or vertex count differs from the rig's", p.joint_count, true);
+  if (v2) {
+    if (p.external_count != external_count)
+      return fail(LoadError::kBadValue, v.id, v.instance, "external_count", -1,
+                  "differs from the rig's external inputs (EXTI)", p.external_count, true);
+    out->external_count = p.external_count;
+    out->q_inputs = array_of<barnet::ForceDensityInput>(v, 6);
+  }
   const barnet::Status st = barnet::barnet_validate(*out);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
@@ -514,7 +538,7 @@ LoadStatus layers_init(const rig::Rig& rig, const uint8_t* blob, size_t size, vo
         st = load_skin(v, rig, set.muscles, &set.skin, &set.skin_region, &set.skin_region_weight);
         break;
       case kSectionBarnet:
-        st = load_barnet(v, rig, &set.barnet[set.barnet_count++]);
+        st = load_barnet(v, rig, set.external_count(), &set.barnet[set.barnet_count++]);
         break;
       default:
         break;

@@ -169,8 +169,8 @@ PipelineStatus run_barnet(Pipeline* p, std::span<const int32_t> inputs) {
       out.node[a] = p->barnet_nodes[a];
       out.skin[a] = p->scratch[a];
     }
-    const barnet::Status st =
-        barnet::barnet_step(&p->barnet[i], {p->engine.model, inputs.first(p->rig->input_count)}, out);
+    const barnet::Status st = barnet::barnet_step(
+        &p->barnet[i], {p->engine.model, inputs.first(p->rig->input_count), inputs.subspan(p->rig->input_count)}, out);
     if (!st.ok()) {
       if (first.ok()) first = fail(PipelineError::kLayer, "barnet", st.message, i);
       continue;

@@ -41,7 +41,7 @@ struct PaperSystem {
 
 // C_s(j, i) = +1 at one extremity of bar j, -1 at the other (eq. (1));
 // D = C^t Q C, D_f = C^t Q C_f, formed as the products they are.
-PaperSystem paper_system(const bn::BarnetModel& m) {
+PaperSystem paper_system(const bn::BarnetModel& m, double q_scale = 1.0) {
   PaperSystem s;
   std::vector<int> column(m.nodes.size(), -1);
   std::vector<bool> fixed(m.nodes.size(), false);
@@ -56,7 +56,7 @@ PaperSystem paper_system(const bn::BarnetModel& m) {
   std::vector<double> c(bars * s.free_count, 0), cf(bars * s.fixed_count, 0), q(bars, 0);
   for (size_t j = 0; j < bars; ++j) {
     const bn::BarRecord& b = m.bars[j];
-    q[j] = std::ldexp(static_cast<double>(b.q), -16);
+    q[j] = std::ldexp(static_cast<double>(b.q), -16) * q_scale;
     const uint32_t ends[2] = {b.a, b.b};
     const double sign[2] = {+1.0, -1.0};
     for (int e = 0; e < 2; ++e) {
@@ -156,10 +156,12 @@ struct OracleRun {
 
 // Worst |runtime - eq. (4)| in Len LSB over free nodes and axes, for the
 // given load sets and a translation of the one bone (moving the fixed nodes).
-OracleRun compare_with_eq4(SyntheticNet& net, bool set0, bool set1, const double shift[3]) {
+// q_scale: the value of external input 0 (a model with q_inputs scales its
+// bars' q by it at run time; the oracle scales Q by it).
+OracleRun compare_with_eq4(SyntheticNet& net, bool set0, bool set1, const double shift[3], double q_scale = 1.0) {
   OracleRun r;
   const bn::BarnetModel& m = net.model();
-  const PaperSystem s = paper_system(m);
+  const PaperSystem s = paper_system(m, q_scale);
   const auto want = paper_eq4(m, s, set0, set1, shift);
   sinew::fx::Mat34 bone = sinew::fx::mat34_identity();
   for (size_t c = 0; c < 3; ++c) bone.t[c] = static_cast<int32_t>(std::llround(shift[c] * kLenOne));
@@ -172,7 +174,8 @@ OracleRun compare_with_eq4(SyntheticNet& net, bool set0, bool set1, const double
     o.node[c] = out[c];
   }
   const sinew::fx::Mat34 bones[1] = {bone};
-  EXPECT_TRUE(bn::barnet_step(&net.state(), {bones, angles}, o).ok());
+  const int32_t external[1] = {static_cast<int32_t>(std::llround(q_scale * 65536.0))};
+  EXPECT_TRUE(bn::barnet_step(&net.state(), {bones, angles, external}, o).ok());
   for (uint32_t k = 0; k < s.free_count; ++k)
     for (size_t c = 0; c < 3; ++c) {
       const double got = out[c][s.free_nodes[k]];
@@ -340,4 +343,35 @@ TEST(BarnetPaperOracle, HalvingTheForceDensitiesDoublesTheBulge) {
               6 * kOracleBoundLsb);
   EXPECT_GT(largest, 6 * kOracleBoundLsb) << "the loads must bulge the tube beyond the solve's error";
   EXPECT_LE(worst, 6 * kOracleBoundLsb);
+}
+
+TEST(BarnetPaperOracle, ForceDensityFromAnInputFollowsEquation4) {
+  // Figure 3 (d) at run time: one net whose bars' q all follow external
+  // input 0, re-factorised each step. Eq. (4) with Q scaled in double is the
+  // oracle at every scale (dyadic scales of dyadic q: exact in Q16.16; a
+  // uniform scale keeps the unloaded equilibrium, so the rest stays where
+  // eq. (4) puts it). The paper's finding, lower q a larger bulge, follows
+  // with the factor 1 / scale of eq. (4)'s linearity in Q.
+  lb::NetSpec spec = muscle_tube(1.0);
+  rest_at_unloaded_equilibrium(&spec);
+  spec.external_count = 1;
+  spec.q_inputs.push_back({0, 0, static_cast<uint32_t>(spec.bars.size())});
+  SyntheticNet net(spec);
+  ASSERT_TRUE(net.ok()) << net.error();
+  const double none[3] = {0, 0, 0};
+  double bulge_at_one = 0;
+  for (const double scale : {1.0, 0.5, 0.25, 2.0}) {
+    double worst = 0;
+    for (int combo = 0; combo < 4; ++combo)
+      worst = std::max(worst, compare_with_eq4(net, combo & 1, combo & 2, none, scale).worst_lsb);
+    const double bulge = compare_with_eq4(net, true, true, none, scale).largest_move * kLenOne;
+    if (scale == 1.0) bulge_at_one = bulge;
+    std::printf("muscle tube, q x %.2f from the input: bulge %.1f LSB, worst |runtime - eq. (4)| %.4f LSB\n", scale,
+                bulge, worst);
+    EXPECT_LE(worst, kOracleBoundLsb) << "scale " << scale;
+    // Eq. (4): the displacement is D^-1 p, D linear in Q, so the bulge is
+    // bulge(1) / scale up to the oracle bound on each of the two runs.
+    EXPECT_NEAR(bulge, bulge_at_one / scale, 2 * kOracleBoundLsb / scale + 2 * kOracleBoundLsb) << "scale " << scale;
+  }
+  EXPECT_GT(bulge_at_one, 6 * kOracleBoundLsb) << "the loads must bulge the tube beyond the solve's error";
 }

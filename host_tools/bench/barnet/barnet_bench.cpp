@@ -18,11 +18,15 @@ namespace lb = sinew::layers::barnet;
 
 namespace {
 
-lb::ArmNetOptions net_options(int segments) {
+lb::ArmNetOptions net_options(int segments, bool q_input = false) {
   lb::ArmNetOptions o;
   o.segments = segments;
+  o.q_input = q_input;
   return o;
 }
+
+// Force-density scales the run-time refactor benchmarks cycle through (Q16.16).
+int32_t q_scale(int64_t i) { return static_cast<int32_t>((1 << 15) + (i % 7) * (1 << 14)); }
 
 // Median seconds per call of f over `reps` batches of `n` calls.
 template <typename F>
@@ -94,6 +98,30 @@ void BM_BarnetStep(benchmark::State& state) {
   state.SetLabel(label);
 }
 
+// The same step with every bar's q from an input that changes every step:
+// D re-assembled and re-factorised each time (the fixed cost of run-time
+// force densities).
+void BM_BarnetStepRefactor(benchmark::State& state) {
+  lb::ArmSession s(sinew::rigc::SkinChoice::kLinear, net_options(static_cast<int>(state.range(0)), true));
+  if (!s.ok()) return state.SkipWithError(s.error().c_str());
+  set_elbow(s, 90);
+  s.engine_step();
+  std::vector<int32_t> angles = s.inputs();
+  const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
+  int64_t i = 0;
+  for (auto _ : state) {
+    const int32_t external[1] = {q_scale(i)};
+    angles[elbow] = lb::degrees_to_angle(static_cast<double>(i++ % 150));
+    benchmark::DoNotOptimize(bn::barnet_step(&s.state(), {s.engine().model, angles, external}, s.outputs()).error);
+  }
+  report(state, s.model().wrap.size());
+  char label[160];
+  std::snprintf(label, sizeof(label), "%zu nodes (%u free), q from an input, refactor %llu products",
+                s.model().nodes.size(), s.state().free_count,
+                static_cast<unsigned long long>(s.state().refactor_products));
+  state.SetLabel(label);
+}
+
 void BM_EnginePlusBarnet(benchmark::State& state) {
   lb::ArmSession s(sinew::rigc::SkinChoice::kLinear);
   int64_t i = 0;
@@ -107,6 +135,7 @@ void BM_EnginePlusBarnet(benchmark::State& state) {
 
 BENCHMARK(BM_EngineStep)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarnetStepRefactor)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EnginePlusBarnet)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 // The per-layer table, every figure measured here, in this run.
@@ -153,6 +182,23 @@ bool summary() {
       row.target_source = "performance issue: bar-net wrap <= 0.3x LBS at 224 nodes";
     }
     if (!sinew::bench::summary_row(row)) ok = false;
+
+    // The same net with q from an input: the step plus a re-factorisation.
+    lb::ArmSession r(sinew::rigc::SkinChoice::kLinear, net_options(segments, true));
+    set_elbow(r, 90);
+    r.engine_step();
+    const double t_refactor = median_seconds(
+        [&](int i) {
+          const int32_t external[1] = {q_scale(i)};
+          angles[elbow] = lb::degrees_to_angle(i % 150);
+          benchmark::DoNotOptimize(
+              bn::barnet_step(&r.state(), {r.engine().model, angles, external}, r.outputs()).error);
+        },
+        500);
+    std::snprintf(what, sizeof(what), "  + q from an input (refactor, %llu products)",
+                  static_cast<unsigned long long>(r.state().refactor_products));
+    std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)\n", what, t_refactor * 1e6,
+                t_refactor / t_lbs, t_refactor / t);
   }
   return ok;
 }

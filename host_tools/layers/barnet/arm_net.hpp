@@ -22,6 +22,9 @@ struct ArmNetOptions {
   double force = 0.05;                // q x m at full flexion, on the inner side
   double outer_share = 0.5;           // the outer side's share of the force (cosine profile between)
   double flex_lo = 0, flex_hi = 150;  // degrees of elbow flexion: activation 0 -> 1
+  // Every bar's q follows external input 0 (the net then reads one external
+  // input and re-factorises D every step).
+  bool q_input = false;
 };
 
 // Fails (with a message) if `arm` is not the built-in arm's layout.

@@ -114,8 +114,16 @@ bool joint_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const 
     const Vec3d radial = normalized(sub(rel, scaled(u, dot(rel, u))));
     const double cy = dot(radial, inner);
     const double magnitude = force * (o.outer_share + (1 - o.outer_share) * (1 + cy) / 2);
-    s.loads.push_back({node(mid, k), parent, first_input_of(rig, joint), 0.0, hi, scaled(radial, magnitude)});
+    LoadSpec l{node(mid, k), parent, first_input_of(rig, joint), 0.0, hi, scaled(radial, magnitude)};
+    if (o.force_input >= 0) {
+      l.external_input = o.force_input;
+      l.value_lo = o.force_input_lo;
+      l.value_hi = o.force_input_hi;
+    }
+    s.loads.push_back(l);
   }
+  s.external_count = o.external_count;
+  if (o.q_input >= 0) s.q_inputs.push_back({o.q_input, 0, static_cast<uint32_t>(s.bars.size())});
   const double lo_t = -mid * step, hi_t = mid * step;
   for (const Candidate& cand : near)
     if (cand.axial >= lo_t && cand.axial <= hi_t) s.wrap_vertices.push_back(cand.vertex);

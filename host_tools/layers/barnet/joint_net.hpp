@@ -21,6 +21,11 @@ struct JointNetOptions {
   double q = 1.0;            // uniform force density
   double force = 0;          // q x model units at full flexion, inner side; 0: 1.1 x skin radius
   double outer_share = 0.5;  // the outer side's share of the force (cosine profile between)
+  // Inputs (EXTI indices into external_count inputs; -1: none).
+  uint32_t external_count = 0;
+  int force_input = -1;                            // activates the loads instead of the flexion
+  double force_input_lo = 0, force_input_hi = 40;  // input values (its unit) for activation 0 and 1
+  int q_input = -1;                                // scales every bar's q (dimensionless value)
 };
 
 // Fails, naming the joint and the problem, on a root joint, a joint without

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <utility>
 #include <sstream>
+#include <utility>
 
 #include "host_tools/rigc/quantize.hpp"
 #include "sim_core/fixed/scalar.hpp"
@@ -137,15 +137,28 @@ bool convert_loads(const NetSpec& spec, BarnetBuild* b, std::string* error) {
       return *error = at("loads", i, "node", "a fixed node (loads act on free nodes)"), false;
     if (s.joint < 0 || static_cast<uint32_t>(s.joint) >= b->joint_count)
       return *error = at("loads", i, "joint", "not a joint"), false;
-    if (s.input < 0 || static_cast<uint32_t>(s.input) >= b->input_count)
-      return *error = at("loads", i, "input", "not an input"), false;
     bn::LoadRecord r;
     r.node = b->node_order[s.node];
     r.joint = static_cast<uint16_t>(s.joint);
-    r.input = static_cast<uint16_t>(s.input);
-    r.angle_lo = rigc::to_angle(s.angle_lo);
-    r.angle_hi = rigc::to_angle(s.angle_hi);
-    if (r.angle_lo == r.angle_hi) return *error = at("loads", i, "angle_hi", "must differ from angle_lo"), false;
+    if (s.external_input >= 0) {
+      // Driven by an external input: its index follows the joint angles in
+      // the runtime's input array; lo, hi are Q16.16 values of its unit.
+      if (static_cast<uint32_t>(s.external_input) >= b->external_count)
+        return *error = at("loads", i, "external_input", "not an external input"), false;
+      if (!(std::fabs(s.value_lo) < 32768 && std::fabs(s.value_hi) < 32768))
+        return *error = at("loads", i, "value_lo/value_hi", "beyond +-32768 or not finite"), false;
+      r.input = static_cast<uint16_t>(b->input_count + static_cast<uint32_t>(s.external_input));
+      r.angle_lo = rigc::to_fixed(s.value_lo, 16);
+      r.angle_hi = rigc::to_fixed(s.value_hi, 16);
+      if (r.angle_lo == r.angle_hi) return *error = at("loads", i, "value_hi", "must differ from value_lo"), false;
+    } else {
+      if (s.input < 0 || static_cast<uint32_t>(s.input) >= b->input_count)
+        return *error = at("loads", i, "input", "not an input"), false;
+      r.input = static_cast<uint16_t>(s.input);
+      r.angle_lo = rigc::to_angle(s.angle_lo);
+      r.angle_hi = rigc::to_angle(s.angle_hi);
+      if (r.angle_lo == r.angle_hi) return *error = at("loads", i, "angle_hi", "must differ from angle_lo"), false;
+    }
     int32_t f[3];
     for (size_t c = 0; c < 3; ++c) {
       const double v = std::ldexp(s.force[c], -b->length_exponent);
@@ -155,6 +168,19 @@ bool convert_loads(const NetSpec& spec, BarnetBuild* b, std::string* error) {
     }
     r.force = {f[0], f[1], f[2]};
     b->loads.push_back(r);
+  }
+  return true;
+}
+
+bool convert_q_inputs(const NetSpec& spec, BarnetBuild* b, std::string* error) {
+  if (spec.q_inputs.size() > bn::kMaxForceDensityInputs) return *error = "q_inputs: more than 64", false;
+  for (size_t i = 0; i < spec.q_inputs.size(); ++i) {
+    const ForceDensityInputSpec& s = spec.q_inputs[i];
+    if (s.external_input < 0 || static_cast<uint32_t>(s.external_input) >= b->external_count)
+      return *error = at("q_inputs", i, "external_input", "not an external input"), false;
+    if (s.bar_count == 0 || uint64_t{s.first_bar} + s.bar_count > b->bars.size())
+      return *error = at("q_inputs", i, "bar_count", "an empty run or one beyond the last bar"), false;
+    b->q_inputs.push_back({static_cast<uint32_t>(s.external_input), s.first_bar, s.bar_count, 0});
   }
   return true;
 }
@@ -212,6 +238,8 @@ bn::BarnetModel BarnetBuild::model() const {
   m.loads = loads;
   m.triangles = triangles;
   m.wrap = wrap;
+  m.external_count = external_count;
+  m.q_inputs = q_inputs;
   return m;
 }
 
@@ -235,6 +263,8 @@ bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* ou
   b.joint_count = static_cast<uint32_t>(rig.joints.size());
   for (const rigc::JointSpec& j : rig.joints) b.input_count += static_cast<uint32_t>(j.dofs.size());
   b.vertex_count = static_cast<uint32_t>(rig.vertices.size());
+  b.external_count = spec.external_count;
+  if (b.external_count > bn::kMaxExternalInputs) return *error = "external_count: more than 64", false;
   // Inverse binds per joint, from the rig's palette (identity for a joint
   // the palette does not name: its skinning matrix is then its global).
   b.inverse_bind.assign(b.joint_count, fx::mat34_identity());
@@ -246,7 +276,8 @@ bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* ou
       m.t[r] = rigc::to_len(p.inverse_bind[12 + r], b.length_exponent);
     }
   }
-  if (!convert_nodes(spec, rig, &b, error) || !convert_bars(spec, &b, error) || !convert_loads(spec, &b, error))
+  if (!convert_nodes(spec, rig, &b, error) || !convert_bars(spec, &b, error) || !convert_loads(spec, &b, error) ||
+      !convert_q_inputs(spec, &b, error))
     return false;
   for (size_t i = 0; i < spec.triangles.size(); ++i) {
     bn::ControlTriangle t;

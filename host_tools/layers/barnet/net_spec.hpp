@@ -35,6 +35,17 @@ struct LoadSpec {
   int input = 0;                       // rig input whose angle activates it
   double angle_lo = 0, angle_hi = 90;  // degrees: activation 0 at lo, 1 at hi
   Vec3d force{0, 0, 0};                // at full activation, bind-pose model frame, q x model units
+  // >= 0: the external input (EXTI index) activating it instead of `input`,
+  // 0 at value_lo, 1 at value_hi (the input's unit, e.g. newtons).
+  int external_input = -1;
+  double value_lo = 0, value_hi = 1;
+};
+
+// Bars [first_bar, first_bar + bar_count) whose q is scaled by an external
+// input's value (dimensionless, clamped to [1/256, 256]) every step.
+struct ForceDensityInputSpec {
+  int external_input = 0;  // EXTI index
+  uint32_t first_bar = 0, bar_count = 0;
 };
 
 struct NetSpec {
@@ -43,18 +54,21 @@ struct NetSpec {
   std::vector<LoadSpec> loads;
   std::vector<std::array<uint32_t, 3>> triangles;  // control mesh
   std::vector<uint32_t> wrap_vertices;             // fine skin vertices bound to the control mesh
+  uint32_t external_count = 0;                     // external inputs of the rig (EXTI), for loads and q_inputs
+  std::vector<ForceDensityInputSpec> q_inputs;     // bars keep the spec's order, so runs index spec bars
 };
 
 // The quantised model and the arrays it points into.
 struct BarnetBuild {
   int32_t length_exponent = 0;  // the rig's: one rig unit = 2^e model units
-  uint32_t joint_count = 0, input_count = 0, vertex_count = 0;
+  uint32_t joint_count = 0, input_count = 0, vertex_count = 0, external_count = 0;
   std::vector<fx::Mat34> inverse_bind;
   std::vector<sinew::barnet::NodeRecord> nodes;
   std::vector<sinew::barnet::BarRecord> bars;
   std::vector<sinew::barnet::LoadRecord> loads;
   std::vector<sinew::barnet::ControlTriangle> triangles;
   std::vector<sinew::barnet::WrapRecord> wrap;
+  std::vector<sinew::barnet::ForceDensityInput> q_inputs;
   std::vector<uint32_t> node_order;  // spec node index -> model node index
   double max_wrap_offset = 0;        // largest |offset| of the wrap binding (model units)
 

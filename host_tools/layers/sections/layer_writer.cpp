@@ -119,9 +119,15 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
 }
 
 LayerSection barnet_section(const ::sinew::barnet::BarnetModel& m) {
-  const pipeline::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, 0};
-  SectionBuilder b = builder(pipeline::kSectionBarnet, 0, p, pipeline::kBarnetArrays);
+  // Version 1 while no load reads an external input and no q follows one
+  // (the bytes of rigs without them do not change); version 2 otherwise.
+  bool v2 = !m.q_inputs.empty();
+  for (const ::sinew::barnet::LoadRecord& l : m.loads) v2 = v2 || l.input >= m.input_count;
+  const pipeline::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, v2 ? m.external_count : 0};
+  SectionBuilder b = builder(pipeline::kSectionBarnet, 0, p, v2 ? pipeline::kBarnetArraysV2 : pipeline::kBarnetArrays);
+  if (v2) b.version(pipeline::kBarnetSectionVersion2);
   b.array(m.inverse_bind).array(m.nodes).array(m.bars).array(m.loads).array(m.triangles).array(m.wrap);
+  if (v2) b.array(m.q_inputs);
   return b.finish();
 }
 
