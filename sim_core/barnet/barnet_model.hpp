@@ -95,7 +95,8 @@ struct LoadRecord {
 
 // A run of bars whose force densities follow an external input: each step
 // q' = clamp(q * clamp(v, 2^-8, 2^8), q_min, q_max), v the input's Q16.16
-// value read as a dimensionless scale (rounded once). Runs may overlap: their
+// value read as a dimensionless scale (rounded once); v <= 0 (an input never
+// fed reads 0) reads as 1, the compiled q. Runs may overlap: their
 // scales then multiply, in record order. A model with any of these records
 // re-assembles and re-factorises D every step (a fixed cost, see
 // BarnetState::refactor_products).

@@ -6,7 +6,10 @@ void scale_force_densities(const BarnetModel& m, std::span<const int32_t> extern
                            fx::Saturation& sat) {
   for (size_t b = 0; b < m.bars.size(); ++b) q_out[b] = m.bars[b].q;
   for (const ForceDensityInput& r : m.q_inputs) {
-    const int32_t v = r.input < external.size() ? external[r.input] : kForceDensityOne;
+    int32_t v = r.input < external.size() ? external[r.input] : kForceDensityOne;
+    // A scale of 0 or below means nothing physically (no bar); it is what an
+    // input never fed reads, so it leaves the compiled q rather than the softest.
+    if (v <= 0) v = kForceDensityOne;
     const int64_t scale = fx::clamp_i64(v, kMinForceDensityScale, kMaxForceDensityScale);
     for (uint32_t b = r.first_bar; b < r.first_bar + r.bar_count; ++b) {
       // q (<= 2^24) x scale (<= 2^24) < 2^48: exact, then rounded once.

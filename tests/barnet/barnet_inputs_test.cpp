@@ -165,9 +165,12 @@ TEST(BarnetInputs, RefactorisingEveryStepKeepsNoHistory) {
   EXPECT_NE(soft, want) << "scaling half the bars' q must change the loaded shape";
   step_with_inputs(varying, kRightAngle, kRightAngle, 0, 200 * kQ16);
   EXPECT_EQ(step_with_inputs(varying, kRightAngle, kRightAngle, 0, kQ16), want);
-  // Scales beyond [2^-8, 2^8] clamp: 0 (an unfed input) acts as 2^-8.
-  EXPECT_EQ(step_with_inputs(varying, kRightAngle, kRightAngle, 0, 0),
+  // Positive scales beyond [2^-8, 2^8] clamp to its ends; 0 and below (what
+  // an input reads before its first sample) leave the compiled q.
+  EXPECT_EQ(step_with_inputs(varying, kRightAngle, kRightAngle, 0, 1),
             step_with_inputs(varying, kRightAngle, kRightAngle, 0, kQ16 >> 8));
+  EXPECT_EQ(step_with_inputs(varying, kRightAngle, kRightAngle, 0, 0), want);
+  EXPECT_EQ(step_with_inputs(varying, kRightAngle, kRightAngle, 0, -kQ16), want);
 }
 
 TEST(BarnetInputs, ValidationNamesTheInputRecords) {
