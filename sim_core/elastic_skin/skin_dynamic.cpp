@@ -1,5 +1,7 @@
 #include "skin_dynamic.hpp"
 
+#include <cstdint>
+
 #include "reaction.hpp"
 #include "relaxation.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
@@ -57,10 +59,48 @@ void band_targets(const SkinModel& model, const muscle::MuscleState& m, std::spa
   }
 }
 
+// Edge dashpots (LEMAN §3), explicit from the substep's start: on a,
+// c/m ((v_b - v_a) . e) e, the opposite on b (e: unit a -> b).
+void add_edge_dashpots(const SkinModel& model, int64_t edge_c, SkinState* s) {
+  for (const Edge& e : model.edges) {
+    const fx::Vec3 w{fx::sub_sat(s->position[0][e.b], s->position[0][e.a]),
+                     fx::sub_sat(s->position[1][e.b], s->position[1][e.a]),
+                     fx::sub_sat(s->position[2][e.b], s->position[2][e.a])};
+    fx::Vec3 dir{};
+    if (!fx::normalize_to_unit(w, &dir)) continue;
+    const int64_t d[3] = {dir.x, dir.y, dir.z};
+    int64_t relative = 0;  // (v_b - v_a) . e, Q44.20: |v| <= 2^46
+    for (int c = 0; c < 3; ++c)
+      relative += fx::mul_shift_round(s->velocity[c][e.b] - s->velocity[c][e.a], d[c], fx::kUnitFracBits);
+    const int64_t along = clamp_motion(mul_q16_sat(edge_c, relative));
+    for (int c = 0; c < 3; ++c) {
+      const int64_t a = fx::mul_shift_round(along, d[c], fx::kUnitFracBits);
+      s->force[c][e.a] = fx::add_sat_i64(s->force[c][e.a], a);
+      s->force[c][e.b] = fx::add_sat_i64(s->force[c][e.b], -a);
+    }
+  }
+}
+
+// Largest 2 c_e degree / m over vertices, Q16.16 1/s (the edge dashpots'
+// Gershgorin bound). Uses s->weight as scratch.
+int64_t largest_edge_damping(const SkinModel& model, int64_t edge_c, SkinState* s) {
+  for (uint32_t v = 0; v < model.vertex_count; ++v) s->weight[v] = 0;
+  for (const Edge& e : model.edges) {
+    ++s->weight[e.a];
+    ++s->weight[e.b];
+  }
+  int64_t degree = 0;
+  for (uint32_t v = 0; v < model.vertex_count; ++v)
+    if (s->weight[v] > degree) degree = s->weight[v];
+  // Saturates instead of overflowing (a huge product is refused anyway).
+  return edge_c > INT64_MAX / (2 * degree + 1) ? INT64_MAX : 2 * degree * edge_c;
+}
+
 struct Gains {
   int64_t spring = 0;        // stiffness_scale / m, Q16.16 1/s^2 per unit of model stiffness
   int64_t anchor_c = 0;      // anchor_damping / m, Q16.16 1/s
   int64_t band_c = 0;        // band_damping / m, Q16.16 1/s
+  int64_t edge_c = 0;        // edge_damping / m, Q16.16 1/s
   int64_t rate = 0;          // tick_hz: (end - start) * rate is a velocity
   int64_t substep_rate = 0;  // H = tick_hz * n, 1/s
   int64_t external[3] = {};  // gravity - a_base, Q44.20
@@ -84,6 +124,7 @@ void integrate(const SkinModel& model, const Gains& g, uint32_t j, uint32_t n, S
       s->force[c][e.b] = fx::add_sat_i64(s->force[c][e.b], -a[c]);
     }
   }
+  if (g.edge_c != 0) add_edge_dashpots(model, g.edge_c, s);
   // Rubber bands (§5.5): zero-length spring plus dashpot to the moving target.
   for (size_t i = 0; i < model.bands.size(); ++i) {
     const RubberBand& b = model.bands[i];
@@ -144,6 +185,7 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   g.spring = fx::div_round(int64_t{sp.stiffness_scale} << kMassFracBits, sp.vertex_mass);
   g.anchor_c = fx::div_round(int64_t{sp.anchor_damping} << kMassFracBits, sp.vertex_mass);
   g.band_c = fx::div_round(int64_t{sp.band_damping} << kMassFracBits, sp.vertex_mass);
+  g.edge_c = fx::div_round(int64_t{sp.edge_damping} << kMassFracBits, sp.vertex_mass);
   g.rate = tick.tick_hz;
   g.substep_rate = int64_t{tick.tick_hz} * n;
   // Stability (symplectic Euler): h * omega_max <= 1, i.e. omega^2 <= H^2.
@@ -152,6 +194,10 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   if (omega2 > h2)
     return bad_input("substep_hz", "substeps too long for the skin's stiffest vertex (h * omega > 1)",
                      fx::isqrt_fast(static_cast<uint64_t>(omega2 >> kQ16FracBits)), true);
+  // Explicit edge dashpots: h * gamma_max <= 1, i.e. gamma_max <= H.
+  if (g.edge_c != 0 && largest_edge_damping(model, g.edge_c, &s) > (g.substep_rate << kQ16FracBits))
+    return bad_input("substep_hz", "substeps too long for the edge dashpots (h * 2 c degree / m > 1)", sp.edge_damping,
+                     true);
   // Q24.8 -> Q44.20: |g - a| < 2^32, shifted < 2^44.
   constexpr int kToMotion = 20 - kAccelFracBits;
   g.external[0] = (int64_t{sp.gravity.x} - tick.base_acceleration.x) * (int64_t{1} << kToMotion);

@@ -135,6 +135,14 @@ struct SkinSolverParams {
   // both modes, Len >= 0.
   fx::Len fat_thickness = 0;
   fx::Vec3 gravity{0, 0, 0};  // rig units / s^2, Q24.8 (kAccelFracBits; e.g. y up, metres: {0, -2511, 0})
+  // Dynamic: N s per rig unit, a dashpot along each skin edge beside its
+  // spring (LEMAN §3: the surface's springs with damping), >= 0; 0 (the
+  // default) leaves the edges undamped, bit for bit as before. Explicit,
+  // on the relative velocity along the edge: c ((v_b - v_a) . e) e on a.
+  // A step is also refused unless h * gamma_max <= 1, gamma_max = max over
+  // vertices of 2 c degree / m (with h * omega_max <= 1 this keeps every
+  // damped mode of symplectic Euler stable).
+  Q16 edge_damping = 0;
 };
 
 struct SkinModel {

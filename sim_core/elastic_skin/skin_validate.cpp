@@ -57,8 +57,8 @@ LayerStatus check_solver(const SkinSolverParams& p) {
   if (p.constraint_passes < 1 || p.constraint_passes > kMaxConstraintPasses)
     return bad("skin solver", -1, "constraint_passes", "must be 1..4", p.constraint_passes, true);
   if (p.vertex_mass <= 0) return bad("skin solver", -1, "vertex_mass", "must be > 0", p.vertex_mass, true);
-  if (p.stiffness_scale < 0 || p.anchor_damping < 0 || p.band_damping < 0)
-    return bad("skin solver", -1, "stiffness_scale/anchor_damping/band_damping", "negative");
+  if (p.stiffness_scale < 0 || p.anchor_damping < 0 || p.band_damping < 0 || p.edge_damping < 0)
+    return bad("skin solver", -1, "stiffness_scale/anchor_damping/band_damping/edge_damping", "negative");
   return {};
 }
 

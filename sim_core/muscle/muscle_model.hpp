@@ -54,7 +54,7 @@ struct MuscleRecord {
 enum class PrimitiveKind : uint8_t {
   kSphere = 0,          // extent[0] is the radius (extent[1..2] must equal it)
   kCylinder = 1,        // elliptic cross-section extent[0..1] about Z, half height extent[2]
-  kSuperellipsoid = 2,  // |x/a|^p + |y/b|^p + |z/c|^p < 1, p = exponent in {2, 4, 8}
+  kSuperellipsoid = 2,  // |x/a|^p + |y/b|^p + |z/c|^p < 1, p = exponent in {2, 4, 8} only
 };
 
 enum class PrimitiveAttach : uint8_t {
@@ -74,11 +74,35 @@ struct PrimitiveRecord {
   fx::Len extent[3] = {};    // rest half-extents along the frame's X, Y, Z, > 0
 };
 
+// Barr's global deformations of a primitive (LEMAN §5.2, [Barr 84]) about
+// its frame's Z axis, c = extent[2] its (present) half height. Applied in
+// this order to the undeformed shape: taper, then twist, then bend.
+//   taper: x, y scale by r(z) = 1 + taper * z / c
+//   twist: x, y rotate about Z by twist * z / c
+//   bend:  the Z axis bends towards +X on a circle of radius R = c / beta
+//          (beta = bend in radians), the angle at z being bend * z / c
+// All zero is the undeformed primitive, bit for bit. Validated ranges:
+//   |taper| <= 1/2; |twist| <= a quarter turn;
+//   bend 0 or 1/1024 <= |bend| <= 1/4 turn, and R >= 4 max(a, b) at rest
+//   (the bend's centre stays clear of the primitive).
+struct PrimitiveDeformation {
+  fx::Unit taper = 0;  // Q2.30, taper rate over the half height
+  int32_t twist = 0;   // binary angle (2^32 = one turn, signed) at z = +c
+  int32_t bend = 0;    // binary angle (signed) of the axis' tangent at z = +c
+  uint32_t reserved = 0;
+};
+inline constexpr fx::Unit kMaxTaper = fx::kUnitOne / 2;
+inline constexpr int32_t kMaxTwist = int32_t{1} << 30;
+inline constexpr int32_t kMinBend = int32_t{1} << 22;
+inline constexpr int32_t kMaxBend = int32_t{1} << 30;
+
 struct MuscleModel {
   uint32_t joint_count = 0;    // joints of the rig the model was built for
   uint32_t ring_vertices = 8;  // per slice, multiple of 4 in [4, kMaxRingVertices]
   std::span<const MuscleRecord> muscles;
   std::span<const PrimitiveRecord> primitives;
+  // Empty (no primitive deformed) or one per primitive.
+  std::span<const PrimitiveDeformation> deformations;
 };
 
 }  // namespace sinew::muscle

@@ -20,13 +20,14 @@ struct SliceFrame {
   fx::Len radius_x = 0, radius_y = 0;
 };
 
-// A primitive placed for this step: world (model-space) centre, unit axes
-// and present half-extents.
+// A primitive placed for this step: world (model-space) centre, unit axes,
+// present half-extents and its global deformation (muscle_model.hpp).
 struct PrimitiveFrame {
   fx::Vec3 centre{0, 0, 0};
   fx::Vec3 axis[3] = {};
   fx::Len extent[3] = {};
   uint8_t kind = 0, exponent = 2, active = 0;
+  PrimitiveDeformation deformation;
 };
 
 struct MuscleStats {

@@ -92,12 +92,13 @@ fx::Vec3 bone_axis(const fx::Mat34& b, int c) {
           fx::sat_i32(int64_t{b.m[2][c]} << up)};
 }
 
-PrimitiveFrame place_primitive(const PrimitiveRecord& p, std::span<const fx::Mat34> bones, const MuscleModel& model,
-                               const MuscleState& s) {
+PrimitiveFrame place_primitive(const PrimitiveRecord& p, const PrimitiveDeformation& deformation,
+                               std::span<const fx::Mat34> bones, const MuscleModel& model, const MuscleState& s) {
   PrimitiveFrame f;
   f.kind = p.kind;
   f.exponent = p.exponent;
   f.active = p.active;
+  f.deformation = deformation;
   if (p.attach == static_cast<uint8_t>(PrimitiveAttach::kBone)) {
     const fx::Mat34& b = bones[p.index];
     f.centre = fx::transform_point(b, p.centre);
@@ -137,6 +138,8 @@ LayerStatus check_indices(const MuscleModel& model, size_t bones) {
     if (r.pivot_bone >= 0 && (static_cast<size_t>(r.pivot_bone) >= bones || r.pivot_slice < 1 || r.pivot_slice > 6))
       return layer_fail(LayerError::kBadModel, "muscle", i, "pivot", "bone not a joint or pivot_slice outside 1..6");
   }
+  if (!model.deformations.empty() && model.deformations.size() != model.primitives.size())
+    return layer_fail(LayerError::kBadModel, "muscle model", -1, "deformations", "must be empty or one per primitive");
   for (uint32_t p = 0; p < model.primitives.size(); ++p) {
     const PrimitiveRecord& r = model.primitives[p];
     const bool bone = r.attach == static_cast<uint8_t>(PrimitiveAttach::kBone);
@@ -178,8 +181,10 @@ LayerStatus muscle_step(const MuscleModel& model, std::span<const fx::Mat34> bon
     build_muscle(r, i, pts, state);
     ++state->stats.recomputed;
   }
+  const bool deformed = !model.deformations.empty();
   for (uint32_t p = 0; p < model.primitives.size(); ++p)
-    state->primitives[p] = place_primitive(model.primitives[p], bones, model, *state);
+    state->primitives[p] = place_primitive(
+        model.primitives[p], deformed ? model.deformations[p] : PrimitiveDeformation{}, bones, model, *state);
   ++state->stats.steps;
   return {};
 }

@@ -1,5 +1,7 @@
 #include "muscle_validate.hpp"
 
+#include "primitive_deform.hpp"
+
 namespace sinew::muscle {
 namespace {
 
@@ -74,6 +76,24 @@ LayerStatus check_primitive(const rig::Rig& rig, const MuscleModel& model, const
   return {};
 }
 
+// Barr deformation ranges (muscle_model.hpp): beyond them the fixed-point
+// inverse maps lose their bounds (or the bend's centre enters the shape).
+LayerStatus check_deformation(const PrimitiveRecord& p, const PrimitiveDeformation& d, uint32_t i) {
+  if (d.taper < -kMaxTaper || d.taper > kMaxTaper)
+    return bad("primitive", i, "deformation.taper", "outside [-1/2, 1/2] (Q2.30)", d.taper, true);
+  if (d.twist < -kMaxTwist || d.twist > kMaxTwist)
+    return bad("primitive", i, "deformation.twist", "beyond a quarter turn", d.twist, true);
+  if (d.reserved != 0) return bad("primitive", i, "deformation.reserved", "must be 0", d.reserved, true);
+  if (d.bend == 0) return {};
+  const int64_t bend = d.bend < 0 ? -int64_t{d.bend} : int64_t{d.bend};
+  if (bend < kMinBend || bend > kMaxBend)
+    return bad("primitive", i, "deformation.bend", "must be 0 or 1/1024..1/4 turn", d.bend, true);
+  const int64_t across = p.extent[0] > p.extent[1] ? p.extent[0] : p.extent[1];
+  if (bend_radius(p.extent[2], bend) < 4 * across)
+    return bad("primitive", i, "deformation.bend", "bend radius below 4 x the cross-section's extent", d.bend, true);
+  return {};
+}
+
 }  // namespace
 
 LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
@@ -88,8 +108,12 @@ LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
     const LayerStatus s = check_muscle(rig, model.muscles[i], i);
     if (!s.ok()) return s;
   }
+  if (!model.deformations.empty() && model.deformations.size() != model.primitives.size())
+    return bad("muscle model", -1, "deformations", "must be empty or one per primitive",
+               static_cast<int64_t>(model.deformations.size()), true);
   for (uint32_t i = 0; i < model.primitives.size(); ++i) {
-    const LayerStatus s = check_primitive(rig, model, model.primitives[i], i);
+    LayerStatus s = check_primitive(rig, model, model.primitives[i], i);
+    if (s.ok() && !model.deformations.empty()) s = check_deformation(model.primitives[i], model.deformations[i], i);
     if (!s.ok()) return s;
   }
   return {};

@@ -1,5 +1,6 @@
 #include "primitive.hpp"
 
+#include "primitive_deform.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
@@ -28,6 +29,8 @@ Powers powers(fx::Unit q, int exponent) {
   return {fx::mul_unit(q4, q4), fx::mul_unit(fx::mul_unit(q4, q2), q)};
 }
 
+fx::Vec3 push_out_deformed(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps);
+
 }  // namespace
 
 PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
@@ -41,10 +44,18 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
   for (int i = 0; i < 3; ++i) {
     if (f.extent[i] <= 0) return s;
     local[i] = component(d, f.axis[i]);
-    // Outside the bounding box every term (or the cylinder's cap test) is >= 1.
-    if (local[i] >= f.extent[i] || local[i] <= -int64_t{f.extent[i]}) return s;
     if (f.extent[i] > emax) emax = f.extent[i];
   }
+  // A deformed primitive tests the undeformed point D^-1(p) (§6.11).
+  const bool deformed = is_deformed(f.deformation);
+  DeformTrace trace;
+  if (deformed) {
+    if (!primitive_undeform(f, local, &trace)) return s;
+    for (int i = 0; i < 3; ++i) local[i] = trace.undeformed[i];
+  }
+  // Outside the bounding box every term (or the cylinder's cap test) is >= 1.
+  for (int i = 0; i < 3; ++i)
+    if (local[i] >= f.extent[i] || local[i] <= -int64_t{f.extent[i]}) return s;
   const int terms = cylinder ? 2 : 3;
   int64_t value = 0;
   int64_t g[3] = {0, 0, 0};  // dF/dx_i * emax = p q^(p-1) (emax / a_i), Q2.30 x Q16 -> Q46
@@ -77,7 +88,12 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
   const int64_t glen = fx::length(g_local);
   s.gradient_length = fx::sat_i32(shift >= 26 ? glen << (shift - 26) : fx::round_shift(glen, 26 - shift));
   fx::Vec3 n{};
-  if (fx::normalize_to_unit(g_local, &n)) {
+  fx::Vec3 direction = g_local;
+  if (deformed) {  // the covariant transform J^T grad F (§6.11)
+    primitive_deform_gradient(f, trace, g);
+    direction = {fx::sat_i32(g[0]), fx::sat_i32(g[1]), fx::sat_i32(g[2])};
+  }
+  if (fx::normalize_to_unit(direction, &n)) {
     const auto world = [&](int c) {
       const int64_t sum =
           int64_t{comp(f.axis[0], c)} * n.x + int64_t{comp(f.axis[1], c)} * n.y + int64_t{comp(f.axis[2], c)} * n.z;
@@ -89,6 +105,7 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
 }
 
 fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps) {
+  if (is_deformed(f.deformation)) return push_out_deformed(f, p, fallback, newton_steps);
   fx::Len emax = 0;
   for (int i = 0; i < 3; ++i)
     if (f.extent[i] > emax) emax = f.extent[i];
@@ -118,4 +135,51 @@ fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallba
   return p;
 }
 
+namespace {
+
+// Deformed primitives (§5.2): Newton in the undeformed frame (identity axes,
+// centre 0), from D^-1(p) to just outside the undeformed surface, then that
+// point mapped forward. It lands on the deformed surface (D maps surface to
+// surface); the move follows the image of the undeformed gradient path, not
+// the deformed gradient: an approximation, exact where D is a rotation.
+fx::Vec3 push_out_deformed(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps) {
+  const fx::Vec3 d = fx::sub(p, f.centre);
+  int64_t local[3];
+  for (int i = 0; i < 3; ++i) {
+    if (f.extent[i] <= 0) return p;
+    local[i] = component(d, f.axis[i]);
+  }
+  DeformTrace trace;
+  if (!primitive_undeform(f, local, &trace)) return p;
+  for (int i = 0; i < 3; ++i)
+    if (trace.undeformed[i] >= f.extent[i] || trace.undeformed[i] <= -int64_t{f.extent[i]}) return p;
+  PrimitiveFrame plain = f;
+  plain.deformation = {};
+  plain.centre = {0, 0, 0};
+  plain.axis[0] = {fx::kUnitOne, 0, 0};
+  plain.axis[1] = {0, fx::kUnitOne, 0};
+  plain.axis[2] = {0, 0, fx::kUnitOne};
+  // Inside the box: each |p0_i| < extent_i fits a Len.
+  const fx::Vec3 start{static_cast<int32_t>(trace.undeformed[0]), static_cast<int32_t>(trace.undeformed[1]),
+                       static_cast<int32_t>(trace.undeformed[2])};
+  const fx::Vec3 local_fallback{fx::sat_i32(component(fallback, f.axis[0])),
+                                fx::sat_i32(component(fallback, f.axis[1])),
+                                fx::sat_i32(component(fallback, f.axis[2]))};
+  const fx::Vec3 out = primitive_push_out(plain, start, local_fallback, newton_steps);
+  if (out == start) return p;
+  const int64_t moved_in[3] = {out.x, out.y, out.z};
+  int64_t moved[3];
+  primitive_deform(f, moved_in, moved);
+  // World move = axes * (D(p0') - p3): |each| < 2^40, no overflow.
+  int64_t world[3] = {0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    const int64_t delta = moved[i] - local[i];
+    world[0] += fx::mul_shift_round(f.axis[i].x, delta, fx::kUnitFracBits);
+    world[1] += fx::mul_shift_round(f.axis[i].y, delta, fx::kUnitFracBits);
+    world[2] += fx::mul_shift_round(f.axis[i].z, delta, fx::kUnitFracBits);
+  }
+  return {fx::sat_i32(p.x + world[0]), fx::sat_i32(p.y + world[1]), fx::sat_i32(p.z + world[2])};
+}
+
+}  // namespace
 }  // namespace sinew::muscle

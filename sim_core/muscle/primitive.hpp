@@ -10,6 +10,10 @@
 //   dF/dx_i = p q_i^(p-1) / a_i
 // points out of the primitive. F is returned in Q2.30 (values of 1 or more,
 // including every point outside the bounding box, read as "outside").
+//
+// A primitive with a global deformation D (taper, twist, bend: §5.2,
+// primitive_deform.hpp) is tested at D^-1(p): F and gradient_length are
+// those of the undeformed point, `normal` the covariant J^T grad F.
 #pragma once
 
 #include <cstdint>
@@ -36,6 +40,9 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p);
 // steps on G = F^(1/p) along the gradient (never more than the largest
 // extent per step). `fallback` (a unit vector) is used at the centre,
 // where the gradient vanishes. Returns the moved point (p if outside).
+// Deformed primitives: the Newton steps run on the undeformed point, whose
+// landing point is mapped forward (on the deformed surface, the move not
+// exactly along the deformed gradient; primitive.cpp).
 fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps);
 
 }  // namespace sinew::muscle

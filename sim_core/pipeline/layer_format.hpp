@@ -17,6 +17,7 @@
 // are pinned by static_asserts here so a layout change cannot go unnoticed.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "sim_core/barnet/barnet_model.hpp"
@@ -113,11 +114,19 @@ static_assert(sizeof(metaballs::BallPair) == 20 && sizeof(metaballs::BulgeRecord
 inline constexpr uint32_t kMetaballsArrays = 25;
 
 // MUSC params. Arrays: muscles (MuscleRecord), primitives (PrimitiveRecord).
+// Layer version 2 (MUSC only) appends a third array, deformations
+// (PrimitiveDeformation, empty or one per primitive: Barr's taper, twist and
+// bend). Writers emit version 1 while no primitive is deformed, so rigs
+// without deformations keep their bytes; a version-1-only loader refuses a
+// version 2 MUSC section (kBadVersion).
 struct MusclesSectionParams {
   uint32_t joint_count, ring_vertices;
 };
-static_assert(sizeof(muscle::MuscleRecord) == 184 && sizeof(muscle::PrimitiveRecord) == 36);
+static_assert(sizeof(muscle::MuscleRecord) == 184 && sizeof(muscle::PrimitiveRecord) == 36 &&
+              sizeof(muscle::PrimitiveDeformation) == 16);
 inline constexpr uint32_t kMusclesArrays = 2;
+inline constexpr uint32_t kMusclesSectionVersion2 = 2;
+inline constexpr uint32_t kMusclesArraysV2 = 3;
 
 // SKIN params. Arrays: anchors, anchor_stiffness, fat, edges, bands, then
 // the skin's support region: region_vertex (u32, ascending) and
@@ -132,19 +141,32 @@ inline constexpr uint32_t kMusclesArrays = 2;
 // emit version 1 whenever the solver record is the default, so rigs without
 // the new settings keep their bytes; a loader that knows only version 1
 // refuses a version 2 SKIN section (kBadVersion) instead of misreading it.
+// Layer version 3 (SKIN only) carries the whole solver record, whose last
+// member, edge_damping, version 2 lacks (its 52 bytes are the record's
+// first 52; edge_damping then reads 0). Writers emit version 3 only when
+// edge_damping is not 0.
 struct SkinSectionParams {
   uint32_t joint_count, vertex_count;
   elastic_skin::SkinParams params;
 };
+inline constexpr uint32_t kSkinSolverBytesV2 = 52;
 struct SkinSectionParamsV2 {
+  uint32_t joint_count, vertex_count;
+  elastic_skin::SkinParams params;
+  uint8_t solver[kSkinSolverBytesV2];  // the first 52 bytes of elastic_skin::SkinSolverParams
+};
+struct SkinSectionParamsV3 {
   uint32_t joint_count, vertex_count;
   elastic_skin::SkinParams params;
   elastic_skin::SkinSolverParams solver;
 };
 inline constexpr uint32_t kSkinSectionVersion2 = 2;
+inline constexpr uint32_t kSkinSectionVersion3 = 3;
 static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anchor) == 80 &&
               sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20 &&
-              sizeof(elastic_skin::SkinSolverParams) == 52 && sizeof(SkinSectionParamsV2) == 88);
+              sizeof(elastic_skin::SkinSolverParams) == 56 && sizeof(SkinSectionParamsV2) == 88 &&
+              sizeof(SkinSectionParamsV3) == 92 &&
+              offsetof(elastic_skin::SkinSolverParams, edge_damping) == kSkinSolverBytesV2);
 inline constexpr uint32_t kSkinArrays = 7;
 
 // BNET params. Arrays: inverse_bind, nodes, bars, loads, triangles, wrap.

@@ -112,9 +112,10 @@ constexpr ArraySpec kMetaballsSpec[kMetaballsArrays] = {
     {4, kMbVerts, "overlap_vertices"},
     {2, metaballs::kMaxBalls, "overlap_balls"},
 };
-constexpr ArraySpec kMusclesSpec[kMusclesArrays] = {
+constexpr ArraySpec kMusclesSpec[kMusclesArraysV2] = {
     {sizeof(muscle::MuscleRecord), muscle::kMaxMuscles, "muscles"},
     {sizeof(muscle::PrimitiveRecord), muscle::kMaxPrimitives, "primitives"},
+    {sizeof(muscle::PrimitiveDeformation), muscle::kMaxPrimitives, "deformations"},  // version 2 only
 };
 constexpr ArraySpec kSkinSpec[kSkinArrays] = {
     {sizeof(elastic_skin::Anchor), elastic_skin::kMaxVertices, "anchors"},
@@ -161,6 +162,14 @@ bool layout_of(uint32_t id, uint32_t version, Layout* out) {
     *out = {sizeof(BarnetSectionParams), kBarnetArraysV2, kBarnetSpecV2};
     return true;
   }
+  if (id == kSectionElasticSkin && version == kSkinSectionVersion3) {
+    *out = {sizeof(SkinSectionParamsV3), kSkinArrays, kSkinSpec};
+    return true;
+  }
+  if (id == kSectionMuscles && version == kMusclesSectionVersion2) {
+    *out = {sizeof(MusclesSectionParams), kMusclesArraysV2, kMusclesSpec};
+    return true;
+  }
   switch (id) {
     case kSectionSphJoint:
       *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
@@ -204,9 +213,11 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
     return fail(LoadError::kSectionSize, id, instance, "size", -1, "shorter than the 32-byte layer header", size, true);
   std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
   const LayerSectionHeader& h = out->header;
-  const bool skin_v2 = id == kSectionElasticSkin && h.layer_version == kSkinSectionVersion2;
+  const bool skin_v2 =
+      id == kSectionElasticSkin && (h.layer_version == kSkinSectionVersion2 || h.layer_version == kSkinSectionVersion3);
   const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
-  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2)
+  const bool muscles_v2 = id == kSectionMuscles && h.layer_version == kMusclesSectionVersion2;
+  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2)
     return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
                 h.layer_version, true);
   layout_of(id, h.layer_version, &layout);
@@ -378,8 +389,9 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
 
 LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::MuscleModel* out) {
   const MusclesSectionParams p = params_of<MusclesSectionParams>(v);
-  *out = {p.joint_count, p.ring_vertices, array_of<muscle::MuscleRecord>(v, 0),
-          array_of<muscle::PrimitiveRecord>(v, 1)};
+  const bool v2 = v.header.layer_version == kMusclesSectionVersion2;
+  *out = {p.joint_count, p.ring_vertices, array_of<muscle::MuscleRecord>(v, 0), array_of<muscle::PrimitiveRecord>(v, 1),
+          v2 ? array_of<muscle::PrimitiveDeformation>(v, 2) : std::span<const muscle::PrimitiveDeformation>{}};
   const muscle::LayerStatus st = muscle::muscle_validate(rig, *out);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
@@ -388,9 +400,15 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
 LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::MuscleModel& muscles,
                      elastic_skin::SkinModel* out, std::span<const uint32_t>* region,
                      std::span<const fx::Unit>* region_weight) {
-  SkinSectionParamsV2 p{};
-  if (v.header.layer_version == kSkinSectionVersion2) {
-    p = params_of<SkinSectionParamsV2>(v);
+  SkinSectionParamsV3 p{};
+  if (v.header.layer_version == kSkinSectionVersion3) {
+    p = params_of<SkinSectionParamsV3>(v);
+  } else if (v.header.layer_version == kSkinSectionVersion2) {  // the solver record without edge_damping
+    const SkinSectionParamsV2 p2 = params_of<SkinSectionParamsV2>(v);
+    p.joint_count = p2.joint_count;
+    p.vertex_count = p2.vertex_count;
+    p.params = p2.params;
+    std::memcpy(static_cast<void*>(&p.solver), p2.solver, kSkinSolverBytesV2);
   } else {  // version 1: the default solver (static relaxation)
     const SkinSectionParams p1 = params_of<SkinSectionParams>(v);
     p.joint_count = p1.joint_count;

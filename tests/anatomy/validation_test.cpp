@@ -106,6 +106,44 @@ TEST(AnatomyValidation, BadMuscleAndPrimitiveRecords) {
       "a sphere needs three equal extents");
 }
 
+TEST(AnatomyValidation, BadPrimitiveDeformations) {
+  // Barr's deformations outside their documented ranges (muscle_model.hpp).
+  ArmAnatomy arm;
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  const size_t n = arm.model().primitives.size();
+  ASSERT_GT(n, 0u);
+  const auto validate = [&](auto edit) {
+    std::vector<muscle::PrimitiveDeformation> ds(n);
+    edit(ds);
+    muscle::MuscleModel m = arm.muscle_model();
+    m.deformations = ds;
+    return muscle::muscle_validate(arm.rig(), m);
+  };
+  using DV = std::vector<muscle::PrimitiveDeformation>;
+  constexpr int32_t kDegree = 11930465;  // 2^32 / 360
+  // In range: accepted (a mild bend keeps its centre clear of the shape).
+  EXPECT_TRUE(validate([](DV& d) {
+                d[0].taper = muscle::kMaxTaper;
+                d[0].twist = -muscle::kMaxTwist;
+                d[0].bend = 5 * kDegree;
+              }).ok());
+  expect_message(validate([](DV& d) { d[0].taper = muscle::kMaxTaper + 1; }), "primitive[0].deformation.taper");
+  expect_message(validate([](DV& d) { d[0].twist = muscle::kMaxTwist + 1; }), "primitive[0].deformation.twist");
+  expect_message(validate([](DV& d) { d[0].bend = muscle::kMinBend - 1; }), "primitive[0].deformation.bend");
+  expect_message(validate([](DV& d) { d[0].bend = -(muscle::kMaxBend + 1); }), "primitive[0].deformation.bend");
+  expect_message(validate([](DV& d) { d[0].bend = muscle::kMaxBend; }), "bend radius below");
+  expect_message(validate([](DV& d) { d.pop_back(); }), "deformations");
+  // The superellipsoid exponent: 2, 4 or 8 only (documented range).
+  for (const int exponent : {1, 6, 16}) {
+    std::vector<muscle::PrimitiveRecord> ps(arm.model().primitives);
+    ps[0].kind = static_cast<uint8_t>(muscle::PrimitiveKind::kSuperellipsoid);
+    ps[0].exponent = static_cast<uint8_t>(exponent);
+    muscle::MuscleModel m = arm.muscle_model();
+    m.primitives = ps;
+    expect_message(muscle::muscle_validate(arm.rig(), m), "primitive[0].exponent");
+  }
+}
+
 TEST(AnatomyValidation, BadSkinParametersAndRecords) {
   ArmAnatomy arm;
   ASSERT_TRUE(arm.ok()) << arm.error();

@@ -32,6 +32,7 @@ struct BuildReport {
 struct AnatomyModel {
   std::vector<muscle::MuscleRecord> muscles;
   std::vector<muscle::PrimitiveRecord> primitives;
+  std::vector<muscle::PrimitiveDeformation> deformations;  // empty (none deformed) or one per primitive
   std::vector<elastic_skin::Anchor> anchors;
   std::vector<elastic_skin::Stiffness> anchor_stiffness;
   std::vector<fx::Len> fat;
@@ -42,7 +43,7 @@ struct AnatomyModel {
   elastic_skin::SkinSolverParams solver;
   BuildReport report;
 
-  muscle::MuscleModel muscle_model() const { return {joint_count, ring_vertices, muscles, primitives}; }
+  muscle::MuscleModel muscle_model() const { return {joint_count, ring_vertices, muscles, primitives, deformations}; }
   elastic_skin::SkinModel skin_model() const {
     return {joint_count, static_cast<uint32_t>(anchors.size()), anchors, anchor_stiffness, fat, edges, bands, params,
             solver};

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/pipeline/layer_set.hpp"
 #include "sim_core/rig/crc32c.hpp"
 #include "sim_core/rig/rig.hpp"
@@ -92,9 +93,15 @@ LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
 }
 
 LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
+  // Version 1 while no primitive is deformed (those rigs keep their bytes).
+  bool deformed = false;
+  for (const auto& d : m.deformations) deformed = deformed || ::sinew::muscle::is_deformed(d);
   const pipeline::MusclesSectionParams p{m.joint_count, m.ring_vertices};
-  SectionBuilder b = builder(pipeline::kSectionMuscles, 0, p, pipeline::kMusclesArrays);
+  SectionBuilder b =
+      builder(pipeline::kSectionMuscles, 0, p, deformed ? pipeline::kMusclesArraysV2 : pipeline::kMusclesArrays);
+  if (deformed) b.version(pipeline::kMusclesSectionVersion2);
   b.array(m.muscles).array(m.primitives);
+  if (deformed) b.array(m.deformations);
   return b.finish();
 }
 
@@ -102,16 +109,21 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
                           std::span<const fx::Unit> region_weight) {
   // Version 1 while the solver record is the default (the bytes of rigs
   // without the new settings do not change); version 2 otherwise.
+  // Version 3 only with edge dashpots (the record's last member).
   const elastic_skin::SkinSolverParams defaults{};
-  const bool v2 = std::memcmp(&m.solver, &defaults, sizeof(defaults)) != 0;
-  pipeline::SkinSectionParamsV2 p{};
+  const bool v3 = m.solver.edge_damping != 0;
+  const bool v2 = !v3 && std::memcmp(&m.solver, &defaults, pipeline::kSkinSolverBytesV2) != 0;
+  pipeline::SkinSectionParamsV3 p{};
   p.joint_count = m.joint_count;
   p.vertex_count = m.vertex_count;
   p.params = m.params;
   p.solver = m.solver;
-  SectionBuilder b = v2 ? builder(pipeline::kSectionElasticSkin, 0, p, pipeline::kSkinArrays)
-                        : SectionBuilder(pipeline::kSectionElasticSkin, 0, &p, sizeof(pipeline::SkinSectionParams),
-                                         pipeline::kSkinArrays);
+  // The version 1 and 2 records are prefixes of the version 3 one.
+  const uint32_t size = v3   ? uint32_t{sizeof(pipeline::SkinSectionParamsV3)}
+                        : v2 ? uint32_t{sizeof(pipeline::SkinSectionParamsV2)}
+                             : uint32_t{sizeof(pipeline::SkinSectionParams)};
+  SectionBuilder b(pipeline::kSectionElasticSkin, 0, &p, size, pipeline::kSkinArrays);
+  if (v3) b.version(pipeline::kSkinSectionVersion3);
   if (v2) b.version(pipeline::kSkinSectionVersion2);
   b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
   b.array(region).array(region_weight);
