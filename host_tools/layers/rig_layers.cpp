@@ -209,9 +209,6 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
   if (layers.metaballs.on) {
     metaballs_build::Options o = layers.metaballs.options;
     o.rate_hz = layers.rate_hz;  // physical jiggle gains for the rig's tick rate
-    if (!o.action_lines.empty())
-      return fail(layers.metaballs.where,
-                  "action lines are not in the rig format's metaballs section yet (build the model in-process)", error);
     double mean = 0, total = 0;
     int radii = 0;
     for (size_t j = 0; j < g.skin_radius.size(); ++j) {

@@ -38,6 +38,18 @@ struct JiggleGains {
 // tick_hz > 4 f and tick_hz > 3 / (W_t (1 - cos theta)).
 bool jiggle_gains(int32_t frequency_q16, int32_t window_q16, uint32_t tick_hz, JiggleGains* out);
 
+// The gains `built` (made by jiggle_gains for built_hz) converted to
+// tick_hz: the same sigma and omega, recovered from the gains' roots
+// (r^2 = (1 - k) d, 2 r cos(theta) = (1 - k) (1 + d); sigma dt = -ln r by an
+// atanh series, theta by fx::atan2_angle), scaled by built_hz / tick_hz and
+// turned back into gains. Integer only, so every platform converts alike;
+// the same rate returns `built` unchanged. The Q2.30 gains carry theta to
+// within about 2^-30 / (theta sin theta) relative (a few 1e-6 at 4 Hz and
+// 1 kHz), which sets the converted swing's phase drift. Returns false (and
+// leaves *out alone) for gains no jiggle_gains could give or a rate that
+// cannot carry the swing (as jiggle_gains).
+bool jiggle_gains_for_rate(JiggleGains built, uint32_t built_hz, uint32_t tick_hz, JiggleGains* out);
+
 // exp(-x) for x in Q2.30, x >= 0, result Q2.30 (within a few LSB).
 fx::Unit exp_neg_unit(int64_t x_q30);
 

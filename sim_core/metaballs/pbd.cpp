@@ -61,15 +61,17 @@ void project_action(const ActionBall& a, fx::Vec3 point, std::span<fx::Vec3> c) 
 // tick: the free swing is exact, and with g = r = sqrt((1 - k) d) a sudden
 // change of the bone's velocity starts the swing of the continuous impulse
 // response to within theta / sin(theta) (second order in dt).
-void swing_relative(const MetaballModel& m, MetaballState* s, uint32_t b) {
+void swing_relative(MetaballState* s, uint32_t b) {
   const fx::Vec3 target = s->ball_target[b];
-  const fx::Unit kept = fx::kUnitOne - m.ball_jiggle[b];
-  const fx::Unit drive = static_cast<fx::Unit>(fx::isqrt_u64(static_cast<uint64_t>(int64_t{kept} * m.jiggle_damping)));
+  // The gains at the state's tick rate (set_tick_rate; the model's at its own).
+  const fx::Unit damping = s->jiggle_damping[b];
+  const fx::Unit kept = fx::kUnitOne - s->jiggle_stiffness[b];
+  const fx::Unit drive = static_cast<fx::Unit>(fx::isqrt_u64(static_cast<uint64_t>(int64_t{kept} * damping)));
   const fx::Vec3 e = fx::sub(s->ball_center[b], s->ball_last_target[b]);
   const fx::Vec3 e_previous = s->ball_previous[b];
   const fx::Vec3 step = fx::sub(target, s->ball_last_target[b]);
   const fx::Vec3 accel = fx::sub(step, s->ball_last_step[b]);
-  const fx::Vec3 free = fx::scale(fx::add(e, fx::scale(fx::sub(e, e_previous), m.jiggle_damping)), kept);
+  const fx::Vec3 free = fx::scale(fx::add(e, fx::scale(fx::sub(e, e_previous), damping)), kept);
   s->ball_previous[b] = e;
   s->ball_center[b] = fx::add(target, fx::sub(free, fx::scale(accel, drive)));
   s->ball_last_target[b] = target;
@@ -92,7 +94,7 @@ void solve_pbd(const MetaballModel& m, MetaballState* s) {
       continue;
     }
     if (relative) {
-      swing_relative(m, s, b);
+      swing_relative(s, b);
       continue;
     }
     // Secondary deformation: damped Verlet prediction p = x + damping (x -

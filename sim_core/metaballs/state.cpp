@@ -1,5 +1,6 @@
 #include "state.hpp"
 
+#include "jiggle_gains.hpp"
 #include "sim_core/fixed/arena.hpp"
 #include "sim_core/rig/message.hpp"
 #include "validate.hpp"
@@ -19,6 +20,9 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->ball_target = c.take<fx::Vec3>(nb);
   s->ball_last_target = c.take<fx::Vec3>(nb);
   s->ball_last_step = c.take<fx::Vec3>(nb);
+  const size_t jiggle = m.jiggle_rate_hz != 0 ? nb : 0;
+  s->jiggle_stiffness = c.take<fx::Unit>(jiggle);
+  s->jiggle_damping = c.take<fx::Unit>(jiggle);
   s->action_point = c.take<fx::Vec3>(m.action_balls.size());
   s->ball_rotation = c.take<fx::Rot3>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
@@ -54,8 +58,49 @@ Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballStat
     st.ball_last_step[b] = {0, 0, 0};
     st.ball_scale[b] = fx::kUnitOne;
   }
+  for (size_t b = 0; b < st.jiggle_stiffness.size(); ++b) {
+    st.jiggle_stiffness[b] = model.ball_jiggle[b];
+    st.jiggle_damping[b] = model.jiggle_damping;
+  }
+  st.tick_hz = model.jiggle_rate_hz;
   *out = st;
   return s;
+}
+
+Status set_tick_rate(MetaballState* s, uint32_t tick_hz) {
+  Status st;
+  if (s == nullptr || s->model == nullptr) {
+    st.error = Error::kNotReady;
+    rig::MessageBuilder(st.message, sizeof(st.message)).text("state: not initialised (call metaballs::init)");
+    return st;
+  }
+  const MetaballModel& m = *s->model;
+  const auto refuse = [&](const char* problem) {
+    st.error = Error::kValue;
+    rig::MessageBuilder(st.message, sizeof(st.message))
+        .text("tick_hz ")
+        .unsigned_number(tick_hz)
+        .text(": ")
+        .text(problem)
+        .text(" (jiggle gains built for ")
+        .unsigned_number(m.jiggle_rate_hz)
+        .text(" Hz)");
+    return st;
+  };
+  if (tick_hz == 0) return refuse("no rate");
+  s->primed = false;
+  if (m.jiggle_rate_hz == 0) return st;
+  // Convert every ball first, then commit: a refusal leaves the state as it was.
+  for (uint32_t pass = 0; pass < 2; ++pass)
+    for (size_t b = 0; b < s->jiggle_stiffness.size(); ++b) {
+      if (m.ball_jiggle[b] == 0) continue;
+      JiggleGains g;
+      if (!jiggle_gains_for_rate({m.ball_jiggle[b], m.jiggle_damping}, m.jiggle_rate_hz, tick_hz, &g))
+        return refuse("cannot carry the jiggle swing");
+      if (pass == 1) s->jiggle_stiffness[b] = g.stiffness, s->jiggle_damping[b] = g.damping;
+    }
+  s->tick_hz = tick_hz;
+  return st;
 }
 
 }  // namespace sinew::metaballs

@@ -47,6 +47,12 @@ struct MetaballState {
   // c - c_target one step earlier).
   std::span<fx::Vec3> ball_last_target;
   std::span<fx::Vec3> ball_last_step;
+  // Per ball of a model with jiggle_rate_hz > 0 (empty otherwise): its
+  // jiggle gains k and d at the rate the state runs at (tick_hz; init: the
+  // model's gains and rate, set_tick_rate converts them).
+  std::span<fx::Unit> jiggle_stiffness;
+  std::span<fx::Unit> jiggle_damping;
+  uint32_t tick_hz = 0;
   // Per action ball: its point of the line this step (the line is kinematic).
   std::span<fx::Vec3> action_point;
   std::span<fx::Rot3> ball_rotation;  // R^lambda
@@ -62,6 +68,14 @@ size_t state_bytes(const MetaballModel& model);
 // Validates the model, carves `memory` (8-byte aligned, >= state_bytes) and
 // sets the rest state. The model must outlive the state.
 Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out);
+
+// Runs a model with physical jiggle (jiggle_rate_hz > 0) at tick_hz: every
+// jiggle ball's gains are converted from the model's rate
+// (jiggle_gains_for_rate), so the swing keeps its frequency and window.
+// A model without physical jiggle, or tick_hz equal to the model's rate,
+// keeps the model's gains. kValue (state unchanged) if tick_hz is 0 or
+// cannot carry the swing. Also forgets the jiggle history.
+Status set_tick_rate(MetaballState* s, uint32_t tick_hz);
 
 // Forgets the jiggle history: the next step starts from the kinematic pose.
 inline void reset(MetaballState* s) { s->primed = false; }

@@ -102,6 +102,12 @@ inline constexpr uint32_t kSphArrays = 11;
 // jv_alpha, jv_blend, jv_disp, jv_laplacian, jv_neighbour_begin,
 // jv_neighbours, jv_inv_count, overlaps, overlap_vertices, overlap_balls.
 // The header's rate_hz is the model's jiggle_rate_hz (0: per-step gains).
+//
+// Layer version 1: those 25 arrays, no action lines. Layer version 2 (MBAL
+// only) appends two: action_lines (metaballs::ActionLine) and action_balls
+// (metaballs::ActionBall). Writers emit version 1 whenever the model has no
+// action line, so rigs without them keep their bytes; a loader that knows
+// only version 1 refuses a version 2 section (kBadVersion).
 struct MetaballsSectionParams {
   uint32_t joint_count, vertex_count;
   uint32_t pbd_iterations;
@@ -112,6 +118,9 @@ struct MetaballsSectionParams {
 static_assert(sizeof(metaballs::BallPair) == 20 && sizeof(metaballs::BulgeRecord) == 12 &&
               sizeof(metaballs::JointBall) == 24 && sizeof(metaballs::OverlapRecord) == 64);
 inline constexpr uint32_t kMetaballsArrays = 25;
+inline constexpr uint32_t kMetaballsSectionVersion2 = 2;
+inline constexpr uint32_t kMetaballsArraysV2 = 27;
+static_assert(sizeof(metaballs::ActionLine) == 32 && sizeof(metaballs::ActionBall) == 16);
 
 // MUSC params. Arrays: muscles (MuscleRecord), primitives (PrimitiveRecord).
 // Layer version 2 (MUSC only) appends a third array, deformations

@@ -85,7 +85,7 @@ constexpr ArraySpec kSphSpec[kSphArrays] = {
     {kLen, sph::kMaxSkinVertices, "skin_rest_z"},
 };
 constexpr uint32_t kMbVerts = metaballs::kMaxVertices;
-constexpr ArraySpec kMetaballsSpec[kMetaballsArrays] = {
+constexpr ArraySpec kMetaballsSpec[kMetaballsArraysV2] = {
     {kMat, metaballs::kMaxJoints, "inverse_bind"},
     {kVec, metaballs::kMaxBalls, "ball_rest"},
     {kLen, metaballs::kMaxBalls, "ball_radius"},
@@ -111,6 +111,9 @@ constexpr ArraySpec kMetaballsSpec[kMetaballsArrays] = {
     {sizeof(metaballs::OverlapRecord), metaballs::kMaxJointBalls, "overlaps"},
     {4, kMbVerts, "overlap_vertices"},
     {2, metaballs::kMaxBalls, "overlap_balls"},
+    // Layer version 2 only: version 1 reads the first kMetaballsArrays.
+    {sizeof(metaballs::ActionLine), metaballs::kMaxActionLines, "action_lines"},
+    {sizeof(metaballs::ActionBall), metaballs::kMaxActionBalls, "action_balls"},
 };
 constexpr ArraySpec kMusclesSpec[kMusclesArraysV2] = {
     {sizeof(muscle::MuscleRecord), muscle::kMaxMuscles, "muscles"},
@@ -154,6 +157,10 @@ struct Layout {
 };
 
 bool layout_of(uint32_t id, uint32_t version, Layout* out) {
+  if (id == kSectionMetaballs && version == kMetaballsSectionVersion2) {
+    *out = {sizeof(MetaballsSectionParams), kMetaballsArraysV2, kMetaballsSpec};
+    return true;
+  }
   if (id == kSectionElasticSkin && version == kSkinSectionVersion2) {
     *out = {sizeof(SkinSectionParamsV2), kSkinArrays, kSkinSpec};
     return true;
@@ -217,7 +224,8 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
       id == kSectionElasticSkin && (h.layer_version == kSkinSectionVersion2 || h.layer_version == kSkinSectionVersion3);
   const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
   const bool muscles_v2 = id == kSectionMuscles && h.layer_version == kMusclesSectionVersion2;
-  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2)
+  const bool metaballs_v2 = id == kSectionMetaballs && h.layer_version == kMetaballsSectionVersion2;
+  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2 && !metaballs_v2)
     return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
                 h.layer_version, true);
   layout_of(id, h.layer_version, &layout);
@@ -376,6 +384,10 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
   m.overlaps = array_of<metaballs::OverlapRecord>(v, 22);
   m.overlap_vertices = array_of<uint32_t>(v, 23);
   m.overlap_balls = array_of<uint16_t>(v, 24);
+  if (v.header.layer_version == kMetaballsSectionVersion2) {  // action lines
+    m.action_lines = array_of<metaballs::ActionLine>(v, 25);
+    m.action_balls = array_of<metaballs::ActionBall>(v, 26);
+  }
   if (m.joint_count != rig.joint_count())
     return fail(LoadError::kBadValue, v.id, v.instance, "joint_count", -1, "differs from the rig's", m.joint_count,
                 true);

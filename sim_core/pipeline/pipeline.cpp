@@ -309,12 +309,11 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
   }
   p.metaballs_on = b.metaballs != nullptr;
   if (p.metaballs_on) {
-    // Physical jiggle gains hold for the rate they were built for only.
-    const uint32_t jiggle_hz = layers.metaballs.jiggle_rate_hz;
-    if (jiggle_hz != 0 && options.tick_hz != 0 && options.tick_hz != jiggle_hz)
-      return fail(PipelineError::kBadModel, "metaballs", "jiggle gains were built for another tick rate");
-    const metaballs::Status st =
+    metaballs::Status st =
         metaballs::init(layers.metaballs, b.metaballs, metaballs::state_bytes(layers.metaballs), &p.metaballs);
+    // Physical jiggle gains are converted from the section's rate to the
+    // loop's (as SPH's gains are above).
+    if (st.ok() && options.tick_hz != 0) st = metaballs::set_tick_rate(&p.metaballs, options.tick_hz);
     if (!st.ok()) return fail(PipelineError::kBadModel, "metaballs", st.message);
   }
   p.anatomy_on = b.muscles != nullptr;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host_tools/layers/metaballs/builder.hpp"
@@ -26,7 +27,9 @@ class ArmScene {
  public:
   explicit ArmScene(rigc::SkinChoice method = rigc::SkinChoice::kDualQuaternion,
                     const metaballs_build::Options& options = arm_options())
-      : spec_(rigc::builtin_arm(method)) {
+      : ArmScene(rigc::builtin_arm(method), options) {}
+  // Any rig spec (e.g. the built-in hand); pose_dofs drives it.
+  ArmScene(rigc::RigSpec spec, const metaballs_build::Options& options) : spec_(std::move(spec)) {
     std::vector<uint8_t> bytes;
     if (!rigc::compile_rig(spec_, &bytes, &report_, &error_)) return;
     blob_.assign(bytes.size() / 8 + 1, 0);

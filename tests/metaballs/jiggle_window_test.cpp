@@ -12,6 +12,7 @@
 
 #include "arm_scene.hpp"
 #include "sim_core/metaballs/jiggle_gains.hpp"
+#include "sim_core/metaballs/state.hpp"
 
 namespace {
 
@@ -44,20 +45,22 @@ struct Swing {
 };
 
 // Carries the arm at kSpeed for kMoveTime, stops it, records e_y of one
-// jiggle ball for kWatchTime.
-Swing run_swing(uint32_t rate_hz, bool jiggle_on) {
+// jiggle ball for kWatchTime. The model is built for built_hz (0: rate_hz)
+// and its gains converted to rate_hz at run time (set_tick_rate).
+Swing run_swing(uint32_t rate_hz, bool jiggle_on, uint32_t built_hz = 0) {
   Swing out;
-  ArmScene s(rigc::SkinChoice::kDualQuaternion, jiggle_window_options(rate_hz));
+  ArmScene s(rigc::SkinChoice::kDualQuaternion, jiggle_window_options(built_hz != 0 ? built_hz : rate_hz));
   EXPECT_TRUE(s.ok()) << s.error();
   if (!s.ok()) return out;
+  EXPECT_TRUE(sinew::metaballs::set_tick_rate(&s.state(), rate_hz).ok());
   s.state().features.jiggle = jiggle_on;
   uint32_t ball = 0;
   while (ball < s.model().ball_count() && s.model().ball_jiggle[ball] == 0) ++ball;
   EXPECT_LT(ball, s.model().ball_count());
   out.dt = 1.0 / rate_hz;
   out.lsb = s.len(1);
-  out.stiffness = std::ldexp(s.model().ball_jiggle[ball], -30);
-  out.damping = std::ldexp(s.model().jiggle_damping, -30);
+  out.stiffness = std::ldexp(s.state().jiggle_stiffness[ball], -30);
+  out.damping = std::ldexp(s.state().jiggle_damping[ball], -30);
   EXPECT_TRUE(s.pose(0, 0, 0));
   const std::vector<sinew::fx::Mat34> rest(s.engine().model.begin(), s.engine().model.end());
   std::vector<sinew::fx::Mat34> moved = rest;
@@ -152,6 +155,74 @@ TEST(MetaballsJiggleWindow, SameSwingAt250HzAnd1kHz) {
       slow.stiffness, fast.stiffness, slow.damping, fast.damping, peak * 1e3, worst * 1e3, bound * 1e3);
   EXPECT_LE(worst, bound);
   EXPECT_GT(peak, 10 * bound);  // the bound is far below the swing itself
+}
+
+// The same motion with a model built for one rate and run at the other, the
+// gains converted at run time, against the model built for the rate it
+// runs at. The conversion recovers theta from Q2.30 gains: cos(theta) is
+// known to within a few LSB (k and d each within 2 LSB of their exact
+// values, exp_neg_unit and the rounding of the products), so theta to
+// within 4 x 2^-30 / (theta sin theta) relative at the built rate, the
+// same relative error at the run rate; over the watch that is a phase
+// error of omega T_watch times it, on a swing of u / omega.
+double conversion_bound(double built_dt) {
+  const double theta = omega() * built_dt;
+  return kSpeed / omega() * omega() * kWatchTime * 4 * std::ldexp(1.0, -30) / (theta * std::sin(theta));
+}
+
+TEST(MetaballsJiggleWindow, GainsConvertedAtRunTimeGiveTheSameSwing) {
+  struct Case {
+    uint32_t built_hz, run_hz;
+  };
+  const Swing at_250 = run_swing(250, true), at_1k = run_swing(1000, true);
+  for (const Case c : {Case{1000, 250}, Case{250, 1000}}) {
+    const Swing converted = run_swing(c.run_hz, true, c.built_hz);
+    const Swing& native = c.run_hz == 250 ? at_250 : at_1k;
+    const Swing& built = c.built_hz == 250 ? at_250 : at_1k;
+    ASSERT_EQ(converted.after.size(), native.after.size());
+    ASSERT_FALSE(converted.after.empty());
+    double worst_native = 0, worst_built = 0, peak = 0;
+    const size_t ratio_up = c.built_hz > c.run_hz ? c.built_hz / c.run_hz : 1;
+    const size_t ratio_down = c.run_hz > c.built_hz ? c.run_hz / c.built_hz : 1;
+    for (size_t i = 0; i < converted.after.size(); ++i) {
+      worst_native = std::max(worst_native, std::fabs(converted.after[i] - native.after[i]));
+      peak = std::max(peak, std::fabs(native.after[i]));
+      // The built rate's samples at the same instants.
+      if (i % ratio_down == 0 && (i / ratio_down) * ratio_up < built.after.size())
+        worst_built = std::max(worst_built, std::fabs(converted.after[i] - built.after[(i / ratio_down) * ratio_up]));
+    }
+    const double fine_dt = std::min(converted.dt, built.dt), coarse_dt = std::max(converted.dt, built.dt);
+    const double lsb = converted.lsb;
+    // Against the model built for the run rate: the conversion's phase error
+    // and 64 LSB of rounding a run.
+    const double bound_native = conversion_bound(built.dt) + 128 * lsb;
+    // Against the built rate itself: the two rates' sampling bound of
+    // SameSwingAt250HzAnd1kHz plus the conversion's.
+    const double amplitude = kSpeed / omega(), t1 = omega() * fine_dt, t2 = omega() * coarse_dt;
+    const double bound_rates =
+        amplitude * ((t1 * t1 + t2 * t2) / 6 + 2 * std::pow(0.05, 4) + 1e-4) + 128 * lsb + conversion_bound(built.dt);
+    std::printf(
+        "jiggle built for %u Hz, run at %u Hz: k %.9f d %.9f (built for %u Hz: %+.0f / %+.0f LSB); largest swing "
+        "%.3f mm, difference from the model built for %u Hz %.5f mm (bound %.4f), from the %u Hz run %.4f mm "
+        "(bound %.4f)\n",
+        c.built_hz, c.run_hz, converted.stiffness, converted.damping, c.run_hz,
+        std::ldexp(converted.stiffness - native.stiffness, 30), std::ldexp(converted.damping - native.damping, 30),
+        peak * 1e3, c.run_hz, worst_native * 1e3, bound_native * 1e3, c.built_hz, worst_built * 1e3, bound_rates * 1e3);
+    EXPECT_LE(worst_native, bound_native);
+    EXPECT_LE(worst_built, bound_rates);
+    EXPECT_GT(peak, 10 * bound_rates);
+  }
+}
+
+TEST(MetaballsJiggleWindow, ConversionKeepsTheRateAndRefusesWhatCannotSwing) {
+  sinew::metaballs::JiggleGains g, back;
+  ASSERT_TRUE(sinew::metaballs::jiggle_gains(4 << 16, 26214, 1000, &g));
+  ASSERT_TRUE(sinew::metaballs::jiggle_gains_for_rate(g, 1000, 1000, &back));
+  EXPECT_EQ(back.stiffness, g.stiffness);  // the same rate: the gains unchanged
+  EXPECT_EQ(back.damping, g.damping);
+  EXPECT_FALSE(sinew::metaballs::jiggle_gains_for_rate(g, 1000, 12, &back));  // a quarter turn per tick
+  EXPECT_FALSE(sinew::metaballs::jiggle_gains_for_rate(g, 1000, 0, &back));
+  EXPECT_FALSE(sinew::metaballs::jiggle_gains_for_rate({0, g.damping}, 1000, 250, &back));
 }
 
 TEST(MetaballsJiggleWindow, GainsRejectATooSlowRate) {

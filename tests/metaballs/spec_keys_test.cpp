@@ -15,7 +15,9 @@
 #include "host_tools/layers/rig_layers.hpp"
 #include "host_tools/rigc/toml_spec.hpp"
 #include "sim_core/metaballs/jiggle_gains.hpp"
+#include "sim_core/pipeline/layer_format.hpp"
 #include "sim_core/pipeline/layer_set.hpp"
+#include "sim_core/rig/rig_format.hpp"
 
 namespace {
 
@@ -110,7 +112,7 @@ TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
               jiggling, m.jiggle_rate_hz, want.stiffness, want.damping, m.bulges.size(), m.overlap_vertices.size());
 }
 
-TEST(MetaballsSpecKeys, UnknownKeyAndActionLinesInACompiledRigAreRefused) {
+TEST(MetaballsSpecKeys, UnknownKeyIsRefused) {
   std::vector<uint8_t> bytes;
   sinew::layers::LayerSpecs layers;
   std::string error;
@@ -118,17 +120,72 @@ TEST(MetaballsSpecKeys, UnknownKeyAndActionLinesInACompiledRigAreRefused) {
   EXPECT_FALSE(compile(typo, &bytes, &layers, &error));
   std::filesystem::remove(typo);
   EXPECT_NE(error.find("unknown key"), std::string::npos) << error;
-  const std::string lines = write_spec(
-      "sinew_metaballs_lines.toml",
+}
+
+// The MBAL section's layer version of a compiled blob (0: none).
+uint32_t metaballs_section_version(const std::vector<uint8_t>& bytes) {
+  sinew::rig::FileHeader h;
+  std::memcpy(&h, bytes.data(), sizeof(h));
+  for (uint32_t i = 0; i < h.section_count; ++i) {
+    sinew::rig::SectionEntry e;
+    std::memcpy(&e, bytes.data() + h.section_table_offset + size_t{i} * sizeof(e), sizeof(e));
+    if (e.id != sinew::pipeline::kSectionMetaballs) continue;
+    sinew::pipeline::LayerSectionHeader lh;
+    std::memcpy(&lh, bytes.data() + e.offset, sizeof(lh));
+    return lh.layer_version;
+  }
+  return 0;
+}
+
+TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
+  const std::string text =
       std::string(kSpec) +
-          "\n[[metaballs.action_line]]\norigin = \"shoulder\"\ninsertion = \"elbow\"\nside = [0, 0.03, 0]\n");
-  bytes.clear();
-  layers = {};
-  EXPECT_FALSE(compile(lines, &bytes, &layers, &error));
-  std::filesystem::remove(lines);
-  EXPECT_NE(error.find("action lines"), std::string::npos) << error;
+      "\n[[metaballs.action_line]]\norigin = \"shoulder\"\ninsertion = \"elbow\"\nside = [0, 0.03, 0]\n";
+  const std::string path = write_spec("sinew_metaballs_lines.toml", text);
+  std::vector<uint8_t> bytes, plain;
+  sinew::layers::LayerSpecs layers, plain_layers;
+  std::string error;
+  const bool ok = compile(path, &bytes, &layers, &error);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(ok) << error;
   ASSERT_EQ(layers.metaballs.options.action_lines.size(), 1u);
   EXPECT_EQ(layers.metaballs.options.action_lines[0].side[1], 0.03);
+  // Without action lines the section stays version 1 (the bytes of existing
+  // rigs); with them it is version 2.
+  const std::string plain_path = write_spec("sinew_metaballs_plain.toml", kSpec);
+  ASSERT_TRUE(compile(plain_path, &plain, &plain_layers, &error)) << error;
+  std::filesystem::remove(plain_path);
+  EXPECT_EQ(metaballs_section_version(plain), 1u);
+  EXPECT_EQ(metaballs_section_version(bytes), sinew::pipeline::kMetaballsSectionVersion2);
+
+  std::vector<uint64_t> blob(bytes.size() / 8 + 1, 0), arena, layer_arena;
+  std::memcpy(blob.data(), bytes.data(), bytes.size());
+  const auto* p = reinterpret_cast<const uint8_t*>(blob.data());
+  size_t a = 0, b = 0;
+  sinew::rig::Rig rig;
+  sinew::pipeline::LayerSet set;
+  sinew::rig::LoadStatus st = sinew::rig::rig_validate(p, bytes.size(), &a);
+  arena.assign(a / 8 + 1, 0);
+  if (st.ok()) st = sinew::rig::rig_init(p, bytes.size(), arena.data(), arena.size() * 8, &rig);
+  if (st.ok()) st = sinew::pipeline::layers_validate(rig, p, bytes.size(), &b);
+  layer_arena.assign(b / 8 + 1, 0);
+  if (st.ok())
+    st = sinew::pipeline::layers_init(rig, p, bytes.size(), layer_arena.data(), layer_arena.size() * 8, &set);
+  ASSERT_TRUE(st.ok()) << st.message;
+  ASSERT_TRUE(set.has_metaballs);
+  const auto& m = set.metaballs;
+  ASSERT_EQ(m.action_lines.size(), 1u);
+  EXPECT_FALSE(m.action_balls.empty());
+  // The loaded line is the one the builder made from the same spec.
+  const auto& line = m.action_lines[0];
+  EXPECT_EQ(line.origin_bone, 0);     // shoulder
+  EXPECT_EQ(line.insertion_bone, 1);  // elbow
+  EXPECT_LT(line.origin_rest.y, line.origin_rest.x);
+  EXPECT_GT(line.origin_rest.y, 0);  // the side shift
+  for (const auto& ab : m.action_balls) EXPECT_EQ(ab.line, 0);
+  std::printf("action lines in the rig format: %zu line, %zu action balls, MBAL version %u (%u without lines)\n",
+              m.action_lines.size(), m.action_balls.size(), metaballs_section_version(bytes),
+              metaballs_section_version(plain));
 }
 
 }  // namespace

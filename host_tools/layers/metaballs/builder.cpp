@@ -180,14 +180,21 @@ bool make_balls(const Geometry& g, const std::vector<BallSeed>& seeds, Build* b,
   const size_t nv = g.vertex.size(), nj = g.joint_pos.size();
   for (size_t i = 0; i < seeds.size(); ++i) {
     const BallSeed& s = seeds[i];
+    // Only the skin of the ball's own bone (the vertices weighted to it)
+    // sizes and drives the ball: where another limb's skin passes close (or
+    // interpenetrates, as the built-in hand's thumb and index finger do), its
+    // vertices would shrink the ball and hand it that limb's bones, and the
+    // skin over it would follow the wrong bone.
+    const auto own = [&](size_t v) { return g.weight[v][static_cast<size_t>(s.bone)] > 0; };
     double r = 1e300;
-    for (size_t v = 0; v < nv; ++v) r = std::min(r, dist(g.vertex[v], s.centre));
+    for (size_t v = 0; v < nv; ++v)
+      if (own(v)) r = std::min(r, dist(g.vertex[v], s.centre));
     if (!(r > 1e-9)) return *error = named("ball", i, "radius", "a vertex lies on the ball centre"), false;
     // Bone weights from the skin weights of the nearest vertices (top two
     // joints).
     std::vector<double> acc(nj, 0);
     for (size_t v = 0; v < nv; ++v)
-      if (dist(g.vertex[v], s.centre) <= 1.1 * r)
+      if (own(v) && dist(g.vertex[v], s.centre) <= 1.1 * r)
         for (size_t j = 0; j < nj; ++j) acc[j] += g.weight[v][j];
     size_t j0 = 0, j1 = nj > 1 ? 1 : 0;
     for (size_t j = 0; j < nj; ++j)
@@ -313,10 +320,20 @@ bool make_action_lines(const rigc::RigSpec& spec, const Geometry& g, const Optio
   return true;
 }
 
-void make_pairs(const Options& o, const std::vector<double>& radius, const Geometry& g, Build* b) {
+void make_pairs(const rigc::RigSpec& spec, const Options& o, const std::vector<double>& radius, const Geometry& g,
+                Build* b) {
   const size_t n = b->ball_rest.size();
+  // Eq. (3) keeps a pair at its rest distance, which the skeleton's motion
+  // keeps only for balls of one bone or of two bones sharing a joint; balls
+  // of unrelated bones (two fingers side by side) would drag each other.
+  const auto related = [&](size_t i, size_t k) {
+    const int bi = b->ball_bone[i], bk = b->ball_bone[k];
+    return bi == bk || spec.joints[static_cast<size_t>(bi)].parent == bk ||
+           spec.joints[static_cast<size_t>(bk)].parent == bi;
+  };
   for (size_t i = 0; i < n; ++i)
     for (size_t k = i + 1; k < n; ++k) {
+      if (!related(i, k)) continue;
       const fx::Vec3 d = isub(b->ball_rest[i], b->ball_rest[k]);
       const uint64_t n2 = static_cast<uint64_t>(int64_t{d.x} * d.x) + static_cast<uint64_t>(int64_t{d.y} * d.y) +
                           static_cast<uint64_t>(int64_t{d.z} * d.z);
@@ -749,7 +766,7 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
   if (!place_balls(spec, g, o, &seeds, error) || !make_balls(g, seeds, &b, &radius, error) ||
       !apply_regions(spec, o, &b, error))
     return false;
-  make_pairs(o, radius, g, &b);
+  make_pairs(spec, o, radius, g, &b);
   if (!make_action_lines(spec, g, o, &b, error)) return false;
   if (b.pairs.size() > mb::kMaxPairs) return *error = "pair_reach: more than 32768 stretch pairs (lower it)", false;
   b.pbd_iterations = static_cast<uint32_t>(o.pbd_iterations);

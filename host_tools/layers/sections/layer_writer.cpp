@@ -82,13 +82,19 @@ LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t forc
 LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
   const pipeline::MetaballsSectionParams p{m.joint_count,    m.vertex_count,     m.pbd_iterations,
                                            m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
-  SectionBuilder b = builder(pipeline::kSectionMetaballs, m.jiggle_rate_hz, p, pipeline::kMetaballsArrays);
+  // Version 1 without action lines (the bytes of rigs without them do not
+  // change); version 2 appends them.
+  const bool v2 = !m.action_lines.empty();
+  SectionBuilder b = builder(pipeline::kSectionMetaballs, m.jiggle_rate_hz, p,
+                             v2 ? pipeline::kMetaballsArraysV2 : pipeline::kMetaballsArrays);
+  if (v2) b.version(pipeline::kMetaballsSectionVersion2);
   b.array(m.inverse_bind).array(m.ball_rest).array(m.ball_radius).array(m.ball_bone).array(m.ball_joint);
   b.array(m.ball_weight).array(m.ball_jiggle).array(m.pairs).array(m.bulges);
   b.array(m.vertex_ball).array(m.vertex_weight).array(m.vertex_disp);
   b.array(m.joint_balls).array(m.jv_vertex).array(m.jv_ball).array(m.jv_alpha).array(m.jv_blend);
   b.array(m.jv_disp).array(m.jv_laplacian).array(m.jv_neighbour_begin).array(m.jv_neighbours).array(m.jv_inv_count);
   b.array(m.overlaps).array(m.overlap_vertices).array(m.overlap_balls);
+  if (v2) b.array(m.action_lines).array(m.action_balls);
   return b.finish();
 }
 
