@@ -32,7 +32,8 @@ rigc::RigSpec spine_spec(const std::vector<double>& weights) {
   rigc::RigSpec spec;
   for (int v = 0; v < kVertebrae; ++v) {
     rigc::JointSpec j;
-    j.name = "t" + std::to_string(v + 1);
+    j.name = std::string(1, 't');  // appended, not "t" + ...: gcc 12's -Wrestrict misfires on that at -O3
+    j.name += std::to_string(v + 1);
     j.parent = v - 1;
     j.translation = {0, v == 0 ? 0.0 : 0.025, 0};
     j.dofs = {{{1, 0, 0}, -60, 60}};
