@@ -46,6 +46,16 @@ std::array<int32_t, 4> quantize_quat(Quatd q) {
   return out;
 }
 
+// The joint whose DOFs own input `input` (rigc assigns inputs in joint order).
+int joint_of_input(const RigSpec& spec, int input) {
+  int first = 0;
+  for (size_t j = 0; j < spec.joints.size(); ++j) {
+    first += static_cast<int>(spec.joints[j].dofs.size());
+    if (input < first) return static_cast<int>(j);
+  }
+  return -1;
+}
+
 int32_t limit_angle(double degrees) { return to_fixed(std::clamp(degrees, -180.0, 180.0) / 360.0, 32); }
 
 }  // namespace
@@ -123,6 +133,7 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
     std::strncpy(&names[j * fmt::kNameBytes], s.name.c_str(), fmt::kNameBytes - 1);
   }
   std::vector<fmt::SynergyRecord> synergies;
+  bool any_share = false;  // shared synergies need major 2; without them the blob stays 1.x
   for (size_t i = 0; i < spec.synergies.size(); ++i) {
     const SynergySpec& s = spec.synergies[i];
     if (s.source_input < 0 || static_cast<uint32_t>(s.source_input) >= inputs)
@@ -131,10 +142,21 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
         static_cast<size_t>(s.target_dof) >= spec.joints[static_cast<size_t>(s.target_joint)].dofs.size())
       return *error = at("synergy", i, "target", "no such joint DOF"), false;
     if (!(std::fabs(s.gain) < 1.99)) return *error = at("synergy", i, "gain", "outside (-2, 2)"), false;
+    if (s.share) {
+      if (!(s.gain >= 0 && s.gain <= 1)) return *error = at("synergy", i, "gain", "share outside [0, 1]"), false;
+      if (s.target_joint == joint_of_input(spec, s.source_input))
+        return *error = at("synergy", i, "target", "a share cannot target its source's own joint"), false;
+      double shared = 0;  // the source keeps 1 - (its shares), which must not be negative
+      for (const SynergySpec& o : spec.synergies)
+        if (o.share && o.source_input == s.source_input) shared += o.gain;
+      if (shared > 1 + 1e-6) return *error = at("synergy", i, "gain", "the source's shares sum above 1"), false;
+      any_share = true;
+    }
     fmt::SynergyRecord r{};
     r.source_input = static_cast<uint16_t>(s.source_input);
     r.target_joint = static_cast<uint16_t>(s.target_joint);
     r.target_dof = static_cast<uint8_t>(s.target_dof);
+    r.mode = static_cast<uint8_t>(s.share ? fmt::SynergyMode::kShare : fmt::SynergyMode::kAdd);
     r.gain = to_fixed(s.gain, 30);
     synergies.push_back(r);
   }
@@ -239,7 +261,7 @@ bool compile_rig(const RigSpec& spec, std::vector<uint8_t>* blob, CompileReport*
   w.bytes.resize(align8(w.bytes.size()));
   fmt::FileHeader h{};
   h.magic = fmt::kMagic;
-  h.version_major = fmt::kVersionMajor;
+  h.version_major = any_share ? fmt::kVersionMajorShares : fmt::kVersionMajorFirst;
   h.version_minor = fmt::kVersionMinor;
   h.header_size = sizeof(fmt::FileHeader);
   h.total_size = static_cast<uint32_t>(w.bytes.size());

@@ -36,6 +36,10 @@ struct SynergySpec {
   int target_joint = 0;
   int target_dof = 0;
   double gain = 1.0;
+  // false: the target adds gain x source (a coupling; the source keeps its
+  // command). true: gain is the target's share of the command, taken from
+  // the source's own DOF (a chain, anatomically-based §3; blob major 2).
+  bool share = false;
 };
 
 struct PaletteSpec {

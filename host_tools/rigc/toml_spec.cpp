@@ -2,7 +2,11 @@
 
 #include <toml++/toml.h>
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "builtin_rigs.hpp"
 #include "gltf_import.hpp"
@@ -34,6 +38,99 @@ int input_index(const RigSpec& spec, const std::string& name) {
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<int>(i);
   return -1;
+}
+
+// A chain's weights must sum to 1 (the chain's values then sum to the
+// command); this admits decimal spellings such as 0.3 + 0.3 + 0.4.
+constexpr double kWeightSumTolerance = 1e-6;
+
+// One [[synergy]] table. Either a coupling (`target`, `dof`, `gain`: the
+// target DOF adds gain x the source, which keeps all of its command) or a
+// chain (`chain`, optional `weights`: anatomically-based §3, the command is
+// spread over the chain's DOFs, whose values sum to it). A chain lists input
+// names ("joint.dof") and must hold the source; the source keeps its own
+// weight, every other member becomes a shared SynergySpec.
+bool read_synergy(const std::string& path, const toml::node& sn, RigSpec* out, std::string* error) {
+  const toml::table* s = sn.as_table();
+  if (s == nullptr) return *error = where(path, &sn, "[[synergy]]") + " must be a table", false;
+  for (const auto& [key, node] : *s) {
+    static const char* const kKeys[] = {"source", "target", "dof", "gain", "chain", "weights"};
+    bool known = false;
+    for (const char* k : kKeys) known |= key.str() == k;
+    if (!known) return *error = where(path, &node, "[[synergy]] " + std::string(key.str())) + ": unknown key", false;
+  }
+  const std::string src = (*s)["source"].value_or<std::string>("");
+  const int source = input_index(*out, src);
+  if (source < 0) return *error = where(path, &sn, "[[synergy]] source") + ": no input named '" + src + "'", false;
+  const toml::array* chain = (*s)["chain"].as_array();
+  if (chain == nullptr) {
+    if ((*s)["weights"].node() != nullptr)
+      return *error = where(path, (*s)["weights"].node(), "[[synergy]] weights") + ": only with chain", false;
+    SynergySpec spec;
+    spec.source_input = source;
+    const std::string target = (*s)["target"].value_or<std::string>("");
+    spec.target_joint = joint_index(*out, target);
+    if (spec.target_joint < 0)
+      return *error = where(path, &sn, "[[synergy]] target") + ": no joint named '" + target + "'", false;
+    spec.target_dof = (*s)["dof"].value_or(0);
+    spec.gain = (*s)["gain"].value_or(1.0);
+    out->synergies.push_back(spec);
+    return true;
+  }
+  for (const char* k : {"target", "dof", "gain"})
+    if (const toml::node* n = (*s)[k].node())
+      return *error = where(path, n, std::string("[[synergy]] ") + k) + ": not with chain (use weights)", false;
+  const toml::node* chain_node = (*s)["chain"].node();
+  std::vector<int> members;
+  for (const toml::node& m : *chain) {
+    const std::optional<std::string> name = m.value<std::string>();
+    const int input = name ? input_index(*out, *name) : -1;
+    if (input < 0)
+      return *error = where(path, &m, "[[synergy]] chain") + ": no input named '" + name.value_or("") + "'", false;
+    for (const int other : members)
+      if (other == input) return *error = where(path, &m, "[[synergy]] chain") + ": '" + *name + "' twice", false;
+    members.push_back(input);
+  }
+  if (members.size() < 2) return *error = where(path, chain_node, "[[synergy]] chain") + ": at least 2 inputs", false;
+  size_t source_at = members.size();
+  for (size_t i = 0; i < members.size(); ++i)
+    if (members[i] == source) source_at = i;
+  if (source_at == members.size())
+    return *error = where(path, chain_node, "[[synergy]] chain") + ": must hold the source '" + src + "'", false;
+  for (const SynergySpec& e : out->synergies)
+    if (e.share && e.source_input == source)
+      return *error = where(path, &sn, "[[synergy]] source") + ": '" + src + "' already heads a chain", false;
+  // Default: equal shares (the paper's 12 degrees over 12 vertebrae).
+  std::vector<double> weights(members.size(), 1.0 / static_cast<double>(members.size()));
+  if (const toml::node* wn = (*s)["weights"].node()) {
+    const toml::array* w = wn->as_array();
+    if (w == nullptr || w->size() != members.size())
+      return *error = where(path, wn, "[[synergy]] weights") + ": one number per chain input", false;
+    double sum = 0;
+    for (size_t i = 0; i < members.size(); ++i) {
+      const std::optional<double> v = w->get(i)->value<double>();
+      if (!v || !(*v >= 0 && *v <= 1))
+        return *error = where(path, w->get(i), "[[synergy]] weights") + ": each in [0, 1]", false;
+      weights[i] = *v;
+      sum += *v;
+    }
+    if (!(std::fabs(sum - 1) <= kWeightSumTolerance))
+      return *error = where(path, wn, "[[synergy]] weights") + ": must sum to 1, not " + std::to_string(sum), false;
+  }
+  const std::vector<std::string> names = input_names(*out);
+  for (size_t i = 0; i < members.size(); ++i) {
+    if (i == source_at) continue;
+    const std::string& name = names[static_cast<size_t>(members[i])];
+    const size_t dot = name.rfind('.');
+    SynergySpec spec;
+    spec.source_input = source;
+    spec.target_joint = joint_index(*out, name.substr(0, dot));
+    spec.target_dof = std::stoi(name.substr(dot + 1));
+    spec.gain = weights[i];
+    spec.share = true;
+    out->synergies.push_back(spec);
+  }
+  return true;
 }
 
 }  // namespace
@@ -108,19 +205,8 @@ bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* la
   }
   // Synergies refer to input names, which depend on the final DOFs: read them last.
   if (const toml::array* syn = t["synergy"].as_array()) {
-    for (const toml::node& sn : *syn) {
-      const toml::table* s = sn.as_table();
-      SynergySpec spec;
-      const std::string src = s != nullptr ? (*s)["source"].value_or<std::string>("") : "";
-      spec.source_input = input_index(*out, src);
-      if (spec.source_input < 0) return *error = where(path, &sn, "[[synergy]] source") + ": no input named '" + src + "'", false;
-      const std::string target = (*s)["target"].value_or<std::string>("");
-      spec.target_joint = joint_index(*out, target);
-      if (spec.target_joint < 0) return *error = where(path, &sn, "[[synergy]] target") + ": no joint named '" + target + "'", false;
-      spec.target_dof = (*s)["dof"].value_or(0);
-      spec.gain = (*s)["gain"].value_or(1.0);
-      out->synergies.push_back(spec);
-    }
+    for (const toml::node& sn : *syn)
+      if (!read_synergy(path, sn, out, error)) return false;
   }
   // The [motion] table is checked here too, so rigc refuses a bad one.
   std::vector<motion::BvhJointName> bvh_joints;

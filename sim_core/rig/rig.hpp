@@ -28,6 +28,7 @@ struct Rig {
   std::span<const PrimitiveRecord> primitives;
   uint32_t input_count = 0;
   bool any_dual_quaternion = false;
+  bool synergy_shares = false;  // major >= 2: SynergyRecord::mode is read
 
   uint32_t joint_count() const { return static_cast<uint32_t>(joints.size()); }
   uint32_t vertex_count() const { return static_cast<uint32_t>(position[0].size()); }

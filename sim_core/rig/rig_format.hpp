@@ -15,7 +15,13 @@
 namespace sinew::rig {
 
 inline constexpr uint32_t kMagic = 0x47524E53u;  // "SNRG" read as little-endian u32
-inline constexpr uint16_t kVersionMajor = 1;
+// Major 2 adds shared synergies (SynergyMode::kShare). rigc writes major 1
+// for every blob without them, so those blobs are unchanged and 1.x loaders
+// keep reading them; a 1.x loader refuses a major-2 blob instead of reading
+// a shared synergy as an additive one.
+inline constexpr uint16_t kVersionMajorFirst = 1;
+inline constexpr uint16_t kVersionMajorShares = 2;
+inline constexpr uint16_t kVersionMajor = kVersionMajorShares;  // newest major this loader reads
 inline constexpr uint16_t kVersionMinor = 0;
 
 // Documented maxima: a blob beyond them is rejected, which also bounds the
@@ -35,7 +41,7 @@ inline constexpr uint32_t kNameBytes = 32;
 
 struct FileHeader {           // 64 bytes at offset 0
   uint32_t magic;             // kMagic
-  uint16_t version_major;     // kVersionMajor; other majors are rejected
+  uint16_t version_major;     // 1, or 2 with shared synergies; others are rejected
   uint16_t version_minor;     // newer minors are accepted (additive sections)
   uint32_t header_size;       // sizeof(FileHeader)
   uint32_t total_size;        // bytes in the blob, multiple of 8
@@ -94,12 +100,19 @@ struct JointRecord {         // 128 bytes
 };
 static_assert(sizeof(JointRecord) == 128);
 
+enum class SynergyMode : uint8_t {
+  kAdd = 0,    // target DOF += gain * source input; the source keeps all of it
+  kShare = 1,  // the same amount also leaves the source's own DOF (a chain,
+               // anatomically-based §3: the command is spread, its sum kept)
+};
+
 struct SynergyRecord {  // 12 bytes: target DOF += gain * source input
   uint16_t source_input;
   uint16_t target_joint;
   uint8_t target_dof;
-  uint8_t reserved[3];
-  fx::Unit gain;  // Q2.30
+  uint8_t mode;  // SynergyMode; read only in major 2 (major 1 wrote 0: kAdd)
+  uint8_t reserved[2];
+  fx::Unit gain;  // Q2.30; kShare: the target's share of the command, [0, 1]
 };
 static_assert(sizeof(SynergyRecord) == 12);
 

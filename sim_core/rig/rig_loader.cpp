@@ -90,7 +90,7 @@ LoadStatus check_size(const SectionSpan& s, const char* name, uint64_t expected,
 // first 64 bytes alone, before the rest is read.
 LoadStatus check_identity(const FileHeader* h, uint64_t size) {
   if (h->magic != kMagic) return fail(LoadError::kBadMagic, "header", "magic", "not a sinew rig blob");
-  if (h->version_major != kVersionMajor)
+  if (h->version_major < kVersionMajorFirst || h->version_major > kVersionMajor)
     return fail(LoadError::kBadVersion, "header", "version_major", "unsupported major version", -1, h->version_major,
                 true);
   if (h->header_size != sizeof(FileHeader))
@@ -230,6 +230,14 @@ LoadStatus check_joints(const uint8_t* blob, const FileHeader& h, const Sections
     const JointRecord t = read_at<JointRecord>(blob, s.joints.offset, r.target_joint);
     if (r.target_dof >= t.dof_count)
       return fail(LoadError::kBadIndex, "SYNR", "target_dof", "beyond the target joint's DOFs", i, r.target_dof, true);
+    if (h.version_major >= kVersionMajorShares) {
+      if (r.mode > static_cast<uint8_t>(SynergyMode::kShare))
+        return fail(LoadError::kBadValue, "SYNR", "mode", "not add (0) or share (1)", i, r.mode, true);
+      // A share is a fraction of the command: within [0, 1] the chain's
+      // values stay within the command's range.
+      if (r.mode == static_cast<uint8_t>(SynergyMode::kShare) && (r.gain < 0 || r.gain > (1 << 30)))
+        return fail(LoadError::kBadValue, "SYNR", "gain", "share outside [0, 1]", i, r.gain, true);
+    }
   }
   for (uint32_t i = 0; i < h.palette_count; ++i) {
     const PaletteRecord p = read_at<PaletteRecord>(blob, s.palette.offset, i);
@@ -344,6 +352,7 @@ LoadStatus rig_init(const uint8_t* blob, size_t size, void* arena, size_t arena_
   r.length_exponent = h.length_exponent;
   r.influences_per_vertex = h.influences_per_vertex;
   r.input_count = h.input_count;
+  r.synergy_shares = h.version_major >= kVersionMajorShares;
   r.joints = typed<JointRecord>(place(blob, s.joints, a, &used), h.joint_count);
   r.names = typed<char[kNameBytes]>(place(blob, s.names, a, &used), h.joint_count);
   r.synergies = typed<SynergyRecord>(place(blob, s.synergies, a, &used), h.synergy_count);

@@ -28,9 +28,19 @@ uint32_t dofs_to_locals(const rig::Rig& rig, std::span<const int32_t> inputs, st
     for (int d = 0; d < r.dof_count; ++d) value[d] = inputs[r.first_input + static_cast<uint32_t>(d)];
     // Synergies spread a commanded value over other joints' DOFs. The list is
     // short and bounded (kMaxSynergies); a linear scan keeps order deterministic.
+    // A shared synergy (anatomically-based §3: "a 12 degree rotation of the
+    // thoracic region is ... one degree at each thoracic vertebra") moves its
+    // share from the source's own DOF to the target, the same rounded integer
+    // on both sides, so the chain's values sum exactly to the command.
     for (const rig::SynergyRecord& s : rig.synergies) {
-      if (s.target_joint != j) continue;
-      value[s.target_dof] += fx::round_shift(int64_t{inputs[s.source_input]} * s.gain, fx::kUnitFracBits);
+      const bool share = rig.synergy_shares && s.mode == static_cast<uint8_t>(rig::SynergyMode::kShare);
+      const bool targets_this = s.target_joint == j;
+      const uint32_t source = s.source_input;
+      const bool sources_this = share && source >= r.first_input && source < r.first_input + uint32_t{r.dof_count};
+      if (!targets_this && !sources_this) continue;
+      const int64_t amount = fx::round_shift(int64_t{inputs[s.source_input]} * s.gain, fx::kUnitFracBits);
+      if (targets_this) value[s.target_dof] += amount;
+      if (sources_this) value[source - r.first_input] -= amount;
     }
     fx::Quat dof_rotation = fx::quat_identity();
     for (int d = 0; d < r.dof_count; ++d) {

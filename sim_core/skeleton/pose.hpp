@@ -30,7 +30,10 @@ void rest_locals(const rig::Rig& rig, std::span<LocalPose> locals);
 // inputs: one value per rig input: a signed binary angle (int32 view of an
 // Angle) for rotational DOFs, a Len for translational ones. Each joint DOF
 // takes its own input plus sum(gain * source input) of the synergies that
-// target it (anatomically-based §3), then is clamped to [dof_min, dof_max]
+// target it (anatomically-based §3); a shared synergy (SynergyMode::kShare,
+// major-2 blobs) also takes that same amount off its source's own DOF, so a
+// chain's DOF values sum exactly to the command. Then each value is clamped
+// to [dof_min, dof_max]
 // (LEMAN §6.8). The rotation is rest_rotation * R(axis0, a0) * R(axis1, a1)
 // * R(axis2, a2). Returns the number of DOFs clamped; sets joint_flags.
 // Spans: inputs >= rig.input_count, locals and joint_flags >= joint count.

@@ -33,9 +33,11 @@ std::vector<Affine> reference_fk(const rigc::RigSpec& spec, const std::vector<do
     Eigen::Quaterniond dof = Eigen::Quaterniond::Identity();
     for (size_t d = 0; d < js.dofs.size(); ++d) {
       double a = input_deg[first[j] + d];
-      for (const rigc::SynergySpec& s : spec.synergies)
-        if (static_cast<size_t>(s.target_joint) == j && static_cast<size_t>(s.target_dof) == d)
-          a += s.gain * input_deg[static_cast<size_t>(s.source_input)];
+      for (const rigc::SynergySpec& s : spec.synergies) {
+        const double amount = s.gain * input_deg[static_cast<size_t>(s.source_input)];
+        if (static_cast<size_t>(s.target_joint) == j && static_cast<size_t>(s.target_dof) == d) a += amount;
+        if (s.share && static_cast<size_t>(s.source_input) == first[j] + d) a -= amount;  // a chain's share
+      }
       a = std::clamp(a, js.dofs[d].min, js.dofs[d].max);
       const Eigen::Vector3d axis(js.dofs[d].axis[0], js.dofs[d].axis[1], js.dofs[d].axis[2]);
       dof = dof * Eigen::Quaterniond(Eigen::AngleAxisd(a * M_PI / 180, axis.normalized()));

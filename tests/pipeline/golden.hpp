@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0x13cb7325f611e53cu;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x10b7b3ff7a2ba757u;
+inline constexpr uint64_t kArmLayersBlob = 0xd568cad81189c4a7u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x8a2e2b8f1c9120b4u;
 }  // namespace sinew::test::golden

@@ -135,7 +135,7 @@ TEST(RigCompile, ReportMatchesTheBlob) {
   EXPECT_EQ(report.influences_per_vertex, 3u);
   EXPECT_EQ(report.renormalized_vertices, 0u);
   EXPECT_GT(report.engine_arena_bytes, 0u);
-  EXPECT_EQ(blob.header().version_major, rig::kVersionMajor);
+  EXPECT_EQ(blob.header().version_major, rig::kVersionMajorFirst);  // no shared synergies
   EXPECT_EQ(blob.header().total_size, bytes.size());
 }
 

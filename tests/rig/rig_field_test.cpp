@@ -74,7 +74,7 @@ constexpr int32_t kOne = fx::kUnitOne;
 std::vector<FieldCase> header_cases() {
   return {
       {"BadMagic", patch_header([](FileHeader& h) { h.magic ^= 1; }), LoadError::kBadMagic, "header.magic"},
-      {"MajorVersion2", patch_header([](FileHeader& h) { h.version_major = 2; }), LoadError::kBadVersion,
+      {"MajorVersion3", patch_header([](FileHeader& h) { h.version_major = 3; }), LoadError::kBadVersion,
        "header.version_major"},
       {"MajorVersion0", patch_header([](FileHeader& h) { h.version_major = 0; }), LoadError::kBadVersion,
        "header.version_major"},

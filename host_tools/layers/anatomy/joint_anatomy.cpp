@@ -9,11 +9,35 @@ namespace {
 using layers::RestFrame;
 using layers::RigGeometry;
 
-// The built-in arm's biceps, in units of its bone radius (1.2 cm): slice
-// half-widths, half-thicknesses and outward bulges (anatomy_spec's arm).
-constexpr double kHalfWidth[8] = {0.67, 1.33, 1.67, 1.83, 1.83, 1.5, 1.0, 0.5};
-constexpr double kHalfThickness[8] = {0.33, 0.83, 1.17, 1.33, 1.33, 1.08, 0.67, 0.33};
-constexpr double kBulge[8] = {0, 0.25, 0.42, 0.5, 0.5, 0.42, 0.25, 0};
+// The belly of the built-in arm's biceps (anatomy_spec's arm), in units of
+// its bone radius (1.2 cm): the widest slice's half-width, and its
+// thickness over its width (§4.2: "larger across (in X) than in thickness").
+constexpr double kBellyHalfWidth = 1.83;
+constexpr double kThicknessRatio = 1.33 / 1.83;
+
+// The default slice profile of anatomically-based-modeling §4.2, in model
+// units. The end slices are as wide as the lines between the two origins
+// and the two insertions; the inner slices widen to a fusiform belly (the
+// spindle 4t(1 - t) above the straight line between the end widths,
+// t = k / 7, so the widest slices are the middle ones; + - x / only, as the
+// whole builder, for bit-identical models); every slice is kThicknessRatio as
+// thick as wide. The inner centres move outward (-Y) by how much thicker
+// each slice is than the straight line between the end thicknesses, so the
+// bone-side face runs straight from end to end and only the outer face
+// bulges ("displaced in the negative Y direction ... to compensate for the
+// greater thickness of the muscle near its center").
+void fusiform_slices(double origin_width, double insertion_width, double belly_half_width, MuscleSpec* s) {
+  const double end0 = 0.5 * origin_width, end7 = 0.5 * insertion_width;
+  const double belly = std::max({belly_half_width, end0, end7});
+  for (size_t k = 0; k < 8; ++k) {
+    const double t = static_cast<double>(k) / 7.0;
+    const double line = end0 + (end7 - end0) * t;
+    const double width = line + (belly - line) * 4 * t * (1 - t);
+    s->half_width[k] = width;
+    s->half_thickness[k] = kThicknessRatio * width;
+    s->bulge[k] = kThicknessRatio * (width - line);
+  }
+}
 
 struct Box {  // a bone's box in its joint's frame (local units)
   Vec3d axis, side, third;
@@ -101,32 +125,29 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
     const double r_ins = o == ins ? ro : ri;
     const Vec3d s_ins = o == ins ? side : side_i, a_ins = o == ins ? across_o : across_i;
     // As the arm's biceps: origin[0] and insertion[0] on the -(u x side) edge.
-    s.origin[0] =
-        attach(g, boxes[o], m.origin,
-               layers::add(layers::add(o0, layers::scaled(side, 2.0 * ro)), layers::scaled(across_o, -0.8 * ro)));
-    s.origin[1] =
-        attach(g, boxes[o], m.origin,
-               layers::add(layers::add(o0, layers::scaled(side, 2.0 * ro)), layers::scaled(across_o, 0.8 * ro)));
-    s.insertion[0] =
-        attach(g, boxes[ins], m.insertion,
-               layers::add(layers::add(i0, layers::scaled(s_ins, 1.2 * r_ins)), layers::scaled(a_ins, -0.6 * r_ins)));
-    s.insertion[1] =
-        attach(g, boxes[ins], m.insertion,
-               layers::add(layers::add(i0, layers::scaled(s_ins, 1.2 * r_ins)), layers::scaled(a_ins, 0.6 * r_ins)));
+    const Vec3d belly_o = layers::add(o0, layers::scaled(side, 2.0 * ro));
+    const Vec3d belly_i = layers::add(i0, layers::scaled(s_ins, 1.2 * r_ins));
+    const Vec3d origin_points[2] = {layers::add(belly_o, layers::scaled(across_o, -0.8 * ro)),
+                                    layers::add(belly_o, layers::scaled(across_o, 0.8 * ro))};
+    const Vec3d insertion_points[2] = {layers::add(belly_i, layers::scaled(a_ins, -0.6 * r_ins)),
+                                       layers::add(belly_i, layers::scaled(a_ins, 0.6 * r_ins))};
+    for (int k = 0; k < 2; ++k) {
+      s.origin[k] = attach(g, boxes[o], m.origin, origin_points[k]);
+      s.insertion[k] = attach(g, boxes[ins], m.insertion, insertion_points[k]);
+    }
     const double path = layers::norm(layers::sub(i0, o0));
     if (!(path > 0)) return *error = name + ": origin and insertion coincide", false;
     const double cap = 0.15 * path;  // keeps the slices far thinner than the muscle is long
+    fusiform_slices(layers::norm(layers::sub(origin_points[1], origin_points[0])),
+                    layers::norm(layers::sub(insertion_points[1], insertion_points[0])),
+                    std::min(cap, kBellyHalfWidth * ro * m.thickness), &s);
     double widest = 0, thickest = 0;
-    for (int k = 0; k < 8; ++k) {
-      s.half_width[static_cast<size_t>(k)] = std::min(cap, kHalfWidth[k] * ro * m.thickness);
-      s.half_thickness[static_cast<size_t>(k)] = std::min(cap, kHalfThickness[k] * ro * m.thickness);
-      s.bulge[static_cast<size_t>(k)] = std::min(cap, kBulge[k] * ro * m.thickness);
-      widest = std::max(widest, s.half_width[static_cast<size_t>(k)]);
-      thickest = std::max(thickest, s.half_thickness[static_cast<size_t>(k)]);
+    for (size_t k = 0; k < 8; ++k) {
+      widest = std::max(widest, s.half_width[k]);
+      thickest = std::max(thickest, s.half_thickness[k]);
     }
     a.muscles.push_back(s);
-    paths->push_back(
-        {layers::add(o0, layers::scaled(side, 2.0 * ro)), layers::add(i0, layers::scaled(s_ins, 1.2 * r_ins)), widest});
+    paths->push_back({belly_o, belly_i, widest});
     PrimitiveSpec belly;  // a boxy superellipsoid (p = 4) in the belly, as the arm's biceps
     belly.kind = 2;
     belly.attach = 1;
