@@ -135,7 +135,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
   }
   // Each bar-net's force and force-density inputs, if undeclared.
   for (const BarnetTable& t : layers.barnets) {
-    auto declare = [&external, &t](const std::string& name, const ExternalInputTable& as) {
+    auto declare = [&external](const std::string& name, const ExternalInputTable& as) {
       if (name.empty()) return;
       if (std::none_of(external.begin(), external.end(), [&](const ExternalInputTable& e) { return e.name == name; }))
         external.push_back(as);
