@@ -106,8 +106,11 @@ bool FrameDecompressor::init(size_t max_payload, uint64_t compressed_bytes, std:
   if (dctx_ == nullptr) return *error = "cannot set up the zstd decompression context", false;
   const size_t capacity =
       static_cast<size_t>(std::min<uint64_t>(max_payload, zstd_max_decoded_bytes(compressed_bytes)));
-  planes_.assign(capacity, 0);
-  payload_.assign(capacity, 0);
+  // Buffers grow to the largest record read, not to the bound: a file's
+  // bytes can bound records at 32 768 times their size.
+  capacity_ = capacity;
+  planes_.clear();
+  payload_.clear();
   previous_bytes_ = 0;
   return true;
 }
@@ -122,7 +125,7 @@ bool FrameDecompressor::decode(std::span<const uint8_t> record, std::span<const 
   const unsigned long long size = ZSTD_getFrameContentSize(frame.data(), frame.size());
   if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
     return *why = "compressed record is not a zstd frame with its content size", false;
-  if (size > planes_.size())
+  if (size > capacity_)
     return *why = "compressed record claims " + std::to_string(size) +
                   " bytes, more than the log's frames hold or its file's compressed bytes can decode to",
            false;
@@ -131,7 +134,11 @@ bool FrameDecompressor::decode(std::span<const uint8_t> record, std::span<const 
     return *why = previous_bytes_ == 0 ? "delta record without a record before it"
                                        : "delta record after a record of another length",
            false;
-  const size_t got = ZSTD_decompressDCtx(dctx_, planes_.data(), planes_.size(), frame.data(), frame.size());
+  if (planes_.size() < size) {  // a delta never grows them: it has its key's size
+    planes_.resize(static_cast<size_t>(size));
+    payload_.resize(static_cast<size_t>(size));
+  }
+  const size_t got = ZSTD_decompressDCtx(dctx_, planes_.data(), static_cast<size_t>(size), frame.data(), frame.size());
   if (ZSTD_isError(got)) return *why = std::string("zstd: ") + ZSTD_getErrorName(got), false;
   if (got != size) return *why = "compressed record decodes to another size than it declares", false;
   // In place: word i reads only previous word i before writing it.

@@ -72,7 +72,8 @@ class FrameCompressor {
 // 3-byte header and one RLE byte), so at most 32 768 bytes a byte.
 uint64_t zstd_max_decoded_bytes(uint64_t compressed);
 
-// Host side (allocates at init only).
+// Host side (allocates at init, and grows its buffers to the largest record
+// read, never beyond init's bound).
 class FrameDecompressor {
  public:
   FrameDecompressor() = default;
@@ -89,11 +90,12 @@ class FrameDecompressor {
   // The pose payload of one record payload, valid until the next call; false
   // with the reason if the record does not decode (a damaged record).
   bool decode(std::span<const uint8_t> record, std::span<const uint8_t>* payload, std::string* why);
-  size_t capacity() const { return planes_.size(); }  // the largest decoded record it holds
+  size_t capacity() const { return capacity_; }  // the largest decoded record it accepts
 
  private:
   ZSTD_DCtx_s* dctx_ = nullptr;
-  std::vector<uint8_t> planes_, payload_;
+  std::vector<uint8_t> planes_, payload_;  // grown to the largest record decoded so far
+  size_t capacity_ = 0;
   size_t previous_bytes_ = 0;
 };
 
