@@ -60,6 +60,19 @@ inline std::unique_ptr<LoadedLayers> builtin_with_layers(const std::string& name
   return l;
 }
 
+// `spec` with the layers `tables`, compiled as rigc compiles a rig spec and
+// loaded (not started); null with the message.
+inline std::unique_ptr<LoadedLayers> compiled_with_layers(rigc::RigSpec spec, const layers::LayerSpecs& tables,
+                                                          std::string* error) {
+  auto l = std::make_unique<LoadedLayers>();
+  std::vector<std::string> report;
+  rigc::CompileReport core;
+  if (!layers::add_layer_dofs(&spec, tables, &report, error) || !rigc::compile_rig(spec, &l->bytes, &core, error) ||
+      !layers::compile_layers(spec, tables, &l->bytes, &report, error) || !l->load(error))
+    return nullptr;
+  return l;
+}
+
 // The built-in arm with its layers, or a test failure with the message.
 inline std::unique_ptr<LoadedLayers> arm_with_layers() {
   std::string error;

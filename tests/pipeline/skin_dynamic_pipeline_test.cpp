@@ -20,14 +20,7 @@ std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* er
     return nullptr;
   layers.skin.solver.dynamic = true;
   layers.skin.solver.gravity[1] = -9.81;
-  auto l = std::make_unique<sinew::test::LoadedLayers>();
-  std::vector<std::string> report;
-  sinew::rigc::CompileReport core;
-  if (!sinew::layers::add_layer_dofs(&spec, layers, &report, error) ||
-      !sinew::rigc::compile_rig(spec, &l->bytes, &core, error) ||
-      !sinew::layers::compile_layers(spec, layers, &l->bytes, &report, error) || !l->load(error))
-    return nullptr;
-  return l;
+  return sinew::test::compiled_with_layers(std::move(spec), layers, error);
 }
 
 uint32_t skin_section_version(const std::vector<uint8_t>& bytes) {
