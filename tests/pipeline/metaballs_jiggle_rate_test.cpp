@@ -119,8 +119,13 @@ double largest_difference(const JiggleRun& slow, const JiggleRun& fast, double* 
 //  - the start and the stop change the target's velocity by v: the kick
 //    g v h against v G(h) = v r sin(theta) / omega, a swing larger by
 //    theta / sin(theta) - 1 (~theta^2 / 6: second order) of v / omega each;
-//  - the same two ticks carry half a tick of centripetal pull a = Omega^2 R
-//    that both sides approximate within a h^2 / 2: <= a h^2 / 2 max|h_n| each;
+//  - the same two ticks carry a tick's centripetal pull a = Omega^2 R on one
+//    side of t_n: the discrete g a h^2 / 2 (1 - (Omega h)^2 / 12) against
+//    a int_0^h G at the start (G(s) in [s (1 - sigma s - omega^2 s^2 / 6),
+//    s], so h^2 / 2 within 2 sigma h / 3 + theta^2 / 12 of it) and
+//    a (k / omega0^2 - int_0^h G) at the stop; the pull turns by Omega h
+//    within it; the chord's tangential part is g v h (1 - (Omega h)^2 / 6).
+//    Each such error passes through the recurrence once: max|h_n| times it;
 //  - while turning, T'' = a turns at Omega: the discrete g (2 - 2 cos(Omega
 //    h)) R against int K a, which differ by |g h^2 - k / omega0^2| a (second
 //    order: k = r omega0^2 h^2 (1 + O(h^2))) plus g h^2 a (Omega h)^2 / 12
@@ -144,7 +149,10 @@ double rate_bound(double h, double v, double a, double turn_rate, double lsb, si
     current = next;
   }
   const double kicks = 2 * (theta / std::sin(theta) - 1) * v / omega;
-  const double edges = 2 * (a * h * h / 2) * h_max;
+  const double pull_edge =
+      a * (h * h / 2 * (std::fabs(1 - g) + 2 * sigma * h / 3 + theta * theta / 12 + turn_rate * h) +
+           std::fabs(k / omega0_2 - g * h * h));
+  const double edges = 2 * (pull_edge + g * v * h * std::pow(turn_rate * h, 2) / 6) * h_max;
   const double per_tick = std::fabs(g * h * h - k / omega0_2) * a + g * h * h * a * std::pow(turn_rate * h, 2) / 12 +
                           k / omega0_2 * a * turn_rate * h;
   return kicks + edges + per_tick * h_sum + 64 * lsb;
