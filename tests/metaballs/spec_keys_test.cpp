@@ -18,8 +18,11 @@
 #include "sim_core/pipeline/layer_format.hpp"
 #include "sim_core/pipeline/layer_set.hpp"
 #include "sim_core/rig/rig_format.hpp"
+#include "tests/pipeline/pipeline_fixture.hpp"
 
 namespace {
+
+using sinew::test::LoadedLayers;
 
 const char* const kSpec = R"(
 [rig]
@@ -52,25 +55,27 @@ std::string write_spec(const std::string& name, const std::string& text) {
   return path;
 }
 
-bool compile(const std::string& path, std::vector<uint8_t>* blob, sinew::layers::LayerSpecs* layers,
-             std::string* error) {
+// Compiles the spec `text` (written to a temporary file `name`, as rigc
+// reads it) into a blob and the layer tables it read.
+bool compile(const std::string& name, const std::string& text, std::vector<uint8_t>* blob,
+             sinew::layers::LayerSpecs* layers, std::string* error) {
+  const std::string path = write_spec(name, text);
   sinew::rigc::RigSpec spec;
   sinew::rigc::CompileReport core;
   std::vector<std::string> report;
-  return sinew::rigc::load_toml_rig(path, &spec, layers, error) &&
-         sinew::layers::add_layer_dofs(&spec, *layers, &report, error) &&
-         sinew::rigc::compile_rig(spec, blob, &core, error) &&
-         sinew::layers::compile_layers(spec, *layers, blob, &report, error);
+  const bool ok = sinew::rigc::load_toml_rig(path, &spec, layers, error) &&
+                  sinew::layers::add_layer_dofs(&spec, *layers, &report, error) &&
+                  sinew::rigc::compile_rig(spec, blob, &core, error) &&
+                  sinew::layers::compile_layers(spec, *layers, blob, &report, error);
+  std::filesystem::remove(path);
+  return ok;
 }
 
 TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
-  const std::string path = write_spec("sinew_metaballs_keys.toml", kSpec);
   std::vector<uint8_t> bytes;
   sinew::layers::LayerSpecs layers;
   std::string error;
-  const bool ok = compile(path, &bytes, &layers, &error);
-  std::filesystem::remove(path);
-  ASSERT_TRUE(ok) << error;
+  ASSERT_TRUE(compile("sinew_metaballs_keys.toml", kSpec, &bytes, &layers, &error)) << error;
   const auto& o = layers.metaballs.options;
   EXPECT_EQ(o.jiggle_frequency, 3.0);
   EXPECT_EQ(o.jiggle_window, 0.5);
@@ -79,22 +84,11 @@ TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
   ASSERT_EQ(o.bulge.size(), 1u);
   EXPECT_EQ(o.bulge[0].gain, 0.2);
 
-  std::vector<uint64_t> blob(bytes.size() / 8 + 1, 0), arena, layer_arena;
-  std::memcpy(blob.data(), bytes.data(), bytes.size());
-  const auto* p = reinterpret_cast<const uint8_t*>(blob.data());
-  size_t a = 0, b = 0;
-  sinew::rig::Rig rig;
-  sinew::pipeline::LayerSet set;
-  sinew::rig::LoadStatus st = sinew::rig::rig_validate(p, bytes.size(), &a);
-  arena.assign(a / 8 + 1, 0);
-  if (st.ok()) st = sinew::rig::rig_init(p, bytes.size(), arena.data(), arena.size() * 8, &rig);
-  if (st.ok()) st = sinew::pipeline::layers_validate(rig, p, bytes.size(), &b);
-  layer_arena.assign(b / 8 + 1, 0);
-  if (st.ok())
-    st = sinew::pipeline::layers_init(rig, p, bytes.size(), layer_arena.data(), layer_arena.size() * 8, &set);
-  ASSERT_TRUE(st.ok()) << st.message;
-  ASSERT_TRUE(set.has_metaballs);
-  const auto& m = set.metaballs;
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  ASSERT_TRUE(loaded.layers.has_metaballs);
+  const auto& m = loaded.layers.metaballs;
   // The section says which rate its gains are for: the spec's rate_hz.
   EXPECT_EQ(m.jiggle_rate_hz, 500u);
   sinew::metaballs::JiggleGains want;
@@ -116,64 +110,41 @@ TEST(MetaballsSpecKeys, UnknownKeyIsRefused) {
   std::vector<uint8_t> bytes;
   sinew::layers::LayerSpecs layers;
   std::string error;
-  const std::string typo = write_spec("sinew_metaballs_typo.toml", std::string(kSpec) + "jigle_window = 1\n");
-  EXPECT_FALSE(compile(typo, &bytes, &layers, &error));
-  std::filesystem::remove(typo);
+  EXPECT_FALSE(
+      compile("sinew_metaballs_typo.toml", std::string(kSpec) + "jigle_window = 1\n", &bytes, &layers, &error));
   EXPECT_NE(error.find("unknown key"), std::string::npos) << error;
 }
 
 // The MBAL section's layer version of a compiled blob (0: none).
 uint32_t metaballs_section_version(const std::vector<uint8_t>& bytes) {
-  sinew::rig::FileHeader h;
-  std::memcpy(&h, bytes.data(), sizeof(h));
-  for (uint32_t i = 0; i < h.section_count; ++i) {
-    sinew::rig::SectionEntry e;
-    std::memcpy(&e, bytes.data() + h.section_table_offset + size_t{i} * sizeof(e), sizeof(e));
-    if (e.id != sinew::pipeline::kSectionMetaballs) continue;
-    sinew::pipeline::LayerSectionHeader lh;
-    std::memcpy(&lh, bytes.data() + e.offset, sizeof(lh));
-    return lh.layer_version;
-  }
-  return 0;
+  const size_t at = sinew::test::section_offset(bytes, sinew::pipeline::kSectionMetaballs);
+  if (at == 0) return 0;
+  sinew::pipeline::LayerSectionHeader lh;
+  std::memcpy(&lh, bytes.data() + at, sizeof(lh));
+  return lh.layer_version;
 }
 
 TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
   const std::string text =
       std::string(kSpec) +
       "\n[[metaballs.action_line]]\norigin = \"shoulder\"\ninsertion = \"elbow\"\nside = [0, 0.03, 0]\n";
-  const std::string path = write_spec("sinew_metaballs_lines.toml", text);
   std::vector<uint8_t> bytes, plain;
   sinew::layers::LayerSpecs layers, plain_layers;
   std::string error;
-  const bool ok = compile(path, &bytes, &layers, &error);
-  std::filesystem::remove(path);
-  ASSERT_TRUE(ok) << error;
+  ASSERT_TRUE(compile("sinew_metaballs_lines.toml", text, &bytes, &layers, &error)) << error;
   ASSERT_EQ(layers.metaballs.options.action_lines.size(), 1u);
   EXPECT_EQ(layers.metaballs.options.action_lines[0].side[1], 0.03);
   // Without action lines the section stays version 1 (the bytes of existing
   // rigs); with them it is version 2.
-  const std::string plain_path = write_spec("sinew_metaballs_plain.toml", kSpec);
-  ASSERT_TRUE(compile(plain_path, &plain, &plain_layers, &error)) << error;
-  std::filesystem::remove(plain_path);
+  ASSERT_TRUE(compile("sinew_metaballs_plain.toml", kSpec, &plain, &plain_layers, &error)) << error;
   EXPECT_EQ(metaballs_section_version(plain), 1u);
   EXPECT_EQ(metaballs_section_version(bytes), sinew::pipeline::kMetaballsSectionVersion2);
 
-  std::vector<uint64_t> blob(bytes.size() / 8 + 1, 0), arena, layer_arena;
-  std::memcpy(blob.data(), bytes.data(), bytes.size());
-  const auto* p = reinterpret_cast<const uint8_t*>(blob.data());
-  size_t a = 0, b = 0;
-  sinew::rig::Rig rig;
-  sinew::pipeline::LayerSet set;
-  sinew::rig::LoadStatus st = sinew::rig::rig_validate(p, bytes.size(), &a);
-  arena.assign(a / 8 + 1, 0);
-  if (st.ok()) st = sinew::rig::rig_init(p, bytes.size(), arena.data(), arena.size() * 8, &rig);
-  if (st.ok()) st = sinew::pipeline::layers_validate(rig, p, bytes.size(), &b);
-  layer_arena.assign(b / 8 + 1, 0);
-  if (st.ok())
-    st = sinew::pipeline::layers_init(rig, p, bytes.size(), layer_arena.data(), layer_arena.size() * 8, &set);
-  ASSERT_TRUE(st.ok()) << st.message;
-  ASSERT_TRUE(set.has_metaballs);
-  const auto& m = set.metaballs;
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  ASSERT_TRUE(loaded.layers.has_metaballs);
+  const auto& m = loaded.layers.metaballs;
   ASSERT_EQ(m.action_lines.size(), 1u);
   EXPECT_FALSE(m.action_balls.empty());
   // The loaded line is the one the builder made from the same spec.
