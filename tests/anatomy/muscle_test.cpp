@@ -125,16 +125,23 @@ void volume_band(ArmAnatomy& arm, const char* label, double lo[2], double hi[2],
 
 }  // namespace
 
+// The built-in arm with its default anatomy (two muscles with pivots).
+class Muscle : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(arm.ok()) << arm.error(); }
+  ArmAnatomy arm;
+};
+
 // The paper's default deformed cylinder (no pivot): every section shortens
 // with the path, so sqrt(rest / present) keeps the volume up to the end
 // sections (§4.4): the bound of volume_band, at every angle.
-TEST(Muscle, DefaultMuscleVolumeStaysBetweenScaledAndUnscaledSections) {
-  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+TEST_F(Muscle, DefaultMuscleVolumeStaysBetweenScaledAndUnscaledSections) {
+  ArmAnatomy unpivoted([](sinew::anatomy_build::AnatomySpec& s) {
     for (auto& m : s.muscles) m.has_pivot = false;
   });
   double lo[2], hi[2];
   int outside[2] = {0, 0};
-  volume_band(arm, "default (no pivot)", lo, hi, outside);
+  volume_band(unpivoted, "default (no pivot)", lo, hi, outside);
   for (int m = 0; m < 2; ++m) EXPECT_EQ(outside[m], 0) << "muscle " << m;
 }
 
@@ -142,17 +149,14 @@ TEST(Muscle, DefaultMuscleVolumeStaysBetweenScaledAndUnscaledSections) {
 // grows with the scale of the inner slices (the paper keeps the rule
 // anyway: "exact volume preservation is not biologically justified"): it
 // stays within the per-section bound of volume_band.
-TEST(Muscle, PivotedMuscleVolumeStaysWithinItsSectionBounds) {
-  ArmAnatomy arm;
+TEST_F(Muscle, PivotedMuscleVolumeStaysWithinItsSectionBounds) {
   double lo[2], hi[2];
   int outside[2] = {0, 0};
   volume_band(arm, "arm (pivots)", lo, hi, nullptr, outside);
   for (int m = 0; m < 2; ++m) EXPECT_EQ(outside[m], 0) << "muscle " << m;
 }
 
-TEST(Muscle, BicepsWidthGrowsWithElbowFlexion) {
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
+TEST_F(Muscle, BicepsWidthGrowsWithElbowFlexion) {
   double previous = 0, first = 0, last = 0;
   // Up to 135 deg: past it the folded forearm carries the insertion away
   // from the pivot again (printed below, not checked).
@@ -183,9 +187,7 @@ TEST(Muscle, BicepsWidthGrowsWithElbowFlexion) {
   EXPECT_NEAR(last / first, expected, bound);
 }
 
-TEST(Muscle, RecomputedOnlyWhenAJointBetweenOriginAndInsertionMoves) {
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
+TEST_F(Muscle, RecomputedOnlyWhenAJointBetweenOriginAndInsertionMoves) {
   ASSERT_TRUE(arm.step_muscles().ok());
   EXPECT_EQ(arm.muscles().stats.recomputed, 2u) << "the first step computes every muscle";
   ASSERT_TRUE(arm.step_muscles().ok());
@@ -200,9 +202,7 @@ TEST(Muscle, RecomputedOnlyWhenAJointBetweenOriginAndInsertionMoves) {
   EXPECT_EQ(arm.muscles().stats.recomputed, 2u);
 }
 
-TEST(Muscle, RestLengthGivesUnitScaleAtRest) {
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
+TEST_F(Muscle, RestLengthGivesUnitScaleAtRest) {
   ASSERT_TRUE(arm.step_muscles().ok());
   EXPECT_EQ(arm.muscles().scale[0], sinew::fx::kUnitOne);
   EXPECT_EQ(arm.muscles().scale[1], sinew::fx::kUnitOne);

@@ -24,7 +24,14 @@ void expect_message(const muscle::LayerStatus& st, const char* fragment) {
 
 }  // namespace
 
-TEST(AnatomyValidation, MuscleWithOriginAfterInsertionInTheHierarchy) {
+// Every test checks against the built-in arm with its default anatomy.
+class AnatomyValidation : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(arm.ok()) << arm.error(); }
+  ArmAnatomy arm;
+};
+
+TEST_F(AnatomyValidation, MuscleWithOriginAfterInsertionInTheHierarchy) {
   // Builder: the spec swaps origin and insertion bones of the biceps.
   ArmAnatomy swapped([](ab::AnatomySpec& s) {
     std::swap(s.muscles[0].origin[0], s.muscles[0].insertion[0]);
@@ -36,8 +43,6 @@ TEST(AnatomyValidation, MuscleWithOriginAfterInsertionInTheHierarchy) {
   EXPECT_NE(swapped.error().find("muscle[0]"), std::string::npos);
 
   // Runtime validator on an otherwise good model.
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
   std::vector<muscle::MuscleRecord> bad(arm.model().muscles);
   std::swap(bad[1].origin[0].bone, bad[1].insertion[0].bone);
   muscle::MuscleModel m = arm.muscle_model();
@@ -45,7 +50,7 @@ TEST(AnatomyValidation, MuscleWithOriginAfterInsertionInTheHierarchy) {
   expect_message(muscle::muscle_validate(arm.rig(), m), "muscle[1].origin.bone: origin is after the insertion");
 }
 
-TEST(AnatomyValidation, AnchorOutsideEveryComponent) {
+TEST_F(AnatomyValidation, AnchorOutsideEveryComponent) {
   // Builder: components' reach shrunk below the skin's distance to them.
   ArmAnatomy far([](ab::AnatomySpec& s) { s.skin.max_anchor_distance = 0.005; });
   std::printf("builder: %s\n", far.error().c_str());
@@ -54,8 +59,6 @@ TEST(AnatomyValidation, AnchorOutsideEveryComponent) {
 
   // Runtime validator: a muscle anchor whose u lies far outside its cell,
   // and a bone anchor naming no joint.
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
   std::vector<es::Anchor> anchors(arm.model().anchors);
   uint32_t v = 0;
   while (anchors[v].kind != static_cast<uint8_t>(es::AnchorKind::kMuscle)) ++v;
@@ -73,9 +76,7 @@ TEST(AnatomyValidation, AnchorOutsideEveryComponent) {
                  "skin anchor[0].component");
 }
 
-TEST(AnatomyValidation, BadMuscleAndPrimitiveRecords) {
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
+TEST_F(AnatomyValidation, BadMuscleAndPrimitiveRecords) {
   const auto check = [&](auto edit, const char* fragment) {
     std::vector<muscle::MuscleRecord> ms(arm.model().muscles);
     std::vector<muscle::PrimitiveRecord> ps(arm.model().primitives);
@@ -106,10 +107,8 @@ TEST(AnatomyValidation, BadMuscleAndPrimitiveRecords) {
       "a sphere needs three equal extents");
 }
 
-TEST(AnatomyValidation, BadPrimitiveDeformations) {
+TEST_F(AnatomyValidation, BadPrimitiveDeformations) {
   // Barr's deformations outside their documented ranges (muscle_model.hpp).
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
   const size_t n = arm.model().primitives.size();
   ASSERT_GT(n, 0u);
   const auto validate = [&](auto edit) {
@@ -144,9 +143,7 @@ TEST(AnatomyValidation, BadPrimitiveDeformations) {
   }
 }
 
-TEST(AnatomyValidation, BadSkinParametersAndRecords) {
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
+TEST_F(AnatomyValidation, BadSkinParametersAndRecords) {
   const auto check = [&](auto edit, const char* fragment) {
     std::vector<es::Edge> edges(arm.model().edges);
     std::vector<sinew::fx::Len> fat(arm.model().fat);
@@ -173,9 +170,7 @@ TEST(AnatomyValidation, BadSkinParametersAndRecords) {
   check([](SM& s, EV&, FV&) { s.vertex_count += 1; }, "sizes differ from vertex_count");
 }
 
-TEST(AnatomyValidation, BadStepInputsAndMemory) {
-  ArmAnatomy arm;
-  ASSERT_TRUE(arm.ok()) << arm.error();
+TEST_F(AnatomyValidation, BadStepInputsAndMemory) {
   ASSERT_TRUE(arm.step().ok());
   const std::span<const sinew::fx::Mat34> short_bones = arm.engine().model.first(2);
   expect_message(muscle::muscle_step(arm.muscle_model(), short_bones, &arm.muscles()), "bones");
