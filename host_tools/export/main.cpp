@@ -4,7 +4,6 @@
 // animation (docs/export.md). The file is written whole or not at all.
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -12,6 +11,7 @@
 #include "clip_glb.hpp"
 #include "frame_log_clip.hpp"
 #include "hal/common/safe_create.hpp"
+#include "host_tools/common/guarded_main.hpp"
 
 namespace {
 
@@ -73,12 +73,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what());
-  } catch (...) {
-    return fail("internal error");
-  }
-}
+int main(int argc, char** argv) { return sinew::host::guarded_main("sinew-export", run, argc, argv); }

@@ -15,9 +15,9 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <string>
 
+#include "host_tools/common/guarded_main.hpp"
 #include "host_tools/export/clip_glb.hpp"
 #include "host_tools/export/rig_clip.hpp"
 #include "host_tools/rigc/gltf_poser.hpp"
@@ -177,12 +177,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what());
-  } catch (...) {
-    return fail("internal error");
-  }
-}
+int main(int argc, char** argv) { return sinew::host::guarded_main("sinew-pose", run, argc, argv); }

@@ -4,10 +4,10 @@
 //   rigc model.glb -o model.rig
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <exception>
 #include <string>
 #include <string_view>
 
+#include "host_tools/common/guarded_main.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/gltf_import.hpp"
 #include "host_tools/rigc/output_file.hpp"
@@ -72,12 +72,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what());
-  } catch (...) {
-    return fail("internal error");
-  }
-}
+int main(int argc, char** argv) { return sinew::host::guarded_main("rigc", run, argc, argv); }
