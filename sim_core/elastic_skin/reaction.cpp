@@ -4,6 +4,7 @@
 #include "sim_core/muscle/primitive.hpp"
 #include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
+#include "surface_normals.hpp"
 
 namespace sinew::elastic_skin {
 namespace {
@@ -74,7 +75,7 @@ void bound_primitives(const muscle::MuscleState& muscles, PrimitiveBound (&out)[
 }
 
 fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::Vec3* normal) {
-  *normal = {s.normal[0][v], s.normal[1][v], s.normal[2][v]};
+  *normal = fat_direction(model, s, v);
   const fx::Vec3 p{s.position[0][v], s.position[1][v], s.position[2][v]};
   return fx::sub(p, muscle::along(*normal, fat_of(model, v)));
 }

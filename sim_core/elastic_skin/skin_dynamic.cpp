@@ -8,6 +8,7 @@
 #include "relaxation.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "surface_normals.hpp"
 #include "virtual_anchors.hpp"
 
 namespace sinew::elastic_skin {
@@ -259,6 +260,7 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
       for (int c = 0; c < 3; ++c)
         for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
     integrate(model, g, j, &s);
+    estimate_surface_normals(model, &s);  // kSurface only: the fat along the moved skin's normal (§5.6)
     for (uint32_t pass = 0; pass < sp.constraint_passes; ++pass)
       s.stats.reactions += apply_sliding_reactions(model, mstate, &s);
   }
@@ -273,6 +275,8 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   }
   s.stats.substeps = n;
   s.stats.residual = fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
+  // Against the normals the last reaction pass used (re-estimating them from
+  // the pushed skin would tilt some fat points back in by the push's turn).
   s.stats.inside_after = count_inside(model, mstate, fx::kUnitOne >> 10, s);
   s.started = 1;
   ++s.stats.steps;
