@@ -45,10 +45,11 @@ TEST(SkinInvariantDivision, MatchesDivRoundOnEdgeValues) {
         // Around multiples and half-multiples of d, where the rounding turns.
         if (d > INT64_MAX / 4 && m > 1) continue;
         const int64_t base = d * m;
-        numerators.push_back(base + k);
-        numerators.push_back(-base + k);
-        numerators.push_back(base / 2 + k);
-        numerators.push_back(-(base / 2) + k);
+        // Saturating: base may be INT64_MAX itself.
+        numerators.push_back(sinew::fx::add_sat_i64(base, k));
+        numerators.push_back(sinew::fx::add_sat_i64(-base, k));
+        numerators.push_back(sinew::fx::add_sat_i64(base / 2, k));
+        numerators.push_back(sinew::fx::add_sat_i64(-(base / 2), k));
       }
   int checked = 0;
   for (int64_t d : divisors) {
