@@ -2,7 +2,9 @@
 // and on the largest shared asset (tests/data/generic-hand_left.glb, skin
 // layer only: it has no muscles), the relaxation cost per iteration per
 // vertex, and the anatomically-based paper's workload (30 relaxations of
-// 75 000 vertices: 25 s in 1997) measured on a 75 000-vertex tube.
+// 75 000 vertices: 25 s in 1997) measured on a 75 000-vertex tube, and the
+// arm's dynamic skin (LEMAN §3) per tick at 100 Hz and 1 kHz against LBS
+// and against the tick's period.
 //   sinew-bench-anatomy [--benchmark_min_time=0.5]
 // Prints Google Benchmark's table, then the per-layer table with ratios
 // against LBS of the same rig measured in the same run.
