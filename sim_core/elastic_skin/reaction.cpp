@@ -2,13 +2,80 @@
 
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/muscle/primitive.hpp"
+#include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
+#include "surface_normals.hpp"
 
 namespace sinew::elastic_skin {
 namespace {
 
+// Primitives whose bounds a pass keeps (more are tested without the cull).
+constexpr size_t kBoundedPrimitives = 16;
+
+// A sphere about a primitive's centre outside which every point is outside
+// its bounding box as primitive_sample computes it, so the sample and the
+// push-out would leave the point as it is: the cull changes no result, it
+// only skips the three dot products and the calls for far points. Kept for
+// undeformed primitives with near-orthonormal axes: with |a_i|^2 within
+// 2^-16 of 1 and |a_i . a_j| <= 2^-16, sum (a_i . d)^2 >= (1 - 3 2^-16) |d|^2
+// (Gershgorin), and each local coordinate is rounded by at most 1/2 LSB, so
+// a point inside the box has |d|^2 < sum (e_i + 1)^2 / (1 - 3 2^-16); the
+// cull asks for twice that sum.
+struct PrimitiveBound {
+  bool usable = false;
+  fx::Vec3 centre{0, 0, 0};
+  uint64_t reach2 = 0;  // 2 sum (e_i + 1)^2, Len^2
+};
+
+bool near_orthonormal(const fx::Vec3 axis[3]) {
+  constexpr int64_t kLimit = (int64_t{1} << 30) + (int64_t{1} << 20);  // components of a unit vector, with slack
+  constexpr int64_t kOne2 = int64_t{1} << 60, kSlack = int64_t{1} << 44;
+  for (int i = 0; i < 3; ++i)
+    for (int32_t c : {axis[i].x, axis[i].y, axis[i].z})
+      if (c > kLimit || c < -kLimit) return false;
+  // |products| < 3 * 2^61: every sum fits in int64.
+  const auto dot = [](fx::Vec3 a, fx::Vec3 b) { return int64_t{a.x} * b.x + int64_t{a.y} * b.y + int64_t{a.z} * b.z; };
+  for (int i = 0; i < 3; ++i) {
+    const int64_t self = dot(axis[i], axis[i]) - kOne2;
+    if (self > kSlack || self < -kSlack) return false;
+    const int64_t cross = dot(axis[i], axis[(i + 1) % 3]);
+    if (cross > kSlack || cross < -kSlack) return false;
+  }
+  return true;
+}
+
+PrimitiveBound bound_of(const muscle::PrimitiveFrame& f) {
+  PrimitiveBound b;
+  if (f.active == 0 || muscle::is_deformed(f.deformation) || !near_orthonormal(f.axis)) return b;
+  uint64_t sum = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (f.extent[i] <= 0) return b;
+    const uint64_t e = static_cast<uint64_t>(f.extent[i]) + 1;  // <= 2^31
+    sum += e * e;                                               // < 3 * 2^62
+  }
+  if (sum > (uint64_t{1} << 63) - 1) return b;  // twice it would not fit
+  b.usable = true;
+  b.centre = f.centre;
+  b.reach2 = 2 * sum;
+  return b;
+}
+
+// Primitive i of the pass certainly leaves p alone.
+bool far_from(const PrimitiveBound* bounds, size_t i, fx::Vec3 p) {
+  if (i >= kBoundedPrimitives || !bounds[i].usable) return false;
+  const fx::Vec3 d = fx::sub(p, bounds[i].centre);  // saturated, as primitive_sample forms it
+  const uint64_t x = fx::magnitude(d.x), y = fx::magnitude(d.y), z = fx::magnitude(d.z);
+  // Each square <= 2^62: the sum < 2^64.
+  return x * x + y * y + z * z >= bounds[i].reach2;
+}
+
+void bound_primitives(const muscle::MuscleState& muscles, PrimitiveBound (&out)[kBoundedPrimitives]) {
+  for (size_t i = 0; i < kBoundedPrimitives; ++i)
+    out[i] = i < muscles.primitives.size() ? bound_of(muscles.primitives[i]) : PrimitiveBound{};
+}
+
 fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::Vec3* normal) {
-  *normal = {s.normal[0][v], s.normal[1][v], s.normal[2][v]};
+  *normal = fat_direction(model, s, v);
   const fx::Vec3 p{s.position[0][v], s.position[1][v], s.position[2][v]};
   return fx::sub(p, muscle::along(*normal, fat_of(model, v)));
 }
@@ -20,12 +87,15 @@ fx::Len fat_of(const SkinModel& model, uint32_t v) { return fx::add_sat(model.fa
 uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
   uint32_t moved = 0;
   const int steps = static_cast<int>(model.params.newton_steps);
+  PrimitiveBound bounds[kBoundedPrimitives];
+  bound_primitives(muscles, bounds);
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
     fx::Vec3 n{};
     fx::Vec3 p = fat_point(model, *s, v, &n);
     bool any = false;
-    for (const muscle::PrimitiveFrame& f : muscles.primitives) {
-      if (f.active == 0) continue;
+    for (size_t i = 0; i < muscles.primitives.size(); ++i) {
+      const muscle::PrimitiveFrame& f = muscles.primitives[i];
+      if (f.active == 0 || far_from(bounds, i, p)) continue;
       const fx::Vec3 out = muscle::primitive_push_out(f, p, n, steps);
       if (out == p) continue;
       const fx::Vec3 d = fx::sub(out, p);
@@ -56,12 +126,15 @@ uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::Muscle
                                     SkinState* s) {
   uint32_t moved = 0;
   const int steps = static_cast<int>(model.params.newton_steps);
+  PrimitiveBound bounds[kBoundedPrimitives];
+  bound_primitives(muscles, bounds);
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
     fx::Vec3 n{};
     const fx::Vec3 start = fat_point(model, *s, v, &n);
     fx::Vec3 p = start;
-    for (const muscle::PrimitiveFrame& f : muscles.primitives) {
-      if (f.active == 0) continue;
+    for (size_t i = 0; i < muscles.primitives.size(); ++i) {
+      const muscle::PrimitiveFrame& f = muscles.primitives[i];
+      if (f.active == 0 || far_from(bounds, i, p)) continue;
       const fx::Vec3 out = muscle::primitive_push_out(f, p, n, steps);
       if (out == p) continue;
       // Partial correction between iterations, full one on the last.
@@ -81,11 +154,14 @@ uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles
                       const SkinState& s) {
   uint32_t inside = 0;
   const int64_t limit = fx::kUnitOne - int64_t{tolerance};
+  PrimitiveBound bounds[kBoundedPrimitives];
+  bound_primitives(muscles, bounds);
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
     fx::Vec3 n{};
     const fx::Vec3 p = fat_point(model, s, v, &n);
-    for (const muscle::PrimitiveFrame& f : muscles.primitives) {
-      if (f.active == 0) continue;
+    for (size_t i = 0; i < muscles.primitives.size(); ++i) {
+      const muscle::PrimitiveFrame& f = muscles.primitives[i];
+      if (f.active == 0 || far_from(bounds, i, p)) continue;
       if (muscle::primitive_sample(f, p).value < limit) {
         ++inside;
         break;

@@ -1,5 +1,7 @@
 // Reaction constraints (LEMAN §3, §5.4, §6.11) with the fat layer (§5.6):
-// each skin vertex's fat point p = v - fat * n (n: the anchor normal) is
+// each skin vertex's fat point p = v - fat * n (n: the anchor normal, or
+// with solver.fat_normal = kSurface the skin mesh's normal of the last
+// estimate_surface_normals, surface_normals.hpp) is
 // inside-tested against every active primitive; a point inside is moved out
 // along the primitive's gradient (Newton steps on F), the same displacement
 // is applied to the skin vertex. Only the normal component changes, so the

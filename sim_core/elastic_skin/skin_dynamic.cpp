@@ -1,11 +1,14 @@
 #include "skin_dynamic.hpp"
 
+#include <bit>
 #include <cstdint>
 
+#include "invariant_division.hpp"
 #include "reaction.hpp"
 #include "relaxation.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "surface_normals.hpp"
 #include "virtual_anchors.hpp"
 
 namespace sinew::elastic_skin {
@@ -19,15 +22,21 @@ constexpr int64_t kFineMin = int64_t{INT32_MIN} << kFineExtraBits;
 int64_t clamp_motion(int64_t v) { return fx::clamp_i64(v, -kMotionLimit, kMotionLimit); }
 
 // round_half_up(a * b / 2^16), saturated to +-2^62 rather than overflowing.
+// Operands whose bit widths sum to 62 or less multiply in 64 bits (the same
+// rounding: floor((a b + 2^15) / 2^16) either way); only wider ones, which
+// the skin's gains rarely reach, take the 128-bit product.
 int64_t mul_q16_sat(int64_t a, int64_t b) {
-  const fx::U128 p = fx::mul_u64(fx::magnitude(a), fx::magnitude(b));
+  const uint64_t ma = fx::magnitude(a), mb = fx::magnitude(b);
+  if (std::bit_width(ma) + std::bit_width(mb) <= 62) return fx::round_shift(a * b, kQ16FracBits);
+  const fx::U128 p = fx::mul_u64(ma, mb);
   if ((p.hi >> 14) != 0) return (a < 0) != (b < 0) ? -(int64_t{1} << 62) : int64_t{1} << 62;
   return fx::mul_shift_round(a, b, kQ16FracBits);
 }
 
-// start + (end - start) * j / n, rounded: the linear path across a tick.
-fx::Len lerp_tick(fx::Len start, fx::Len end, uint32_t j, uint32_t n) {
-  return fx::sat_i32(int64_t{start} + fx::div_round((int64_t{end} - start) * j, n));
+// start + (end - start) * j / n, rounded: the linear path across a tick
+// (by_n: the substep count n).
+fx::Len lerp_tick(fx::Len start, fx::Len end, uint32_t j, const InvariantDivisor& by_n) {
+  return fx::sat_i32(int64_t{start} + div_round_by((int64_t{end} - start) * j, by_n));
 }
 
 LayerStatus bad_input(const char* field, const char* problem, int64_t value = 0, bool show = false) {
@@ -104,10 +113,15 @@ struct Gains {
   int64_t rate = 0;          // tick_hz: (end - start) * rate is a velocity
   int64_t substep_rate = 0;  // H = tick_hz * n, 1/s
   int64_t external[3] = {};  // gravity - a_base, Q44.20
+  // The tick's invariant divisors: substeps n, the substep rate H, and the
+  // implicit-dashpot denominator H + c_anchor / m of every vertex without
+  // rubber bands (Q16.16 1/s).
+  InvariantDivisor by_substeps, by_substep_rate, by_anchor_only;
+  int64_t anchor_only_den = 0;
 };
 
 // One substep j of n: accelerations, implicit dashpots, then x += v' / H.
-void integrate(const SkinModel& model, const Gains& g, uint32_t j, uint32_t n, SkinState* s) {
+void integrate(const SkinModel& model, const Gains& g, uint32_t j, SkinState* s) {
   const uint32_t count = model.vertex_count;
   for (int c = 0; c < 3; ++c)
     for (uint32_t v = 0; v < count; ++v) s->force[c][v] = g.external[c];
@@ -130,7 +144,7 @@ void integrate(const SkinModel& model, const Gains& g, uint32_t j, uint32_t n, S
     const RubberBand& b = model.bands[i];
     const int64_t kk = mul_q16_sat(b.k, g.spring);
     for (int c = 0; c < 3; ++c) {
-      const fx::Len target = lerp_tick(s->band_start[c][i], s->band_end[c][i], j, n);
+      const fx::Len target = lerp_tick(s->band_start[c][i], s->band_end[c][i], j, g.by_substeps);
       const int64_t target_v = clamp_motion((int64_t{s->band_end[c][i]} - s->band_start[c][i]) * g.rate);
       const int64_t a = mul_q16_sat(kk, int64_t{target} - s->position[c][b.vertex]) + mul_q16_sat(g.band_c, target_v);
       s->force[c][b.vertex] = fx::add_sat_i64(s->force[c][b.vertex], a);
@@ -141,20 +155,23 @@ void integrate(const SkinModel& model, const Gains& g, uint32_t j, uint32_t n, S
   for (uint32_t v = 0; v < count; ++v) {
     const int64_t kk = mul_q16_sat(model.anchor_stiffness[v], g.spring);
     const int64_t damping = fx::add_sat_i64(s->weight[v], g.anchor_c);  // sum c_i / m, Q16.16 1/s
+    const int64_t den = fx::add_sat_i64(h_q16, damping);                // > 0
+    const bool shared_den = den == g.anchor_only_den;
     for (int c = 0; c < 3; ++c) {
-      const fx::Len anchor = lerp_tick(s->anchor_start[c][v], s->anchor[c][v], j, n);
+      const fx::Len anchor = lerp_tick(s->anchor_start[c][v], s->anchor[c][v], j, g.by_substeps);
       const int64_t anchor_v = clamp_motion((int64_t{s->anchor[c][v]} - s->anchor_start[c][v]) * g.rate);
       int64_t a = fx::add_sat_i64(s->force[c][v], mul_q16_sat(kk, int64_t{anchor} - s->position[c][v]));
       a = fx::add_sat_i64(a, mul_q16_sat(g.anchor_c, anchor_v));
       // v' - v = (a + sum c_i v_i - D v) / (H + D), D = sum c_i / m.
       const int64_t velocity = s->velocity[c][v];
       const int64_t num = clamp_motion(fx::add_sat_i64(a, -mul_q16_sat(damping, velocity)));
-      const int64_t dv = fx::div_round(num << kQ16FracBits, fx::add_sat_i64(h_q16, damping));
+      const int64_t dv =
+          shared_den ? div_round_by(num << kQ16FracBits, g.by_anchor_only) : fx::div_round(num << kQ16FracBits, den);
       const int64_t next = clamp_motion(velocity + dv);
       s->velocity[c][v] = next;
       // |next| <= 2^46: next << 16 fits; the step is < 2^62.
       const int64_t fine =
-          fx::clamp_i64(s->fine[c][v] + fx::div_round(next << kFineExtraBits, g.substep_rate), kFineMin, kFineMax);
+          fx::clamp_i64(s->fine[c][v] + div_round_by(next << kFineExtraBits, g.by_substep_rate), kFineMin, kFineMax);
       s->fine[c][v] = fine;
       s->position[c][v] = fx::sat_i32(fx::round_shift(fine, kFineExtraBits));
     }
@@ -188,6 +205,10 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   g.edge_c = fx::div_round(int64_t{sp.edge_damping} << kMassFracBits, sp.vertex_mass);
   g.rate = tick.tick_hz;
   g.substep_rate = int64_t{tick.tick_hz} * n;
+  g.by_substeps = invariant_divisor(n);
+  g.by_substep_rate = invariant_divisor(g.substep_rate);
+  g.anchor_only_den = fx::add_sat_i64(g.substep_rate << kQ16FracBits, g.anchor_c);  // as integrate() forms it
+  g.by_anchor_only = invariant_divisor(g.anchor_only_den);
   // Stability (symplectic Euler): h * omega_max <= 1, i.e. omega^2 <= H^2.
   const int64_t h2 = (g.substep_rate * g.substep_rate) << kQ16FracBits;  // H <= 6.4e6: < 2^62
   const int64_t omega2 = largest_omega_squared(model, g.spring, &s);
@@ -238,7 +259,8 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
     if (j == n)
       for (int c = 0; c < 3; ++c)
         for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
-    integrate(model, g, j, n, &s);
+    integrate(model, g, j, &s);
+    estimate_surface_normals(model, &s);  // kSurface only: the fat along the moved skin's normal (§5.6)
     for (uint32_t pass = 0; pass < sp.constraint_passes; ++pass)
       s.stats.reactions += apply_sliding_reactions(model, mstate, &s);
   }
@@ -253,6 +275,8 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   }
   s.stats.substeps = n;
   s.stats.residual = fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
+  // Against the normals the last reaction pass used (re-estimating them from
+  // the pushed skin would tilt some fat points back in by the push's turn).
   s.stats.inside_after = count_inside(model, mstate, fx::kUnitOne >> 10, s);
   s.started = 1;
   ++s.stats.steps;

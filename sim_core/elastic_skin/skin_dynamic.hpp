@@ -14,7 +14,9 @@
 //      bands (spring + dashpot, §5.5), anchor dashpots, gravity - a_base
 //   3. v' then x' (skin_model.hpp); position = round(fine)
 //   4. constraint_passes Gauss-Seidel passes of the sliding reactions with
-//      the fat layer (global + per-point thickness along the anchor normal)
+//      the fat layer (global + per-point thickness along the anchor normal,
+//      or with fat_normal = kSurface along the skin mesh's normal estimated
+//      once per substep after step 3, surface_normals.hpp)
 // Worst-case work per tick: n * (edges + bands + vertices * (1 +
 // constraint_passes * primitives * newton_steps)); no allocation.
 #pragma once

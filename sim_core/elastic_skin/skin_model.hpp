@@ -84,6 +84,17 @@ struct SkinParams {
   uint8_t reserved[3] = {};  // explicit, zeroed: the record's bytes go into rig blobs as they are
 };
 
+// LEMAN §5.6: the skin lies the fat's thickness above the fat point along
+// the skin's normal. kSurface re-estimates that normal from the deformed
+// skin mesh (SkinModel::triangles) before every reaction pass: the
+// area-weighted sum of the incident faces' normals, turned to the anchor
+// normal's side (so the winding does not matter), the anchor normal where
+// the sum vanishes (no incident face, degenerate faces).
+enum class FatNormal : uint8_t {
+  kAnchor = 0,   // the component-carried anchor normal (anatomically-based-modeling §5.1)
+  kSurface = 1,  // the current skin mesh's normal (LEMAN §5.6)
+};
+
 enum class SkinMode : uint8_t {
   kStatic = 0,   // quasi-static relaxation every step (§5.2): no state but the warm start
   kDynamic = 1,  // LEMAN §3 mass-spring surface: per-vertex mass and velocity, integrated in time
@@ -119,7 +130,11 @@ inline constexpr uint32_t kMaxConstraintPasses = 4;
 // (Gershgorin). Implicit dashpots are unconditionally stable.
 struct SkinSolverParams {
   uint8_t mode = 0;  // SkinMode
-  uint8_t reserved[3] = {};
+  // FatNormal (both modes): the direction the fat layer offsets the skin
+  // from its fat point. 0 (the default, and every layer before version 4):
+  // the component-carried anchor normal, bit for bit as before.
+  uint8_t fat_normal = 0;
+  uint8_t reserved[2] = {};
   // Static mode (§5.2): stop after the first iteration whose largest move is
   // below this (Len); 0 runs every iteration. The last iteration run removes
   // all penetration either way.
@@ -155,6 +170,10 @@ struct SkinModel {
   std::span<const RubberBand> bands;
   SkinParams params;
   SkinSolverParams solver;
+  // The skin mesh's faces, 3 vertex indices each (the rig's triangles: the
+  // skin's vertices are the rig's). Read only with solver.fat_normal =
+  // kSurface; empty then leaves every vertex on its anchor normal.
+  std::span<const uint32_t> triangles{};
 };
 
 }  // namespace sinew::elastic_skin

@@ -45,6 +45,9 @@ struct SkinState {
   std::span<fx::Len> anchor_start[3];  // virtual anchors at the start of the step
   std::span<fx::Len> band_start[3];    // rubber-band targets at the start of the step, one per band
   std::span<fx::Len> band_end[3];      // ... at its end
+  // solver.fat_normal = kSurface only (else empty): the skin mesh's vertex
+  // normals of the last estimate, Q2.30 (zero: none, the anchor normal rules).
+  std::span<fx::Unit> surface_normal[3];
   uint8_t started = 0;
   SkinStats stats;
 };

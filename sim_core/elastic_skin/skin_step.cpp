@@ -8,6 +8,7 @@
 #include "sim_core/muscle/vec_ops.hpp"
 #include "skin_dynamic.hpp"
 #include "skin_validate.hpp"
+#include "surface_normals.hpp"
 #include "virtual_anchors.hpp"
 
 namespace sinew::elastic_skin {
@@ -122,6 +123,7 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
     s.stats.collisions += collide_with_anchor_spheres(model, &s);
     const bool last = i + 1 == iterations;
     const fx::Unit gain = last ? fx::kUnitOne : model.params.reaction_gain;
+    estimate_surface_normals(model, &s);  // kSurface only: the fat along the relaxed skin's normal (§5.6)
     s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s);
     s.max_relax[i] = largest_move(s, model.vertex_count);
     run = i + 1;
@@ -135,6 +137,8 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   s.stats.max_relax_first = s.max_relax[0];
   s.stats.max_relax_last = s.max_relax[run - 1];
   s.stats.residual = s.stats.max_relax_last;
+  // Against the normals the last reaction pass used (re-estimating them from
+  // the pushed skin would tilt some fat points back in by the push's turn).
   s.stats.inside_after = count_inside(model, mstate, kInsideTolerance, s);
   s.started = 1;
   ++s.stats.steps;

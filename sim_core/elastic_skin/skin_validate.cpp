@@ -49,6 +49,8 @@ LayerStatus check_solver(const SkinSolverParams& p) {
   if (p.mode > static_cast<uint8_t>(SkinMode::kDynamic)) return bad("skin solver", -1, "mode", "unknown", p.mode, true);
   if (p.tolerance < 0) return bad("skin solver", -1, "tolerance", "negative", p.tolerance, true);
   if (p.fat_thickness < 0) return bad("skin solver", -1, "fat_thickness", "negative", p.fat_thickness, true);
+  if (p.fat_normal > static_cast<uint8_t>(FatNormal::kSurface))
+    return bad("skin solver", -1, "fat_normal", "unknown", p.fat_normal, true);
   if (p.mode != static_cast<uint8_t>(SkinMode::kDynamic)) return {};
   if (p.substep_hz < 1 || p.substep_hz > kMaxSubstepHz)
     return bad("skin solver", -1, "substep_hz", "must be 1..2^20", p.substep_hz, true);
@@ -79,6 +81,14 @@ LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel
       return bad("skin edge", e, "a/b", "endpoint out of range or repeated", ed.a, true);
   }
   const uint32_t ring = muscles.ring_vertices;
+  if (model.solver.fat_normal == static_cast<uint8_t>(FatNormal::kSurface)) {
+    if (model.triangles.size() % 3 != 0)
+      return bad("skin model", -1, "triangles", "not 3 indices per face", static_cast<int64_t>(model.triangles.size()),
+                 true);
+    for (size_t i = 0; i < model.triangles.size(); ++i)
+      if (model.triangles[i] >= n)
+        return bad("skin triangle", static_cast<int64_t>(i / 3), "vertex", "out of range", model.triangles[i], true);
+  }
   for (uint32_t i = 0; i < model.bands.size(); ++i) {
     const RubberBand& b = model.bands[i];
     if (b.vertex >= n || b.muscle >= muscles.muscles.size() || b.slice >= muscle::kSlices || b.ring_vertex >= ring)

@@ -153,7 +153,11 @@ inline constexpr uint32_t kMusclesArraysV2 = 3;
 // Layer version 3 (SKIN only) carries the whole solver record, whose last
 // member, edge_damping, version 2 lacks (its 52 bytes are the record's
 // first 52; edge_damping then reads 0). Writers emit version 3 only when
-// edge_damping is not 0.
+// edge_damping is not 0. Layer version 4 (SKIN only): the version 3 record
+// whose solver.fat_normal (the byte after mode, reserved before) may be
+// FatNormal::kSurface; writers emit it only then, and a loader reads that
+// byte as 0 (the anchor normal) in every older version. The skin's faces
+// are the rig's triangles (SkinModel::triangles), not stored again.
 struct SkinSectionParams {
   uint32_t joint_count, vertex_count;
   elastic_skin::SkinParams params;
@@ -171,6 +175,7 @@ struct SkinSectionParamsV3 {
 };
 inline constexpr uint32_t kSkinSectionVersion2 = 2;
 inline constexpr uint32_t kSkinSectionVersion3 = 3;
+inline constexpr uint32_t kSkinSectionVersion4 = 4;
 static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anchor) == 80 &&
               sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20 &&
               sizeof(elastic_skin::SkinSolverParams) == 56 && sizeof(SkinSectionParamsV2) == 88 &&

@@ -169,7 +169,7 @@ bool layout_of(uint32_t id, uint32_t version, Layout* out) {
     *out = {sizeof(BarnetSectionParams), kBarnetArraysV2, kBarnetSpecV2};
     return true;
   }
-  if (id == kSectionElasticSkin && version == kSkinSectionVersion3) {
+  if (id == kSectionElasticSkin && (version == kSkinSectionVersion3 || version == kSkinSectionVersion4)) {
     *out = {sizeof(SkinSectionParamsV3), kSkinArrays, kSkinSpec};
     return true;
   }
@@ -221,7 +221,8 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
   std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
   const LayerSectionHeader& h = out->header;
   const bool skin_v2 =
-      id == kSectionElasticSkin && (h.layer_version == kSkinSectionVersion2 || h.layer_version == kSkinSectionVersion3);
+      id == kSectionElasticSkin && (h.layer_version == kSkinSectionVersion2 ||
+                                    h.layer_version == kSkinSectionVersion3 || h.layer_version == kSkinSectionVersion4);
   const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
   const bool muscles_v2 = id == kSectionMuscles && h.layer_version == kMusclesSectionVersion2;
   const bool metaballs_v2 = id == kSectionMetaballs && h.layer_version == kMetaballsSectionVersion2;
@@ -413,7 +414,7 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
                      elastic_skin::SkinModel* out, std::span<const uint32_t>* region,
                      std::span<const fx::Unit>* region_weight) {
   SkinSectionParamsV3 p{};
-  if (v.header.layer_version == kSkinSectionVersion3) {
+  if (v.header.layer_version == kSkinSectionVersion3 || v.header.layer_version == kSkinSectionVersion4) {
     p = params_of<SkinSectionParamsV3>(v);
   } else if (v.header.layer_version == kSkinSectionVersion2) {  // the solver record without edge_damping
     const SkinSectionParamsV2 p2 = params_of<SkinSectionParamsV2>(v);
@@ -435,7 +436,11 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
           array_of<elastic_skin::Edge>(v, 3),
           array_of<elastic_skin::RubberBand>(v, 4),
           p.params,
-          p.solver};
+          p.solver,
+          rig.triangles};
+  // fat_normal is a version 4 field: older sections keep the anchor normal
+  // whatever their reserved byte holds.
+  if (v.header.layer_version != kSkinSectionVersion4) out->solver.fat_normal = 0;
   *region = array_of<uint32_t>(v, 5);
   *region_weight = array_of<fx::Unit>(v, 6);
   if (out->vertex_count != rig.vertex_count())

@@ -49,6 +49,16 @@ class DynamicSkin {
     fat.push_back(to_len(fat_thickness));
     return static_cast<uint32_t>(anchors.size() - 1);
   }
+  // A vertex whose anchor normal is the given unit vector instead of the radial one.
+  uint32_t add_vertex_with_normal(double x, double y, double z, double nx, double ny, double nz,
+                                  double anchor_stiffness, double fat_thickness = 0) {
+    const uint32_t v = add_vertex(x, y, z, anchor_stiffness, fat_thickness);
+    anchors[v].normal_a = anchors[v].normal_b = {static_cast<int32_t>(std::llround(nx * 1073741824.0)),
+                                                 static_cast<int32_t>(std::llround(ny * 1073741824.0)),
+                                                 static_cast<int32_t>(std::llround(nz * 1073741824.0))};
+    return v;
+  }
+  void add_triangle(uint32_t a, uint32_t b, uint32_t c) { triangles.insert(triangles.end(), {a, b, c}); }
   void add_edge(uint32_t a, uint32_t b, double k, double rest) {
     edges.push_back({a, b, to_len(rest), static_cast<elastic_skin::Stiffness>(to_q16(k))});
   }
@@ -80,6 +90,7 @@ class DynamicSkin {
     model.fat = fat;
     model.edges = edges;
     model.bands = bands;
+    model.triangles = triangles;
     muscles.joint_count = 1;
     muscles.ring_vertices = kRing;
     muscles.muscles = muscle_records;
@@ -124,6 +135,7 @@ class DynamicSkin {
   std::vector<fx::Len> fat;
   std::vector<elastic_skin::Edge> edges;
   std::vector<elastic_skin::RubberBand> bands;
+  std::vector<uint32_t> triangles;
   std::vector<muscle::MuscleRecord> muscle_records;
   std::vector<muscle::PrimitiveRecord> primitive_records;
   std::vector<muscle::PrimitiveFrame> frames;

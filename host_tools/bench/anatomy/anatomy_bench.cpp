@@ -2,7 +2,9 @@
 // and on the largest shared asset (tests/data/generic-hand_left.glb, skin
 // layer only: it has no muscles), the relaxation cost per iteration per
 // vertex, and the anatomically-based paper's workload (30 relaxations of
-// 75 000 vertices: 25 s in 1997) measured on a 75 000-vertex tube.
+// 75 000 vertices: 25 s in 1997) measured on a 75 000-vertex tube, and the
+// arm's dynamic skin (LEMAN §3) per tick at 100 Hz and 1 kHz against LBS
+// and against the tick's period.
 //   sinew-bench-anatomy [--benchmark_min_time=0.5]
 // Prints Google Benchmark's table, then the per-layer table with ratios
 // against LBS of the same rig measured in the same run.
@@ -47,6 +49,7 @@ struct Scene {
   muscle::MuscleState ms;
   es::SkinState ss;
   std::vector<int32_t> inputs;
+  uint32_t tick_hz = 1000;  // the loop rate the dynamic skin steps at
 
   Scene(std::string label, rigc::RigSpec s, ab::AnatomySpec (*anatomy)(const rigc::RigSpec&), int iterations,
         std::string load_error = "")
@@ -94,7 +97,7 @@ struct Scene {
   }
   void step_muscles() { muscle::muscle_step(mm, engine.model, &ms); }
   // The dynamic skin needs the loop's rate; the static one ignores it.
-  void step_skin() { es::skin_step(sm, mm, ms, engine.model, es::SkinTick{1000, {0, 0, 0}}, &ss); }
+  void step_skin() { es::skin_step(sm, mm, ms, engine.model, es::SkinTick{tick_hz, {0, 0, 0}}, &ss); }
 };
 
 // No muscles: every vertex anchors to its bones (any rig).
@@ -160,6 +163,20 @@ rigc::RigSpec tube_75k() {
   return s;
 }
 
+// The same at 100 Hz: the substep rate stays 4 kHz, so a tick takes 40
+// substeps (above the default bound of 16).
+ab::AnatomySpec arm_dynamic_100hz(const rigc::RigSpec& spec) {
+  ab::AnatomySpec a = arm_dynamic(spec);
+  a.skin.solver.max_substeps = 64;
+  return a;
+}
+
+Scene& arm_dynamic_at(uint32_t hz) {
+  static Scene s100("arm, dynamic skin, 100 Hz", rigc::builtin_arm(rigc::SkinChoice::kLinear), arm_dynamic_100hz, 1);
+  static Scene s1k("arm, dynamic skin, 1 kHz", rigc::builtin_arm(rigc::SkinChoice::kLinear), arm_dynamic, 1);
+  s100.tick_hz = 100;
+  return hz == 100 ? s100 : s1k;
+}
 Scene& arm_lbs() {
   static Scene s("arm (LBS)", rigc::builtin_arm(rigc::SkinChoice::kLinear), ab::arm_anatomy, 30);
   return s;
@@ -217,6 +234,8 @@ BENCHMARK_CAPTURE(run_engine, arm_lbs, arm_lbs());
 BENCHMARK_CAPTURE(run_engine, arm_dqs, arm_dqs());
 BENCHMARK_CAPTURE(run_muscles, arm, arm_lbs());
 BENCHMARK_CAPTURE(run_skin, arm_30_iterations, arm_lbs());
+BENCHMARK_CAPTURE(run_skin, arm_dynamic_100hz, arm_dynamic_at(100));
+BENCHMARK_CAPTURE(run_skin, arm_dynamic_1khz, arm_dynamic_at(1000));
 BENCHMARK_CAPTURE(run_engine, hand_asset_skinning, hand_asset());
 BENCHMARK_CAPTURE(run_skin, hand_asset_30_iterations, hand_asset());
 
@@ -327,6 +346,33 @@ void summary(double min_seconds) {
         dyn_skin * 1e6, stat_skin * 1e6, dyn_skin / stat_skin);
   } else if (!dynamic.ok) {
     std::printf("dynamic skin skipped: %s\n", dynamic.error.c_str());
+  }
+  // The dynamic skin's step per tick at the daemon's 100 Hz and at 1 kHz
+  // (substeps follow the rate), against LBS of the same rig (same run) and
+  // against the tick's period (its budget).
+  for (uint32_t hz : {100u, 1000u}) {
+    Scene& d = arm_dynamic_at(hz);
+    if (!d.ok) continue;
+    const double lbs = mean_seconds([&](uint64_t i) { d.step_engine(i); }, min_seconds);
+    d.step_engine(7);
+    d.step_muscles();
+    const double skin = mean_seconds([&](uint64_t) { d.step_skin(); }, min_seconds);
+    const double budget = 1.0 / hz;
+    std::printf(
+        "arm, dynamic skin at %u Hz (%u substeps x %u reaction passes): skin step %.1f us per tick, %.1fx LBS "
+        "(%.1f us), %.0f%% of the %.0f ms tick\n",
+        hz, d.ss.stats.substeps, d.sm.solver.constraint_passes, skin * 1e6, skin / lbs, lbs * 1e6, 100 * skin / budget,
+        budget * 1e3);
+    sinew::bench::SummaryRow row;
+    row.bench = "anatomy";
+    row.measure = "dynamic skin step per tick, arm, " + std::to_string(hz) + " Hz";
+    row.figure = skin * 1e6;
+    row.unit = "us";
+    row.baseline = "LBS of the arm";
+    row.baseline_figure = lbs * 1e6;
+    row.target = sinew::bench::figure_at_most(budget * 1e6);
+    row.target_source = "the tick's period";
+    if (!sinew::bench::summary_row(row)) g_summary_failed = true;
   }
   Scene tube("tube 75k", tube_75k(), bones_only, 30);
   if (!tube.ok) {

@@ -117,18 +117,20 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
   // without the new settings do not change); version 2 otherwise.
   // Version 3 only with edge dashpots (the record's last member).
   const elastic_skin::SkinSolverParams defaults{};
-  const bool v3 = m.solver.edge_damping != 0;
-  const bool v2 = !v3 && std::memcmp(&m.solver, &defaults, pipeline::kSkinSolverBytesV2) != 0;
+  const bool v4 = m.solver.fat_normal != 0;
+  const bool v3 = !v4 && m.solver.edge_damping != 0;
+  const bool v2 = !v4 && !v3 && std::memcmp(&m.solver, &defaults, pipeline::kSkinSolverBytesV2) != 0;
   pipeline::SkinSectionParamsV3 p{};
   p.joint_count = m.joint_count;
   p.vertex_count = m.vertex_count;
   p.params = m.params;
   p.solver = m.solver;
   // The version 1 and 2 records are prefixes of the version 3 one.
-  const uint32_t size = v3   ? uint32_t{sizeof(pipeline::SkinSectionParamsV3)}
-                        : v2 ? uint32_t{sizeof(pipeline::SkinSectionParamsV2)}
-                             : uint32_t{sizeof(pipeline::SkinSectionParams)};
+  const uint32_t size = v4 || v3 ? uint32_t{sizeof(pipeline::SkinSectionParamsV3)}
+                        : v2     ? uint32_t{sizeof(pipeline::SkinSectionParamsV2)}
+                                 : uint32_t{sizeof(pipeline::SkinSectionParams)};
   SectionBuilder b(pipeline::kSectionElasticSkin, 0, &p, size, pipeline::kSkinArrays);
+  if (v4) b.version(pipeline::kSkinSectionVersion4);
   if (v3) b.version(pipeline::kSkinSectionVersion3);
   if (v2) b.version(pipeline::kSkinSectionVersion2);
   b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
