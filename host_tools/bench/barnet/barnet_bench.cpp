@@ -22,10 +22,11 @@ namespace lb = sinew::layers::barnet;
 
 namespace {
 
-lb::ArmNetOptions net_options(int segments, bool q_input = false) {
+lb::ArmNetOptions net_options(int segments, bool q_input = false, bool profile_order = false) {
   lb::ArmNetOptions o;
   o.segments = segments;
   o.q_input = q_input;
+  o.profile_order = profile_order;
   return o;
 }
 
@@ -146,6 +147,12 @@ void BM_BarnetStepRefactor(benchmark::State& state) {
   run_loop(state, loop, ", q from an input (refactor)");
 }
 
+// Both with the free nodes in reverse Cuthill-McKee order (a smaller profile).
+void BM_BarnetStepProfileOrder(benchmark::State& state) {
+  BarnetStepLoop loop(net_options(static_cast<int>(state.range(0)), state.range(1) != 0, true));
+  run_loop(state, loop, state.range(1) != 0 ? ", RCM order, q from an input (refactor)" : ", RCM order");
+}
+
 // The paper's Figure 3 (biceps/triceps, 12 free nodes) and Figure 6
 // (wrinkles on the fine mesh) nets.
 void BM_BarnetFigureNet(benchmark::State& state) {
@@ -174,6 +181,7 @@ void BM_EnginePlusBarnet(benchmark::State& state) {
 BENCHMARK(BM_EngineStep)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarnetStepRefactor)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarnetStepProfileOrder)->ArgsProduct({{8, 16, 32}, {0, 1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarnetFigureNet)->Arg(3)->Arg(6)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EnginePlusBarnet)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
@@ -222,6 +230,19 @@ bool summary() {
                   static_cast<unsigned long long>(r.state().refactor_products));
     std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)\n", what, t_refactor * 1e6,
                 t_refactor / t_lbs, t_refactor / t);
+
+    // The same two with the free nodes in reverse Cuthill-McKee order.
+    BarnetStepLoop ordered(net_options(segments, false, true)), ordered_q(net_options(segments, true, true));
+    const double t_ordered = median_seconds([&](int i) { benchmark::DoNotOptimize(ordered.step(i)); }, 500);
+    const double t_ordered_q = median_seconds([&](int i) { benchmark::DoNotOptimize(ordered_q.step(i)); }, 500);
+    std::snprintf(what, sizeof(what), "  RCM order (profile %u, was %u)", ordered.session().state().profile,
+                  s.state().profile);
+    std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)\n", what, t_ordered * 1e6, t_ordered / t_lbs,
+                t_ordered / t);
+    std::snprintf(what, sizeof(what), "  RCM order + q from an input (%llu products)",
+                  static_cast<unsigned long long>(ordered_q.session().state().refactor_products));
+    std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the refactoring step)\n", what, t_ordered_q * 1e6,
+                t_ordered_q / t_lbs, t_ordered_q / t_refactor);
   }
   return ok;
 }
