@@ -210,3 +210,25 @@ TEST(BarnetSpecKeys, VersionTwoSectionWithAWrongExternalCountIsRefused) {
   r.bytes = good;
   EXPECT_TRUE(r.load()) << r.error;
 }
+
+TEST(BarnetSpecKeys, NetKeySelectsThePapersArmNets) {
+  // net = "arm-muscles" (Figure 3: 12 free nodes) and "arm-wrinkles"
+  // (Figure 6: the fine mesh's vertices) on the built-in arm, through the
+  // pipeline: the bind pose leaves the skinned mesh, flexion moves the net.
+  for (const char* net : {"arm-muscles", "arm-wrinkles"}) {
+    const std::string text =
+        std::string("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"") + net + "\"\n";
+    BarnetRig r;
+    ASSERT_TRUE(r.compile_and_load(text.c_str())) << net << ": " << r.error;
+    ASSERT_EQ(r.layers.barnet_count, 1u);
+    const sinew::barnet::BarnetModel& m = r.layers.barnet[0];
+    uint32_t free = 0;
+    for (const sinew::barnet::NodeRecord& n : m.nodes) free += n.kind == 0 ? 1u : 0u;
+    EXPECT_EQ(free, std::string(net) == "arm-muscles" ? 12u : 77u) << net;
+    EXPECT_EQ(r.step(0, {}), 0) << net << ": no flexion, no load";
+    EXPECT_GT(r.step(150, {}), 1000) << net << ": the loads follow the flexion";
+  }
+  BarnetRig bad;
+  EXPECT_FALSE(bad.compile_and_load("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"x\"\n"));
+  EXPECT_NE(bad.error.find("net must be"), std::string::npos) << bad.error;
+}
