@@ -8,6 +8,8 @@
 #include "host_tools/layers/anatomy/anatomy_build.hpp"
 #include "host_tools/layers/anatomy/joint_anatomy.hpp"
 #include "host_tools/layers/barnet/joint_net.hpp"
+#include "host_tools/layers/barnet/muscle_net.hpp"
+#include "host_tools/layers/barnet/wrinkle_net.hpp"
 #include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/layers/metaballs/builder.hpp"
 #include "host_tools/layers/sections/layer_writer.hpp"
@@ -306,8 +308,11 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     o.force_input_hi = t.force_input_full;
     barnet::NetSpec net;
     barnet::BarnetBuild built;
-    if (!barnet::joint_net(spec, g, j, o, &net, error) || !barnet::build_barnet(net, spec, &built, error))
-      return fail(t.joint.where, *error, error);
+    const bool built_net = t.net == "arm-muscles"    ? barnet::arm_muscle_net(spec, {}, &net, error)
+                           : t.net == "arm-wrinkles" ? barnet::arm_wrinkle_net(spec, {}, &net, error)
+                                                     : barnet::joint_net(spec, g, j, o, &net, error);
+    if (t.net != "joint") net.external_count = o.external_count;
+    if (!built_net || !barnet::build_barnet(net, spec, &built, error)) return fail(t.joint.where, *error, error);
     sections.push_back(barnet_section(built.model()));
     report->push_back("barnet[" + std::to_string(i) + "] " + spec.joints[static_cast<size_t>(j)].name + ": " +
                       std::to_string(built.nodes.size()) + " nodes, " + std::to_string(built.bars.size()) + " bars, " +

@@ -73,6 +73,11 @@ struct BarnetTable {
   std::string force_input = {};
   std::string q_input = {};
   double force_input_full = 40;
+  // "joint": a ring net around `joint` (any rig; barnet-driven-skinning
+  // Figure 2). On the built-in arm only: "arm-muscles", the biceps/triceps
+  // net of Figure 3, or "arm-wrinkles", the wrinkle net on the fine mesh of
+  // Figure 6 (both driven by the elbow's flexion; the ring keys are ignored).
+  std::string net = "joint";
 };
 
 struct ExternalInputTable {

@@ -300,10 +300,10 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
            [&](const toml::table& e) {
              layers::BarnetTable x;
              const std::string n = "[[barnet]]";
-             if (!known_keys(
-                     path, e, n,
-                     {"joint", "segments", "rings", "ring_step", "force", "force_input", "force_input_full", "q_input"},
-                     error) ||
+             if (!known_keys(path, e, n,
+                             {"joint", "net", "segments", "rings", "ring_step", "force", "force_input",
+                              "force_input_full", "q_input"},
+                             error) ||
                  !read_joint(path, e, n, "joint", &x.joint, error) ||
                  !read_int(path, e, n, "segments", 3, 32, &x.segments, error) ||
                  !read_int(path, e, n, "rings", 5, 15, &x.rings, error) ||
@@ -311,8 +311,13 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                  !read_number(path, e, n, "force", &x.force, error) ||
                  !read_string(path, e, n, "force_input", &x.force_input, error) ||
                  !read_number(path, e, n, "force_input_full", &x.force_input_full, error) ||
-                 !read_string(path, e, n, "q_input", &x.q_input, error))
+                 !read_string(path, e, n, "q_input", &x.q_input, error) ||
+                 !read_string(path, e, n, "net", &x.net, error))
                return false;
+             if (x.net != "joint" && x.net != "arm-muscles" && x.net != "arm-wrinkles")
+               return *error = x.joint.where + ": net must be \"joint\", \"arm-muscles\" or \"arm-wrinkles\"", false;
+             if (x.net != "joint" && !(x.force_input.empty() && x.q_input.empty()))
+               return *error = x.joint.where + ": force_input and q_input drive only a net = \"joint\"", false;
              if (x.ring_step < 0 || x.force < 0)
                return *error = x.joint.where + ": ring_step and force must be >= 0", false;
              if (!(x.force_input_full != 0 && std::fabs(x.force_input_full) <= 32767))

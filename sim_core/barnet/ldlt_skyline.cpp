@@ -44,7 +44,7 @@ uint32_t ldlt_factor(const SkylineFactor& f, std::span<int64_t> row) {
       const uint32_t fj = f.first[j];
       const int32_t* lj = f.lower.data() + f.offset[j];
       for (uint32_t k = fi > fj ? fi : fj; k < j; ++k)
-        g = fx::add_sat_i64(g, -mul_shift_round_sat(lj[k - fj], row[k], 30, sat));
+        g = fx::add_sat_i64(g, -mul_l30_round_sat(lj[k - fj], row[k], sat));
       row[j] = clamp_vector(g, sat);
     }
     // d_i = D_ii - sum_k L_ik g_ik, then L_ij = g_ij / d_j.
@@ -52,7 +52,7 @@ uint32_t ldlt_factor(const SkylineFactor& f, std::span<int64_t> row) {
     for (uint32_t j = fi; j < i; ++j) {
       const int64_t l = mul_shift_round_sat(row[j], f.recip[j], 32 + f.shift[j], sat);
       li[j - fi] = fx::sat_i32(l);
-      d = fx::add_sat_i64(d, -mul_shift_round_sat(li[j - fi], row[j], 30, sat));
+      d = fx::add_sat_i64(d, -mul_l30_round_sat(li[j - fi], row[j], sat));
     }
     if (d < kMinPivotQ32) return i;
     reciprocal(d, &f.recip[i], &f.shift[i]);
@@ -60,13 +60,16 @@ uint32_t ldlt_factor(const SkylineFactor& f, std::span<int64_t> row) {
   return f.n;
 }
 
-void ldlt_solve(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sat) {
+void ldlt_solve(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& total) {
+  // Counted locally: the compiler cannot prove the caller's count aliases
+  // no element of v, and would store it back after every product.
+  fx::Saturation sat;
   // Forward: L y = b.
   for (uint32_t i = 0; i < f.n; ++i) {
     const uint32_t fi = f.first[i];
     const int32_t* li = f.lower.data() + f.offset[i];
     int64_t y = v[i];
-    for (uint32_t j = fi; j < i; ++j) y = fx::add_sat_i64(y, -mul_shift_round_sat(li[j - fi], v[j], 30, sat));
+    for (uint32_t j = fi; j < i; ++j) y = fx::add_sat_i64(y, -mul_l30_round_sat(li[j - fi], v[j], sat));
     v[i] = clamp_vector(y, sat);
   }
   // Diagonal: z = y / d, force Q.36 -> length Q.40: z = y * 2^4 / d_q32.
@@ -76,8 +79,9 @@ void ldlt_solve(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sa
     const uint32_t fi = f.first[i];
     const int32_t* li = f.lower.data() + f.offset[i];
     const int64_t xi = v[i];
-    for (uint32_t j = fi; j < i; ++j) v[j] = clamp_vector(v[j] - mul_shift_round_sat(li[j - fi], xi, 30, sat), sat);
+    for (uint32_t j = fi; j < i; ++j) v[j] = clamp_vector(v[j] - mul_l30_round_sat(li[j - fi], xi, sat), sat);
   }
+  total.events += sat.events;
 }
 
 }  // namespace sinew::barnet

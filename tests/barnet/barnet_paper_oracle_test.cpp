@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "paper_eq4.hpp"
 #include "synthetic_net.hpp"
 
 using namespace sinew::test::barnet;
@@ -31,80 +32,6 @@ namespace {
 
 constexpr double kOracleBoundLsb = 0.5 + 0.5 + 1.0 / 4096.0;
 constexpr double kLenOne = 1048576.0;  // Len LSB per rig unit
-
-// Dense double matrices, row-major.
-struct PaperSystem {
-  uint32_t free_count = 0, fixed_count = 0;
-  std::vector<uint32_t> free_nodes, fixed_nodes;  // model node indices, in node order
-  std::vector<double> d, d_f;                     // n x n, n x n_f
-};
-
-// C_s(j, i) = +1 at one extremity of bar j, -1 at the other (eq. (1));
-// D = C^t Q C, D_f = C^t Q C_f, formed as the products they are.
-PaperSystem paper_system(const bn::BarnetModel& m, double q_scale = 1.0) {
-  PaperSystem s;
-  std::vector<int> column(m.nodes.size(), -1);
-  std::vector<bool> fixed(m.nodes.size(), false);
-  for (uint32_t i = 0; i < m.nodes.size(); ++i) {
-    fixed[i] = m.nodes[i].kind == static_cast<uint8_t>(bn::NodeKind::kFixed);
-    column[i] = static_cast<int>(fixed[i] ? s.fixed_nodes.size() : s.free_nodes.size());
-    (fixed[i] ? s.fixed_nodes : s.free_nodes).push_back(i);
-  }
-  s.free_count = static_cast<uint32_t>(s.free_nodes.size());
-  s.fixed_count = static_cast<uint32_t>(s.fixed_nodes.size());
-  const size_t bars = m.bars.size();
-  std::vector<double> c(bars * s.free_count, 0), cf(bars * s.fixed_count, 0), q(bars, 0);
-  for (size_t j = 0; j < bars; ++j) {
-    const bn::BarRecord& b = m.bars[j];
-    q[j] = std::ldexp(static_cast<double>(b.q), -16) * q_scale;
-    const uint32_t ends[2] = {b.a, b.b};
-    const double sign[2] = {+1.0, -1.0};
-    for (int e = 0; e < 2; ++e) {
-      const uint32_t i = ends[e];
-      if (fixed[i])
-        cf[j * s.fixed_count + static_cast<size_t>(column[i])] = sign[e];
-      else
-        c[j * s.free_count + static_cast<size_t>(column[i])] = sign[e];
-    }
-  }
-  s.d.assign(size_t{s.free_count} * s.free_count, 0);
-  s.d_f.assign(size_t{s.free_count} * s.fixed_count, 0);
-  for (size_t j = 0; j < bars; ++j)
-    for (uint32_t r = 0; r < s.free_count; ++r) {
-      const double crq = c[j * s.free_count + r] * q[j];
-      if (crq == 0) continue;
-      for (uint32_t k = 0; k < s.free_count; ++k) s.d[r * s.free_count + k] += crq * c[j * s.free_count + k];
-      for (uint32_t k = 0; k < s.fixed_count; ++k) s.d_f[r * s.fixed_count + k] += crq * cf[j * s.fixed_count + k];
-    }
-  return s;
-}
-
-// Solves D x = b by Gaussian elimination with partial pivoting (D is SPD).
-std::vector<double> paper_solve(std::vector<double> a, std::vector<double> b) {
-  const size_t n = b.size();
-  for (size_t k = 0; k < n; ++k) {
-    size_t p = k;
-    for (size_t i = k + 1; i < n; ++i)
-      if (std::abs(a[i * n + k]) > std::abs(a[p * n + k])) p = i;
-    if (p != k) {
-      for (size_t j = 0; j < n; ++j) std::swap(a[k * n + j], a[p * n + j]);
-      std::swap(b[k], b[p]);
-    }
-    for (size_t i = k + 1; i < n; ++i) {
-      const double f = a[i * n + k] / a[k * n + k];
-      if (f == 0) continue;
-      for (size_t j = k; j < n; ++j) a[i * n + j] -= f * a[k * n + j];
-      b[i] -= f * b[k];
-    }
-  }
-  std::vector<double> x(n, 0);
-  for (size_t i = n; i-- > 0;) {
-    double v = b[i];
-    for (size_t j = i + 1; j < n; ++j) v -= a[i * n + j] * x[j];
-    x[i] = v / a[i * n + i];
-  }
-  return x;
-}
 
 int32_t axis_of(sinew::fx::Vec3 v, size_t c) { return c == 0 ? v.x : (c == 1 ? v.y : v.z); }
 

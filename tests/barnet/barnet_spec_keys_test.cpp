@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "host_tools/rigc/toml_spec.hpp"
 #include "sim_core/pipeline/layer_set.hpp"
 #include "sim_core/pipeline/pipeline.hpp"
+#include "sim_core/rig/crc32c.hpp"
 #include "sim_core/rig/rig_format.hpp"
 
 namespace {
@@ -70,6 +72,20 @@ struct BarnetRig {
     const std::vector<std::string> names = sinew::rigc::input_names(spec);
     while (elbow < names.size() && names[elbow].rfind("elbow", 0) != 0) ++elbow;
     if (elbow == names.size()) return error = "no elbow input", false;
+    return load();
+  }
+
+  // Rewrites the blob's CRC after a deliberate change to `bytes`, so the
+  // loader reaches the changed field.
+  void reseal() {
+    constexpr size_t kCrc = offsetof(sinew::rig::FileHeader, crc32c);
+    std::memset(bytes.data() + kCrc, 0, 4);
+    const uint32_t crc = sinew::rig::crc32c(0, bytes.data(), bytes.size());
+    std::memcpy(bytes.data() + kCrc, &crc, 4);
+  }
+
+  // Loads `bytes` (compiled, possibly altered since).
+  bool load() {
     blob.assign(bytes.size() / 8 + 1, 0);
     std::memcpy(blob.data(), bytes.data(), bytes.size());
     const auto* p = reinterpret_cast<const uint8_t*>(blob.data());
@@ -88,19 +104,25 @@ struct BarnetRig {
     return true;
   }
 
-  // The layer_version of the blob's first BNET section (0: none).
-  uint32_t barnet_section_version() const {
+  // Byte offset of the blob's first BNET section (0: none).
+  size_t barnet_section_offset() const {
     sinew::rig::FileHeader f;
     std::memcpy(&f, bytes.data(), sizeof(f));
     for (uint32_t i = 0; i < f.section_count; ++i) {
       sinew::rig::SectionEntry e;
       std::memcpy(&e, bytes.data() + f.section_table_offset + i * sizeof(e), sizeof(e));
-      if (e.id != pl::kSectionBarnet) continue;
-      pl::LayerSectionHeader h;
-      std::memcpy(&h, bytes.data() + e.offset, sizeof(h));
-      return h.layer_version;
+      if (e.id == pl::kSectionBarnet) return e.offset;
     }
     return 0;
+  }
+
+  // The layer_version of the blob's first BNET section (0: none).
+  uint32_t barnet_section_version() const {
+    const size_t at = barnet_section_offset();
+    if (at == 0) return 0;
+    pl::LayerSectionHeader h;
+    std::memcpy(&h, bytes.data() + at, sizeof(h));
+    return h.layer_version;
   }
 
   // One pipeline tick at the given elbow angle (degrees) and external values.
@@ -160,4 +182,53 @@ TEST(BarnetSpecKeys, ForceAndForceDensityInputsDriveTheNet) {
   EXPECT_GT(stiff, 1000) << "the full grip must bulge the net";
   EXPECT_NEAR(soft, 2 * stiff, 3) << "half the force density, twice the bulge (D linear in q)";
   EXPECT_NEAR(2 * soft_half, soft, 3) << "the load is linear in the input's value";
+}
+
+TEST(BarnetSpecKeys, VersionTwoSectionWithAWrongExternalCountIsRefused) {
+  // A version-2 BNET section records how many external inputs its net was
+  // built for; a count other than the rig's EXTI count would let a load or
+  // a q_inputs record read past the step's external span (or another
+  // input), so the loader refuses it and names the field.
+  BarnetRig r;
+  ASSERT_TRUE(r.compile_and_load(kInputSpec)) << r.error;
+  const uint32_t rig_count = r.layers.external_count();
+  ASSERT_EQ(rig_count, 2u);
+  const size_t field =
+      r.barnet_section_offset() + sizeof(pl::LayerSectionHeader) + offsetof(pl::BarnetSectionParams, external_count);
+  uint32_t written = 0;
+  std::memcpy(&written, r.bytes.data() + field, sizeof(written));
+  ASSERT_EQ(written, rig_count) << "the compiled section carries the rig's count";
+  const std::vector<uint8_t> good = r.bytes;
+  for (const uint32_t wrong : {0u, 1u, 3u, 64u, 0xFFFFFFFFu}) {
+    r.bytes = good;
+    std::memcpy(r.bytes.data() + field, &wrong, sizeof(wrong));
+    r.reseal();
+    EXPECT_FALSE(r.load()) << "external_count " << wrong;
+    EXPECT_NE(r.error.find("BNET#0.external_count: differs from the rig's external inputs (EXTI)"), std::string::npos)
+        << "external_count " << wrong << ": " << r.error;
+  }
+  r.bytes = good;
+  EXPECT_TRUE(r.load()) << r.error;
+}
+
+TEST(BarnetSpecKeys, NetKeySelectsThePapersArmNets) {
+  // net = "arm-muscles" (Figure 3: 12 free nodes) and "arm-wrinkles"
+  // (Figure 6: the fine mesh's vertices) on the built-in arm, through the
+  // pipeline: the bind pose leaves the skinned mesh, flexion moves the net.
+  for (const char* net : {"arm-muscles", "arm-wrinkles"}) {
+    const std::string text =
+        std::string("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"") + net + "\"\n";
+    BarnetRig r;
+    ASSERT_TRUE(r.compile_and_load(text.c_str())) << net << ": " << r.error;
+    ASSERT_EQ(r.layers.barnet_count, 1u);
+    const sinew::barnet::BarnetModel& m = r.layers.barnet[0];
+    uint32_t free = 0;
+    for (const sinew::barnet::NodeRecord& n : m.nodes) free += n.kind == 0 ? 1u : 0u;
+    EXPECT_EQ(free, std::string(net) == "arm-muscles" ? 12u : 77u) << net;
+    EXPECT_EQ(r.step(0, {}), 0) << net << ": no flexion, no load";
+    EXPECT_GT(r.step(150, {}), 1000) << net << ": the loads follow the flexion";
+  }
+  BarnetRig bad;
+  EXPECT_FALSE(bad.compile_and_load("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"x\"\n"));
+  EXPECT_NE(bad.error.find("net must be"), std::string::npos) << bad.error;
 }

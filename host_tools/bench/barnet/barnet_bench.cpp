@@ -8,20 +8,25 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "host_tools/bench/common/bench_summary.hpp"
 #include "host_tools/layers/barnet/arm_session.hpp"
+#include "host_tools/layers/barnet/muscle_net.hpp"
+#include "host_tools/layers/barnet/wrinkle_net.hpp"
 
 namespace bn = sinew::barnet;
 namespace lb = sinew::layers::barnet;
 
 namespace {
 
-lb::ArmNetOptions net_options(int segments, bool q_input = false) {
+lb::ArmNetOptions net_options(int segments, bool q_input = false, bool profile_order = false) {
   lb::ArmNetOptions o;
   o.segments = segments;
   o.q_input = q_input;
+  o.profile_order = profile_order;
   return o;
 }
 
@@ -77,49 +82,89 @@ void BM_EngineStep(benchmark::State& state) {
   state.SetLabel(state.range(0) == 0 ? "arm LBS (baseline)" : "arm DQS");
 }
 
-// The bar-net step alone: bones from one engine step, activation varying.
-void BM_BarnetStep(benchmark::State& state) {
-  lb::ArmSession s(sinew::rigc::SkinChoice::kLinear, net_options(static_cast<int>(state.range(0))));
-  if (!s.ok()) return state.SkipWithError(s.error().c_str());
-  set_elbow(s, 90);
-  s.engine_step();
-  std::vector<int32_t> angles = s.inputs();
-  const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
-  int64_t i = 0;
-  for (auto _ : state) {
-    angles[elbow] = lb::degrees_to_angle(static_cast<double>(i++ % 150));
-    benchmark::DoNotOptimize(bn::barnet_step(&s.state(), {s.engine().model, angles}, s.outputs()).error);
+// One bar-net step loop, shared by the benchmarks and the summary: the
+// bones from one engine step at 90 degrees, then bar-net steps with the
+// elbow angle varying (the loads' activation) and, for a net whose q follows
+// an input, that input changing every step (D re-assembled and
+// re-factorised each time: the fixed cost of run-time force densities).
+class BarnetStepLoop {
+ public:
+  explicit BarnetStepLoop(const lb::ArmNetOptions& options)
+      : session_(sinew::rigc::SkinChoice::kLinear, options), q_input_(options.q_input) {
+    prepare();
   }
+  explicit BarnetStepLoop(const lb::ArmSession::NetBuilder& net) : session_(sinew::rigc::SkinChoice::kLinear, net) {
+    prepare();
+  }
+  bool ok() const { return session_.ok(); }
+  const std::string& error() const { return session_.error(); }
+  lb::ArmSession& session() { return session_; }
+
+  // Step i of the loop; returns the step's error code.
+  bn::Error step(int64_t i) {
+    const int32_t external[1] = {q_scale(i)};
+    angles_[elbow_] = lb::degrees_to_angle(static_cast<double>(i % 150));
+    const std::span<const int32_t> ext = q_input_ ? std::span<const int32_t>(external) : std::span<const int32_t>();
+    return bn::barnet_step(&session_.state(), {session_.engine().model, angles_, ext}, session_.outputs()).error;
+  }
+
+ private:
+  void prepare() {
+    if (!session_.ok()) return;
+    elbow_ = static_cast<size_t>(session_.input("elbow.0"));
+    set_elbow(session_, 90);
+    session_.engine_step();
+    angles_ = session_.inputs();
+  }
+  lb::ArmSession session_;
+  bool q_input_ = false;
+  size_t elbow_ = 0;
+  std::vector<int32_t> angles_;
+};
+
+void run_loop(benchmark::State& state, BarnetStepLoop& loop, const char* label) {
+  if (!loop.ok()) return state.SkipWithError(loop.error().c_str());
+  int64_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(loop.step(i++));
+  lb::ArmSession& s = loop.session();
   report(state, s.model().wrap.size());
-  char label[160];
-  std::snprintf(label, sizeof(label), "%zu nodes (%u free), %zu bars, profile %u, %zu wrapped vertices",
+  char text[200];
+  std::snprintf(text, sizeof(text), "%zu nodes (%u free), %zu bars, profile %u, %zu wrapped vertices%s",
                 s.model().nodes.size(), s.state().free_count, s.model().bars.size(), s.state().profile,
-                s.model().wrap.size());
-  state.SetLabel(label);
+                s.model().wrap.size(), label);
+  state.SetLabel(text);
 }
 
-// The same step with every bar's q from an input that changes every step:
-// D re-assembled and re-factorised each time (the fixed cost of run-time
-// force densities).
+// The bar-net step alone.
+void BM_BarnetStep(benchmark::State& state) {
+  BarnetStepLoop loop(net_options(static_cast<int>(state.range(0))));
+  run_loop(state, loop, "");
+}
+
+// The same step with every bar's q from an input that changes every step.
 void BM_BarnetStepRefactor(benchmark::State& state) {
-  lb::ArmSession s(sinew::rigc::SkinChoice::kLinear, net_options(static_cast<int>(state.range(0)), true));
-  if (!s.ok()) return state.SkipWithError(s.error().c_str());
-  set_elbow(s, 90);
-  s.engine_step();
-  std::vector<int32_t> angles = s.inputs();
-  const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
-  int64_t i = 0;
-  for (auto _ : state) {
-    const int32_t external[1] = {q_scale(i)};
-    angles[elbow] = lb::degrees_to_angle(static_cast<double>(i++ % 150));
-    benchmark::DoNotOptimize(bn::barnet_step(&s.state(), {s.engine().model, angles, external}, s.outputs()).error);
-  }
-  report(state, s.model().wrap.size());
-  char label[160];
-  std::snprintf(label, sizeof(label), "%zu nodes (%u free), q from an input, refactor %llu products",
-                s.model().nodes.size(), s.state().free_count,
-                static_cast<unsigned long long>(s.state().refactor_products));
-  state.SetLabel(label);
+  BarnetStepLoop loop(net_options(static_cast<int>(state.range(0)), true));
+  run_loop(state, loop, ", q from an input (refactor)");
+}
+
+// Both with the free nodes in reverse Cuthill-McKee order (a smaller profile).
+void BM_BarnetStepProfileOrder(benchmark::State& state) {
+  BarnetStepLoop loop(net_options(static_cast<int>(state.range(0)), state.range(1) != 0, true));
+  run_loop(state, loop, state.range(1) != 0 ? ", RCM order, q from an input (refactor)" : ", RCM order");
+}
+
+// The paper's Figure 3 (biceps/triceps, 12 free nodes) and Figure 6
+// (wrinkles on the fine mesh) nets.
+void BM_BarnetFigureNet(benchmark::State& state) {
+  BarnetStepLoop loop(
+      state.range(0) == 3
+          ? lb::ArmSession::NetBuilder([](const sinew::rigc::RigSpec& arm, lb::NetSpec* net, std::string* e) {
+              return lb::arm_muscle_net(arm, {}, net, e);
+            })
+          : lb::ArmSession::NetBuilder([](const sinew::rigc::RigSpec& arm, lb::NetSpec* net, std::string* e) {
+              return lb::arm_wrinkle_net(arm, {}, net, e);
+            }));
+  run_loop(state, loop, state.range(0) == 3 ? ", figure 3 net" : ", figure 6 wrinkle net");
 }
 
 void BM_EnginePlusBarnet(benchmark::State& state) {
@@ -136,6 +181,8 @@ void BM_EnginePlusBarnet(benchmark::State& state) {
 BENCHMARK(BM_EngineStep)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarnetStep)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarnetStepRefactor)->Arg(8)->Arg(16)->Arg(32)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarnetStepProfileOrder)->ArgsProduct({{8, 16, 32}, {0, 1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarnetFigureNet)->Arg(3)->Arg(6)->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EnginePlusBarnet)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 // The per-layer table, every figure measured here, in this run.
@@ -154,17 +201,9 @@ bool summary() {
   std::printf("  %-44s %10.2f us  x%.3f\n", "engine step, LBS (baseline)", t_lbs * 1e6, 1.0);
   std::printf("  %-44s %10.2f us  x%.3f\n", "engine step, DQS", t_dqs * 1e6, t_dqs / t_lbs);
   for (int segments : {8, 16, 32}) {
-    lb::ArmSession s(sinew::rigc::SkinChoice::kLinear, net_options(segments));
-    set_elbow(s, 90);
-    s.engine_step();
-    std::vector<int32_t> angles = s.inputs();
-    const size_t elbow = static_cast<size_t>(s.input("elbow.0"));
-    const double t = median_seconds(
-        [&](int i) {
-          angles[elbow] = lb::degrees_to_angle(i % 150);
-          benchmark::DoNotOptimize(bn::barnet_step(&s.state(), {s.engine().model, angles}, s.outputs()).error);
-        },
-        500);
+    BarnetStepLoop plain(net_options(segments));
+    lb::ArmSession& s = plain.session();
+    const double t = median_seconds([&](int i) { benchmark::DoNotOptimize(plain.step(i)); }, 500);
     char what[96];
     std::snprintf(what, sizeof(what), "bar-net step, %zu nodes / %u free / %zu wrapped", s.model().nodes.size(),
                   s.state().free_count, s.model().wrap.size());
@@ -184,21 +223,26 @@ bool summary() {
     if (!sinew::bench::summary_row(row)) ok = false;
 
     // The same net with q from an input: the step plus a re-factorisation.
-    lb::ArmSession r(sinew::rigc::SkinChoice::kLinear, net_options(segments, true));
-    set_elbow(r, 90);
-    r.engine_step();
-    const double t_refactor = median_seconds(
-        [&](int i) {
-          const int32_t external[1] = {q_scale(i)};
-          angles[elbow] = lb::degrees_to_angle(i % 150);
-          benchmark::DoNotOptimize(
-              bn::barnet_step(&r.state(), {r.engine().model, angles, external}, r.outputs()).error);
-        },
-        500);
+    BarnetStepLoop refactor(net_options(segments, true));
+    lb::ArmSession& r = refactor.session();
+    const double t_refactor = median_seconds([&](int i) { benchmark::DoNotOptimize(refactor.step(i)); }, 500);
     std::snprintf(what, sizeof(what), "  + q from an input (refactor, %llu products)",
                   static_cast<unsigned long long>(r.state().refactor_products));
     std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)\n", what, t_refactor * 1e6,
                 t_refactor / t_lbs, t_refactor / t);
+
+    // The same two with the free nodes in reverse Cuthill-McKee order.
+    BarnetStepLoop ordered(net_options(segments, false, true)), ordered_q(net_options(segments, true, true));
+    const double t_ordered = median_seconds([&](int i) { benchmark::DoNotOptimize(ordered.step(i)); }, 500);
+    const double t_ordered_q = median_seconds([&](int i) { benchmark::DoNotOptimize(ordered_q.step(i)); }, 500);
+    std::snprintf(what, sizeof(what), "  RCM order (profile %u, was %u)", ordered.session().state().profile,
+                  s.state().profile);
+    std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the plain bar-net step)\n", what, t_ordered * 1e6, t_ordered / t_lbs,
+                t_ordered / t);
+    std::snprintf(what, sizeof(what), "  RCM order + q from an input (%llu products)",
+                  static_cast<unsigned long long>(ordered_q.session().state().refactor_products));
+    std::printf("  %-44s %10.2f us  x%.3f  (x%.3f the refactoring step)\n", what, t_ordered_q * 1e6,
+                t_ordered_q / t_lbs, t_ordered_q / t_refactor);
   }
   return ok;
 }

@@ -68,6 +68,7 @@ bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* ou
     s.external_count = 1;
     s.q_inputs.push_back({0, 0, static_cast<uint32_t>(s.bars.size())});
   }
+  s.profile_order = o.profile_order;
   for (int ring = r0; ring <= r0 + dr * (o.rings - 1); ++ring)
     for (int k = 0; k < per_ring; ++k) s.wrap_vertices.push_back(static_cast<uint32_t>(ring * per_ring + k));
   *out = std::move(s);

@@ -9,7 +9,12 @@ namespace sinew::layers::barnet {
 
 namespace bn = sinew::barnet;
 
-ArmSession::ArmSession(rigc::SkinChoice method, const ArmNetOptions& options) : spec_(rigc::builtin_arm(method)) {
+ArmSession::ArmSession(rigc::SkinChoice method, const ArmNetOptions& options)
+    : ArmSession(method, [&options](const rigc::RigSpec& arm, NetSpec* net, std::string* error) {
+        return arm_elbow_net(arm, options, net, error);
+      }) {}
+
+ArmSession::ArmSession(rigc::SkinChoice method, const NetBuilder& build_net) : spec_(rigc::builtin_arm(method)) {
   std::vector<uint8_t> bytes;
   rigc::CompileReport report;
   if (!rigc::compile_rig(spec_, &bytes, &report, &error_)) return;
@@ -34,7 +39,7 @@ ArmSession::ArmSession(rigc::SkinChoice method, const ArmNetOptions& options) : 
   inputs_.assign(rig_.input_count, 0);
 
   NetSpec net;
-  if (!arm_elbow_net(spec_, options, &net, &error_) || !build_barnet(net, spec_, &build_, &error_)) return;
+  if (!build_net(spec_, &net, &error_) || !build_barnet(net, spec_, &build_, &error_)) return;
   if (build_.length_exponent != rig_.length_exponent) {
     error_ = "barnet: length exponent differs from the rig's";
     return;

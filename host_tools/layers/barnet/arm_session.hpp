@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,7 +18,14 @@ namespace sinew::layers::barnet {
 
 class ArmSession {
  public:
+  // Builds a net for the arm (its NetSpec from the arm's RigSpec); false
+  // with a message on an error.
+  using NetBuilder = std::function<bool(const rigc::RigSpec& arm, NetSpec* net, std::string* error)>;
+
   explicit ArmSession(rigc::SkinChoice method = rigc::SkinChoice::kLinear, const ArmNetOptions& options = {});
+  // The arm with another net: e.g. arm_muscle_net (Figure 3) or
+  // arm_wrinkle_net (Figure 6).
+  ArmSession(rigc::SkinChoice method, const NetBuilder& net);
   ArmSession(const ArmSession&) = delete;
   ArmSession& operator=(const ArmSession&) = delete;
 

@@ -80,12 +80,61 @@ Vec3d rest_of(const bn::NodeRecord& n) {
           std::ldexp(static_cast<double>(n.rest.z), -20)};
 }
 
+// Reverse Cuthill-McKee order of the free nodes `free` (spec indices) over
+// the bars joining two of them: breadth-first from a node of least degree,
+// neighbours by increasing degree, each component in turn, then reversed.
+// Deterministic: ties keep the spec's order.
+std::vector<uint32_t> profile_order(const NetSpec& spec, const std::vector<uint32_t>& free) {
+  std::vector<int> slot(spec.nodes.size(), -1);
+  for (size_t k = 0; k < free.size(); ++k) slot[free[k]] = static_cast<int>(k);
+  std::vector<std::vector<uint32_t>> next(free.size());
+  for (const BarSpec& bar : spec.bars) {
+    if (bar.a >= spec.nodes.size() || bar.b >= spec.nodes.size()) continue;  // reported by convert_bars
+    const int a = slot[bar.a], b = slot[bar.b];
+    if (a < 0 || b < 0 || a == b) continue;
+    next[static_cast<size_t>(a)].push_back(static_cast<uint32_t>(b));
+    next[static_cast<size_t>(b)].push_back(static_cast<uint32_t>(a));
+  }
+  for (auto& n : next) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  auto by_degree = [&next](uint32_t x, uint32_t y) {
+    return next[x].size() != next[y].size() ? next[x].size() < next[y].size() : x < y;
+  };
+  std::vector<uint32_t> seeds(free.size());
+  for (uint32_t k = 0; k < seeds.size(); ++k) seeds[k] = k;
+  std::stable_sort(seeds.begin(), seeds.end(), by_degree);
+  std::vector<bool> seen(free.size(), false);
+  std::vector<uint32_t> order;
+  for (uint32_t seed : seeds) {
+    if (seen[seed]) continue;
+    seen[seed] = true;
+    order.push_back(seed);
+    for (size_t head = order.size() - 1; head < order.size(); ++head) {
+      std::vector<uint32_t> n = next[order[head]];
+      std::sort(n.begin(), n.end(), by_degree);
+      for (uint32_t m : n)
+        if (!seen[m]) seen[m] = true, order.push_back(m);
+    }
+  }
+  std::reverse(order.begin(), order.end());
+  for (uint32_t& k : order) k = free[k];
+  return order;
+}
+
 bool convert_nodes(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* b, std::string* error) {
   const int32_t e = b->length_exponent;
   std::vector<uint32_t> order;
   for (size_t pass = 0; pass < 2; ++pass)  // free nodes first, then fixed; stable
     for (uint32_t i = 0; i < spec.nodes.size(); ++i)
       if (spec.nodes[i].fixed == (pass == 1)) order.push_back(i);
+  if (spec.profile_order) {
+    const auto free_end = std::find_if(order.begin(), order.end(), [&spec](uint32_t i) { return spec.nodes[i].fixed; });
+    const std::vector<uint32_t> free(order.begin(), free_end);
+    const std::vector<uint32_t> ordered = profile_order(spec, free);
+    std::copy(ordered.begin(), ordered.end(), order.begin());
+  }
   b->node_order.assign(spec.nodes.size(), 0);
   for (uint32_t m = 0; m < order.size(); ++m) b->node_order[order[m]] = m;
   for (uint32_t m = 0; m < order.size(); ++m) {

@@ -56,6 +56,12 @@ struct NetSpec {
   std::vector<uint32_t> wrap_vertices;             // fine skin vertices bound to the control mesh
   uint32_t external_count = 0;                     // external inputs of the rig (EXTI), for loads and q_inputs
   std::vector<ForceDensityInputSpec> q_inputs;     // bars keep the spec's order, so runs index spec bars
+  // Order the free nodes by reverse Cuthill-McKee over the bars between
+  // them instead of keeping the spec's order: a smaller skyline profile,
+  // hence a cheaper factor and solve (ldlt_skyline.hpp). The solution is the
+  // same net's; only its rounding (<= 1 Len LSB) differs, so a net built
+  // before keeps its outputs unless it asks for this.
+  bool profile_order = false;
 };
 
 // The quantised model and the arrays it points into.
