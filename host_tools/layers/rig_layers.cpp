@@ -193,6 +193,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     o.tissue_mass = t.tissue_mass > 0 ? t.tissue_mass : 1000 * 3.14159265358979323846 * r * r * (2 * h + 4.0 / 3.0 * r);
     o.load_distance = g.bone_length[static_cast<size_t>(j)] > 0 ? g.bone_length[static_cast<size_t>(j)] : 2 * h;
     o.yield_angle_deg = t.yield_angle_deg;
+    o.surface_tension = t.surface_tension;
     o.tick_hz = layers.rate_hz;
     o.substeps = sph_substeps(layers.rate_hz);
     SphBuilt built;

@@ -32,7 +32,8 @@ struct SphTable {
   double half_length = 0;  // capsule half length; 0: min(2.2 x radius, 0.4 x the shorter bone)
   double tissue_mass = 0;  // kg; 0: 1000 kg/m^3 x the capsule volume (model units read as metres)
   double yield_angle_deg = 60;
-  std::string force_input;  // external input of the force at the distal bone's end; "" -> "<joint>.force"
+  std::string force_input;     // external input of the force at the distal bone's end; "" -> "<joint>.force"
+  double surface_tension = 0;  // sigma, N/m (0: off; docs/sph.md)
 };
 
 struct MetaballsTable {

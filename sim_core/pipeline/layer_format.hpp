@@ -87,13 +87,29 @@ inline constexpr uint32_t kNoExternalInput = 0xFFFFFFFFu;
 
 // SPHJ params. Arrays, in order: rest_local x, y, z (Len), rest_model x, y, z
 // (Len), bone (u8), skin_vertex (u32), skin_rest x, y, z (Len).
-struct SphSectionParams {
-  sph::SphParams params;
+//
+// Layer version 1: SphSectionParamsV1, the SphParams fields before
+// tension_gain; it loads with tension_gain = 0 (no surface tension). Layer
+// version 2 (SPHJ only): SphSectionParams, the whole SphParams. Both records
+// are 84 bytes. Writers emit version 1 whenever tension_gain is 0, so rigs
+// without surface tension keep their bytes; a loader that knows only version
+// 1 refuses a version 2 section (kBadVersion).
+inline constexpr uint32_t kSphParamsV1Bytes = 44;  // SphParams up to grid_radius
+struct SphSectionParamsV1 {
+  uint8_t params[kSphParamsV1Bytes];  // the first 44 bytes of sph::SphParams
   sph::SphJoint joint;
   uint32_t force_input;  // index into EXTI of the force at the load point, or kNoExternalInput
   uint32_t reserved;
 };
-static_assert(sizeof(sph::SphParams) == 44 && sizeof(sph::SphJoint) == 32);
+struct SphSectionParams {
+  sph::SphParams params;
+  sph::SphJoint joint;
+  uint32_t force_input;  // as in version 1
+};
+static_assert(sizeof(sph::SphParams) == 48 && offsetof(sph::SphParams, tension_gain) == kSphParamsV1Bytes &&
+              sizeof(sph::SphJoint) == 32);
+static_assert(sizeof(SphSectionParamsV1) == 84 && sizeof(SphSectionParams) == 84);
+inline constexpr uint32_t kSphSectionVersion2 = 2;
 inline constexpr uint32_t kSphArrays = 11;
 
 // MBAL params. Arrays, in order: inverse_bind, ball_rest, ball_radius,

@@ -173,13 +173,17 @@ bool layout_of(uint32_t id, uint32_t version, Layout* out) {
     *out = {sizeof(SkinSectionParamsV3), kSkinArrays, kSkinSpec};
     return true;
   }
+  if (id == kSectionSphJoint && version == kSphSectionVersion2) {
+    *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
+    return true;
+  }
   if (id == kSectionMuscles && version == kMusclesSectionVersion2) {
     *out = {sizeof(MusclesSectionParams), kMusclesArraysV2, kMusclesSpec};
     return true;
   }
   switch (id) {
     case kSectionSphJoint:
-      *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
+      *out = {sizeof(SphSectionParamsV1), kSphArrays, kSphSpec};
       return true;
     case kSectionMetaballs:
       *out = {sizeof(MetaballsSectionParams), kMetaballsArrays, kMetaballsSpec};
@@ -226,7 +230,8 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
   const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
   const bool muscles_v2 = id == kSectionMuscles && h.layer_version == kMusclesSectionVersion2;
   const bool metaballs_v2 = id == kSectionMetaballs && h.layer_version == kMetaballsSectionVersion2;
-  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2 && !metaballs_v2)
+  const bool sph_v2 = id == kSectionSphJoint && h.layer_version == kSphSectionVersion2;
+  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2 && !metaballs_v2 && !sph_v2)
     return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
                 h.layer_version, true);
   layout_of(id, h.layer_version, &layout);
@@ -324,7 +329,17 @@ LoadStatus check_external(const SectionView& v, std::span<const ExternalInputRec
 }
 
 LoadStatus load_sph(const SectionView& v, const rig::Rig& rig, uint32_t external_count, SphJointLayer* out) {
-  const SphSectionParams p = params_of<SphSectionParams>(v);
+  // Version 1 has no surface tension: its record stops before tension_gain.
+  SphSectionParams p{};
+  if (v.header.layer_version == kSphSectionVersion2) {
+    p = params_of<SphSectionParams>(v);
+  } else {
+    const SphSectionParamsV1 p1 = params_of<SphSectionParamsV1>(v);
+    std::memcpy(static_cast<void*>(&p.params), p1.params, sizeof p1.params);
+    p.params.tension_gain = 0;
+    p.joint = p1.joint;
+    p.force_input = p1.force_input;
+  }
   sph::SphModel& m = out->model;
   m.params = p.params;
   m.joint = p.joint;

@@ -266,6 +266,9 @@ PipelineStatus sph_gains_for_rate(const sph::SphParams& c, uint32_t compiled_hz,
       !(st = gain(scale(scale(c.pressure_gain)), "pressure gain out of [0, 1) at this rate", &out->pressure_gain))
            .ok() ||
       !(st = gain(scale(c.viscosity_gain), "viscosity gain mu dt out of [0, 1) at this rate", &out->viscosity_gain))
+           .ok() ||
+      !(st = gain(scale(scale(c.tension_gain)), "tension gain (sigma dt^2) out of [0, 1) at this rate",
+                  &out->tension_gain))
            .ok())
     return st;
   // The load gain (dt^2 / (m unit), Q2.30) saturates at 2.0 as rigc's builder

@@ -6,6 +6,10 @@
 //   poly6:      W  ~ (1 - q^2)^3            (density)
 //   spiky grad: dW ~ (1 - q)^2 / q * (r/h)  (pressure; factor tabulated)
 //   viscosity:  L  ~ (1 - q)                (viscosity Laplacian)
+//   colour:     grad (1 - q^2)^3      = -6 (1 - q^2)^2 (r/h)
+//               laplacian (1 - q^2)^3 = -6 (1 - q^2) (3 - 7 q^2)
+//               (Mueller 2003 §4.4: the poly6 colour field's gradient and
+//               Laplacian, with respect to r/h; polynomials in s, no table)
 // The two kernels that need q itself come from 1025-entry tables over s
 // (built at compile time with an exact integer sqrt) with linear
 // interpolation: pure integer, identical on every platform.
@@ -90,6 +94,15 @@ inline void kernel_factors(uint32_t s, int32_t* spiky, int32_t* viscosity) {
   const int64_t a = kSpiky[i], b = kSpiky[i + 1], c = kViscosity[i], d = kViscosity[i + 1];
   *spiky = static_cast<int32_t>(a + fx::round_shift((b - a) * frac, kStepShift));
   *viscosity = static_cast<int32_t>(c + fx::round_shift((d - c) * frac, kStepShift));
+}
+
+// Colour-field factors at s = q^2 (Q2.30, s < 2^30), both Q30 and without
+// the common factor -6: gradient (1 - s)^2 in [0, 1] and Laplacian
+// (1 - s)(3 - 7 s) in [-4/7, 3] (int64: it exceeds Q2.30's range at s = 0).
+inline void colour_factors(uint32_t s, int64_t* gradient, int64_t* laplacian) {
+  const int64_t t = (int64_t{1} << 30) - s;  // 1 - s, Q30, in (0, 2^30]
+  *gradient = fx::round_shift(t * t, 30);
+  *laplacian = fx::round_shift(t * ((int64_t{3} << 30) - 7 * int64_t{s}), 30);
 }
 
 // Normalised offset (a - b) / h in Q2.30 and s = q^2 in Q2.30 for two

@@ -51,7 +51,20 @@ struct SphParams {
   Dens tau_f = 0;            // Tresca limit (rho_max - rho_min) / 2, eq. (4); > 0
   uint32_t yield_count = 0;  // yielded particles that make the joint yield, >= 1
   fx::Len grid_radius = 0;   // half side of the neighbour grid centred on the joint
+  // Colour-field surface tension (Mueller 2003 §4.4; docs/sph.md), in rig
+  // units per substep^2 per unit of the normalised curvature term, Q2.30:
+  // 6 sigma h dt^2 / (m C unit), C = 315 / (64 pi) the poly6 constant, m the
+  // mass of one particle. 0 = off; [0, 1).
+  fx::Unit tension_gain = 0;
 };
+
+// Surface particles only: |sum_j (1 - q^2)^2 d_ij / rho_j| (the colour
+// gradient |h grad c_s| / 6) at least this, Q2.30 (1/8). On a cubic lattice
+// at h = 2 spacings it is 0.06..0.08 in the interior (the neighbours'
+// densities differ near the surface) and 0.19..0.26 on faces, edges and
+// corners: below the threshold the normal is not a surface's. Mueller 2003
+// §4.4 uses the same kind of threshold on |n|.
+inline constexpr int32_t kTensionNormalMin = int32_t{1} << 27;
 
 // The driven joint: the distal bone flexes about `axis` through the origin of
 // the distal joint's frame; its flexion comes out of the particles.

@@ -39,6 +39,9 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
     s->pressure_sum[a] = c.take<int64_t>(n);
     s->viscosity_sum[a] = c.take<int64_t>(n);
   }
+  const size_t colour = m.params.tension_gain != 0 ? n : 0;
+  for (int a = 0; a < 3; ++a) s->colour_gradient_sum[a] = c.take<int64_t>(colour);
+  s->colour_laplacian_sum = c.take<int64_t>(colour);
   // Every stored pair gives at least one particle a neighbour, so n x
   // max_neighbours bound them unless a list overflows; the extra entry takes
   // the search's unconditional store (sph_grid.cpp).

@@ -69,8 +69,13 @@ struct SphState {
   std::span<int64_t> density_sum;       // sum of poly6 over the neighbourhood, Q30, self included
   std::span<int64_t> pressure_sum[3];   // per-particle sums of the pair terms, Q24 (accelerations)
   std::span<int64_t> viscosity_sum[3];  // Len per substep
-  std::span<uint16_t> skin_particle;    // vertex k: [k * kMaxVertexNeighbours, + skin_count[k])
-  std::span<int32_t> skin_weight;       // poly6 at rest, Q2.30
+  // Colour field (surface tension, Mueller 2003 §4.4), per particle, Q30:
+  // sum_j (1 - q^2)^2 d_ij / rho_j and sum_j (1 - q^2)(3 - 7 q^2) / rho_j.
+  // Empty when params.tension_gain is 0 (the term is off).
+  std::span<int64_t> colour_gradient_sum[3];
+  std::span<int64_t> colour_laplacian_sum;
+  std::span<uint16_t> skin_particle;  // vertex k: [k * kMaxVertexNeighbours, + skin_count[k])
+  std::span<int32_t> skin_weight;     // poly6 at rest, Q2.30
   std::span<uint8_t> skin_count;
   uint32_t grid_dim = 0;
   int64_t inertia_q12 = 0;       // sum over distal particles of |r_perp|^2, rig units^2, Q12

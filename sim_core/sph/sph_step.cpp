@@ -76,34 +76,83 @@ inline void add_side(int64_t psum, int64_t inv_j, int64_t spiky, int64_t visc, c
   }
 }
 
+// The colour field's terms particle i takes from j (Mueller 2003 §4.4, poly6
+// colour c_s = sum_j w_ij / rho_j): gradient (1 - s)^2 d / rho_j into
+// sum[0..2] and Laplacian (1 - s)(3 - 7 s) / rho_j into sum[3], all Q30
+// (the common factor -6 is in the gain). Each term is below 3 x 2^30.
+inline void add_colour_side(uint32_t s, int64_t inv_j, const int64_t d[3], int64_t sum[4]) {
+  int64_t g, l;
+  colour_factors(s, &g, &l);
+  const int64_t gw = fx::round_shift(g * inv_j, 30);  // Q30, <= 2^30
+  for (int a = 0; a < 3; ++a) sum[a] += fx::round_shift(gw * d[a], 30);
+  sum[3] += fx::round_shift(l * inv_j, 30);
+}
+
+// Surface-tension velocity change of particle i (Len per substep, into
+// out[3]): a = -sigma laplacian(c_s) n / |n| / rho_i, Mueller 2003 eq. (19),
+// only where |n| >= kTensionNormalMin. With n = -6 G / h and laplacian =
+// -6 L / h^2 (G, L the sums above) and m / rho = h^3 / (C rho_hat) this is
+// -(6 sigma h / (m C)) (L / rho_hat_i) G / |G|: the gain carries
+// 6 sigma h dt^2 / (m C unit).
+void tension_of(const SphState& st, uint32_t i, fx::Unit gain, int64_t out[3], fx::Saturation& sat) {
+  out[0] = out[1] = out[2] = 0;
+  // G and L below 96 x 3 x 2^30 (kMaxNeighbours terms): Q30 -> Q24 fits int32.
+  const fx::Vec3 g{fx::sat_i32(fx::round_shift(st.colour_gradient_sum[0][i], 6), sat),
+                   fx::sat_i32(fx::round_shift(st.colour_gradient_sum[1][i], 6), sat),
+                   fx::sat_i32(fx::round_shift(st.colour_gradient_sum[2][i], 6), sat)};
+  // |G| >= kTensionNormalMin (Q30), compared squared in Q48: |G|^2 < 3 x 2^62.
+  const int64_t min24 = kTensionNormalMin >> 6;
+  const int64_t g2 = fx::dot_wide(g, g);
+  if (g2 < min24 * min24) return;
+  fx::Vec3 unit;
+  if (!fx::normalize_to_unit(g, &unit)) return;
+  // The particle's own term (j = i: s = 0, factor 3) completes the sum, so
+  // the Laplacian vanishes in a uniform bulk. L / rho_hat_i in Q24,
+  // saturated to int32 (|L| < 2^39, inv <= 2^30: the product < 2^69 is
+  // formed in 128 bits).
+  const int64_t inv_i = st.inv_density[i];
+  const int64_t l = st.colour_laplacian_sum[i] + 3 * inv_i;  // Q30
+  const int64_t l24 = fx::sat_i32(fx::mul_shift_round(l, inv_i, 36), sat);
+  // Q24 x Q30 gain -> Len (Q20): below 2^31 x 2^30 / 2^34 = 2^27.
+  const int64_t magnitude = fx::round_shift(l24 * gain, 34);
+  const int32_t u[3] = {unit.x, unit.y, unit.z};
+  for (int a = 0; a < 3; ++a) out[a] = -fx::round_shift(magnitude * u[a], 30);
+}
+
 // Per-substep velocity change (Len per substep) of every particle, into
 // scratch. Each pair's kernel factors and velocity difference are computed
 // once for both sides (the factors twice only where its sides' q^2
 // differ). The per-particle sums are int64 and never saturate (each term
 // below 2^32, at most 96 per particle), so their order is free: the same
 // words as one list per particle. Pairs come grouped by a (the search's
-// order), so a's sums stay in registers until a changes.
+// order), so a's sums stay in registers until a changes. kTension adds the
+// colour field's sums in the same pass over the pairs.
+template <bool kTension>
 void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturation& sat) {
   const SphModel& m = *st->model;
   const SphParams& pr = m.params;
   const uint32_t n = m.particle_count();
+  constexpr size_t kSums = kTension ? 10 : 6;
   const Dens* pressure = st->pressure.data();
   const fx::Unit* inv_density = st->inv_density.data();
   const fx::Len* velocity[3] = {st->velocity[0].data(), st->velocity[1].data(), st->velocity[2].data()};
-  int64_t* sums[6] = {st->pressure_sum[0].data(),  st->pressure_sum[1].data(),  st->pressure_sum[2].data(),
-                      st->viscosity_sum[0].data(), st->viscosity_sum[1].data(), st->viscosity_sum[2].data()};
-  for (int c = 0; c < 6; ++c)
+  int64_t* sums[10] = {st->pressure_sum[0].data(),        st->pressure_sum[1].data(),
+                       st->pressure_sum[2].data(),        st->viscosity_sum[0].data(),
+                       st->viscosity_sum[1].data(),       st->viscosity_sum[2].data(),
+                       st->colour_gradient_sum[0].data(), st->colour_gradient_sum[1].data(),
+                       st->colour_gradient_sum[2].data(), st->colour_laplacian_sum.data()};
+  for (size_t c = 0; c < kSums; ++c)
     for (uint32_t i = 0; i < n; ++i) sums[c][i] = 0;
   const SphPair* pairs = st->pairs.data();
   // A local count: stores to the sums cannot then alias it, so it stays in a register.
   fx::Saturation pair_sat;
   uint32_t current = st->pair_count != 0 ? pairs[0].a : 0;
-  int64_t acc[6] = {0, 0, 0, 0, 0, 0};
+  int64_t acc[kSums] = {};
   for (uint32_t k = 0; k < st->pair_count; ++k) {
     const SphPair& e = pairs[k];
     const uint32_t a = e.a, b = e.b;
     if (a != current) {
-      for (int c = 0; c < 6; ++c) {
+      for (size_t c = 0; c < kSums; ++c) {
         sums[c][current] += acc[c];
         acc[c] = 0;
       }
@@ -115,19 +164,23 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
     const int64_t d[3] = {e.d[0], e.d[1], e.d[2]};
     const int64_t dv[3] = {int64_t{velocity[0][b]} - velocity[0][a], int64_t{velocity[1][b]} - velocity[1][a],
                            int64_t{velocity[2][b]} - velocity[2][a]};
-    if ((e.sides & 1u) != 0) add_side(psum, inv_density[b], spiky_ab, visc_ab, d, dv, acc, pair_sat);
+    if ((e.sides & 1u) != 0) {
+      add_side(psum, inv_density[b], spiky_ab, visc_ab, d, dv, acc, pair_sat);
+      if constexpr (kTension) add_colour_side(e.s_ab, inv_density[b], d, acc + 6);
+    }
     if ((e.sides & 2u) != 0) {
       // b's side: each axis negated, one LSB up where it rounded on a half.
       const int64_t d_ba[3] = {-d[0] + (e.half & 1u), -d[1] + ((e.half >> 1) & 1u), -d[2] + ((e.half >> 2) & 1u)};
       const int64_t dv_ba[3] = {-dv[0], -dv[1], -dv[2]};
       int32_t spiky_ba = spiky_ab, visc_ba = visc_ab;
       if (e.s_ba != e.s_ab) kernel_factors(e.s_ba, &spiky_ba, &visc_ba);
-      int64_t b_sum[6] = {0, 0, 0, 0, 0, 0};
+      int64_t b_sum[kSums] = {};
       add_side(psum, inv_density[a], spiky_ba, visc_ba, d_ba, dv_ba, b_sum, pair_sat);
-      for (int c = 0; c < 6; ++c) sums[c][b] += b_sum[c];
+      if constexpr (kTension) add_colour_side(e.s_ba, inv_density[a], d_ba, b_sum + 6);
+      for (size_t c = 0; c < kSums; ++c) sums[c][b] += b_sum[c];
     }
   }
-  for (int c = 0; c < 6; ++c) sums[c][current] += acc[c];
+  for (size_t c = 0; c < kSums; ++c) sums[c][current] += acc[c];
   sat.events += pair_sat.events;
   for (uint32_t i = 0; i < n; ++i) {
     const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
@@ -136,6 +189,8 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
     fx::Vec3 ext{0, 0, 0};
     if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0)
       ext = fx::scale(fx::cross(f.axis, fx::sub(xi, f.centre), 30), beta);
+    int64_t tension[3] = {0, 0, 0};
+    if constexpr (kTension) tension_of(*st, i, pr.tension_gain, tension, sat);
     const int32_t x[3] = {xi.x, xi.y, xi.z};
     const int32_t e[3] = {ext.x, ext.y, ext.z};
     for (int a = 0; a < 3; ++a) {
@@ -147,7 +202,7 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
           fx::round_shift(fx::clamp_i64(sums[3 + a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
       // Elastic pull toward the skinned rest position (§4.1 tension).
       const int64_t pull = fx::round_shift((int64_t{st->ideal[a][i]} - x[a]) * pr.elastic_gain, 30);
-      st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a], sat);
+      st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a] + tension[a], sat);
     }
   }
 }
@@ -246,10 +301,15 @@ SphStatus sph_step(SphState* st, const SphInputs& in) {
       fx::clamp_i64(fx::div_round(torque * m.params.load_gain, st->inertia_q12), -fx::kUnitOne, fx::kUnitOne), sat);
 
   compute_ideal(st, f);
+  // Surface tension runs only with its gain and its sums carved (sph_state.cpp).
+  const bool tension = m.params.tension_gain != 0 && !st->colour_laplacian_sum.empty();
   for (uint32_t s = 0; s < m.params.substeps; ++s) {
     build_neighbours(st, f.centre);
     density_and_yield(st, in.tresca);
-    accelerations(st, f, beta, sat);
+    if (tension)
+      accelerations<true>(st, f, beta, sat);
+    else
+      accelerations<false>(st, f, beta, sat);
     integrate(st, sat);
   }
   if (in.tresca && !st->joint_yielded && st->yielded_particles >= m.params.yield_count) {

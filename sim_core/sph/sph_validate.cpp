@@ -60,6 +60,8 @@ SphStatus sph_validate(const SphModel& m, uint32_t joint_count, uint32_t vertex_
     return fail(SphError::kBadParameter, "pressure_gain", "must be in [0, 1) (Q2.30)", p.pressure_gain);
   if (!in(p.viscosity_gain, 0, fx::kUnitOne - 1))
     return fail(SphError::kBadParameter, "viscosity_gain", "must be in [0, 1) (Q2.30)", p.viscosity_gain);
+  if (!in(p.tension_gain, 0, fx::kUnitOne - 1))
+    return fail(SphError::kBadParameter, "tension_gain", "must be in [0, 1) (Q2.30)", p.tension_gain);
   if (!in(p.damping, 1, fx::kUnitOne))
     return fail(SphError::kBadParameter, "damping", "must be in (0, 1] (Q2.30)", p.damping);
   if (p.load_gain < 0) return fail(SphError::kBadParameter, "load_gain", "must be >= 0", p.load_gain);

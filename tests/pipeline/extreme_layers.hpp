@@ -34,12 +34,23 @@ inline void push_sph(std::vector<uint8_t>* bytes, bool wide) {
   for (uint32_t inst = 0; inst < pipeline::kMaxSphJoints; ++inst) {
     const LayerView v = layer_view(*bytes, pipeline::kSectionSphJoint, inst);
     if (!v) return;
+    // The built sections are version 1 (no surface tension): rewritten as
+    // version 2 with the tension gain at its maximum too.
+    pipeline::SphSectionParamsV1 v1;
+    std::memcpy(&v1, bytes->data() + v.params, sizeof v1);
+    pipeline::SphSectionParams v2{};
+    std::memcpy(static_cast<void*>(&v2.params), v1.params, sizeof v1.params);
+    v2.joint = v1.joint;
+    v2.force_input = v1.force_input;
+    std::memcpy(bytes->data() + v.params, &v2, sizeof v2);
+    std::memcpy(bytes->data() + v.section, &pipeline::kSphSectionVersion2, sizeof(uint32_t));
     edit_record<pipeline::SphSectionParams>(
         bytes, v.params,
         [&](pipeline::SphSectionParams& p, size_t) {
           p.params.substeps = sph::kMaxSubsteps;
           p.params.max_neighbours = sph::kMaxNeighbours;
           p.params.elastic_gain = p.params.pressure_gain = p.params.viscosity_gain = kUnitMax - 1;
+          p.params.tension_gain = kUnitMax - 1;
           p.params.damping = kUnitMax;
           p.params.load_gain = INT32_MAX;
           p.params.h = wide ? INT32_MAX : 1;

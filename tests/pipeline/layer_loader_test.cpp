@@ -7,6 +7,8 @@
 #include <functional>
 #include <random>
 
+#include "host_tools/rigc/builtin_rigs.hpp"
+#include "host_tools/rigc/rig_spec.hpp"
 #include "tests/pipeline/pipeline_fixture.hpp"
 #include "tests/support/soak.hpp"
 
@@ -88,7 +90,7 @@ TEST(LayerLoader, CorruptionsAreRefusedNamingSectionAndField) {
     };
   };
   const Corruption cases[] = {
-      {"version", pl::kSectionSphJoint, at(0, 2), "SPHJ#0.layer_version: unsupported layer section version"},
+      {"version", pl::kSectionSphJoint, at(0, 3), "SPHJ#0.layer_version: unsupported layer section version"},
       {"params size", pl::kSectionSphJoint, at(4, 80), "SPHJ#0.params_size: does not match"},
       {"array count", pl::kSectionSphJoint, at(8, 10), "SPHJ#0.array_count: does not match"},
       {"rate", pl::kSectionSphJoint, at(12, 0), "SPHJ#0.rate_hz: an SPH joint's gains need its tick rate"},
@@ -196,4 +198,70 @@ TEST(LayerLoader, RandomCorruptionNeverCrashes) {
   }
   std::printf("random layer corruption: %d of %d refused, the rest valid\n", refused, trials);
   SUCCEED();
+}
+
+// SPHJ versions (layer_format.hpp): the built-in arm has no surface tension,
+// so its section stays version 1 and loads with tension_gain 0; the same
+// section rewritten as version 2 loads every field as before plus the gain.
+TEST(LayerLoader, SphVersion2CarriesTheSurfaceTension) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const size_t section = sinew::test::section_offset(arm->bytes, pl::kSectionSphJoint);
+  ASSERT_NE(section, 0u);
+  EXPECT_EQ(get_u32(arm->bytes, section), 1u) << "no tension: the writer keeps version 1";
+  const sinew::sph::SphParams v1 = arm->layers.sph[0].model.params;
+  EXPECT_EQ(v1.tension_gain, 0);
+  const size_t params = section + sizeof(pl::LayerSectionHeader);
+  pl::SphSectionParamsV1 old;
+  std::memcpy(&old, arm->bytes.data() + params, sizeof old);
+  pl::SphSectionParams now{};
+  std::memcpy(static_cast<void*>(&now.params), old.params, sizeof old.params);
+  now.params.tension_gain = 12345;
+  now.joint = old.joint;
+  now.force_input = old.force_input;
+  LoadedLayers l;
+  l.bytes = arm->bytes;
+  std::memcpy(l.bytes.data() + params, &now, sizeof now);
+  put_u32(&l.bytes, section, pl::kSphSectionVersion2);
+  sinew::test::fix_crc(&l.bytes);
+  std::string error;
+  ASSERT_TRUE(l.load(&error)) << error;
+  const sinew::sph::SphModel& m = l.layers.sph[0].model;
+  EXPECT_EQ(m.params.tension_gain, 12345);
+  sinew::sph::SphParams expected = v1;
+  expected.tension_gain = 12345;
+  EXPECT_EQ(0, std::memcmp(&m.params, &expected, sizeof expected));
+  EXPECT_EQ(0, std::memcmp(&m.joint, &arm->layers.sph[0].model.joint, sizeof m.joint));
+  EXPECT_EQ(l.layers.sph[0].force_input, arm->layers.sph[0].force_input);
+  // A version this loader does not know is refused.
+  put_u32(&l.bytes, section, 3);
+  sinew::test::fix_crc(&l.bytes);
+  EXPECT_NE(load_error(l.bytes).find("version"), std::string::npos);
+}
+
+// The writer: the arm's layers with [[sph]] surface_tension = 1 N/m compile
+// to an SPHJ version 2 whose loaded gain is the builder's
+// 6 sigma h dt^2 / (m C unit), and run in the pipeline.
+TEST(LayerLoader, SphSurfaceTensionCompilesToVersion2) {
+  sinew::rigc::RigSpec spec;
+  sinew::layers::LayerSpecs specs;
+  ASSERT_TRUE(sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec));
+  ASSERT_TRUE(sinew::layers::builtin_layers("arm", &specs));
+  ASSERT_EQ(specs.sph.size(), 1u);
+  specs.sph[0].surface_tension = 1.0;
+  LoadedLayers l;
+  std::vector<std::string> report;
+  std::string error;
+  sinew::rigc::CompileReport core;
+  ASSERT_TRUE(sinew::layers::add_layer_dofs(&spec, specs, &report, &error) &&
+              sinew::rigc::compile_rig(spec, &l.bytes, &core, &error) &&
+              sinew::layers::compile_layers(spec, specs, &l.bytes, &report, &error))
+      << error;
+  ASSERT_TRUE(l.load(&error)) << error;
+  const size_t section = sinew::test::section_offset(l.bytes, pl::kSectionSphJoint);
+  ASSERT_NE(section, 0u);
+  EXPECT_EQ(get_u32(l.bytes, section), pl::kSphSectionVersion2);
+  EXPECT_GT(l.layers.sph[0].model.params.tension_gain, 0);
+  pl::PipelineOptions options;
+  ASSERT_TRUE(l.start(options, &error)) << error;
 }

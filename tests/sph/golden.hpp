@@ -7,4 +7,6 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kSphArm = 0xbe718026777d5b5au;
+// The same workload with surface_tension = 1 N/m (SphDeterminism, second test).
+inline constexpr uint64_t kSphArmSurfaceTension = 0xecadf93b0ad8136cu;
 }  // namespace sinew::test::golden

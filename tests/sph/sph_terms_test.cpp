@@ -1,6 +1,7 @@
 // Each force term of the particle dynamics (sph-elastic-joints-tresca §4.1
-// with Mueller 2003: pressure, viscosity, and the tension that restores the
-// ideal distance, docs/sph.md) switched off on its own changes the result,
+// with Mueller 2003: pressure, viscosity, colour-field surface tension, and
+// the elastic pull that restores the ideal distance, docs/sph.md) switched
+// off on its own changes the result,
 // and the measured-joint rule of docs/sph.md: a measured angle is not bent
 // a second time.
 #include <gtest/gtest.h>
@@ -23,6 +24,7 @@ struct TermsRun {
   std::vector<int32_t> words;  // every particle position after the run
   double loaded_bend = 0, released_bend = 0;
   int64_t peak_compression = 0;  // largest rho - rho0 seen while loaded, Q8.24
+  double spread = 0;             // mean squared distance of the particles from their centroid, m^2
 };
 
 // 500 particles, 5 N toward +y on the wrist for 60 ticks, then 30 ticks
@@ -40,14 +42,25 @@ TermsRun run_terms(const sinew::layers::SphBuildOptions& o) {
   r.loaded_bend = arm.bend_degrees();
   for (int t = 0; t < 30; ++t) EXPECT_TRUE(arm.tick(0, 0, 0).ok());
   r.released_bend = arm.bend_degrees();
-  for (int c = 0; c < 3; ++c)
+  for (int c = 0; c < 3; ++c) {
     r.words.insert(r.words.end(), arm.state().position[c].begin(), arm.state().position[c].end());
+    double mean = 0, square = 0;
+    for (int32_t v : arm.state().position[c]) {
+      mean += arm.metres(v);
+      square += arm.metres(v) * arm.metres(v);
+    }
+    const double n = static_cast<double>(arm.state().position[c].size());
+    r.spread += square / n - (mean / n) * (mean / n);
+  }
   return r;
 }
 
+// Every term on, the surface tension too (sigma = 1 N/m; off by default,
+// docs/sph.md).
 sinew::layers::SphBuildOptions terms_options() {
   sinew::layers::SphBuildOptions o;
   o.particle_count = 500;
+  o.surface_tension = 1.0;
   return o;
 }
 
@@ -70,6 +83,9 @@ TEST(SphTerms, EachTermSwitchedOffChangesTheResult) {
   o = terms_options();
   o.elastic_stiffness = 0;  // elastic_gain 0: no tension toward the ideal distance
   const TermsRun no_tension = run_terms(o);
+  o = terms_options();
+  o.surface_tension = 0;  // tension_gain 0: no colour-field surface tension
+  const TermsRun no_surface = run_terms(o);
   std::printf(
       "terms: bend loaded / released (deg), peak rho - rho0\n"
       "  all          %7.2f %7.2f %8.3f\n  no pressure  %7.2f %7.2f %8.3f  (%zu words changed)\n"
@@ -82,16 +98,26 @@ TEST(SphTerms, EachTermSwitchedOffChangesTheResult) {
       static_cast<double>(no_viscosity.peak_compression) / sph::kDensOne, words_changed(all, no_viscosity),
       no_tension.loaded_bend, no_tension.released_bend,
       static_cast<double>(no_tension.peak_compression) / sph::kDensOne, words_changed(all, no_tension));
+  std::printf("  no surface   %7.2f %7.2f %8.3f  (%zu words changed); spread %.4g m^2 against %.4g with it\n",
+              no_surface.loaded_bend, no_surface.released_bend,
+              static_cast<double>(no_surface.peak_compression) / sph::kDensOne, words_changed(all, no_surface),
+              no_surface.spread, all.spread);
   // A term that is computed but never reaches the particles leaves every word unchanged.
   EXPECT_GT(words_changed(all, no_pressure), 0u);
   EXPECT_GT(words_changed(all, no_viscosity), 0u);
   EXPECT_GT(words_changed(all, no_tension), 0u);
+  EXPECT_GT(words_changed(all, no_surface), 0u);
+  // Surface tension pulls every surface particle inward (sigma kappa > 0
+  // on a convex body): with it the tissue is drawn together.
+  EXPECT_LT(all.spread, no_surface.spread);
   // Pressure is what resists compression (p = k_p (rho - rho0), Mueller
   // 2003): without it the tissue in the crease gets denser.
   EXPECT_GT(no_pressure.peak_compression, all.peak_compression);
   // The tension toward the ideal distance is the elasticity of §5 / figure
   // 3 (d): without it nothing brings the released elbow back, so it stays
   // bent further than with it.
+  // Surface tension has no rest shape either (a droplet has no preferred
+  // orientation): it does not replace the elastic pull.
   EXPECT_GT(std::abs(no_tension.released_bend), std::abs(all.released_bend));
 }
 

@@ -67,11 +67,18 @@ SectionBuilder builder(uint32_t id, uint32_t rate_hz, const P& params, uint32_t 
 }  // namespace
 
 LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t force_input) {
-  pipeline::SphSectionParams p{};
-  p.params = m.params;
-  p.joint = m.joint;
-  p.force_input = force_input;
-  SectionBuilder b = builder(pipeline::kSectionSphJoint, rate_hz, p, pipeline::kSphArrays);
+  // Version 1 without surface tension (the bytes of rigs without it do not
+  // change); version 2 stores the whole SphParams.
+  pipeline::SphSectionParams p2{};
+  pipeline::SphSectionParamsV1 p1{};
+  const bool v2 = m.params.tension_gain != 0;
+  p2.params = m.params;
+  p2.joint = p1.joint = m.joint;
+  p2.force_input = p1.force_input = force_input;
+  std::memcpy(p1.params, &m.params, sizeof p1.params);
+  SectionBuilder b = v2 ? builder(pipeline::kSectionSphJoint, rate_hz, p2, pipeline::kSphArrays)
+                        : builder(pipeline::kSectionSphJoint, rate_hz, p1, pipeline::kSphArrays);
+  if (v2) b.version(pipeline::kSphSectionVersion2);
   for (int a = 0; a < 3; ++a) b.array(m.rest_local[a]);
   for (int a = 0; a < 3; ++a) b.array(m.rest_model[a]);
   b.array(m.bone).array(m.skin_vertex);

@@ -134,8 +134,8 @@ bool rest_transforms(const rigc::RigSpec& spec, int32_t e, std::vector<fx::Mat34
     const fx::Quat q{rigc::to_fixed(js.rotation[0] / n, 30), rigc::to_fixed(js.rotation[1] / n, 30),
                      rigc::to_fixed(js.rotation[2] / n, 30), rigc::to_fixed(js.rotation[3] / n, 30)};
     const fx::Mat34 local = fx::mat34_from_trs(
-        {rigc::to_len(js.translation[0], e), rigc::to_len(js.translation[1], e), rigc::to_len(js.translation[2], e)},
-        q, {rigc::to_fixed(js.scale[0], 24), rigc::to_fixed(js.scale[1], 24), rigc::to_fixed(js.scale[2], 24)});
+        {rigc::to_len(js.translation[0], e), rigc::to_len(js.translation[1], e), rigc::to_len(js.translation[2], e)}, q,
+        {rigc::to_fixed(js.scale[0], 24), rigc::to_fixed(js.scale[1], 24), rigc::to_fixed(js.scale[2], 24)});
     (*out)[j] = js.parent < 0 ? local : fx::mul((*out)[static_cast<size_t>(js.parent)], local);
   }
   return true;
@@ -211,7 +211,8 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
     if (!engine::engine_init(rig, engine_arena.data(), engine_arena.size() * 8, &eng))
       return *error = "sph builder: engine init failed", false;
     engine_rest.assign(eng.model.begin(), eng.model.end());
-    for (size_t a = 0; a < 3; ++a) skinned_rest[a].assign(eng.vertices.position[a].begin(), eng.vertices.position[a].end());
+    for (size_t a = 0; a < 3; ++a)
+      skinned_rest[a].assign(eng.vertices.position[a].begin(), eng.vertices.position[a].end());
   }
 
   const uint32_t n = o.particle_count;
@@ -259,6 +260,11 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   p.pressure_gain = unit_gain(o.pressure_stiffness * dt * dt);
   p.viscosity_gain = unit_gain(o.viscosity * dt);
   p.damping = unit_gain(1 - o.damping * dt);
+  // a = -sigma lap(c_s) n / (|n| rho_i) (Mueller 2003 eq. 19) in sim_core's
+  // normalised sums: 6 sigma h / (m C), C = 315 / (64 pi) (poly6), as rig
+  // units per substep^2 (docs/sph.md).
+  const double poly6_constant = 315.0 / (64.0 * 3.14159265358979323846);
+  p.tension_gain = unit_gain(6 * o.surface_tension * b.h_metres * dt * dt / (mass * poly6_constant * unit));
   p.load_gain = unit_gain(dt * dt / (mass * unit));
   p.yield_count = o.yield_count != 0 ? o.yield_count : std::max<uint32_t>(1, n / 100);
   p.grid_radius = rigc::to_len(half + r + 2 * b.h_metres, e);

@@ -23,13 +23,13 @@ namespace sinew::layers {
 
 struct SphBuildOptions {
   uint32_t particle_count = 1000;
-  std::string proximal_joint = "shoulder";  // bone carrying the particles before the joint
-  std::string distal_joint = "elbow";       // the driven joint (its first DOF axis is the flexion axis)
+  std::string proximal_joint = "shoulder";     // bone carrying the particles before the joint
+  std::string distal_joint = "elbow";          // the driven joint (its first DOF axis is the flexion axis)
   int proximal_index = -1, distal_index = -1;  // >= 0: the joints by index (names are then ignored)
-  double capsule_half_length = 0.08;        // metres along the bone on each side of the joint
-  double capsule_radius = 0.036;            // metres (inside the arm's skin)
-  double kernel_ratio = 2.0;                // h / lattice spacing
-  double jitter = 0.2;                      // lattice jitter, fraction of the spacing
+  double capsule_half_length = 0.08;           // metres along the bone on each side of the joint
+  double capsule_radius = 0.036;               // metres (inside the arm's skin)
+  double kernel_ratio = 2.0;                   // h / lattice spacing
+  double jitter = 0.2;                         // lattice jitter, fraction of the spacing
   uint64_t seed = 0x5eedu;
   double tick_hz = 1000;
   uint32_t substeps = 2;
@@ -39,6 +39,7 @@ struct SphBuildOptions {
   double pressure_stiffness = 2000;  // k_p, h/s^2 per unit of normalised density
   double viscosity = 20;             // mu, 1/s
   double damping = 40;               // c, 1/s
+  double surface_tension = 0;        // sigma, N/m: colour-field tension (Mueller 2003 §4.4); 0 = off
   double load_distance = 0.25;       // metres from the joint along the distal bone (the wrist)
   double yield_angle_deg = 60;       // flexion whose peak density spread defines tau_f
   double yield_scale = 1.0;          // tau_f multiplier (1: the paper's calibration)
