@@ -13,6 +13,7 @@
 #include <cstdio>
 
 #include "anatomy_fixture.hpp"
+#include "sim_core/muscle/muscle_validate.hpp"
 
 namespace sinew::test {
 namespace {
@@ -258,6 +259,45 @@ TEST(MuscleShape, BuilderRefusesEditsThePaperDoesNotAllow) {
   ArmAnatomy far([](ab::AnatomySpec& a) { a.muscles[0].slice_edit[3].rotate = {0, 95, 0}; });
   EXPECT_FALSE(far.ok());
   EXPECT_NE(far.error().find("[-90, 90]"), std::string::npos) << far.error();
+}
+
+// The runtime validator (what a loaded MUSC v3 section goes through)
+// refuses shapes the paper's edits cannot produce.
+TEST(MuscleShape, ValidatorRefusesBadShapes) {
+  ArmAnatomy arm([](ab::AnatomySpec& a) { a.muscles[0].end_axes_from_bones = true; });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  ASSERT_EQ(arm.model().shapes.size(), 2u);
+  const auto refused = [&](auto corrupt, const char* expected) {
+    std::vector<muscle::MuscleShape> shapes = arm.model().shapes;
+    std::vector<muscle::MuscleRecord> muscles = arm.model().muscles;
+    corrupt(shapes, muscles);
+    muscle::MuscleModel m = arm.muscle_model();
+    m.shapes = shapes;
+    m.muscles = muscles;
+    const muscle::LayerStatus st = muscle::muscle_validate(arm.rig(), m);
+    EXPECT_FALSE(st.ok()) << expected;
+    EXPECT_NE(std::string(st.message).find(expected), std::string::npos) << st.message;
+  };
+  using Shapes = std::vector<muscle::MuscleShape>;
+  using Muscles = std::vector<muscle::MuscleRecord>;
+  refused([](Shapes& s, Muscles&) { s.pop_back(); }, "one per muscle");
+  refused([](Shapes& s, Muscles&) { s[0].slice[0].translate.x = 1; }, "end slices cannot be translated");
+  refused(
+      [](Shapes& s, Muscles&) {  // a quarter turn about Z
+        s[1].slice[7].axis[0] = {0, fx::kUnitOne, 0};
+        s[1].slice[7].axis[1] = {-fx::kUnitOne, 0, 0};
+      },
+      "end slices turn about X only");
+  refused([](Shapes& s, Muscles&) { s[1].slice[3].axis[1] = {0, fx::kUnitOne / 2, 0}; }, "unit vectors");
+  refused([](Shapes& s, Muscles&) { s[1].slice[3].axis[1] = {fx::kUnitOne, 0, 0}; }, "orthogonal");
+  refused([](Shapes& s, Muscles&) { s[0].end_normal[2] = {0, 0, 0}; }, "bone normals must be unit vectors");
+  refused([](Shapes& s, Muscles&) { s[0].end_axes = 2; }, "unknown end-axes mode");
+  refused(
+      [](Shapes& s, Muscles& m) {
+        s[0].pivot_mode = static_cast<uint8_t>(muscle::PivotMode::kVariable);
+        m[0].pivot_bone = -1;
+      },
+      "a variable pivot needs a pivot");
 }
 
 }  // namespace
