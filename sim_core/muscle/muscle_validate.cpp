@@ -127,9 +127,9 @@ LayerStatus check_shape(const MuscleRecord& r, const MuscleShape& s, uint32_t i)
     const bool end = k == 0 || k == kSlices - 1;
     if (!end) continue;
     if (e.translate.x != 0 || e.translate.y != 0 || e.translate.z != 0)
-      return bad("muscle", i, "shape.slice.translate", "end slices cannot be translated (§4.3)", k, true);
+      return bad("muscle", i, "shape.slice.translate", "end slices cannot be translated", k, true);
     if (e.axis[0].x != fx::kUnitOne || e.axis[0].y != 0 || e.axis[0].z != 0)
-      return bad("muscle", i, "shape.slice.axis", "end slices turn about X only (§4.3)", k, true);
+      return bad("muscle", i, "shape.slice.axis", "end slices turn about X only", k, true);
   }
   return {};
 }
