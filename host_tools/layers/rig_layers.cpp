@@ -240,6 +240,12 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
       if ((r.insertion = resolve_joint(spec, m.insertion, error)) < 0) return false;
       r.side = m.side;
       r.thickness = m.thickness;
+      r.end_axes_from_bones = m.end_axes_from_bones;
+      r.pivot = m.pivot;
+      r.slice_edit = m.slice_edit;
+      r.belly_taper = m.belly_taper;
+      r.belly_twist = m.belly_twist;
+      r.belly_bend = m.belly_bend;
       requests.push_back(r);
     }
     anatomy_build::SkinRequest skin;

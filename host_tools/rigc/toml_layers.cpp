@@ -79,6 +79,94 @@ bool read_joint(const std::string& path, const toml::table& t, const std::string
   return *error = out->where + " must be a joint name or a glTF node index", false;
 }
 
+// `key = [x, y, z]`, three finite numbers.
+bool read_vec3(const std::string& path, const toml::table& t, const std::string& table, const char* key, double out[3],
+               std::string* error) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return true;
+  const toml::array* a = n->as_array();
+  bool good = a != nullptr && a->size() == 3;
+  for (size_t i = 0; good && i < 3; ++i) {
+    const auto v = a->get(i)->value<double>();
+    good = v && std::isfinite(*v);
+    if (good) out[i] = *v;
+  }
+  if (!good) return *error = at(path, n, table + " " + key) + " must be an array of 3 numbers", false;
+  return true;
+}
+
+// A number key's range, checked after reading: the message names the key
+// and the range.
+bool in_range(const std::string& path, const toml::table& t, const std::string& table, const char* key, bool ok,
+              const std::string& range, std::string* error) {
+  if (ok) return true;
+  return *error = at(path, t.get(key), table + " " + key) + " must be " + range, false;
+}
+
+// [[muscle.slice]] inside a [[muscle]]: Table 1's per-slice edits
+// (anatomically-based-modeling §4.3), docs/anatomy.md.
+bool read_muscle_slices(const std::string& path, const toml::table& e, layers::MuscleTable* x, std::string* error) {
+  const toml::node* n = e.get("slice");
+  if (n == nullptr) return true;
+  const std::string label = "[[muscle.slice]]";
+  const toml::array* a = n->as_array();
+  if (a == nullptr) return *error = at(path, n, label) + " must be an array of tables", false;
+  bool seen[8] = {};
+  for (const toml::node& node : *a) {
+    const toml::table* t = node.as_table();
+    if (t == nullptr) return *error = at(path, &node, label) + " must be a table", false;
+    int index = -1;
+    double translate[3] = {0, 0, 0}, rotate[3] = {0, 0, 0};
+    if (!known_keys(path, *t, label, {"index", "translate", "rotate"}, error) ||
+        !read_int(path, *t, label, "index", 0, 7, &index, error) ||
+        !read_vec3(path, *t, label, "translate", translate, error) ||
+        !read_vec3(path, *t, label, "rotate", rotate, error))
+      return false;
+    if (index < 0) return *error = at(path, t, label + " index") + " is required (0..7)", false;
+    if (seen[index])
+      return *error = at(path, t, label + " index") + " names slice " + std::to_string(index) + " twice", false;
+    seen[index] = true;
+    const bool end = index == 0 || index == 7;
+    for (int c = 0; c < 3; ++c)
+      if (!in_range(path, *t, label, "rotate", std::fabs(rotate[c]) <= 90, "within [-90, 90] degrees per axis", error))
+        return false;
+    if (!in_range(path, *t, label, "translate", !end || (translate[0] == 0 && translate[1] == 0 && translate[2] == 0),
+                  "[0, 0, 0] for an end slice (index 0 or 7): only inner slices move (§4.3)", error) ||
+        !in_range(path, *t, label, "rotate", !end || (rotate[1] == 0 && rotate[2] == 0),
+                  "[x, 0, 0] for an end slice (index 0 or 7): end slices turn about X only (§4.3)", error))
+      return false;
+    anatomy_build::SliceEditSpec& s = x->slice_edit[static_cast<size_t>(index)];
+    s.translate = {translate[0], translate[1], translate[2]};
+    s.rotate = {rotate[0], rotate[1], rotate[2]};
+  }
+  return true;
+}
+
+// The [[muscle]] shape keys: end_axes, pivot, the belly's Barr
+// deformations (ranges of muscle_model.hpp, PrimitiveDeformation).
+bool read_muscle_shape(const std::string& path, const toml::table& e, const std::string& n, layers::MuscleTable* x,
+                       std::string* error) {
+  std::string end_axes = "path", pivot = "off";
+  if (!read_string(path, e, n, "end_axes", &end_axes, error) || !read_string(path, e, n, "pivot", &pivot, error) ||
+      !read_number(path, e, n, "belly_taper", &x->belly_taper, error) ||
+      !read_number(path, e, n, "belly_twist", &x->belly_twist, error) ||
+      !read_number(path, e, n, "belly_bend", &x->belly_bend, error))
+    return false;
+  if (!in_range(path, e, n, "end_axes", end_axes == "path" || end_axes == "bone_normals",
+                "\"path\" or \"bone_normals\"", error) ||
+      !in_range(path, e, n, "pivot", pivot == "off" || pivot == "on" || pivot == "variable",
+                "\"off\", \"on\" or \"variable\"", error) ||
+      !in_range(path, e, n, "belly_taper", std::fabs(x->belly_taper) <= 0.5, "within [-0.5, 0.5]", error) ||
+      !in_range(path, e, n, "belly_twist", std::fabs(x->belly_twist) <= 90, "within [-90, 90] degrees", error) ||
+      !in_range(path, e, n, "belly_bend",
+                x->belly_bend == 0 || (std::fabs(x->belly_bend) >= 360.0 / 1024 && std::fabs(x->belly_bend) <= 90),
+                "0 or of magnitude within [0.3515625, 90] degrees", error))
+    return false;
+  x->end_axes_from_bones = end_axes == "bone_normals";
+  x->pivot = pivot == "off" ? 0 : pivot == "on" ? 1 : 2;
+  return read_muscle_slices(path, e, x, error);
+}
+
 const toml::table* table_of(const toml::node& n) { return n.as_table(); }
 
 // [[metaballs.<name>]] inside the [metaballs] table: each an array of tables.
@@ -233,8 +321,11 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
              const std::string n = "[[muscle]]";
              x.where = at(path, &e, n);
              const toml::node* side = e.get("side");
-             if (!known_keys(path, e, n, {"name", "origin", "insertion", "side", "thickness"}, error) ||
-                 !read_string(path, e, n, "name", &x.name, error) ||
+             if (!known_keys(path, e, n,
+                             {"name", "origin", "insertion", "side", "thickness", "end_axes", "pivot", "slice",
+                              "belly_taper", "belly_twist", "belly_bend"},
+                             error) ||
+                 !read_muscle_shape(path, e, n, &x, error) || !read_string(path, e, n, "name", &x.name, error) ||
                  !read_joint(path, e, n, "origin", &x.origin, error) ||
                  !read_joint(path, e, n, "insertion", &x.insertion, error) ||
                  !read_number(path, e, n, "thickness", &x.thickness, error))
@@ -261,7 +352,7 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                if (!known_keys(path, e, n,
                                {"iterations", "warm_start", "mode", "tolerance", "fat", "substep_hz", "max_substeps",
                                 "constraint_passes", "vertex_mass", "stiffness_scale", "anchor_damping", "band_damping",
-                                "gravity"},
+                                "edge_damping", "gravity"},
                                error) ||
                    !read_int(path, e, n, "iterations", 1, 256, &s.skin.iterations, error) ||
                    !read_bool(path, e, n, "warm_start", &s.skin.warm_start, error) ||
@@ -274,7 +365,9 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                    !read_number(path, e, n, "vertex_mass", &d.vertex_mass, error) ||
                    !read_number(path, e, n, "stiffness_scale", &d.stiffness_scale, error) ||
                    !read_number(path, e, n, "anchor_damping", &d.anchor_damping, error) ||
-                   !read_number(path, e, n, "band_damping", &d.band_damping, error))
+                   !read_number(path, e, n, "band_damping", &d.band_damping, error) ||
+                   !read_number(path, e, n, "edge_damping", &d.edge_damping, error) ||
+                   !in_range(path, e, n, "edge_damping", d.edge_damping >= 0, ">= 0 (N s per model unit)", error))
                  return false;
                if (const toml::node* g = e.get("gravity")) {
                  const toml::array* a = g->as_array();

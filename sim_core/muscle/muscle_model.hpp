@@ -96,6 +96,42 @@ inline constexpr int32_t kMaxTwist = int32_t{1} << 30;
 inline constexpr int32_t kMinBend = int32_t{1} << 22;
 inline constexpr int32_t kMaxBend = int32_t{1} << 30;
 
+// A muscle's non-default shape (anatomically-based-modeling §4.2 end
+// frames, §4.3 and Table 1 edits). All fields at their defaults is the
+// default shape, bit for bit.
+enum class EndAxes : uint8_t {
+  kPath = 0,         // end-slice Z along the path (origin -> first piece, last piece -> insertion)
+  kBoneNormals = 1,  // §4.2: origin Z = mean outward bone normal at the origins, insertion Z = mean
+                     // inward normal at the insertions, each made perpendicular to its end's X
+};
+enum class PivotMode : uint8_t {
+  kFixed = 0,     // the pivot is on whenever pivot_bone >= 0 (Table 1: "on"; pivot_bone -1 is "off")
+  kVariable = 1,  // Table 1 "variable": the pivot is used only while it lies on the outer (-Y) side of
+                  // the straight origin -> insertion path, i.e. while the joint bends the muscle round it
+};
+
+// Table 1's per-slice edits of the slice frame, applied to the default
+// frame (X, Y, Z) each step: the centre moves by translate (inner slices
+// only: §4.3 "any intermediate slice can be translated"), then the frame
+// turns to axis[0..2] (the rotated X, Y, Z in default-frame coordinates,
+// the columns of the rotation). End slices may turn about X only (§4.3).
+struct SliceEdit {
+  fx::Vec3 translate{0, 0, 0};  // Len, along the default X, Y, Z; inner slices only
+  fx::Vec3 axis[3] = {{fx::kUnitOne, 0, 0}, {0, fx::kUnitOne, 0}, {0, 0, fx::kUnitOne}};  // Q2.30, orthonormal
+};
+
+struct MuscleShape {
+  uint8_t end_axes = 0;    // EndAxes
+  uint8_t pivot_mode = 0;  // PivotMode; kVariable needs a pivot
+  uint8_t reserved[2] = {};
+  uint32_t reserved2 = 0;
+  // EndAxes::kBoneNormals: the outward unit normals of the bones' surfaces
+  // at origin[0], origin[1], insertion[0], insertion[1], each in its
+  // attachment bone's frame (Q2.30); the builder computes them (§4.2).
+  fx::Vec3 end_normal[4] = {};
+  SliceEdit slice[kSlices];
+};
+
 struct MuscleModel {
   uint32_t joint_count = 0;    // joints of the rig the model was built for
   uint32_t ring_vertices = 8;  // per slice, multiple of 4 in [4, kMaxRingVertices]
@@ -103,6 +139,8 @@ struct MuscleModel {
   std::span<const PrimitiveRecord> primitives;
   // Empty (no primitive deformed) or one per primitive.
   std::span<const PrimitiveDeformation> deformations;
+  // Empty (every muscle has the default shape) or one per muscle.
+  std::span<const MuscleShape> shapes = {};
 };
 
 }  // namespace sinew::muscle

@@ -1,5 +1,6 @@
 #include "muscle_step.hpp"
 
+#include "muscle_shape.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "vec_ops.hpp"
@@ -23,11 +24,26 @@ int64_t path_length(fx::Vec3 from, fx::Vec3 pivot, fx::Vec3 to, bool has_pivot) 
   return int64_t{fx::length(fx::sub(pivot, from))} + fx::length(fx::sub(to, pivot));
 }
 
-void build_muscle(const MuscleRecord& m, uint32_t index, const fx::Vec3 pts[5], MuscleState* s) {
-  const bool has_pivot = m.pivot_bone >= 0;
+// The attachment bones' transforms (origin[0], origin[1], insertion[0],
+// insertion[1]) and the muscle's shape, when it has a non-default one.
+struct ShapeInputs {
+  const fx::Mat34* bone[4] = {};
+  const MuscleShape* shape = nullptr;
+};
+
+void build_muscle(const MuscleRecord& m, uint32_t index, const fx::Vec3 pts[5], const ShapeInputs& in, MuscleState* s) {
+  const MuscleShape* shape = in.shape;
   const fx::Vec3 from = midpoint(pts[0], pts[1]);  // origin midpoint: first end-slice centre
   const fx::Vec3 to = midpoint(pts[2], pts[3]);    // insertion midpoint: last end-slice centre
   const fx::Vec3 pivot = pts[4];
+  const int64_t last = kSlices - 1;
+  bool has_pivot = m.pivot_bone >= 0;
+  if (has_pivot && shape != nullptr && shape->pivot_mode == static_cast<uint8_t>(PivotMode::kVariable)) {
+    const fx::Vec3 x_a = fx::sub(pts[1], pts[0]), x_b = fx::sub(pts[3], pts[2]);
+    fx::Vec3 ua{}, ub{};
+    const bool ok = fx::normalize_to_unit(x_a, &ua) && fx::normalize_to_unit(x_b, &ub);
+    has_pivot = !ok || pivot_engaged(from, to, pivot, lerp_ratio(ua, ub, m.pivot_slice, last));
+  }
   const int64_t present = path_length(from, pivot, to, has_pivot);
   const fx::Unit scale = volume_scale(m.rest_length, present);
   s->length[index] = fx::sat_i32(present);
@@ -40,7 +56,7 @@ void build_muscle(const MuscleRecord& m, uint32_t index, const fx::Vec3 pts[5], 
   // End-frame X axes: the lines between the two origins and the two insertions (§4.2).
   const fx::Vec3 x_from = unit_or(fx::sub(pts[1], pts[0]), any_perpendicular(z_line), &degenerate);
   const fx::Vec3 x_to = unit_or(fx::sub(pts[3], pts[2]), x_from, &degenerate);
-  const int64_t last = kSlices - 1;
+  const bool bone_normals = shape != nullptr && shape->end_axes == static_cast<uint8_t>(EndAxes::kBoneNormals);
   const int64_t kp = has_pivot ? int64_t{m.pivot_slice} : 0;
   const uint32_t ring = s->ring_vertices;
 
@@ -66,13 +82,23 @@ void build_muscle(const MuscleRecord& m, uint32_t index, const fx::Vec3 pts[5], 
     const fx::Vec3 x_perp = fx::sub(x_raw, along(z, fx::sat_i32(along_z)));
     f.z = z;
     f.x = unit_or(x_perp, any_perpendicular(z), &degenerate);
-    f.y = cross_unit(z, f.x);
+    if (bone_normals && (k == 0 || k == kSlices - 1)) {
+      // §4.2: X is the line between the two origins (insertions); Z the mean
+      // bone normal there, made perpendicular to it.
+      const bool first = k == 0;
+      f.x = first ? x_from : x_to;
+      const int a = first ? 0 : 2;
+      f.z = end_slice_z(*in.bone[a], shape->end_normal[a], *in.bone[a + 1], shape->end_normal[a + 1], !first, f.x, f.z,
+                        &degenerate);
+    }
+    f.y = cross_unit(f.z, f.x);
     const bool end = k == 0 || k == kSlices - 1;
     const fx::Unit sk = end ? fx::kUnitOne : scale;
     f.radius_x = fx::mul_by_unit(m.half_width[k], sk);
     f.radius_y = fx::mul_by_unit(m.half_thickness[k], sk);
     // Intermediate centres move along -Y, outward from the bone (§4.2).
     f.centre = fx::sub(f.centre, along(f.y, fx::mul_by_unit(m.bulge[k], sk)));
+    if (shape != nullptr) apply_slice_edit(shape->slice[k], &f, &degenerate);
     s->frames[index * kSlices + k] = f;
     for (uint32_t j = 0; j < ring; ++j) {
       const fx::Vec3 v = fx::add(fx::add(f.centre, along(f.x, fx::mul_by_unit(f.radius_x, s->ring_cos[j]))),
@@ -140,6 +166,8 @@ LayerStatus check_indices(const MuscleModel& model, size_t bones) {
   }
   if (!model.deformations.empty() && model.deformations.size() != model.primitives.size())
     return layer_fail(LayerError::kBadModel, "muscle model", -1, "deformations", "must be empty or one per primitive");
+  if (!model.shapes.empty() && model.shapes.size() != model.muscles.size())
+    return layer_fail(LayerError::kBadModel, "muscle model", -1, "shapes", "must be empty or one per muscle");
   for (uint32_t p = 0; p < model.primitives.size(); ++p) {
     const PrimitiveRecord& r = model.primitives[p];
     const bool bone = r.attach == static_cast<uint8_t>(PrimitiveAttach::kBone);
@@ -178,7 +206,10 @@ LayerStatus muscle_step(const MuscleModel& model, std::span<const fx::Mat34> bon
     if (!moved) continue;
     for (int p = 0; p < 5; ++p) state->last_points[i * 5 + static_cast<uint32_t>(p)] = pts[p];
     state->computed[i] = 1;
-    build_muscle(r, i, pts, state);
+    ShapeInputs in;
+    for (int p = 0; p < 4; ++p) in.bone[p] = &bones[pts_def[p].bone];
+    in.shape = model.shapes.empty() ? nullptr : &model.shapes[i];
+    build_muscle(r, i, pts, in, state);
     ++state->stats.recomputed;
   }
   const bool deformed = !model.deformations.empty();

@@ -1,5 +1,7 @@
 #include "muscle_validate.hpp"
 
+#include <cstdlib>
+
 #include "primitive_deform.hpp"
 
 namespace sinew::muscle {
@@ -94,6 +96,44 @@ LayerStatus check_deformation(const PrimitiveRecord& p, const PrimitiveDeformati
   return {};
 }
 
+// A Q2.30 direction whose squared length is within 2^-10 of one.
+bool near_unit(fx::Vec3 v) {
+  const int64_t sq = fx::round_shift(fx::dot_wide(v, v), fx::kUnitFracBits);
+  const int64_t err = sq - fx::kUnitOne;
+  return (err < 0 ? -err : err) <= (int64_t{1} << 20);
+}
+
+// The shape's ranges (muscle_model.hpp, MuscleShape).
+LayerStatus check_shape(const MuscleRecord& r, const MuscleShape& s, uint32_t i) {
+  if (s.end_axes > static_cast<uint8_t>(EndAxes::kBoneNormals))
+    return bad("muscle", i, "shape.end_axes", "unknown end-axes mode", s.end_axes, true);
+  if (s.pivot_mode > static_cast<uint8_t>(PivotMode::kVariable))
+    return bad("muscle", i, "shape.pivot_mode", "unknown pivot mode", s.pivot_mode, true);
+  if (s.pivot_mode == static_cast<uint8_t>(PivotMode::kVariable) && r.pivot_bone < 0)
+    return bad("muscle", i, "shape.pivot_mode", "a variable pivot needs a pivot (pivot_bone >= 0)");
+  if (s.reserved[0] != 0 || s.reserved[1] != 0 || s.reserved2 != 0)
+    return bad("muscle", i, "shape.reserved", "must be 0");
+  for (int k = 0; k < 4 && s.end_axes == static_cast<uint8_t>(EndAxes::kBoneNormals); ++k)
+    if (!near_unit(s.end_normal[k]))
+      return bad("muscle", i, "shape.end_normal", "bone normals must be unit vectors", k, true);
+  for (uint32_t k = 0; k < kSlices; ++k) {
+    const SliceEdit& e = s.slice[k];
+    for (int c = 0; c < 3; ++c)
+      if (!near_unit(e.axis[c])) return bad("muscle", i, "shape.slice.axis", "axes must be unit vectors", k, true);
+    for (int a = 0; a < 3; ++a)
+      for (int b = a + 1; b < 3; ++b)
+        if (std::abs(fx::round_shift(fx::dot_wide(e.axis[a], e.axis[b]), fx::kUnitFracBits)) > (int64_t{1} << 20))
+          return bad("muscle", i, "shape.slice.axis", "axes must be orthogonal", k, true);
+    const bool end = k == 0 || k == kSlices - 1;
+    if (!end) continue;
+    if (e.translate.x != 0 || e.translate.y != 0 || e.translate.z != 0)
+      return bad("muscle", i, "shape.slice.translate", "end slices cannot be translated", k, true);
+    if (e.axis[0].x != fx::kUnitOne || e.axis[0].y != 0 || e.axis[0].z != 0)
+      return bad("muscle", i, "shape.slice.axis", "end slices turn about X only", k, true);
+  }
+  return {};
+}
+
 }  // namespace
 
 LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
@@ -106,6 +146,13 @@ LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
   if (model.primitives.size() > kMaxPrimitives) return bad("muscle model", -1, "primitives", "more than 256");
   for (uint32_t i = 0; i < model.muscles.size(); ++i) {
     const LayerStatus s = check_muscle(rig, model.muscles[i], i);
+    if (!s.ok()) return s;
+  }
+  if (!model.shapes.empty() && model.shapes.size() != model.muscles.size())
+    return bad("muscle model", -1, "shapes", "must be empty or one per muscle",
+               static_cast<int64_t>(model.shapes.size()), true);
+  for (uint32_t i = 0; i < model.shapes.size(); ++i) {
+    const LayerStatus s = check_shape(model.muscles[i], model.shapes[i], i);
     if (!s.ok()) return s;
   }
   if (!model.deformations.empty() && model.deformations.size() != model.primitives.size())

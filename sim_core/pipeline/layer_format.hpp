@@ -144,14 +144,21 @@ static_assert(sizeof(metaballs::ActionLine) == 32 && sizeof(metaballs::ActionBal
 // bend). Writers emit version 1 while no primitive is deformed, so rigs
 // without deformations keep their bytes; a version-1-only loader refuses a
 // version 2 MUSC section (kBadVersion).
+// Layer version 3 appends a fourth array, shapes (MuscleShape, empty or one
+// per muscle: §4.2 end axes from bone normals, Table 1 slice edits and the
+// variable pivot); the deformations array is then present and may be
+// empty. Writers emit version 3 only when a muscle has a non-default shape;
+// versions 1 and 2 still load (every muscle then has the default shape).
 struct MusclesSectionParams {
   uint32_t joint_count, ring_vertices;
 };
 static_assert(sizeof(muscle::MuscleRecord) == 184 && sizeof(muscle::PrimitiveRecord) == 36 &&
-              sizeof(muscle::PrimitiveDeformation) == 16);
+              sizeof(muscle::PrimitiveDeformation) == 16 && sizeof(muscle::MuscleShape) == 440);
 inline constexpr uint32_t kMusclesArrays = 2;
 inline constexpr uint32_t kMusclesSectionVersion2 = 2;
 inline constexpr uint32_t kMusclesArraysV2 = 3;
+inline constexpr uint32_t kMusclesSectionVersion3 = 3;
+inline constexpr uint32_t kMusclesArraysV3 = 4;
 
 // SKIN params. Arrays: anchors, anchor_stiffness, fat, edges, bands, then
 // the skin's support region: region_vertex (u32, ascending) and

@@ -14,6 +14,7 @@
 
 #include "host_tools/layers/builtin_layers.hpp"
 #include "host_tools/layers/rig_layers.hpp"
+#include "host_tools/rigc/quantize.hpp"
 #include "host_tools/rigc/toml_spec.hpp"
 #include "sim_core/pipeline/layer_set.hpp"
 
@@ -200,4 +201,88 @@ TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
                                      "\"shoulder\"\ninsertion = \"elbow\"\n[skin]\nmode = "
                                      "\"wobbly\"\n");
   EXPECT_NE(bad.find("mode must be \"static\" or \"dynamic\""), std::string::npos) << bad;
+}
+
+// The muscle-shape keys of [[muscle]] (docs/anatomy.md, "Muscle shape"),
+// the belly's Barr deformations and [skin] edge_damping reach the loaded
+// model (a MUSC version 3 section); each out-of-range value is refused
+// naming the table, the key and its range.
+TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
+  std::ifstream in(kSource + "/rigs/arm.toml");
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
+  const std::string insertion = "insertion = \"elbow\"\n";
+  size_t at = text.find(insertion);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + insertion.size(),
+              "end_axes = \"bone_normals\"\npivot = \"variable\"\nbelly_taper = 0.25\nbelly_twist = 30\n"
+              "belly_bend = -10\n");
+  const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
+  at = text.find(skin);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at,
+              "[[muscle.slice]]\nindex = 3\ntranslate = [0.001, 0, 0]\nrotate = [0, 0, 15]\n"
+              "[[muscle.slice]]\nindex = 7\nrotate = [-20, 0, 0]\n\n");
+  at = text.find(skin);
+  text.insert(at + skin.size(), "mode = \"dynamic\"\nedge_damping = 0.25\n");
+  const std::string path = kSource + "/tests/data/muscle_shape_keys.toml";
+  std::ofstream(path) << text;
+  const Compiled c = compile_spec(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(c.ok) << c.error;
+  Loaded l;
+  std::string error;
+  ASSERT_TRUE(load(c.blob, &l, &error)) << error;
+  ASSERT_TRUE(l.layers.has_muscles);
+  const int e = l.rig.length_exponent;
+  const sinew::muscle::MuscleModel& m = l.layers.muscles;
+  ASSERT_EQ(m.shapes.size(), 1u);
+  const sinew::muscle::MuscleShape& sh = m.shapes[0];
+  EXPECT_EQ(sh.end_axes, static_cast<uint8_t>(sinew::muscle::EndAxes::kBoneNormals));
+  EXPECT_EQ(sh.pivot_mode, static_cast<uint8_t>(sinew::muscle::PivotMode::kVariable));
+  EXPECT_GE(m.muscles[0].pivot_bone, 0);
+  EXPECT_EQ(sh.slice[3].translate.x, sinew::rigc::to_len(0.001, e));
+  EXPECT_EQ(sh.slice[3].translate.y, 0);
+  // rotate = [0, 0, 15]: X turns to (cos 15, sin 15, 0) of the default frame.
+  EXPECT_NEAR(std::ldexp(static_cast<double>(sh.slice[3].axis[0].x), -30), std::cos(15 * M_PI / 180), 1e-8);
+  EXPECT_NEAR(std::ldexp(static_cast<double>(sh.slice[3].axis[0].y), -30), std::sin(15 * M_PI / 180), 1e-8);
+  // rotate = [-20, 0, 0] on the end slice: Z turns to (0, sin 20, cos 20).
+  EXPECT_NEAR(std::ldexp(static_cast<double>(sh.slice[7].axis[2].y), -30), std::sin(20 * M_PI / 180), 1e-8);
+  EXPECT_EQ(sh.slice[7].axis[0].x, 1 << 30);
+  for (const sinew::fx::Vec3& n : sh.end_normal) EXPECT_NE(n.x | n.y | n.z, 0);
+  ASSERT_EQ(m.deformations.size(), m.primitives.size());
+  EXPECT_EQ(m.deformations[0].taper, 1 << 28);                                  // 0.25 in Q2.30
+  EXPECT_EQ(m.deformations[0].twist, static_cast<int32_t>(4294967296.0 / 12));  // 30 degrees
+  EXPECT_EQ(m.deformations[0].bend, sinew::rigc::to_angle(-10));                // -10 degrees
+  ASSERT_TRUE(l.layers.has_skin);
+  EXPECT_EQ(l.layers.skin.solver.edge_damping, std::lround(std::ldexp(0.25, e) * 65536.0));
+
+  const std::string muscle =
+      "[rig]\nsource = \"builtin:arm\"\n[[muscle]]\norigin = \"shoulder\"\ninsertion = "
+      "\"elbow\"\n";
+  struct Case {
+    std::string text, expected;
+  };
+  const Case cases[] = {
+      {muscle + "belly_taper = 0.7\n", "[[muscle]] belly_taper must be within [-0.5, 0.5]"},
+      {muscle + "belly_twist = -120\n", "[[muscle]] belly_twist must be within [-90, 90] degrees"},
+      {muscle + "belly_bend = 0.1\n", "[[muscle]] belly_bend must be 0 or of magnitude within [0.3515625, 90]"},
+      {muscle + "end_axes = \"normals\"\n", "[[muscle]] end_axes must be \"path\" or \"bone_normals\""},
+      {muscle + "pivot = \"sometimes\"\n", "[[muscle]] pivot must be \"off\", \"on\" or \"variable\""},
+      {muscle + "[[muscle.slice]]\nindex = 8\n", "[[muscle.slice]] index must be an integer in [0, 7]"},
+      {muscle + "[[muscle.slice]]\nrotate = [0, 0, 5]\n", "[[muscle.slice]] index is required"},
+      {muscle + "[[muscle.slice]]\nindex = 2\nrotate = [0, 91, 0]\n",
+       "[[muscle.slice]] rotate must be within [-90, 90] degrees"},
+      {muscle + "[[muscle.slice]]\nindex = 0\ntranslate = [0, 0.001, 0]\n",
+       "[[muscle.slice]] translate must be [0, 0, 0] for an end slice"},
+      {muscle + "[[muscle.slice]]\nindex = 7\nrotate = [0, 10, 0]\n",
+       "[[muscle.slice]] rotate must be [x, 0, 0] for an end slice"},
+      {muscle + "[[muscle.slice]]\nindex = 2\nturn = [0, 1, 0]\n", "[[muscle.slice]] turn: unknown key"},
+      {muscle + "[skin]\nedge_damping = -1\n", "[skin] edge_damping must be >= 0"},
+  };
+  int i = 0;
+  for (const Case& k : cases) {
+    const std::string bad = spec_error("bad_shape_" + std::to_string(i++) + ".toml", k.text);
+    EXPECT_NE(bad.find(k.expected), std::string::npos) << "spec:\n" << k.text << "\ngot: " << bad;
+  }
 }

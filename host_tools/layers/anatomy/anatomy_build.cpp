@@ -8,8 +8,11 @@
 #include "host_tools/rigc/quantize.hpp"
 #include "sim_core/elastic_skin/skin_validate.hpp"
 #include "sim_core/elastic_skin/virtual_anchors.hpp"
+#include "sim_core/fixed/trig.hpp"
+#include "sim_core/muscle/muscle_shape.hpp"
 #include "sim_core/muscle/muscle_step.hpp"
 #include "sim_core/muscle/muscle_validate.hpp"
+#include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/skeleton/pose.hpp"
 #include "trilinear_inverse.hpp"
 
@@ -65,8 +68,8 @@ class Builder {
     out_.joint_count = joints;
     out_.ring_vertices = static_cast<uint32_t>(spec_.ring_vertices);
     rest_pose();
-    return muscles() && primitives() && rest_muscle_state() && anchors() && springs() && bands() && params() &&
-           validate_skin() && rest_error();
+    return muscles() && primitives() && rest_muscle_state() && check_translations() && anchors() && springs() &&
+           bands() && params() && validate_skin() && rest_error();
   }
 
  private:
@@ -145,6 +148,71 @@ class Builder {
           a.param[0] * b.length * b.axis[i] + a.param[1] * b.radius * b.side[i] + a.param[2] * b.radius * third[i];
     return to_vec(local);
   }
+  // Outward unit normal of a bone's surface at an attachment (§4.2), in the
+  // joint frame: the bone is the capsule of radius b.radius around the
+  // segment 0..length along b.axis, so the normal is the direction from the
+  // nearest point of that segment. Zero when the point is on the segment.
+  P3 bone_normal(const BoneAttachment& a) const {
+    const BoneSize& b = spec_.bones[static_cast<size_t>(a.bone)];
+    const P3 third{b.axis[1] * b.side[2] - b.axis[2] * b.side[1], b.axis[2] * b.side[0] - b.axis[0] * b.side[2],
+                   b.axis[0] * b.side[1] - b.axis[1] * b.side[0]};
+    const double along = (a.param[0] - std::clamp(a.param[0], 0.0, 1.0)) * b.length;
+    P3 q;
+    for (size_t i = 0; i < 3; ++i)
+      q[i] = along * b.axis[i] + a.param[1] * b.radius * b.side[i] + a.param[2] * b.radius * third[i];
+    return normalized(q);
+  }
+
+  // Table 1 rotation R = Rz Ry Rx (degrees) as its columns: the rotated
+  // X, Y, Z axes in the default slice frame.
+  static void rotation_columns(const Vec3d& deg, fx::Vec3 axis[3]) {
+    // Sines and cosines from sim_core's fixed-point table (libm's may
+    // differ between platforms; these are exact Q2.30 values everywhere).
+    double c[3], sn[3];
+    for (size_t i = 0; i < 3; ++i) {
+      const fx::SinCos t = fx::sin_cos(static_cast<fx::Angle>(rigc::to_angle(deg[i])));
+      c[i] = std::ldexp(static_cast<double>(t.cos), -30);
+      sn[i] = std::ldexp(static_cast<double>(t.sin), -30);
+    }
+    const double cx = c[0], sx = sn[0], cy = c[1], sy = sn[1], cz = c[2], sz = sn[2];
+    const double r[3][3] = {{cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx},
+                            {sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx},
+                            {-sy, cy * sx, cy * cx}};
+    for (size_t col = 0; col < 3; ++col) axis[col] = to_unit({r[0][col], r[1][col], r[2][col]});
+  }
+
+  bool shape(const MuscleSpec& s, const std::string& where, muscle::MuscleShape* out) const {
+    if (s.pivot_variable && !s.has_pivot) return fail_c(where + "pivot = \"variable\" needs a pivot");
+    out->pivot_mode = static_cast<uint8_t>(s.pivot_variable ? muscle::PivotMode::kVariable : muscle::PivotMode::kFixed);
+    if (s.end_axes_from_bones) {
+      out->end_axes = static_cast<uint8_t>(muscle::EndAxes::kBoneNormals);
+      const BoneAttachment* at[4] = {&s.origin[0], &s.origin[1], &s.insertion[0], &s.insertion[1]};
+      for (size_t k = 0; k < 4; ++k) {
+        const P3 n = bone_normal(*at[k]);
+        if (!(norm(n) > 0.5)) return fail_c(where + "an attachment lies on its bone's axis: no surface normal (§4.2)");
+        out->end_normal[k] = to_unit(n);
+      }
+    }
+    for (size_t k = 0; k < muscle::kSlices; ++k) {
+      const SliceEditSpec& e = s.slice_edit[k];
+      const bool end = k == 0 || k + 1 == muscle::kSlices;
+      for (size_t c = 0; c < 3; ++c)
+        if (!(std::fabs(e.rotate[c]) <= 90))
+          return fail_c(where + "slice " + std::to_string(k) + " rotate must be within [-90, 90] degrees");
+      if (end &&
+          (e.translate[0] != 0 || e.translate[1] != 0 || e.translate[2] != 0 || e.rotate[1] != 0 || e.rotate[2] != 0))
+        return fail_c(where + "slice " + std::to_string(k) +
+                      ": end slices cannot be translated and turn about X only (§4.3)");
+      out->slice[k].translate = to_vec(e.translate);
+      if (e.rotate[0] != 0 || e.rotate[1] != 0 || e.rotate[2] != 0) rotation_columns(e.rotate, out->slice[k].axis);
+    }
+    return true;
+  }
+  bool fail_c(const std::string& m) const {
+    error_ = m;
+    return false;
+  }
+
   bool bone_ok(int bone) const { return bone >= 0 && static_cast<uint32_t>(bone) < rig_.joint_count(); }
 
   bool muscles() {
@@ -171,7 +239,25 @@ class Builder {
       }
       r.rest_length = 1;  // measured below with the runtime's own arithmetic
       out_.muscles.push_back(r);
+      muscle::MuscleShape sh;
+      if (!shape(s, where, &sh)) return false;
+      out_.shapes.push_back(sh);
     }
+    bool shaped = false;
+    for (const muscle::MuscleShape& sh : out_.shapes) shaped = shaped || !muscle::is_default_shape(sh);
+    if (!shaped) out_.shapes.clear();  // default shapes: the model stays MUSC v1/v2, bit for bit
+    return true;
+  }
+
+  // |translate| <= the rest length (a slice cannot leave its muscle's reach).
+  bool check_translations() {
+    for (size_t i = 0; i < out_.shapes.size(); ++i)
+      for (size_t k = 0; k < muscle::kSlices; ++k) {
+        const SliceEditSpec& e = spec_.muscles[i].slice_edit[k];
+        if (norm({e.translate[0], e.translate[1], e.translate[2]}) > from_len(out_.muscles[i].rest_length))
+          return fail("muscle " + std::to_string(i) + " (" + spec_.muscles[i].name + "): slice " + std::to_string(k) +
+                      " translate is longer than the muscle's rest length");
+      }
     return true;
   }
 
@@ -187,7 +273,17 @@ class Builder {
       r.centre = to_vec(p.centre);
       for (size_t c = 0; c < 3; ++c) r.extent[c] = len(p.extent[c]);
       out_.primitives.push_back(r);
+      // Degrees -> binary angles (2^32 a turn); the validator checks the ranges.
+      const auto angle = [](double deg) { return rigc::to_angle(deg); };
+      muscle::PrimitiveDeformation d;
+      d.taper = rigc::to_fixed(p.taper, 30);
+      d.twist = angle(p.twist);
+      d.bend = angle(p.bend);
+      out_.deformations.push_back(d);
     }
+    bool deformed = false;
+    for (const muscle::PrimitiveDeformation& d : out_.deformations) deformed = deformed || muscle::is_deformed(d);
+    if (!deformed) out_.deformations.clear();  // none deformed: MUSC v1, bit for bit
     return true;
   }
 
@@ -488,6 +584,7 @@ class Builder {
       o.band_damping = rigc::to_fixed(d.band_damping * unit, es::kQ16FracBits);
       const auto accel = [&](double a) { return rigc::to_fixed(std::ldexp(a, -e_), es::kAccelFracBits); };
       o.gravity = {accel(d.gravity[0]), accel(d.gravity[1]), accel(d.gravity[2])};
+      o.edge_damping = rigc::to_fixed(d.edge_damping * unit, es::kQ16FracBits);
     }
     return true;
   }

@@ -6,6 +6,8 @@
 //   3. anchoring (§5.1): every rig vertex to its nearest component - a
 //      muscle segment (trilinear (s, t, u) by Newton-Raphson) or the bones
 //      (the vertex's two strongest rig influences, blended);
+//   1b. shapes (§4.2, Table 1): bone normals at the attachments, slice
+//      edits as rotation columns, the pivot mode;
 //   4. springs: k_e = (a1 + a2) / len^2 (eq. 1), k_a = C_a sum(a_i) / 3
 //      (eq. 2), areas in units of the mean rest edge length squared.
 // Doubles use + - * / and sqrt only (compiled with -ffp-contract=off), so
@@ -33,6 +35,7 @@ struct AnatomyModel {
   std::vector<muscle::MuscleRecord> muscles;
   std::vector<muscle::PrimitiveRecord> primitives;
   std::vector<muscle::PrimitiveDeformation> deformations;  // empty (none deformed) or one per primitive
+  std::vector<muscle::MuscleShape> shapes;                 // empty (all default shapes) or one per muscle
   std::vector<elastic_skin::Anchor> anchors;
   std::vector<elastic_skin::Stiffness> anchor_stiffness;
   std::vector<fx::Len> fat;
@@ -43,7 +46,9 @@ struct AnatomyModel {
   elastic_skin::SkinSolverParams solver;
   BuildReport report;
 
-  muscle::MuscleModel muscle_model() const { return {joint_count, ring_vertices, muscles, primitives, deformations}; }
+  muscle::MuscleModel muscle_model() const {
+    return {joint_count, ring_vertices, muscles, primitives, deformations, shapes};
+  }
   elastic_skin::SkinModel skin_model() const {
     return {joint_count, static_cast<uint32_t>(anchors.size()), anchors, anchor_stiffness, fat, edges, bands, params,
             solver};

@@ -35,6 +35,17 @@ struct BoneAttachment {
   Vec3d param{0, 0, 0};  // bone-size units
 };
 
+// Table 1's per-slice frame edits (anatomically-based-modeling §4.3), from
+// the default slice frame: the centre moves by `translate` (model units,
+// along the default X, Y, Z; inner slices 1..6 only, |translate| at most
+// the muscle's rest length), then the frame turns by `rotate` (degrees,
+// about X first, then Y, then Z of the default frame: R = Rz Ry Rx; each in
+// [-90, 90]; end slices 0 and 7 about X only).
+struct SliceEditSpec {
+  Vec3d translate{0, 0, 0};
+  Vec3d rotate{0, 0, 0};
+};
+
 struct MuscleSpec {
   std::string name;
   BoneAttachment origin[2];     // the X axis of the first slice runs origin[0] -> origin[1]
@@ -45,6 +56,15 @@ struct MuscleSpec {
   std::array<double, 8> half_width{};      // rest ellipse half-axes across (X), model units
   std::array<double, 8> half_thickness{};  // ... and in thickness (Y)
   std::array<double, 8> bulge{};           // slice centre displacement outward (-Y)
+  // §4.2: end-slice Z from the averaged outward (origin) / inward
+  // (insertion) normals of the bones' surfaces at the attachments, instead
+  // of the path direction. A bone's surface is its box's capsule: radius
+  // `radius` around the segment 0..length along its axis.
+  bool end_axes_from_bones = false;
+  // Table 1 pivot "variable" (needs has_pivot): the pivot is used only
+  // while it lies outward (-Y) of the straight path (muscle_model.hpp).
+  bool pivot_variable = false;
+  std::array<SliceEditSpec, 8> slice_edit{};
 };
 
 struct PrimitiveSpec {
@@ -56,6 +76,10 @@ struct PrimitiveSpec {
   int segment = 3;                 // muscle attach: between slices segment and segment + 1
   Vec3d centre{0, 0, 0};           // bone frame, or offset in the slice frame (model units)
   Vec3d extent{0.01, 0.01, 0.01};  // half-extents (model units)
+  // Barr's deformations about the frame's Z (LEMAN §5.2, muscle_model.hpp):
+  // taper rate in [-1/2, 1/2]; twist and bend in degrees at z = +c, |twist|
+  // <= 90, bend 0 or 360/1024 <= |bend| <= 90.
+  double taper = 0, twist = 0, bend = 0;
 };
 
 struct RubberBandSpec {
@@ -78,6 +102,7 @@ struct SkinSolverSpec {
   double anchor_damping = 0.5;    // N s per model unit
   double band_damping = 0.5;      // N s per model unit
   double gravity[3] = {0, 0, 0};  // model units / s^2
+  double edge_damping = 0;        // N s per model unit, dashpot along each skin edge (SKIN v3), >= 0
 };
 
 struct SkinSpec {

@@ -146,6 +146,19 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
       widest = std::max(widest, s.half_width[k]);
       thickest = std::max(thickest, s.half_thickness[k]);
     }
+    s.end_axes_from_bones = m.end_axes_from_bones;
+    s.slice_edit = m.slice_edit;
+    if (m.pivot != 0) {
+      // As the arm's biceps: a pivot over the insertion joint, 85 % down the
+      // origin bone and 1.8 bone radii out on the belly's side (§4.3: the
+      // pivot frame is defined relative to the first origin's segment).
+      if (o == ins) return *error = name + ": a pivot needs a muscle that crosses a joint", false;
+      s.has_pivot = true;
+      s.pivot_variable = m.pivot == 2;
+      s.pivot_slice = 6;
+      s.pivot = attach(g, boxes[o], m.origin,
+                       layers::add(layers::add(jo, layers::scaled(uo, 0.85 * lo)), layers::scaled(side, 1.8 * ro)));
+    }
     a.muscles.push_back(s);
     paths->push_back({belly_o, belly_i, widest});
     PrimitiveSpec belly;  // a boxy superellipsoid (p = 4) in the belly, as the arm's biceps
@@ -155,6 +168,9 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
     belly.index = static_cast<int>(i);
     belly.segment = 3;
     belly.extent = {0.73 * widest, 0.81 * thickest, std::min(0.3 * path, 60 * 0.73 * widest)};
+    belly.taper = m.belly_taper;
+    belly.twist = m.belly_twist;
+    belly.bend = m.belly_bend;
     a.primitives.push_back(belly);
     // A fascia at the belly: the outermost ring vertex (3/4 turn: -Y) of slice 4.
     a.skin.bands.push_back({-1, static_cast<int>(i), 4, 3 * a.ring_vertices / 4, 0.5});

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "sim_core/muscle/muscle_shape.hpp"
 #include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/pipeline/layer_set.hpp"
 #include "sim_core/rig/crc32c.hpp"
@@ -109,12 +110,22 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
   // Version 1 while no primitive is deformed (those rigs keep their bytes).
   bool deformed = false;
   for (const auto& d : m.deformations) deformed = deformed || ::sinew::muscle::is_deformed(d);
+  // Version 3 only while some muscle has a non-default shape.
+  bool shaped = false;
+  for (const auto& s : m.shapes) shaped = shaped || !::sinew::muscle::is_default_shape(s);
   const pipeline::MusclesSectionParams p{m.joint_count, m.ring_vertices};
-  SectionBuilder b =
-      builder(pipeline::kSectionMuscles, 0, p, deformed ? pipeline::kMusclesArraysV2 : pipeline::kMusclesArrays);
-  if (deformed) b.version(pipeline::kMusclesSectionVersion2);
+  const uint32_t arrays = shaped     ? pipeline::kMusclesArraysV3
+                          : deformed ? pipeline::kMusclesArraysV2
+                                     : pipeline::kMusclesArrays;
+  SectionBuilder b = builder(pipeline::kSectionMuscles, 0, p, arrays);
+  if (shaped) {
+    b.version(pipeline::kMusclesSectionVersion3);
+  } else if (deformed) {
+    b.version(pipeline::kMusclesSectionVersion2);
+  }
   b.array(m.muscles).array(m.primitives);
-  if (deformed) b.array(m.deformations);
+  if (shaped || deformed) b.array(deformed ? m.deformations : std::span<const ::sinew::muscle::PrimitiveDeformation>{});
+  if (shaped) b.array(m.shapes);
   return b.finish();
 }
 
