@@ -352,7 +352,7 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                if (!known_keys(path, e, n,
                                {"iterations", "warm_start", "mode", "tolerance", "fat", "substep_hz", "max_substeps",
                                 "constraint_passes", "vertex_mass", "stiffness_scale", "anchor_damping", "band_damping",
-                                "edge_damping", "gravity"},
+                                "edge_damping", "gravity", "fat_normal"},
                                error) ||
                    !read_int(path, e, n, "iterations", 1, 256, &s.skin.iterations, error) ||
                    !read_bool(path, e, n, "warm_start", &s.skin.warm_start, error) ||
@@ -379,6 +379,11 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                  }
                  if (!good) return *error = at(path, g, n + " gravity") + " must be an array of 3 numbers", false;
                }
+               std::string fat_normal = "anchor";
+               if (!read_string(path, e, n, "fat_normal", &fat_normal, error)) return false;
+               if (fat_normal != "anchor" && fat_normal != "surface")
+                 return *error = at(path, &e, n) + " fat_normal must be \"anchor\" or \"surface\"", false;
+               d.fat_surface_normal = fat_normal == "surface";
                if (s.skin.mode != "static" && s.skin.mode != "dynamic")
                  return *error = at(path, &e, n) + " mode must be \"static\" or \"dynamic\"", false;
                d.dynamic = s.skin.mode == "dynamic";

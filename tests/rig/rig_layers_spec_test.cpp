@@ -224,7 +224,7 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
               "[[muscle.slice]]\nindex = 3\ntranslate = [0.001, 0, 0]\nrotate = [0, 0, 15]\n"
               "[[muscle.slice]]\nindex = 7\nrotate = [-20, 0, 0]\n\n");
   at = text.find(skin);
-  text.insert(at + skin.size(), "mode = \"dynamic\"\nedge_damping = 0.25\n");
+  text.insert(at + skin.size(), "mode = \"dynamic\"\nedge_damping = 0.25\nfat_normal = \"surface\"\n");
   const std::string path = kSource + "/tests/data/muscle_shape_keys.toml";
   std::ofstream(path) << text;
   const Compiled c = compile_spec(path);
@@ -256,6 +256,8 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
   EXPECT_EQ(m.deformations[0].bend, sinew::rigc::to_angle(-10));                // -10 degrees
   ASSERT_TRUE(l.layers.has_skin);
   EXPECT_EQ(l.layers.skin.solver.edge_damping, std::lround(std::ldexp(0.25, e) * 65536.0));
+  EXPECT_EQ(l.layers.skin.solver.fat_normal, static_cast<uint8_t>(sinew::elastic_skin::FatNormal::kSurface));
+  EXPECT_EQ(l.layers.skin.triangles.size(), l.rig.triangles.size());
 
   const std::string muscle =
       "[rig]\nsource = \"builtin:arm\"\n[[muscle]]\norigin = \"shoulder\"\ninsertion = "
@@ -279,6 +281,7 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
        "[[muscle.slice]] rotate must be [x, 0, 0] for an end slice"},
       {muscle + "[[muscle.slice]]\nindex = 2\nturn = [0, 1, 0]\n", "[[muscle.slice]] turn: unknown key"},
       {muscle + "[skin]\nedge_damping = -1\n", "[skin] edge_damping must be >= 0"},
+      {muscle + "[skin]\nfat_normal = \"vertex\"\n", "[skin] fat_normal must be \"anchor\" or \"surface\""},
   };
   int i = 0;
   for (const Case& k : cases) {

@@ -574,6 +574,8 @@ class Builder {
     o.mode = static_cast<uint8_t>(d.dynamic ? es::SkinMode::kDynamic : es::SkinMode::kStatic);
     o.tolerance = len(d.tolerance);
     o.fat_thickness = len(d.fat_global);
+    o.fat_normal = static_cast<uint8_t>(d.fat_surface_normal ? es::FatNormal::kSurface : es::FatNormal::kAnchor);
+    if (d.fat_surface_normal) out_.triangles.assign(rig_.triangles.begin(), rig_.triangles.end());
     if (d.dynamic) {
       o.substep_hz = static_cast<uint32_t>(std::max(0, d.substep_hz));
       o.max_substeps = static_cast<uint32_t>(std::max(0, d.max_substeps));

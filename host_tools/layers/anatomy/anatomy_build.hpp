@@ -41,6 +41,7 @@ struct AnatomyModel {
   std::vector<fx::Len> fat;
   std::vector<elastic_skin::Edge> edges;
   std::vector<elastic_skin::RubberBand> bands;
+  std::vector<uint32_t> triangles;  // the rig's faces, when the fat follows the mesh normal
   uint32_t joint_count = 0, ring_vertices = 8;
   elastic_skin::SkinParams params;
   elastic_skin::SkinSolverParams solver;
@@ -50,8 +51,11 @@ struct AnatomyModel {
     return {joint_count, ring_vertices, muscles, primitives, deformations, shapes};
   }
   elastic_skin::SkinModel skin_model() const {
-    return {joint_count, static_cast<uint32_t>(anchors.size()), anchors, anchor_stiffness, fat, edges, bands, params,
-            solver};
+    return {joint_count, static_cast<uint32_t>(anchors.size()),
+            anchors,     anchor_stiffness,
+            fat,         edges,
+            bands,       params,
+            solver,      triangles};
   }
 };
 

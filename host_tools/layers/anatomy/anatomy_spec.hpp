@@ -93,6 +93,9 @@ struct RubberBandSpec {
 struct SkinSolverSpec {
   double tolerance = 0;   // static: stop relaxing once the largest move is below this; 0: every iteration
   double fat_global = 0;  // added to every vertex's fat (LEMAN §5.6)
+  // LEMAN §5.6: offset the fat along the skin mesh's current normal,
+  // re-estimated every pass, instead of along the anchor's normal.
+  bool fat_surface_normal = false;
   bool dynamic = false;   // LEMAN §3 mass-spring skin instead of the static relaxation
   int substep_hz = 4000;  // dynamic: target substep rate
   int max_substeps = 16;
