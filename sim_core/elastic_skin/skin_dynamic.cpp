@@ -366,6 +366,7 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
     if (d2 > worst) worst = d2;
   }
   s.stats.substeps = n;
+  s.stats.omega_max = fx::isqrt_fast(static_cast<uint64_t>(omega2 >> kQ16FracBits));
   s.stats.residual = fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
   // Against the normals the last reaction pass used (re-estimating them from
   // the pushed skin would tilt some fat points back in by the push's turn),

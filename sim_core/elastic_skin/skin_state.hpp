@@ -25,6 +25,7 @@ struct SkinStats {
   uint8_t converged = 0;        // static: stopped on solver.tolerance before the iteration count
   uint32_t substeps = 0;        // dynamic: substeps run in the last step
   fx::Len residual = 0;         // static: == max_relax_last; dynamic: largest move of the last substep
+  uint32_t omega_max = 0;       // dynamic: the Gershgorin bound of the stiffest vertex's omega, rad/s (floor)
 };
 
 struct SkinState {
