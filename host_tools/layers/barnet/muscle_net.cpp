@@ -20,12 +20,6 @@ uint32_t tube_node(int ring, int k) {
   return static_cast<uint32_t>(ring * kMuscleNetSegments + (k % kMuscleNetSegments));
 }
 
-int input_of(const rigc::RigSpec& rig, int joint) {
-  int input = 0;
-  for (int j = 0; j < joint; ++j) input += static_cast<int>(rig.joints[static_cast<size_t>(j)].dofs.size());
-  return input;
-}
-
 }  // namespace
 
 uint32_t muscle_line_node(bool biceps, int ring) { return tube_node(ring, biceps ? kBicepsSegment : kTricepsSegment); }
@@ -68,7 +62,7 @@ bool arm_muscle_net(const rigc::RigSpec& arm, const MuscleNetOptions& o, NetSpec
       const double ry = s.nodes[i].rest[1], rz = s.nodes[i].rest[2], r = std::sqrt(ry * ry + rz * rz);
       const double magnitude = biceps ? o.biceps_force : -o.biceps_force * o.triceps_share;
       s.loads.push_back(
-          {i, shoulder, input_of(arm, elbow), o.flex_lo, o.flex_hi, {0, magnitude * ry / r, magnitude * rz / r}});
+          {i, shoulder, first_input_of(arm, elbow), o.flex_lo, o.flex_hi, {0, magnitude * ry / r, magnitude * rz / r}});
     }
   for (int ring = r0; ring <= last; ++ring)
     for (int k = 0; k < per_ring; ++k) s.wrap_vertices.push_back(static_cast<uint32_t>(ring * per_ring + k));

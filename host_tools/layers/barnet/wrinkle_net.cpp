@@ -10,12 +10,6 @@ namespace {
 
 constexpr double kSkinRingStep = 0.005;  // builtin_arm's ring spacing (m)
 
-int input_of(const rigc::RigSpec& rig, int joint) {
-  int input = 0;
-  for (int j = 0; j < joint; ++j) input += static_cast<int>(rig.joints[static_cast<size_t>(j)].dofs.size());
-  return input;
-}
-
 }  // namespace
 
 bool arm_wrinkle_net(const rigc::RigSpec& arm, const WrinkleNetOptions& o, NetSpec* out, std::string* error) {
@@ -68,7 +62,7 @@ bool arm_wrinkle_net(const rigc::RigSpec& arm, const WrinkleNetOptions& o, NetSp
       const double ny = v.normal[1], nz = v.normal[2], nn = std::sqrt(ny * ny + nz * nz);
       const double f = (r % 2 == 0 ? 1.0 : -1.0) * o.force;
       s.loads.push_back(
-          {node(r, c), shoulder, input_of(arm, elbow), o.flex_lo, o.flex_hi, {0, f * ny / nn, f * nz / nn}});
+          {node(r, c), shoulder, first_input_of(arm, elbow), o.flex_lo, o.flex_hi, {0, f * ny / nn, f * nz / nn}});
       s.wrap_vertices.push_back(vertex(r, c));
     }
   *out = std::move(s);
