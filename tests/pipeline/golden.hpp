@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0xd568cad81189c4a7u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x8a2e2b8f1c9120b4u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0xd4b5d5ad15cf515du;
 }  // namespace sinew::test::golden
