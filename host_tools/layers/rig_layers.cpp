@@ -315,10 +315,21 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     o.force_input_hi = t.force_input_full;
     barnet::NetSpec net;
     barnet::BarnetBuild built;
-    const bool built_net = t.net == "arm-muscles"    ? barnet::arm_muscle_net(spec, {}, &net, error)
-                           : t.net == "arm-wrinkles" ? barnet::arm_wrinkle_net(spec, {}, &net, error)
-                                                     : barnet::joint_net(spec, g, j, o, &net, error);
-    if (t.net != "joint") net.external_count = o.external_count;
+    bool built_net = false;
+    if (t.net == "joint") {
+      built_net = barnet::joint_net(spec, g, j, o, &net, error);
+    } else {
+      barnet::JointMuscleNetOptions muscles;
+      muscles.segments = t.segments;
+      muscles.force = t.force;
+      barnet::SkinWrinkleOptions wrinkles;
+      wrinkles.force = t.force;
+      built_net = t.net == "muscles"       ? barnet::joint_muscle_net(spec, g, j, muscles, &net, error)
+                  : t.net == "wrinkles"    ? barnet::skin_wrinkle_net(spec, g, j, wrinkles, &net, error)
+                  : t.net == "arm-muscles" ? barnet::arm_muscle_net(spec, {}, &net, error)
+                                           : barnet::arm_wrinkle_net(spec, {}, &net, error);
+      barnet::drive_from_inputs({o.external_count, o.force_input, o.force_input_lo, o.force_input_hi, o.q_input}, &net);
+    }
     if (!built_net || !barnet::build_barnet(net, spec, &built, error)) return fail(t.joint.where, *error, error);
     sections.push_back(barnet_section(built.model()));
     report->push_back("barnet[" + std::to_string(i) + "] " + spec.joints[static_cast<size_t>(j)].name + ": " +

@@ -414,10 +414,14 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                  !read_string(path, e, n, "q_input", &x.q_input, error) ||
                  !read_string(path, e, n, "net", &x.net, error))
                return false;
-             if (x.net != "joint" && x.net != "arm-muscles" && x.net != "arm-wrinkles")
-               return *error = x.joint.where + ": net must be \"joint\", \"arm-muscles\" or \"arm-wrinkles\"", false;
-             if (x.net != "joint" && !(x.force_input.empty() && x.q_input.empty()))
-               return *error = x.joint.where + ": force_input and q_input drive only a net = \"joint\"", false;
+             if (x.net != "joint" && x.net != "muscles" && x.net != "wrinkles" && x.net != "arm-muscles" &&
+                 x.net != "arm-wrinkles")
+               return *error = x.joint.where +
+                               ": net must be \"joint\", \"muscles\", \"wrinkles\", \"arm-muscles\" or "
+                               "\"arm-wrinkles\"",
+                      false;
+             if (x.net == "muscles" && x.segments % 2 != 0)
+               return *error = x.joint.where + ": segments must be even for net = \"muscles\"", false;
              if (x.ring_step < 0 || x.force < 0)
                return *error = x.joint.where + ": ring_step and force must be >= 0", false;
              if (!(x.force_input_full != 0 && std::fabs(x.force_input_full) <= 32767))
