@@ -54,7 +54,8 @@ struct MuscleRecord {
 enum class PrimitiveKind : uint8_t {
   kSphere = 0,          // extent[0] is the radius (extent[1..2] must equal it)
   kCylinder = 1,        // elliptic cross-section extent[0..1] about Z, half height extent[2]
-  kSuperellipsoid = 2,  // |x/a|^p + |y/b|^p + |z/c|^p < 1, p = exponent in {2, 4, 8} only
+  kSuperellipsoid = 2,  // Barr's superquadric (PrimitiveExponents); |x/a|^p + |y/b|^p + |z/c|^p < 1 for
+                        // one exponent p
 };
 
 enum class PrimitiveAttach : uint8_t {
@@ -66,7 +67,8 @@ enum class PrimitiveAttach : uint8_t {
 struct PrimitiveRecord {
   uint8_t kind = 0;          // PrimitiveKind
   uint8_t attach = 0;        // PrimitiveAttach
-  uint8_t exponent = 2;      // superellipsoid exponent p: 2, 4 or 8 (sphere, cylinder: 2)
+  uint8_t exponent = 2;      // 2, 4 or 8: one exponent p, exact integer kernel (sphere, cylinder: 2);
+                             // 0: a general superquadric, its exponents in MuscleModel::exponents
   uint8_t active = 1;        // inactive primitives are carried but never push the skin
   uint32_t index = 0;        // bone (joint) index or muscle index
   uint32_t segment = 0;      // muscle attach: centre between slices segment and segment + 1 (0..6)
@@ -95,6 +97,29 @@ inline constexpr fx::Unit kMaxTaper = fx::kUnitOne / 2;
 inline constexpr int32_t kMaxTwist = int32_t{1} << 30;
 inline constexpr int32_t kMinBend = int32_t{1} << 22;
 inline constexpr int32_t kMaxBend = int32_t{1} << 30;
+
+// Barr's superquadric exponents of a superellipsoid (LEMAN §5.2, [Barr 81];
+// p = 2 / epsilon), in normalised coordinates q = (x/a, y/b, z/c):
+//   F = (|qx|^power_xy + |qy|^power_xy)^(power_z / power_xy) + |qz|^power_z,
+// inside when F < 1. Both in [1, 16] (epsilon in [1/8, 2]: convex, from
+// diamond-like through the ellipsoid to box-like); spheres and cylinders
+// exactly 2. A pair of equal exponents 2, 4 or 8 is the record's integer
+// exponent (the exact kernel); any other pair needs the record's exponent 0.
+inline constexpr int32_t kPowerTwo = int32_t{2} << 16;
+inline constexpr int32_t kMinPower = int32_t{1} << 16;
+inline constexpr int32_t kMaxPower = int32_t{16} << 16;
+struct PrimitiveExponents {
+  int32_t power_xy = kPowerTwo;  // Q16.16
+  int32_t power_z = kPowerTwo;   // Q16.16
+};
+
+// The record exponent a pair of exponents needs: 2, 4 or 8 for an equal
+// pair of those (the exact kernel), else 0 (the general superquadric).
+inline constexpr uint8_t record_exponent(PrimitiveExponents e) {
+  const int32_t p = e.power_xy;
+  const bool exact = p == e.power_z && (p == 2 << 16 || p == 4 << 16 || p == 8 << 16);
+  return exact ? static_cast<uint8_t>(p >> 16) : uint8_t{0};
+}
 
 // A muscle's non-default shape (anatomically-based-modeling §4.2 end
 // frames, §4.3 and Table 1 edits). All fields at their defaults is the
@@ -141,6 +166,8 @@ struct MuscleModel {
   std::span<const PrimitiveDeformation> deformations;
   // Empty (every muscle has the default shape) or one per muscle.
   std::span<const MuscleShape> shapes = {};
+  // Empty (every primitive's exponent is its record's) or one per primitive.
+  std::span<const PrimitiveExponents> exponents = {};
 };
 
 }  // namespace sinew::muscle

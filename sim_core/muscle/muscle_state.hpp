@@ -20,14 +20,30 @@ struct SliceFrame {
   fx::Len radius_x = 0, radius_y = 0;
 };
 
+// A general superquadric's exponents (PrimitiveExponents) and the terms its
+// sampler derives from them and the present extents, set once per step by
+// superquadric_prepare (superquadric.hpp). Logarithms are base 2, Q30.
+struct SuperquadricTerms {
+  int32_t power_xy = kPowerTwo, power_z = kPowerTwo;  // Q16.16, [1, 16]
+  int64_t ratio = int64_t{1} << 58;                   // e = p_z / p_xy, Q58 (its rounding is then far below
+                                                      // the Q30 logarithms' even where |log2 S| reaches 500)
+  int64_t inverse_power_z = int64_t{1} << 59;         // 1 / p_z, Q60
+  int64_t log2_power_z = int64_t{1} << 30;            // log2 p_z
+  int64_t log2_extent[3] = {};                        // log2 of each extent in Len LSBs
+  int64_t log2_emax = 0;                              // log2 of the largest extent in Len LSBs
+};
+
 // A primitive placed for this step: world (model-space) centre, unit axes,
 // present half-extents and its global deformation (muscle_model.hpp).
+// `exponent` is the record's: 2, 4 or 8 take the exact integer kernel; a
+// superellipsoid with 0 is a general superquadric (`superquadric`).
 struct PrimitiveFrame {
   fx::Vec3 centre{0, 0, 0};
   fx::Vec3 axis[3] = {};
   fx::Len extent[3] = {};
   uint8_t kind = 0, exponent = 2, active = 0;
   PrimitiveDeformation deformation;
+  SuperquadricTerms superquadric;
 };
 
 struct MuscleStats {

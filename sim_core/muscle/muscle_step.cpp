@@ -3,6 +3,7 @@
 #include "muscle_shape.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
+#include "superquadric.hpp"
 #include "vec_ops.hpp"
 
 namespace sinew::muscle {
@@ -118,8 +119,17 @@ fx::Vec3 bone_axis(const fx::Mat34& b, int c) {
           fx::sat_i32(int64_t{b.m[2][c]} << up)};
 }
 
+// The frame's exponents: the model's pair, or the record's one exponent.
+// A general superquadric's derived terms follow its present extents.
+void set_exponents(const PrimitiveRecord& p, const PrimitiveExponents* pair, PrimitiveFrame* f) {
+  f->superquadric.power_xy = pair != nullptr ? pair->power_xy : int32_t{p.exponent} << 16;
+  f->superquadric.power_z = pair != nullptr ? pair->power_z : int32_t{p.exponent} << 16;
+  if (is_general_superquadric(*f)) superquadric_prepare(f);
+}
+
 PrimitiveFrame place_primitive(const PrimitiveRecord& p, const PrimitiveDeformation& deformation,
-                               std::span<const fx::Mat34> bones, const MuscleModel& model, const MuscleState& s) {
+                               const PrimitiveExponents* exponents, std::span<const fx::Mat34> bones,
+                               const MuscleModel& model, const MuscleState& s) {
   PrimitiveFrame f;
   f.kind = p.kind;
   f.exponent = p.exponent;
@@ -132,6 +142,7 @@ PrimitiveFrame place_primitive(const PrimitiveRecord& p, const PrimitiveDeformat
       f.axis[c] = bone_axis(b, c);
       f.extent[c] = p.extent[c];
     }
+    set_exponents(p, exponents, &f);
     return f;
   }
   // Muscle attach: the frame of slice `segment`, centred between it and the
@@ -150,6 +161,7 @@ PrimitiveFrame place_primitive(const PrimitiveRecord& p, const PrimitiveDeformat
   const int64_t rest = model.muscles[p.index].rest_length;
   f.extent[2] = fx::sat_i32(fx::div_round(int64_t{p.extent[2]} * s.length[p.index], rest));
   if (p.kind == static_cast<uint8_t>(PrimitiveKind::kSphere)) f.extent[1] = f.extent[2] = f.extent[0];
+  set_exponents(p, exponents, &f);
   return f;
 }
 
@@ -168,6 +180,8 @@ LayerStatus check_indices(const MuscleModel& model, size_t bones) {
     return layer_fail(LayerError::kBadModel, "muscle model", -1, "deformations", "must be empty or one per primitive");
   if (!model.shapes.empty() && model.shapes.size() != model.muscles.size())
     return layer_fail(LayerError::kBadModel, "muscle model", -1, "shapes", "must be empty or one per muscle");
+  if (!model.exponents.empty() && model.exponents.size() != model.primitives.size())
+    return layer_fail(LayerError::kBadModel, "muscle model", -1, "exponents", "must be empty or one per primitive");
   for (uint32_t p = 0; p < model.primitives.size(); ++p) {
     const PrimitiveRecord& r = model.primitives[p];
     const bool bone = r.attach == static_cast<uint8_t>(PrimitiveAttach::kBone);
@@ -213,9 +227,11 @@ LayerStatus muscle_step(const MuscleModel& model, std::span<const fx::Mat34> bon
     ++state->stats.recomputed;
   }
   const bool deformed = !model.deformations.empty();
+  const bool paired = !model.exponents.empty();
   for (uint32_t p = 0; p < model.primitives.size(); ++p)
-    state->primitives[p] = place_primitive(
-        model.primitives[p], deformed ? model.deformations[p] : PrimitiveDeformation{}, bones, model, *state);
+    state->primitives[p] =
+        place_primitive(model.primitives[p], deformed ? model.deformations[p] : PrimitiveDeformation{},
+                        paired ? &model.exponents[p] : nullptr, bones, model, *state);
   ++state->stats.steps;
   return {};
 }

@@ -51,6 +51,25 @@ LayerStatus check_muscle(const rig::Rig& rig, const MuscleRecord& r, uint32_t i)
   return {};
 }
 
+// Barr's exponents (muscle_model.hpp, PrimitiveExponents): [1, 16],
+// exactly 2 on spheres and cylinders, and the record's exponent the one the
+// pair needs (2, 4 or 8 for an equal pair of those, else 0).
+LayerStatus check_exponents(const PrimitiveRecord& p, const PrimitiveExponents& e, uint32_t i) {
+  const bool super = p.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid);
+  const int32_t powers[2] = {e.power_xy, e.power_z};
+  const char* names[2] = {"power_xy", "power_z"};
+  for (int k = 0; k < 2; ++k) {
+    if (powers[k] < kMinPower || powers[k] > kMaxPower)
+      return bad("exponents", i, names[k], "outside [1, 16] (Q16.16: 65536..1048576)", powers[k], true);
+    if (!super && powers[k] != kPowerTwo)
+      return bad("exponents", i, names[k], "must be exactly 2 (131072) for spheres and cylinders", powers[k], true);
+  }
+  if (p.exponent != record_exponent(e))
+    return bad("primitive", i, "exponent", "must be the exponents pair's: 2, 4 or 8 for an equal pair of those, else 0",
+               p.exponent, true);
+  return {};
+}
+
 LayerStatus check_primitive(const rig::Rig& rig, const MuscleModel& model, const PrimitiveRecord& p, uint32_t i) {
   if (p.kind > static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid))
     return bad("primitive", i, "kind", "unknown kind", p.kind, true);
@@ -63,8 +82,12 @@ LayerStatus check_primitive(const rig::Rig& rig, const MuscleModel& model, const
     return bad("primitive", i, "attach", "unknown attachment", p.attach, true);
   }
   const bool super = p.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid);
-  if (super ? (p.exponent != 2 && p.exponent != 4 && p.exponent != 8) : p.exponent != 2)
+  if (!model.exponents.empty()) {
+    const LayerStatus s = check_exponents(p, model.exponents[i], i);
+    if (!s.ok()) return s;
+  } else if (super ? (p.exponent != 2 && p.exponent != 4 && p.exponent != 8) : p.exponent != 2) {
     return bad("primitive", i, "exponent", "must be 2, 4 or 8 (2 for spheres and cylinders)", p.exponent, true);
+  }
   fx::Len lo = p.extent[0], hi = p.extent[0];
   for (int c = 0; c < 3; ++c) {
     if (p.extent[c] <= 0) return bad("primitive", i, "extent", "must be > 0", p.extent[c], true);
@@ -158,6 +181,9 @@ LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
   if (!model.deformations.empty() && model.deformations.size() != model.primitives.size())
     return bad("muscle model", -1, "deformations", "must be empty or one per primitive",
                static_cast<int64_t>(model.deformations.size()), true);
+  if (!model.exponents.empty() && model.exponents.size() != model.primitives.size())
+    return bad("muscle model", -1, "exponents", "must be empty or one per primitive",
+               static_cast<int64_t>(model.exponents.size()), true);
   for (uint32_t i = 0; i < model.primitives.size(); ++i) {
     LayerStatus s = check_primitive(rig, model, model.primitives[i], i);
     if (s.ok() && !model.deformations.empty()) s = check_deformation(model.primitives[i], model.deformations[i], i);

@@ -1,9 +1,11 @@
 #include "primitive.hpp"
 
 #include "primitive_deform.hpp"
+#include "sim_core/fixed/log_exp.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "superquadric.hpp"
 #include "vec_ops.hpp"
 
 namespace sinew::muscle {
@@ -29,36 +31,13 @@ Powers powers(fx::Unit q, int exponent) {
   return {fx::mul_unit(q4, q4), fx::mul_unit(fx::mul_unit(q4, q2), q)};
 }
 
-fx::Vec3 push_out_deformed(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps);
-
-}  // namespace
-
-PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
-  PrimitiveSample s;
-  s.value = kOutsideBox;
-  const bool cylinder = f.kind == static_cast<uint8_t>(PrimitiveKind::kCylinder);
-  const int exponent = f.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid) ? f.exponent : 2;
-  const fx::Vec3 d = fx::sub(p, f.centre);
-  int64_t local[3];
-  fx::Len emax = 1;
-  for (int i = 0; i < 3; ++i) {
-    if (f.extent[i] <= 0) return s;
-    local[i] = component(d, f.axis[i]);
-    if (f.extent[i] > emax) emax = f.extent[i];
-  }
-  // A deformed primitive tests the undeformed point D^-1(p) (§6.11).
-  const bool deformed = is_deformed(f.deformation);
-  DeformTrace trace;
-  if (deformed) {
-    if (!primitive_undeform(f, local, &trace)) return s;
-    for (int i = 0; i < 3; ++i) local[i] = trace.undeformed[i];
-  }
-  // Outside the bounding box every term (or the cylinder's cap test) is >= 1.
-  for (int i = 0; i < 3; ++i)
-    if (local[i] >= f.extent[i] || local[i] <= -int64_t{f.extent[i]}) return s;
+// The exact kernel for one exponent p in {2, 4, 8} (spheres, cylinders):
+// fills s's value, inside and gradient_length and g; returns g narrowed.
+fx::Vec3 exact_gradient(const PrimitiveFrame& f, bool cylinder, int exponent, fx::Len emax, const int64_t local[3],
+                        int64_t g[3], PrimitiveSample* out) {
+  PrimitiveSample& s = *out;
   const int terms = cylinder ? 2 : 3;
   int64_t value = 0;
-  int64_t g[3] = {0, 0, 0};  // dF/dx_i * emax = p q^(p-1) (emax / a_i), Q2.30 x Q16 -> Q46
   uint64_t largest = 0;
   for (int i = 0; i < terms; ++i) {
     const fx::Unit q = fx::sat_i32(fx::div_round(local[i] * kOne, f.extent[i]));  // |q| < 1
@@ -87,6 +66,13 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
   // |grad F| * emax in Q20: |g| (Q46 >> shift) shifted to 20 fractional bits.
   const int64_t glen = fx::length(g_local);
   s.gradient_length = fx::sat_i32(shift >= 26 ? glen << (shift - 26) : fx::round_shift(glen, 26 - shift));
+  return g_local;
+}
+
+// The outward normal from the local gradient g (narrowed: g_local), through
+// the deformation's covariant transform when there is one, in world axes.
+PrimitiveSample finish_sample(const PrimitiveFrame& f, bool deformed, const DeformTrace& trace, int64_t g[3],
+                              fx::Vec3 g_local, PrimitiveSample s) {
   fx::Vec3 n{};
   fx::Vec3 direction = g_local;
   if (deformed) {  // the covariant transform J^T grad F (§6.11)
@@ -104,15 +90,80 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
   return s;
 }
 
+// primitive_sample; a general superquadric also leaves its evaluation in
+// *general (the push-out's Newton step reads it).
+PrimitiveSample sample(const PrimitiveFrame& f, fx::Vec3 p, SuperquadricEval* general) {
+  PrimitiveSample s;
+  s.value = kOutsideBox;
+  const bool cylinder = f.kind == static_cast<uint8_t>(PrimitiveKind::kCylinder);
+  const int exponent = f.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid) ? f.exponent : 2;
+  const fx::Vec3 d = fx::sub(p, f.centre);
+  int64_t local[3];
+  fx::Len emax = 1;
+  for (int i = 0; i < 3; ++i) {
+    if (f.extent[i] <= 0) return s;
+    local[i] = component(d, f.axis[i]);
+    if (f.extent[i] > emax) emax = f.extent[i];
+  }
+  // A deformed primitive tests the undeformed point D^-1(p) (§6.11).
+  const bool deformed = is_deformed(f.deformation);
+  DeformTrace trace;
+  if (deformed) {
+    if (!primitive_undeform(f, local, &trace)) return s;
+    for (int i = 0; i < 3; ++i) local[i] = trace.undeformed[i];
+  }
+  // Outside the bounding box every term (or the cylinder's cap test) is >= 1.
+  for (int i = 0; i < 3; ++i)
+    if (local[i] >= f.extent[i] || local[i] <= -int64_t{f.extent[i]}) return s;
+  int64_t g[3] = {0, 0, 0};  // dF/dx_i * emax = p q^(p-1) (emax / a_i), Q2.30 x Q16 -> Q46
+  fx::Vec3 g_local{};
+  if (is_general_superquadric(f)) {
+    *general = superquadric_eval(f, local);
+    s.value = general->value;
+    s.inside = general->inside;
+    for (int i = 0; i < 3; ++i) g[i] = general->g[i];  // |g_i| <= 2^30
+    g_local = {static_cast<int32_t>(g[0]), static_cast<int32_t>(g[1]), static_cast<int32_t>(g[2])};
+    const bool zero = g[0] == 0 && g[1] == 0 && g[2] == 0;
+    s.gradient_length = zero ? 0 : fx::sat_i32(fx::exp2_fixed(general->log2_gradient, fx::kLenFracBits));
+  } else {
+    g_local = exact_gradient(f, cylinder, exponent, emax, local, g, &s);
+  }
+  return finish_sample(f, deformed, trace, g, g_local, s);
+}
+
+fx::Vec3 push_out_deformed(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps);
+
+}  // namespace
+
+PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
+  SuperquadricEval general;
+  return sample(f, p, &general);
+}
+
 fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps) {
   if (is_deformed(f.deformation)) return push_out_deformed(f, p, fallback, newton_steps);
   fx::Len emax = 0;
   for (int i = 0; i < 3; ++i)
     if (f.extent[i] > emax) emax = f.extent[i];
   const int exponent = f.kind == static_cast<uint8_t>(PrimitiveKind::kSuperellipsoid) ? f.exponent : 2;
+  const bool general = is_general_superquadric(f);
   for (int step = 0; step < newton_steps; ++step) {
-    const PrimitiveSample s = primitive_sample(f, p);
+    SuperquadricEval q;
+    const PrimitiveSample s = sample(f, p, &q);
     if (!s.inside) break;
+    if (general) {  // the same Newton step on G = F^(1/p_z), in the log domain (superquadric.hpp)
+      fx::Vec3 dir = s.normal;
+      int64_t delta = emax / 2;
+      if (!(dir == fx::Vec3{0, 0, 0})) {  // the log-domain step needs no gradient_length (it may underflow)
+        const int64_t step_len = superquadric_newton_step(f, q);
+        delta = step_len < emax ? step_len + 1 : emax;  // +1 LSB: leave the surface
+      } else {
+        dir = fallback;
+      }
+      if (delta > emax) delta = emax;
+      p = fx::add(p, along(dir, fx::sat_i32(delta)));
+      continue;
+    }
     // Newton along the gradient on G = F^(1/p), which grows linearly along
     // rays from the centre (F is homogeneous of degree p): a step lands on
     // the surface for radial gradients and close to it otherwise, where

@@ -3,13 +3,15 @@
 //
 // In the primitive's frame a point has local coordinates (x, y, z) and
 // normalised ones q = (x/a, y/b, z/c), a, b, c its half-extents. The
-// inside/outside function (Barr's superquadric with both exponents 2/p):
-//   sphere, superellipsoid:  F = |qx|^p + |qy|^p + |qz|^p   (sphere: p = 2)
-//   cylinder:                F = qx^2 + qy^2, and |qz| < 1
-// The point is inside when F < 1 (§6.11); the gradient
-//   dF/dx_i = p q_i^(p-1) / a_i
-// points out of the primitive. F is returned in Q2.30 (values of 1 or more,
-// including every point outside the bounding box, read as "outside").
+// inside/outside function (Barr's superquadric, [Barr 81]):
+//   sphere, superellipsoid p in {2, 4, 8}:  F = |qx|^p + |qy|^p + |qz|^p   (sphere: p = 2)
+//   cylinder:                               F = qx^2 + qy^2, and |qz| < 1
+// by exact integer powers, with the gradient dF/dx_i = p q_i^(p-1) / a_i;
+//   general superellipsoid (exponent 0):    F = (|qx|^p_xy + |qy|^p_xy)^(p_z/p_xy) + |qz|^p_z
+// in the log domain (superquadric.hpp). The point is inside when F < 1
+// (§6.11); the gradient points out of the primitive. F is returned in Q2.30
+// (values of 1 or more, including every point outside the bounding box,
+// read as "outside").
 //
 // A primitive with a global deformation D (taper, twist, bend: §5.2,
 // primitive_deform.hpp) is tested at D^-1(p): F and gradient_length are
@@ -37,8 +39,8 @@ struct PrimitiveSample {
 PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p);
 
 // Moves p out of the primitive along the gradient: `newton_steps` Newton
-// steps on G = F^(1/p) along the gradient (never more than the largest
-// extent per step). `fallback` (a unit vector) is used at the centre,
+// steps on G = F^(1/p) (p_z for the general superquadric) along the
+// gradient (never more than the largest extent per step). `fallback` (a unit vector) is used at the centre,
 // where the gradient vanishes. Returns the moved point (p if outside).
 // Deformed primitives: the Newton steps run on the undeformed point, whose
 // landing point is mapped forward (on the deformed surface, the move not

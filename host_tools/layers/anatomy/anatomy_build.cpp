@@ -262,11 +262,18 @@ class Builder {
   }
 
   bool primitives() {
-    for (const PrimitiveSpec& p : spec_.primitives) {
+    for (size_t i = 0; i < spec_.primitives.size(); ++i) {
+      const PrimitiveSpec& p = spec_.primitives[i];
       muscle::PrimitiveRecord r;
       r.kind = static_cast<uint8_t>(p.kind);
       r.attach = static_cast<uint8_t>(p.attach);
-      r.exponent = static_cast<uint8_t>(p.exponent);
+      // Barr's exponents, Q16.16; the validator checks kinds and the record.
+      const double across = p.exponent, along = p.exponent_z > 0 ? p.exponent_z : p.exponent;
+      if (!(across >= 1 && across <= 16) || !(along >= 1 && along <= 16))
+        return fail("primitive " + std::to_string(i) + ": exponent and exponent_z must be within [1, 16]");
+      const muscle::PrimitiveExponents e{rigc::to_fixed(across, 16), rigc::to_fixed(along, 16)};
+      r.exponent = muscle::record_exponent(e);
+      out_.exponents.push_back(e);
       r.active = p.active ? 1 : 0;
       r.index = static_cast<uint32_t>(p.index);
       r.segment = static_cast<uint32_t>(p.segment);
@@ -284,6 +291,9 @@ class Builder {
     bool deformed = false;
     for (const muscle::PrimitiveDeformation& d : out_.deformations) deformed = deformed || muscle::is_deformed(d);
     if (!deformed) out_.deformations.clear();  // none deformed: MUSC v1, bit for bit
+    bool general = false;
+    for (const muscle::PrimitiveRecord& r : out_.primitives) general = general || r.exponent == 0;
+    if (!general) out_.exponents.clear();  // every exponent 2, 4 or 8: MUSC v1-v3, bit for bit
     return true;
   }
 

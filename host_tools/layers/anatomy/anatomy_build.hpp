@@ -36,6 +36,7 @@ struct AnatomyModel {
   std::vector<muscle::PrimitiveRecord> primitives;
   std::vector<muscle::PrimitiveDeformation> deformations;  // empty (none deformed) or one per primitive
   std::vector<muscle::MuscleShape> shapes;                 // empty (all default shapes) or one per muscle
+  std::vector<muscle::PrimitiveExponents> exponents;       // empty (all exponents 2, 4 or 8) or one per primitive
   std::vector<elastic_skin::Anchor> anchors;
   std::vector<elastic_skin::Stiffness> anchor_stiffness;
   std::vector<fx::Len> fat;
@@ -48,7 +49,7 @@ struct AnatomyModel {
   BuildReport report;
 
   muscle::MuscleModel muscle_model() const {
-    return {joint_count, ring_vertices, muscles, primitives, deformations, shapes};
+    return {joint_count, ring_vertices, muscles, primitives, deformations, shapes, exponents};
   }
   elastic_skin::SkinModel skin_model() const {
     return {joint_count, static_cast<uint32_t>(anchors.size()),

@@ -68,9 +68,14 @@ struct MuscleSpec {
 };
 
 struct PrimitiveSpec {
-  int kind = 2;      // muscle::PrimitiveKind: 0 sphere, 1 cylinder, 2 superellipsoid
-  int attach = 1;    // muscle::PrimitiveAttach: 0 bone, 1 muscle
-  int exponent = 2;  // 2, 4, 8
+  int kind = 2;    // muscle::PrimitiveKind: 0 sphere, 1 cylinder, 2 superellipsoid
+  int attach = 1;  // muscle::PrimitiveAttach: 0 bone, 1 muscle
+  // Barr's superquadric exponents (LEMAN §5.2, muscle_model.hpp
+  // PrimitiveExponents): `exponent` across (x, y), `exponent_z` along z (0:
+  // the same), each in [1, 16]; spheres and cylinders 2. Equal 2, 4 or 8
+  // take the exact integer kernel, any other pair the general one.
+  double exponent = 2;
+  double exponent_z = 0;
   bool active = true;
   int index = 0;                   // bone or muscle
   int segment = 3;                 // muscle attach: between slices segment and segment + 1

@@ -161,10 +161,11 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
     }
     a.muscles.push_back(s);
     paths->push_back({belly_o, belly_i, widest});
-    PrimitiveSpec belly;  // a boxy superellipsoid (p = 4) in the belly, as the arm's biceps
+    PrimitiveSpec belly;  // a boxy superellipsoid (p = 4 unless asked) in the belly, as the arm's biceps
     belly.kind = 2;
     belly.attach = 1;
-    belly.exponent = 4;
+    belly.exponent = m.belly_exponent;
+    belly.exponent_z = m.belly_exponent_z;
     belly.index = static_cast<int>(i);
     belly.segment = 3;
     belly.extent = {0.73 * widest, 0.81 * thickest, std::min(0.3 * path, 60 * 0.73 * widest)};

@@ -26,6 +26,9 @@ struct MuscleRequest {
   int pivot = 0;                                            // 0 off, 1 on, 2 variable: a pivot over the insertion joint
   std::array<SliceEditSpec, 8> slice_edit{};                // Table 1 translate / rotate per slice
   double belly_taper = 0, belly_twist = 0, belly_bend = 0;  // twist, bend in degrees
+  // The belly's superquadric exponents (PrimitiveSpec): across, and along
+  // the muscle (0: the same as across); [1, 16].
+  double belly_exponent = 4, belly_exponent_z = 0;
 };
 
 struct SkinRequest {
