@@ -149,16 +149,25 @@ static_assert(sizeof(metaballs::ActionLine) == 32 && sizeof(metaballs::ActionBal
 // variable pivot); the deformations array is then present and may be
 // empty. Writers emit version 3 only when a muscle has a non-default shape;
 // versions 1 and 2 still load (every muscle then has the default shape).
+// Layer version 4 appends a fifth array, exponents (PrimitiveExponents,
+// empty or one per primitive: Barr's two superquadric exponents, Q16.16 in
+// [1, 16]); deformations and shapes are then present and may be empty.
+// Writers emit version 4 only when some primitive's exponents are not an
+// equal 2, 4 or 8 (its record's exponent is then 0); versions 1 to 3 load
+// with every primitive's exponent its record's.
 struct MusclesSectionParams {
   uint32_t joint_count, ring_vertices;
 };
 static_assert(sizeof(muscle::MuscleRecord) == 184 && sizeof(muscle::PrimitiveRecord) == 36 &&
-              sizeof(muscle::PrimitiveDeformation) == 16 && sizeof(muscle::MuscleShape) == 440);
+              sizeof(muscle::PrimitiveDeformation) == 16 && sizeof(muscle::MuscleShape) == 440 &&
+              sizeof(muscle::PrimitiveExponents) == 8);
 inline constexpr uint32_t kMusclesArrays = 2;
 inline constexpr uint32_t kMusclesSectionVersion2 = 2;
 inline constexpr uint32_t kMusclesArraysV2 = 3;
 inline constexpr uint32_t kMusclesSectionVersion3 = 3;
 inline constexpr uint32_t kMusclesArraysV3 = 4;
+inline constexpr uint32_t kMusclesSectionVersion4 = 4;
+inline constexpr uint32_t kMusclesArraysV4 = 5;
 
 // SKIN params. Arrays: anchors, anchor_stiffness, fat, edges, bands, then
 // the skin's support region: region_vertex (u32, ascending) and

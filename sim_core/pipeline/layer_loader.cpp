@@ -115,11 +115,12 @@ constexpr ArraySpec kMetaballsSpec[kMetaballsArraysV2] = {
     {sizeof(metaballs::ActionLine), metaballs::kMaxActionLines, "action_lines"},
     {sizeof(metaballs::ActionBall), metaballs::kMaxActionBalls, "action_balls"},
 };
-constexpr ArraySpec kMusclesSpec[kMusclesArraysV3] = {
+constexpr ArraySpec kMusclesSpec[kMusclesArraysV4] = {
     {sizeof(muscle::MuscleRecord), muscle::kMaxMuscles, "muscles"},
     {sizeof(muscle::PrimitiveRecord), muscle::kMaxPrimitives, "primitives"},
-    {sizeof(muscle::PrimitiveDeformation), muscle::kMaxPrimitives, "deformations"},  // version 2 and 3
-    {sizeof(muscle::MuscleShape), muscle::kMaxMuscles, "shapes"},                    // version 3 only
+    {sizeof(muscle::PrimitiveDeformation), muscle::kMaxPrimitives, "deformations"},  // version 2 on
+    {sizeof(muscle::MuscleShape), muscle::kMaxMuscles, "shapes"},                    // version 3 on
+    {sizeof(muscle::PrimitiveExponents), muscle::kMaxPrimitives, "exponents"},       // version 4 only
 };
 constexpr ArraySpec kSkinSpec[kSkinArrays] = {
     {sizeof(elastic_skin::Anchor), elastic_skin::kMaxVertices, "anchors"},
@@ -186,6 +187,10 @@ bool layout_of(uint32_t id, uint32_t version, Layout* out) {
     *out = {sizeof(MusclesSectionParams), kMusclesArraysV3, kMusclesSpec};
     return true;
   }
+  if (id == kSectionMuscles && version == kMusclesSectionVersion4) {
+    *out = {sizeof(MusclesSectionParams), kMusclesArraysV4, kMusclesSpec};
+    return true;
+  }
   switch (id) {
     case kSectionSphJoint:
       *out = {sizeof(SphSectionParamsV1), kSphArrays, kSphSpec};
@@ -234,7 +239,8 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
                                     h.layer_version == kSkinSectionVersion3 || h.layer_version == kSkinSectionVersion4);
   const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
   const bool muscles_v2 = id == kSectionMuscles &&
-                          (h.layer_version == kMusclesSectionVersion2 || h.layer_version == kMusclesSectionVersion3);
+                          (h.layer_version == kMusclesSectionVersion2 || h.layer_version == kMusclesSectionVersion3 ||
+                           h.layer_version == kMusclesSectionVersion4);
   const bool metaballs_v2 = id == kSectionMetaballs && h.layer_version == kMetaballsSectionVersion2;
   const bool sph_v2 = id == kSectionSphJoint && h.layer_version == kSphSectionVersion2;
   if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2 && !metaballs_v2 && !sph_v2)
@@ -424,13 +430,15 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
 LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::MuscleModel* out) {
   const MusclesSectionParams p = params_of<MusclesSectionParams>(v);
   const bool v2 = v.header.layer_version >= kMusclesSectionVersion2;
-  const bool v3 = v.header.layer_version == kMusclesSectionVersion3;
+  const bool v3 = v.header.layer_version >= kMusclesSectionVersion3;
+  const bool v4 = v.header.layer_version == kMusclesSectionVersion4;
   *out = {p.joint_count,
           p.ring_vertices,
           array_of<muscle::MuscleRecord>(v, 0),
           array_of<muscle::PrimitiveRecord>(v, 1),
           v2 ? array_of<muscle::PrimitiveDeformation>(v, 2) : std::span<const muscle::PrimitiveDeformation>{},
-          v3 ? array_of<muscle::MuscleShape>(v, 3) : std::span<const muscle::MuscleShape>{}};
+          v3 ? array_of<muscle::MuscleShape>(v, 3) : std::span<const muscle::MuscleShape>{},
+          v4 ? array_of<muscle::PrimitiveExponents>(v, 4) : std::span<const muscle::PrimitiveExponents>{}};
   const muscle::LayerStatus st = muscle::muscle_validate(rig, *out);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};

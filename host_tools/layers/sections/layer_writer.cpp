@@ -113,19 +113,27 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
   // Version 3 only while some muscle has a non-default shape.
   bool shaped = false;
   for (const auto& s : m.shapes) shaped = shaped || !::sinew::muscle::is_default_shape(s);
+  // Version 4 only while some primitive is a general superquadric.
+  bool general = false;
+  for (const auto& r : m.primitives) general = general || (!m.exponents.empty() && r.exponent == 0);
   const pipeline::MusclesSectionParams p{m.joint_count, m.ring_vertices};
-  const uint32_t arrays = shaped     ? pipeline::kMusclesArraysV3
+  const uint32_t arrays = general    ? pipeline::kMusclesArraysV4
+                          : shaped   ? pipeline::kMusclesArraysV3
                           : deformed ? pipeline::kMusclesArraysV2
                                      : pipeline::kMusclesArrays;
   SectionBuilder b = builder(pipeline::kSectionMuscles, 0, p, arrays);
-  if (shaped) {
+  if (general) {
+    b.version(pipeline::kMusclesSectionVersion4);
+  } else if (shaped) {
     b.version(pipeline::kMusclesSectionVersion3);
   } else if (deformed) {
     b.version(pipeline::kMusclesSectionVersion2);
   }
   b.array(m.muscles).array(m.primitives);
-  if (shaped || deformed) b.array(deformed ? m.deformations : std::span<const ::sinew::muscle::PrimitiveDeformation>{});
-  if (shaped) b.array(m.shapes);
+  if (general || shaped || deformed)
+    b.array(deformed ? m.deformations : std::span<const ::sinew::muscle::PrimitiveDeformation>{});
+  if (general || shaped) b.array(shaped ? m.shapes : std::span<const ::sinew::muscle::MuscleShape>{});
+  if (general) b.array(m.exponents);
   return b.finish();
 }
 
