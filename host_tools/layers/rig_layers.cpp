@@ -246,6 +246,8 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
       r.belly_taper = m.belly_taper;
       r.belly_twist = m.belly_twist;
       r.belly_bend = m.belly_bend;
+      r.belly_exponent = m.belly_exponent;
+      r.belly_exponent_z = m.belly_exponent_z;
       requests.push_back(r);
     }
     anatomy_build::SkinRequest skin;

@@ -57,6 +57,7 @@ struct MuscleTable {
   int pivot = 0;                     // 0 off, 1 on, 2 variable: a pivot over the insertion joint
   std::array<anatomy_build::SliceEditSpec, 8> slice_edit{};  // Table 1 translate / rotate per slice
   double belly_taper = 0, belly_twist = 0, belly_bend = 0;   // twist, bend in degrees
+  double belly_exponent = 4, belly_exponent_z = 0;           // superquadric exponents; 0: exponent_z = exponent
 };
 
 struct SkinTable {

@@ -143,15 +143,19 @@ bool read_muscle_slices(const std::string& path, const toml::table& e, layers::M
 }
 
 // The [[muscle]] shape keys: end_axes, pivot, the belly's Barr
-// deformations (ranges of muscle_model.hpp, PrimitiveDeformation).
+// deformations and superquadric exponents (ranges of muscle_model.hpp,
+// PrimitiveDeformation and PrimitiveExponents).
 bool read_muscle_shape(const std::string& path, const toml::table& e, const std::string& n, layers::MuscleTable* x,
                        std::string* error) {
   std::string end_axes = "path", pivot = "off";
   if (!read_string(path, e, n, "end_axes", &end_axes, error) || !read_string(path, e, n, "pivot", &pivot, error) ||
       !read_number(path, e, n, "belly_taper", &x->belly_taper, error) ||
       !read_number(path, e, n, "belly_twist", &x->belly_twist, error) ||
-      !read_number(path, e, n, "belly_bend", &x->belly_bend, error))
+      !read_number(path, e, n, "belly_bend", &x->belly_bend, error) ||
+      !read_number(path, e, n, "belly_exponent", &x->belly_exponent, error))
     return false;
+  const bool has_z = e.get("belly_exponent_z") != nullptr;
+  if (has_z && !read_number(path, e, n, "belly_exponent_z", &x->belly_exponent_z, error)) return false;
   if (!in_range(path, e, n, "end_axes", end_axes == "path" || end_axes == "bone_normals",
                 "\"path\" or \"bone_normals\"", error) ||
       !in_range(path, e, n, "pivot", pivot == "off" || pivot == "on" || pivot == "variable",
@@ -160,7 +164,11 @@ bool read_muscle_shape(const std::string& path, const toml::table& e, const std:
       !in_range(path, e, n, "belly_twist", std::fabs(x->belly_twist) <= 90, "within [-90, 90] degrees", error) ||
       !in_range(path, e, n, "belly_bend",
                 x->belly_bend == 0 || (std::fabs(x->belly_bend) >= 360.0 / 1024 && std::fabs(x->belly_bend) <= 90),
-                "0 or of magnitude within [0.3515625, 90] degrees", error))
+                "0 or of magnitude within [0.3515625, 90] degrees", error) ||
+      !in_range(path, e, n, "belly_exponent", x->belly_exponent >= 1 && x->belly_exponent <= 16, "within [1, 16]",
+                error) ||
+      !in_range(path, e, n, "belly_exponent_z", !has_z || (x->belly_exponent_z >= 1 && x->belly_exponent_z <= 16),
+                "within [1, 16]", error))
     return false;
   x->end_axes_from_bones = end_axes == "bone_normals";
   x->pivot = pivot == "off" ? 0 : pivot == "on" ? 1 : 2;
@@ -323,7 +331,7 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
              const toml::node* side = e.get("side");
              if (!known_keys(path, e, n,
                              {"name", "origin", "insertion", "side", "thickness", "end_axes", "pivot", "slice",
-                              "belly_taper", "belly_twist", "belly_bend"},
+                              "belly_taper", "belly_twist", "belly_bend", "belly_exponent", "belly_exponent_z"},
                              error) ||
                  !read_muscle_shape(path, e, n, &x, error) || !read_string(path, e, n, "name", &x.name, error) ||
                  !read_joint(path, e, n, "origin", &x.origin, error) ||

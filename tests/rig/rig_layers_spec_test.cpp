@@ -289,3 +289,55 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
     EXPECT_NE(bad.find(k.expected), std::string::npos) << "spec:\n" << k.text << "\ngot: " << bad;
   }
 }
+
+// The belly's superquadric exponents of [[muscle]] (docs/anatomy.md):
+// belly_exponent and belly_exponent_z reach the loaded model as a MUSC
+// version 4 exponents pair (Q16.16), the record's exponent 0; an equal 2, 4
+// or 8 stays on the record; out of [1, 16] is refused naming the table, the
+// key and the range.
+TEST(RigSpecs, MuscleBellyExponentsReachTheLoadedModel) {
+  const std::string muscle =
+      "[rig]\nsource = \"builtin:arm\"\n[[muscle]]\norigin = \"shoulder\"\ninsertion = "
+      "\"elbow\"\n";
+  const auto compiled = [&](const std::string& name, const std::string& keys, Loaded* l) {
+    const std::string path = kSource + "/tests/data/" + name;
+    std::ofstream(path) << muscle + keys;
+    const Compiled c = compile_spec(path);
+    std::remove(path.c_str());
+    std::string error;
+    const bool ok = c.ok && load(c.blob, l, &error);
+    EXPECT_TRUE(ok) << c.error << error;
+    return ok;
+  };
+  Loaded general;
+  ASSERT_TRUE(compiled("belly_exponents.toml", "belly_exponent = 3.5\nbelly_exponent_z = 1.25\n", &general));
+  const sinew::muscle::MuscleModel& m = general.layers.muscles;
+  ASSERT_EQ(m.exponents.size(), 1u);
+  EXPECT_EQ(m.exponents[0].power_xy, 7 << 15);  // 3.5 in Q16.16
+  EXPECT_EQ(m.exponents[0].power_z, 5 << 14);   // 1.25
+  EXPECT_EQ(m.primitives[0].exponent, 0);
+  Loaded same;  // belly_exponent_z defaults to belly_exponent
+  ASSERT_TRUE(compiled("belly_exponent_only.toml", "belly_exponent = 6.5\n", &same));
+  ASSERT_EQ(same.layers.muscles.exponents.size(), 1u);
+  EXPECT_EQ(same.layers.muscles.exponents[0].power_z, 13 << 15);
+  Loaded exact;  // an equal 8: the record's exponent, no exponents array (MUSC v1 to v3)
+  ASSERT_TRUE(compiled("belly_exponent_8.toml", "belly_exponent = 8\n", &exact));
+  EXPECT_TRUE(exact.layers.muscles.exponents.empty());
+  EXPECT_EQ(exact.layers.muscles.primitives[0].exponent, 8);
+
+  struct Case {
+    std::string text, expected;
+  };
+  const Case cases[] = {
+      {muscle + "belly_exponent = 0.5\n", "[[muscle]] belly_exponent must be within [1, 16]"},
+      {muscle + "belly_exponent = 17\n", "[[muscle]] belly_exponent must be within [1, 16]"},
+      {muscle + "belly_exponent_z = 0\n", "[[muscle]] belly_exponent_z must be within [1, 16]"},
+      {muscle + "belly_exponent_z = 16.5\n", "[[muscle]] belly_exponent_z must be within [1, 16]"},
+      {muscle + "belly_exponent = \"box\"\n", "[[muscle]] belly_exponent must be a finite number"},
+  };
+  int i = 0;
+  for (const Case& k : cases) {
+    const std::string bad = spec_error("bad_exponent_" + std::to_string(i++) + ".toml", k.text);
+    EXPECT_NE(bad.find(k.expected), std::string::npos) << "spec:\n" << k.text << "\ngot: " << bad;
+  }
+}
