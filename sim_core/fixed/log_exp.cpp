@@ -2,7 +2,6 @@
 
 #include <bit>
 
-#include "scalar.hpp"
 #include "wide.hpp"
 
 namespace sinew::fx {
@@ -68,40 +67,46 @@ const int64_t kExp2TableQ62[kLogExpTableSize] = {
 
 namespace {
 
-constexpr int64_t kOneQ62 = int64_t{1} << 62;
-constexpr int64_t kLn2Q62 = 3196577161300663915;    // ln 2, same generator
-constexpr int64_t kLog2eQ62 = 6653256548922161246;  // 1 / ln 2
-constexpr int kLnTerms = 10;                        // |t| < 2^-5: remainder |t|^11 / 11 < 2^-58
-constexpr int kExpTerms = 8;                        // s ln 2 < 2^-5.5: remainder < 2^-68
+constexpr uint64_t kOneQ62 = uint64_t{1} << 62;
+constexpr uint64_t kLn2Q62 = 3196577161300663915u;    // ln 2, same generator
+constexpr uint64_t kLog2eQ62 = 6653256548922161246u;  // 1 / ln 2
+// Terms of the series: log2(1 + t), 0 <= t < 2^-5, remainder below
+// log2(e) t^9 / 9 < 2^-47; 2^s = e^(s ln 2), 0 <= s < 2^-5, remainder below
+// (s ln 2)^7 / 7! < 2^-51. With the roundings (about one 2^-62 per product)
+// each kernel is within 2^-46 of its exact value.
+constexpr int kLogTerms = 8;
+constexpr int kExpTerms = 6;
 
-// round(2^62 / n) and round(2^62 / n!): the series' coefficients.
+// a b / 2^62, truncated (a b < 2^126).
+constexpr uint64_t mul_q62(uint64_t a, uint64_t b) {
+  const U128 p = mul_u64(a, b);
+  return (p.hi << 2) | (p.lo >> 62);
+}
+
+// The series' coefficients in Q62: log2(e) / n, and (ln 2)^n / n!.
 struct Coefficients {
-  int64_t inverse[kLnTerms + 1] = {};
-  int64_t inverse_factorial[kExpTerms + 1] = {};
+  uint64_t log[kLogTerms + 1] = {};
+  uint64_t exp[kExpTerms + 1] = {};
   constexpr Coefficients() {
-    int64_t factorial = 1;
-    for (int64_t n = 1; n <= kLnTerms; ++n) inverse[n] = (kOneQ62 + n / 2) / n;
-    for (int64_t n = 0; n <= kExpTerms; ++n) {
-      if (n > 0) factorial *= n;
-      inverse_factorial[n] = (kOneQ62 + factorial / 2) / factorial;
-    }
+    for (uint64_t n = 1; n <= kLogTerms; ++n) log[n] = (kLog2eQ62 + n / 2) / n;
+    exp[0] = kOneQ62;
+    for (uint64_t n = 1; n <= kExpTerms; ++n) exp[n] = (mul_q62(exp[n - 1], kLn2Q62) + n / 2) / n;
   }
 };
 constexpr Coefficients kCoefficients;
 
-inline int64_t mul_q62(int64_t a, int64_t b) { return mul_shift_round(a, b, 62); }
-
-// ln(1 + t) in Q62 for |t| <= 2^57 (1/32): t (1 - t (1/2 - t (1/3 - ...))).
-int64_t ln1p_q62(int64_t t) {
-  int64_t p = kCoefficients.inverse[kLnTerms];
-  for (int n = kLnTerms - 1; n >= 1; --n) p = kCoefficients.inverse[n] - mul_q62(t, p);
+// log2(1 + t) in Q62 for 0 <= t < 2^57 (1/32): t (c1 - t (c2 - t (c3 - ...))),
+// c_n = log2(e) / n; every bracket is positive (t c_(n+1) < c_n).
+uint64_t log2_1p_q62(uint64_t t) {
+  uint64_t p = kCoefficients.log[kLogTerms];
+  for (int n = kLogTerms - 1; n >= 1; --n) p = kCoefficients.log[n] - mul_q62(t, p);
   return mul_q62(t, p);
 }
 
-// e^w in Q62 for 0 <= w < 2^57: sum of w^n / n!, n <= 8.
-int64_t exp_q62(int64_t w) {
-  int64_t p = kCoefficients.inverse_factorial[kExpTerms];
-  for (int n = kExpTerms - 1; n >= 0; --n) p = kCoefficients.inverse_factorial[n] + mul_q62(w, p);
+// 2^s in Q62 for 0 <= s < 2^57 (1/32): sum of s^n (ln 2)^n / n!.
+uint64_t exp2_small_q62(uint64_t s) {
+  uint64_t p = kCoefficients.exp[kExpTerms];
+  for (int n = kExpTerms - 1; n >= 0; --n) p = kCoefficients.exp[n] + mul_q62(s, p);
   return p;
 }
 
@@ -112,26 +117,29 @@ int64_t log2_q30(uint64_t v, int frac_bits) {
   const int k = 63 - std::countl_zero(v);
   // m = v / 2^k in Q62, in [2^62, 2^63); v >= 2^63 drops its last bit
   // (2^-62 relative, far below the Q30 result's step).
-  const int64_t m = static_cast<int64_t>(k <= 62 ? v << (62 - k) : v >> 1);
-  const int i = static_cast<int>(m >> 57) - 32;                                 // m in [1 + i/32, 1 + (i+1)/32)
-  const int64_t t = mul_q62(m, kReciprocalTableQ62[i]) - kOneQ62;               // m / (1 + i/32) - 1, in [-1 LSB, 2^57)
-  const int64_t fraction = kLog2TableQ62[i] + mul_q62(ln1p_q62(t), kLog2eQ62);  // log2 m, Q62, [0, 2^62)
-  return (int64_t{k} - frac_bits) * (int64_t{1} << 30) + round_shift(fraction, 32);
+  const uint64_t m = k <= 62 ? v << (62 - k) : v >> 1;
+  const int i = static_cast<int>(m >> 57) - 32;  // m in [1 + i/32, 1 + (i+1)/32)
+  // m / (1 + i/32) - 1 in [0, 2^57); the table's rounding may land a hair
+  // below 1 (2^-62), read as 0.
+  const uint64_t scaled = mul_q62(m, static_cast<uint64_t>(kReciprocalTableQ62[i]));
+  const uint64_t t = scaled > kOneQ62 ? scaled - kOneQ62 : 0;
+  const uint64_t fraction = static_cast<uint64_t>(kLog2TableQ62[i]) + log2_1p_q62(t);  // log2 m, Q62, < 2^62
+  return (int64_t{k} - frac_bits) * (int64_t{1} << 30) + static_cast<int64_t>((fraction + (uint64_t{1} << 31)) >> 32);
 }
 
 int64_t exp2_fixed(int64_t x_q30, int frac_bits) {
-  const int64_t n = x_q30 >> 30;                       // floor
-  const int64_t f = x_q30 & ((int64_t{1} << 30) - 1);  // [0, 1) in Q30
+  const int64_t n = x_q30 >> 30;                                                // floor
+  const uint64_t f = static_cast<uint64_t>(x_q30) & ((uint64_t{1} << 30) - 1);  // [0, 1) in Q30
   const int j = static_cast<int>(f >> 25);
-  const int64_t s = f & ((int64_t{1} << 25) - 1);  // [0, 1/32) in Q30
-  const int64_t w = mul_shift_round(s, kLn2Q62, 30);
-  // 2^(j/32) e^w in [2^62, 2^63): 2^(1 - 2^-30) keeps it ~6e9 LSB below 2^63.
-  const int64_t m = mul_q62(kExp2TableQ62[j], exp_q62(w));
+  const uint64_t s = (f & ((uint64_t{1} << 25) - 1)) << 32;  // [0, 1/32) in Q62
+  // 2^(j/32) 2^s in [2^62, 2^63): 2^(1 - 2^-30) keeps it ~6e9 LSB below 2^63.
+  const uint64_t m = mul_q62(static_cast<uint64_t>(kExp2TableQ62[j]), exp2_small_q62(s));
   const int64_t shift = n + frac_bits - 62;
   if (shift > 0) return INT64_MAX;
-  if (shift == 0) return m;
+  if (shift == 0) return static_cast<int64_t>(m);
   if (shift < -62) return shift == -63 ? 1 : 0;  // m / 2^63 is in [1/2, 1): rounds up to 1
-  return round_shift(m, static_cast<int>(-shift));
+  const int r = static_cast<int>(-shift);
+  return static_cast<int64_t>((m >> r) + ((m >> (r - 1)) & 1));
 }
 
 int64_t pow_fixed(uint64_t v, int v_frac, int32_t p_q16, int out_frac) {

@@ -6,18 +6,20 @@
 // x / 2^30); an exponential's result is round(2^x * 2^frac_bits) in an int64,
 // frac_bits chosen by the caller (0..62). Powers p are Q16.16.
 //
-// Method (both kernels work in Q62, far below the Q30 step):
-//   log2: v = 2^k m, m in [1, 2); m (1 + i/32)^-1 = 1 + t, |t| < 2^-5 (32-entry
-//         tables of 1/(1 + i/32) and log2(1 + i/32)); ln(1 + t) by Horner over
-//         10 terms (remainder < 2^-58); times log2(e).
+// Method (both kernels work in unsigned Q62, far below the Q30 step):
+//   log2: v = 2^k m, m in [1, 2); m (1 + i/32)^-1 = 1 + t, 0 <= t < 2^-5
+//         (32-entry tables of 1/(1 + i/32) and log2(1 + i/32));
+//         log2(1 + t) by Horner over 8 terms of log2(e) t^n / n.
 //   exp2: x = n + j/32 + s, 0 <= s < 2^-5; 2^(j/32) from a 32-entry table
-//         times e^(s ln 2) by Horner over 8 terms (remainder < 2^-68);
-//         shifted by n + frac_bits - 62.
-// Every product is 64x64 -> 128 bits (wide.hpp), rounded half up. The
-// kernels' error is below 2^-50 of the result, so each function returns
-// the correctly rounded value to within 0.5 LSB plus 2^-20 LSB (ties may go
-// either way). Measured and enforced in tests/unit/fixed_log_exp_test.cpp
-// and tabled in docs/numerics.md.
+//         times 2^s by Horner over 6 terms of (s ln 2)^n / n!; shifted by
+//         n + frac_bits - 62.
+// Products are 64x64 -> 128 bits (wide.hpp), truncated to Q62 inside the
+// kernels, rounded half up once at the end. Each kernel is within 2^-46 of
+// its exact value (series remainder and roundings): log2_q30 returns the
+// correctly rounded value to within 0.5 LSB plus 2^-16 LSB (ties may go
+// either way), exp2_fixed to within 0.5 LSB plus 2^-46 of the result.
+// Measured and enforced in tests/unit/fixed_log_exp_test.cpp and tabled in
+// docs/numerics.md.
 #pragma once
 
 #include <cstdint>
