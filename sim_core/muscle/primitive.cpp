@@ -1,7 +1,6 @@
 #include "primitive.hpp"
 
 #include "primitive_deform.hpp"
-#include "sim_core/fixed/log_exp.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
@@ -123,8 +122,7 @@ PrimitiveSample sample(const PrimitiveFrame& f, fx::Vec3 p, SuperquadricEval* ge
     s.inside = general->inside;
     for (int i = 0; i < 3; ++i) g[i] = general->g[i];  // |g_i| <= 2^30
     g_local = {static_cast<int32_t>(g[0]), static_cast<int32_t>(g[1]), static_cast<int32_t>(g[2])};
-    const bool zero = g[0] == 0 && g[1] == 0 && g[2] == 0;
-    s.gradient_length = zero ? 0 : fx::sat_i32(fx::exp2_fixed(general->log2_gradient, fx::kLenFracBits));
+    s.gradient_length = general->gradient_length;
   } else {
     g_local = exact_gradient(f, cylinder, exponent, emax, local, g, &s);
   }

@@ -53,17 +53,15 @@ SuperquadricEval superquadric_eval(const PrimitiveFrame& f, const int64_t local[
   const int64_t pxy = fx::clamp_i64(t.power_xy, kMinPower, kMaxPower);
   const int64_t pz = fx::clamp_i64(t.power_z, kMinPower, kMaxPower);
   SuperquadricEval e;
+  e.log2_terms[0] = e.log2_terms[1] = fx::kLog2OfZero;
   bool has[3];
   int64_t lq[3];  // log2 |q_i|, Q30
   for (int i = 0; i < 3; ++i) {
     has[i] = local[i] != 0;
     lq[i] = has[i] ? fx::log2_q30(fx::magnitude(local[i]), 0) - t.log2_extent[i] : 0;
   }
-  if (!has[0] && !has[1] && !has[2]) {  // the centre: F = 0, no gradient
-    e.log2_value = fx::kLog2OfZero;
-    return e;
-  }
-  // log2 S, S = |qx|^p_xy + |qy|^p_xy; then log2 F, F = S^e + |qz|^p_z.
+  if (!has[0] && !has[1] && !has[2]) return e;  // the centre: F = 0, no gradient
+  // log2 S, S = |qx|^p_xy + |qy|^p_xy; F = S^e + |qz|^p_z.
   const bool has_s = has[0] || has[1];
   int64_t ls = 0;
   if (has[0] && has[1]) {
@@ -71,43 +69,50 @@ SuperquadricEval superquadric_eval(const PrimitiveFrame& f, const int64_t local[
   } else if (has_s) {
     ls = times_power(pxy, has[0] ? lq[0] : lq[1]);
   }
-  const int64_t la = fx::mul_shift_round(t.ratio, ls, kRatioFrac);
-  const int64_t lz = times_power(pz, lq[2]);
-  e.log2_value = has_s && has[2] ? log2_sum(la, lz) : (has_s ? la : lz);
-  const int64_t value = fx::exp2_fixed(e.log2_value, fx::kUnitFracBits);
+  if (has_s) e.log2_terms[0] = fx::mul_shift_round(t.ratio, ls, kRatioFrac);
+  if (has[2]) e.log2_terms[1] = times_power(pz, lq[2]);
+  // Each term at most 2^16 inside the box (S < 2, e <= 16; Z < 1): no overflow.
+  const int64_t value =
+      fx::exp2_fixed(e.log2_terms[0], fx::kUnitFracBits) + fx::exp2_fixed(e.log2_terms[1], fx::kUnitFracBits);
   e.value = value < kOutsideBox ? value : kOutsideBox;
   e.inside = e.value < kOne;
   // Gradient exponents L_i (header), each against the largest.
   const int64_t scale_xy = fx::mul_shift_round(t.ratio - (int64_t{1} << kRatioFrac), ls, kRatioFrac);
   int64_t l[3] = {};
+  int64_t top = INT64_MIN;
   for (int i = 0; i < 3; ++i) {
     if (!has[i]) continue;
     const int64_t axis = t.log2_emax - t.log2_extent[i];
     l[i] = i < 2 ? scale_xy + times_power(pxy - (1 << 16), lq[i]) + axis : times_power(pz - (1 << 16), lq[2]) + axis;
+    if (l[i] > top) top = l[i];
   }
-  int64_t top = INT64_MIN;
-  for (int i = 0; i < 3; ++i)
-    if (has[i] && l[i] > top) top = l[i];
   for (int i = 0; i < 3; ++i) {
     if (!has[i]) continue;
-    const int64_t m = fx::exp2_fixed(l[i] - top, fx::kUnitFracBits);  // (0, 2^30]
+    const int64_t m = l[i] == top ? kOne : fx::exp2_fixed(l[i] - top, fx::kUnitFracBits);  // (0, 2^30]
     e.g[i] = local[i] < 0 ? -m : m;
   }
-  // |grad F| emax = p_z 2^top |g| / 2^30; |g| in [2^30, sqrt(3) 2^30].
-  const fx::Vec3 g{static_cast<int32_t>(e.g[0]), static_cast<int32_t>(e.g[1]), static_cast<int32_t>(e.g[2])};
-  const int64_t length = fx::length(g);
-  e.log2_gradient = t.log2_power_z + top + fx::log2_q30(static_cast<uint64_t>(length), fx::kUnitFracBits);
+  e.log2_largest = top;
+  e.g_length = fx::length({static_cast<int32_t>(e.g[0]), static_cast<int32_t>(e.g[1]), static_cast<int32_t>(e.g[2])});
+  // |grad F| emax = p_z 2^top |g| / 2^30 in Q20; the power of two capped at
+  // 2^33 (gradient_length saturates at 2^31 anyway) keeps the product in range.
+  const int64_t scale = fx::exp2_fixed(t.log2_power_z + top, fx::kLenFracBits);
+  const int64_t capped = scale < (int64_t{1} << 33) ? scale : int64_t{1} << 33;
+  e.gradient_length = fx::sat_i32(fx::mul_shift_round(capped, e.g_length, fx::kUnitFracBits));
   return e;
 }
 
 int64_t superquadric_newton_step(const PrimitiveFrame& f, const SuperquadricEval& e) {
   const SuperquadricTerms& t = f.superquadric;
-  const int64_t lg = fx::mul_shift_round(e.log2_value, t.inverse_power_z, kInverseFrac);  // log2 G
-  const int64_t gap = kOne - fx::exp2_fixed(lg, fx::kUnitFracBits);                       // 1 - G, Q30
-  if (gap <= 0) return 0;
-  // log2 of p_z (1 - G) F emax / (G |grad F| emax), in Len LSBs.
-  const int64_t ld = t.log2_power_z + fx::log2_q30(static_cast<uint64_t>(gap), fx::kUnitFracBits) + e.log2_value +
-                     t.log2_emax - lg - e.log2_gradient;
+  const bool both = e.log2_terms[0] != fx::kLog2OfZero && e.log2_terms[1] != fx::kLog2OfZero;
+  const int64_t lf = both ? log2_sum(e.log2_terms[0], e.log2_terms[1])
+                          : (e.log2_terms[0] != fx::kLog2OfZero ? e.log2_terms[0] : e.log2_terms[1]);  // log2 F
+  const int64_t lg = fx::mul_shift_round(lf, t.inverse_power_z, kInverseFrac);                         // log2 G
+  const int64_t gap = kOne - fx::exp2_fixed(lg, fx::kUnitFracBits);                                    // 1 - G, Q30
+  if (gap <= 0 || e.g_length == 0) return 0;
+  // log2 of p_z (1 - G) F emax / (G |grad F| emax), in Len LSBs, with
+  // |grad F| emax = p_z 2^top |g| / 2^30.
+  const int64_t ld = fx::log2_q30(static_cast<uint64_t>(gap), fx::kUnitFracBits) + lf + t.log2_emax - lg -
+                     e.log2_largest - fx::log2_q30(e.g_length, fx::kUnitFracBits);
   return fx::exp2_fixed(ld, 0);
 }
 

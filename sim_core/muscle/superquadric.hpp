@@ -25,15 +25,18 @@
 // a Newton step along grad G from inside lands on or outside the surface.
 //
 // Accuracy, derived from the Q formats (u = 2^-30) and enforced against a
-// double oracle of Barr's formula in tests/anatomy/superquadric_test.cpp:
-// each log2|q_i| is off by at most u (two correctly rounded logarithms),
-// log2 S by (p_xy + 1) u, each product with a Q16.16 power and each
-// log2(2^a + 2^b) adds u/2, e (Q58) adds nothing visible, exp2 rounds by
-// half an LSB. So log2 F is off by at most (p_z + e + 1) u and
-//   |F - F_Barr| <= [ln 2 (p_z + e + 1) F + 0.51] u,
-// and a component's L_i by at most dL = max(|e - 1| (p_xy + 1) + p_xy + 1,
-// p_z + 1/2) u; the direction (ratios of components, rounded to Q2.30 and
-// normalised) is within (2 ln 2 dL + 6) u of Barr's gradient.
+// double oracle of Barr's formula in tests/anatomy/superquadric_test.cpp.
+// Each log2|q_i| is off by at most u (two correctly rounded logarithms; their
+// kernels' 2^-16 u is lost in the slack below), log2 S by (p_xy + 1) u; each
+// product with a Q16.16 power and each log2(2^a + 2^b) adds u/2; e (Q58)
+// adds nothing visible; exp2 rounds by half an LSB. So
+//   - log2 of each term of F (S^e, Z) is off by at most (p_z + e + 1/2) u,
+//     and F, the sum of the two terms each rounded to Q2.30, by
+//     |F - F_Barr| <= [ln 2 (p_z + e + 1/2) F + 1.01] u;
+//   - each gradient exponent L_i by at most
+//     dL = max(|e - 1| (p_xy + 1) + p_xy + 1, p_z + 1/2) u, so the direction
+//     (ratios of components, rounded to Q2.30 and normalised) is within
+//     (2 ln 2 dL + 6) u of Barr's gradient.
 #pragma once
 
 #include <cstdint>
@@ -57,10 +60,12 @@ void superquadric_prepare(PrimitiveFrame* f);
 // axes; |local_i| < extent_i, as primitive_sample has checked).
 struct SuperquadricEval {
   bool inside = true;
-  int64_t value = 0;          // F in Q2.30, capped at 4 (outside)
-  int64_t log2_value = 0;     // log2 F, Q30 (fx::kLog2OfZero at the centre)
-  int64_t g[3] = {};          // gradient direction, local axes: largest |g_i| = 2^30; zero at the centre
-  int64_t log2_gradient = 0;  // log2(|grad F| * emax), Q30 (dimensionless)
+  int64_t value = 0;            // F in Q2.30 (2^(log2 S^e) + 2^(log2 Z)), capped at 4 (outside)
+  int64_t log2_terms[2] = {};   // log2 S^e and log2 Z, Q30 (fx::kLog2OfZero for an absent term)
+  int64_t g[3] = {};            // gradient direction, local axes: largest |g_i| = 2^30; zero at the centre
+  int64_t log2_largest = 0;     // the largest component's log2(|dF/dx_i| emax / p_z), Q30
+  uint32_t g_length = 0;        // |g|, Q30 (in [2^30, sqrt(3) 2^30] unless zero)
+  int32_t gradient_length = 0;  // |grad F| emax, Q12.20 (PrimitiveSample), saturated
 };
 SuperquadricEval superquadric_eval(const PrimitiveFrame& f, const int64_t local[3]);
 

@@ -73,13 +73,13 @@ void add_rings(DynamicSkin& s) {
 // every step checks the skin's own count and every fat point against
 // Barr's F. The bound: the step leaves F_kernel >= 1 - 2^-10 (its inside
 // test); Barr's F is at most the kernel's F bound below that
-// (superquadric.hpp: ln 2 (p_z + e + 1) 2^-30 + 2^-31 at F = 1), and the fat
+// (superquadric.hpp: [ln 2 (p_z + e + 1/2) + 1.01] 2^-30 at F = 1), and the fat
 // point formed here in double differs from the kernel's fixed-point one by
 // at most the Len rounding of its three components (sqrt(3) LSB) times
 // |grad F| <= sqrt(3) p_z / min extent (superquadric.hpp).
 uint32_t run_skin(DynamicSkin& s, int ticks, double* lowest) {
   const double lsb = 1.0 / 1048576.0, e = kSkinSqPz / kSkinSqPxy;
-  const double bound = std::ldexp(1.0, -10) + (0.6931471805599453 * (kSkinSqPz + e + 1) + 0.5) / 1073741824.0 +
+  const double bound = std::ldexp(1.0, -10) + (0.6931471805599453 * (kSkinSqPz + e + 0.5) + 1.01) / 1073741824.0 +
                        std::sqrt(3.0) * lsb * std::sqrt(3.0) * kSkinSqPz / std::min({kSkinSqA, kSkinSqB, kSkinSqC});
   uint32_t pushed = 0;
   *lowest = 2;
