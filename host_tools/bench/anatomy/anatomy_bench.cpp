@@ -4,7 +4,9 @@
 // vertex, and the anatomically-based paper's workload (30 relaxations of
 // 75 000 vertices: 25 s in 1997) measured on a 75 000-vertex tube, and the
 // arm's dynamic skin (LEMAN §3) per tick at 100 Hz and 1 kHz against LBS
-// and against the tick's period.
+// and against the tick's period; primitive_sample and primitive_push_out
+// on the exact integer kernel (p = 2) beside the general superquadric one
+// (p = 2 and p_xy = 3, p_z = 2.5), same run.
 //   sinew-bench-anatomy [--benchmark_min_time=0.5]
 // Prints Google Benchmark's table, then the per-layer table with ratios
 // against LBS of the same rig measured in the same run.
@@ -25,6 +27,8 @@
 #include "sim_core/elastic_skin/skin_step.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/muscle/muscle_step.hpp"
+#include "sim_core/muscle/primitive.hpp"
+#include "sim_core/muscle/superquadric.hpp"
 
 namespace {
 
@@ -122,6 +126,16 @@ ab::AnatomySpec arm_warm(const rigc::RigSpec& spec) {
 ab::AnatomySpec arm_dynamic(const rigc::RigSpec& spec) {
   ab::AnatomySpec a = ab::arm_anatomy(spec);
   a.skin.solver.dynamic = true;
+  return a;
+}
+
+// The same with both bellies general superquadrics (p_xy 3, p_z 2.5).
+ab::AnatomySpec arm_dynamic_superquadric(const rigc::RigSpec& spec) {
+  ab::AnatomySpec a = arm_dynamic(spec);
+  for (ab::PrimitiveSpec& p : a.primitives) {
+    p.exponent = 3;
+    p.exponent_z = 2.5;
+  }
   return a;
 }
 
@@ -239,6 +253,71 @@ BENCHMARK_CAPTURE(run_skin, arm_dynamic_1khz, arm_dynamic_at(1000));
 BENCHMARK_CAPTURE(run_engine, hand_asset_skinning, hand_asset());
 BENCHMARK_CAPTURE(run_skin, hand_asset_30_iterations, hand_asset());
 
+// A superellipsoid of half-extents (0.3, 0.2, 0.5) units and 1024 points
+// in and around it (|q_i| < 1.1), fixed seed: the primitive kernels' cost.
+struct PrimitiveCase {
+  muscle::PrimitiveFrame frame;
+  std::vector<sinew::fx::Vec3> points;
+  PrimitiveCase(double pxy, double pz, bool exact) {
+    frame.kind = static_cast<uint8_t>(muscle::PrimitiveKind::kSuperellipsoid);
+    frame.active = 1;
+    frame.axis[0] = {sinew::fx::kUnitOne, 0, 0};
+    frame.axis[1] = {0, sinew::fx::kUnitOne, 0};
+    frame.axis[2] = {0, 0, sinew::fx::kUnitOne};
+    const double extent[3] = {0.3, 0.2, 0.5};
+    for (int c = 0; c < 3; ++c) frame.extent[c] = static_cast<int32_t>(extent[c] * 1048576);
+    frame.exponent = exact ? static_cast<uint8_t>(pxy) : 0;
+    frame.superquadric.power_xy = static_cast<int32_t>(pxy * 65536);
+    frame.superquadric.power_z = static_cast<int32_t>(pz * 65536);
+    muscle::superquadric_prepare(&frame);
+    uint64_t x = 0x9E3779B97F4A7C15u;
+    const auto next = [&] {  // xorshift64*, uniform in [-1.1, 1.1)
+      x ^= x >> 12, x ^= x << 25, x ^= x >> 27;
+      return (static_cast<double>((x * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0 * 2 - 1) * 1.1;
+    };
+    for (int i = 0; i < 1024; ++i)
+      points.push_back({static_cast<int32_t>(next() * frame.extent[0]), static_cast<int32_t>(next() * frame.extent[1]),
+                        static_cast<int32_t>(next() * frame.extent[2])});
+  }
+};
+PrimitiveCase& exact_p2() {
+  static PrimitiveCase c(2, 2, true);
+  return c;
+}
+PrimitiveCase& general_p2() {
+  static PrimitiveCase c(2, 2, false);
+  return c;
+}
+PrimitiveCase& general_3_25() {
+  static PrimitiveCase c(3, 2.5, false);
+  return c;
+}
+
+int64_t sample_all(const PrimitiveCase& c) {
+  int64_t sum = 0;
+  for (const sinew::fx::Vec3& p : c.points) sum += muscle::primitive_sample(c.frame, p).value;
+  return sum;
+}
+int64_t push_all(const PrimitiveCase& c) {
+  int64_t sum = 0;
+  for (const sinew::fx::Vec3& p : c.points) sum += muscle::primitive_push_out(c.frame, p, {0, 0, 1 << 30}, 3).x;
+  return sum;
+}
+void run_primitive_sample(benchmark::State& state, PrimitiveCase& c) {
+  for (auto _ : state) benchmark::DoNotOptimize(sample_all(c));
+  state.counters["per_point"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(c.points.size()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+void run_primitive_push_out(benchmark::State& state, PrimitiveCase& c) {
+  for (auto _ : state) benchmark::DoNotOptimize(push_all(c));
+}
+BENCHMARK_CAPTURE(run_primitive_sample, exact_p2, exact_p2());
+BENCHMARK_CAPTURE(run_primitive_sample, general_p2, general_p2());
+BENCHMARK_CAPTURE(run_primitive_sample, general_pxy3_pz2_5, general_3_25());
+BENCHMARK_CAPTURE(run_primitive_push_out, exact_p2, exact_p2());
+BENCHMARK_CAPTURE(run_primitive_push_out, general_pxy3_pz2_5, general_3_25());
+
 // Mean seconds per call of f over at least `min_seconds` (and 3 calls).
 template <typename F>
 double mean_seconds(F&& f, double min_seconds) {
@@ -270,7 +349,55 @@ void report_relaxation(const std::string& name, double skin_seconds, double skin
   if (!sinew::bench::summary_row(row)) g_summary_failed = true;
 }
 
+// The general superquadric kernel against the exact one, per point (same run).
+void primitive_summary(double min_seconds) {
+  const auto per_point = [&](int64_t (*f)(const PrimitiveCase&), PrimitiveCase& c) {
+    int64_t sink = 0;
+    const double t = mean_seconds([&](uint64_t) { sink += f(c); }, min_seconds);
+    benchmark::DoNotOptimize(sink);
+    return t / static_cast<double>(c.points.size()) * 1e9;
+  };
+  const double exact = per_point(sample_all, exact_p2()), general2 = per_point(sample_all, general_p2()),
+               general = per_point(sample_all, general_3_25());
+  std::printf(
+      "primitive_sample per point: exact kernel p = 2 %.1f ns; general kernel p = 2 %.1f ns (%.1fx), p_xy 3 p_z 2.5 "
+      "%.1f ns (%.1fx)\n",
+      exact, general2, general2 / exact, general, general / exact);
+  const double push_exact = per_point(push_all, exact_p2()), push_general = per_point(push_all, general_3_25());
+  std::printf(
+      "primitive_push_out (3 Newton steps) per point: exact kernel p = 2 %.1f ns; general p_xy 3 p_z 2.5 %.1f ns "
+      "(%.1fx)\n",
+      push_exact, push_general, push_general / push_exact);
+  // The arm's dynamic skin at 1 kHz with its bellies exact (p 4 and 2) and
+  // general (3, 2.5), same poses: the reaction passes' share of the change.
+  Scene& exact_arm = arm_dynamic_at(1000);
+  Scene general_arm("arm, dynamic skin, general bellies", rigc::builtin_arm(rigc::SkinChoice::kLinear),
+                    arm_dynamic_superquadric, 1);
+  if (!exact_arm.ok || !general_arm.ok) return;
+  const auto skin_tick = [&](Scene& s, uint32_t* reactions) {
+    uint32_t count = 0;
+    const double t = mean_seconds(
+        [&](uint64_t i) {
+          s.step_engine(i);
+          s.step_muscles();
+          s.step_skin();
+          count += s.ss.stats.reactions;
+        },
+        min_seconds);
+    *reactions = count;
+    return t;
+  };
+  uint32_t exact_reactions = 0, general_reactions = 0;
+  const double exact_tick = skin_tick(exact_arm, &exact_reactions);
+  const double general_tick = skin_tick(general_arm, &general_reactions);
+  std::printf(
+      "arm, dynamic skin at 1 kHz, engine + muscles + skin: bellies p 4 and 2 (exact kernel) %.1f us, bellies p_xy 3 "
+      "p_z 2.5 (general kernel) %.1f us (%.2fx; %u and %u reactions over the runs)\n",
+      exact_tick * 1e6, general_tick * 1e6, general_tick / exact_tick, exact_reactions, general_reactions);
+}
+
 void summary(double min_seconds) {
+  primitive_summary(min_seconds);
   std::printf("\nper-layer step cost (mean over >= %.2f s each; ratio against LBS of the same rig, same run)\n",
               min_seconds);
   std::printf("%-24s %10s %10s %10s %12s %10s %14s\n", "rig", "vertices", "LBS us", "DQS us", "muscles us", "skin us",
