@@ -108,3 +108,42 @@ TEST(AnatomyDeterminism, ArmDynamicSkinMatchesGolden) {
   EXPECT_EQ(arm.skin().stats.inside_after, 0u);
   EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmDynamic) << "dynamic anatomy outputs changed";
 }
+
+// The arm with both bellies general superquadrics (p_xy 3, p_z 2.5: the
+// log-domain kernel, sim_core/fixed/log_exp): the exponents, the muscle
+// frames and the static skin hash to the committed value on every build.
+TEST(AnatomyDeterminism, ArmGeneralSuperquadricMatchesGolden) {
+  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+    for (auto& p : s.primitives) {
+      p.exponent = 3;
+      p.exponent_z = 2.5;
+    }
+  });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  det::OutputHash h;
+  hash_records(h, arm.model().primitives);
+  hash_records(h, arm.model().exponents);
+  uint32_t reactions = 0;
+  for (int s = 0; s < kSteps; ++s) {
+    for (uint32_t i = 0; i < arm.rig().input_count; ++i) arm.inputs()[i] = trajectory(i, static_cast<uint32_t>(s));
+    ASSERT_TRUE(arm.step().ok());
+    for (const sinew::muscle::PrimitiveFrame& f : arm.muscles().primitives) {
+      const sinew::muscle::SuperquadricTerms& t = f.superquadric;
+      h.add_i64(t.ratio);
+      h.add_i64(t.inverse_power_z);
+      for (int64_t l : t.log2_extent) h.add_i64(l);
+    }
+    const sinew::elastic_skin::SkinState& sk = arm.skin();
+    for (int c = 0; c < 3; ++c)
+      for (sinew::fx::Len v : sk.position[c]) h.add_i32(v);
+    h.add_u32(sk.stats.reactions);
+    h.add_u32(sk.stats.inside_after);
+    reactions += sk.stats.reactions;
+  }
+  const uint64_t digest = h.digest();
+  det::print_determinism_line("anatomy-arm-superquadric", digest);
+  std::printf("anatomy-arm-superquadric: %d steps, %u reactions\n", kSteps, reactions);
+  EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
+  EXPECT_EQ(arm.skin().stats.inside_after, 0u);
+  EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmSuperquadric) << "general superquadric outputs changed";
+}
