@@ -262,3 +262,59 @@ TEST(Superquadric, PushOutLandsOnTheSurfaceAndNeverLeavesAPointInside) {
     EXPECT_GT(shallow, 20);
   }
 }
+
+// The general kernel at the limits the runtime can produce (as
+// PrimitiveExtremes for the exact one): a muscle-attached primitive's
+// extents follow the muscle, so aspect ratios reach far beyond the
+// validator's 64 and extents the whole Len range. Sampling and pushing out
+// stay defined (the sanitizer builds abort on signed overflow), keep a unit
+// normal, and a point pushed out is no longer inside.
+TEST(Superquadric, GeneralKernelStaysDefinedAtTheLimits) {
+  const double powers[][2] = {{1, 16}, {16, 1}, {3, 2.5}, {1, 1}, {16, 16}};
+  const fx::Len extents[][3] = {{1, 1, INT32_MAX},
+                                {INT32_MAX, 1, 1},
+                                {1, INT32_MAX, INT32_MAX},
+                                {INT32_MAX, INT32_MAX, INT32_MAX},
+                                {1 << 10, 1 << 10, INT32_MAX},
+                                {1 << 10, INT32_MAX, 64}};
+  const fx::Vec3 points[] = {{0, 0, 0},
+                             {0, 0, 1 << 30},
+                             {0, 0, -(1 << 30)},
+                             {0, 0, INT32_MAX - 1},
+                             {1 << 9, 1 << 9, 0},
+                             {-(1 << 9), 20, -(1 << 29)},
+                             {31, -31, 1 << 20},
+                             {INT32_MIN, INT32_MAX, 0},
+                             {1, 0, 0}};
+  int pushed = 0;
+  for (const auto& pw : powers)
+    for (const auto& e : extents) {
+      muscle::PrimitiveFrame f;
+      f.kind = static_cast<uint8_t>(muscle::PrimitiveKind::kSuperellipsoid);
+      f.exponent = 0;
+      f.active = 1;
+      f.axis[0] = {fx::kUnitOne, 0, 0};
+      f.axis[1] = {0, fx::kUnitOne, 0};
+      f.axis[2] = {0, 0, fx::kUnitOne};
+      for (int c = 0; c < 3; ++c) f.extent[c] = e[c];
+      f.superquadric.power_xy = static_cast<int32_t>(pw[0] * 65536);
+      f.superquadric.power_z = static_cast<int32_t>(pw[1] * 65536);
+      muscle::superquadric_prepare(&f);
+      for (const fx::Vec3& p : points) {
+        const muscle::PrimitiveSample s = muscle::primitive_sample(f, p);
+        if (s.inside && !(s.normal == fx::Vec3{0, 0, 0})) {
+          const double n2 = static_cast<double>(fx::dot_wide(s.normal, s.normal)) * kU * kU;
+          EXPECT_NEAR(n2, 1.0, 1e-6);
+        }
+        const fx::Vec3 out = muscle::primitive_push_out(f, p, {0, 0, fx::kUnitOne}, 8);
+        if (s.inside && !(out == p)) {
+          ++pushed;
+          // Saturated coordinates can pin a point at the Len range's edge.
+          const bool pinned = out.x == INT32_MAX || out.x == INT32_MIN || out.y == INT32_MAX || out.y == INT32_MIN ||
+                              out.z == INT32_MAX || out.z == INT32_MIN;
+          if (!pinned) EXPECT_FALSE(muscle::primitive_sample(f, out).inside) << pw[0] << "/" << pw[1];
+        }
+      }
+    }
+  EXPECT_GT(pushed, 20);
+}
