@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0xd568cad81189c4a7u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0xc1e25ea39ea3a1cfu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x8418ef96f17cab13u;
 }  // namespace sinew::test::golden
