@@ -207,6 +207,8 @@ PipelineStatus run_anatomy(Pipeline* p, std::span<const int32_t> inputs) {
     if (k != kNoExternalInput) base[c] = rig_acceleration(inputs[p->rig->input_count + k], p->rig->length_exponent);
   }
   tick.base_acceleration = {base[0], base[1], base[2]};
+  const uint32_t cap = std::min<uint32_t>(p->options.skin_max_anchor_acceleration, 32767);
+  tick.max_anchor_acceleration = rig_acceleration(static_cast<int32_t>(cap << 16), p->rig->length_exponent);
   const muscle::LayerStatus ss =
       elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, tick, &p->skin);
   if (!ss.ok()) return fail(PipelineError::kLayer, "elastic skin", ss.message);
