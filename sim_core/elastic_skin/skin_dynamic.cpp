@@ -29,6 +29,7 @@ constexpr int kSpringFracBits = 46;                       // h^2 * stiffness_sca
 constexpr int64_t kFineMax = int64_t{INT32_MAX} << kFineExtraBits;
 constexpr int64_t kFineMin = int64_t{INT32_MIN} << kFineExtraBits;
 constexpr int64_t kSaturated = int64_t{1} << 62;
+constexpr uint32_t kStartRelaxations = 30;  // the first step's settling (§5.2: "about 30")
 
 int64_t clamp_motion(int64_t v) { return fx::clamp_i64(v, -kMotionLimit, kMotionLimit); }
 int64_t clamp_displacement(int64_t d) { return fx::clamp_i64(d, -kDisplacementLimit, kDisplacementLimit); }
@@ -331,11 +332,23 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
       for (uint32_t v = 0; v < model.vertex_count; ++v) {
         s.anchor_start[c][v] = s.anchor[c][v];
         s.position[c][v] = s.anchor[c][v];
-        s.fine[c][v] = int64_t{s.anchor[c][v]} << kFineExtraBits;
         s.velocity[c][v] = 0;
       }
       for (size_t i = 0; i < model.bands.size(); ++i) s.band_start[c][i] = s.band_end[c][i];
     }
+    // At rest means at the springs' equilibrium over the muscles, not on the
+    // bare anchors (the skin would spring from them into its place): the
+    // static relaxation of §5.2 for kStartRelaxations rounds, where the
+    // paper finds the skin close to equilibrium.
+    for (uint32_t i = 0; i < kStartRelaxations; ++i) {
+      relax_once(model, mstate, &s);
+      estimate_surface_normals(model, &s);
+      apply_reaction_constraints(model, mstate, i + 1 == kStartRelaxations ? fx::kUnitOne : model.params.reaction_gain,
+                                 &s);
+    }
+    for (int c = 0; c < 3; ++c)
+      for (uint32_t v = 0; v < model.vertex_count; ++v)
+        s.fine[c][v] = int64_t{s.position[c][v]} << kFineExtraBits;
   }
   // Velocities to displacements per substep for the tick (d = v / H:
   // |v| <= 2^46, so v << 16 fits).

@@ -25,7 +25,9 @@
 //      or with fat_normal = kSurface along the skin mesh's normal estimated
 //      once per substep after step 3, surface_normals.hpp)
 // Worst-case work per tick: n * (edges + bands + vertices * (1 +
-// constraint_passes * primitives * newton_steps)); no allocation.
+// constraint_passes * primitives * newton_steps)); the first step adds 30
+// rounds of the static relaxation, which start the skin at its equilibrium
+// over the muscles rather than on its bare anchors; no allocation.
 #pragma once
 
 #include <span>
