@@ -312,6 +312,11 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
                         std::to_string(model.report.bone_anchors) + " bone anchors, " +
                         std::to_string(model.report.edges) + " springs, " + std::to_string(model.report.bands) +
                         " rubber bands, " + std::to_string(layers.skin.iterations) + " relaxations per tick");
+      if (layers.skin.solver.dynamic)
+        report->push_back("elastic skin, dynamic: " + fmt(model.report.vertex_mass * 1e3) + " g a vertex, " +
+                          fmt(model.report.stiffness_scale) + " N/m and " + fmt(model.report.anchor_damping) +
+                          " N s/m per unit stiffness, stiffest mode " + fmt(model.report.omega_max) + " rad/s, " +
+                          std::to_string(model.report.substep_hz) + " Hz substeps");
     }
   }
 
