@@ -1,23 +1,27 @@
 // AVX2 kernel of the normal-ball deformation, eq. (4) of
-// metaballs-pbd-skinning: the same output words as the scalar specification
-// (deform_normal_ball_vertex in deform.cpp) for every input. Built with -mavx2
-// for this file only, on x86-64 only; called only when the CPU reports AVX2.
+// metaballs-pbd-skinning with the balls' rotations blended before they act
+// (deform.cpp): the same output words as the scalar specification
+// (deform_normal_ball_vertex) for every input. Built with -mavx2 for this
+// file only, on x86-64 only; called only when the CPU reports AVX2.
 //
 // One vertex per step, one 64-bit lane per coordinate (lane 3 unused):
 //   - per step, each ball's rotation columns, centre and bulge scale are
 //     widened once into sign-extended 64-bit lanes on the stack (192 bytes a
 //     ball, up to kMaxWideBalls = 256: 48 KiB; more balls decline to the
 //     scalar loop);
-//   - R d is three vpmuldq products summed in 64-bit lanes: exactly the
+//   - a vertex whose weighted balls do not all share one rotation (a blended
+//     rotation: a quaternion sum and a normalisation) is left to the
+//     specification; the others use the shared ball's widened rotation;
+//   - sum w c and sum w (s d) are sums of exact vpmuldq products in 64-bit
+//     lanes: exactly the scalar int64 sums, so s d must fit int32: it does for
+//     every validated model (|d| <= 2^30, s < 2), and a vertex where it would
+//     not is redone by the specification;
+//   - R D is three vpmuldq products summed in 64-bit lanes: exactly the
 //     scalar int64 sums of rotate_q50;
 //   - round half up is (x + 2^(s-1)) >> s with the arithmetic shift built
 //     from a logical one on x + 2^63 (AVX2 has no 64-bit arithmetic shift):
 //     exact for every int64;
-//   - w (c + d) is summed as w c + w d, both exact 32x32->64 products, so the
-//     displacement d must fit int32: it does for every validated model
-//     (|R d| <= |d| < 2^31), and a vertex where it would not is redone by the
-//     specification;
-//   - the result is saturated to int32 as sat_i32 does.
+//   - saturation to int32 is sat_i32's.
 #include <immintrin.h>
 
 #include <cstring>
@@ -68,32 +72,47 @@ inline __m256i saturate_i32_lanes(__m256i x) {
   return _mm256_blendv_epi8(x, lo, _mm256_cmpgt_epi64(lo, x));
 }
 
-// Eq. (4) at vertex v; false (nothing written) when a displacement leaves
-// the int32 range, for the caller to run the specification.
-inline bool deform_vertex(const MetaballModel& m, const WideBall* balls, uint32_t v, const skin::SkinnedVertices& out) {
-  __m256i acc = _mm256_setzero_si256();
+// The vertex at v when its weighted balls share one rotation; false (nothing
+// written) otherwise, or when a scaled displacement leaves the int32 range,
+// for the caller to run the specification.
+inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, uint32_t v,
+                          const skin::SkinnedVertices& out) {
+  const size_t base = size_t{v} * kVertexBalls;
+  uint16_t shared = kNoBall;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    const size_t i = size_t{v} * kVertexBalls + k;
-    const int32_t w = m.vertex_weight[i];
+    if (m.vertex_weight[base + k] == 0) continue;
+    const uint16_t b = m.vertex_ball[base + k];
+    if (shared == kNoBall) shared = b;
+    if (!(s.ball_quat[b] == s.ball_quat[shared])) return false;
+  }
+  if (shared == kNoBall) return false;
+  __m256i centre = _mm256_setzero_si256(), disp = _mm256_setzero_si256();
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    const int32_t w = m.vertex_weight[base + k];
     if (w == 0) continue;
-    const WideBall& b = balls[m.vertex_ball[i]];
-    const fx::Vec3 d = m.vertex_disp[i];
-    __m256i rd = _mm256_mul_epi32(b.col[0], _mm256_set1_epi32(d.x));
-    rd = _mm256_add_epi64(rd, _mm256_mul_epi32(b.col[1], _mm256_set1_epi32(d.y)));
-    rd = _mm256_add_epi64(rd, _mm256_mul_epi32(b.col[2], _mm256_set1_epi32(d.z)));
-    __m256i disp = round_shift_lanes<fx::kUnitFracBits>(rd);  // Len
-    if (!lanes_fit_i32(disp)) return false;
+    const WideBall& b = balls[m.vertex_ball[base + k]];
+    const fx::Vec3 d0 = m.vertex_disp[base + k];
+    __m256i d = _mm256_setr_epi64x(d0.x, d0.y, d0.z, 0);
     if (b.scaled) {
-      disp = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(disp, b.scale));
-      if (!lanes_fit_i32(disp)) return false;
+      d = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(d, b.scale));
+      if (!lanes_fit_i32(d)) return false;
     }
     const __m256i wv = _mm256_set1_epi32(w);
-    acc = _mm256_add_epi64(acc, _mm256_add_epi64(_mm256_mul_epi32(b.center, wv), _mm256_mul_epi32(disp, wv)));
+    centre = _mm256_add_epi64(centre, _mm256_mul_epi32(b.center, wv));
+    disp = _mm256_add_epi64(disp, _mm256_mul_epi32(d, wv));
   }
-  int64_t r[4];
-  const __m256i p = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(acc));
-  std::memcpy(r, &p, sizeof(r));
-  for (int a = 0; a < 3; ++a) out.position[a][v] = static_cast<int32_t>(r[a]);
+  int64_t dl[4];
+  const __m256i dr = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(disp));
+  std::memcpy(dl, &dr, sizeof(dl));
+  const WideBall& r = balls[shared];
+  __m256i rd = _mm256_mul_epi32(r.col[0], _mm256_set1_epi32(static_cast<int32_t>(dl[0])));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(r.col[1], _mm256_set1_epi32(static_cast<int32_t>(dl[1]))));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(r.col[2], _mm256_set1_epi32(static_cast<int32_t>(dl[2]))));
+  const __m256i p = saturate_i32_lanes(
+      _mm256_add_epi64(round_shift_lanes<fx::kUnitFracBits>(centre), round_shift_lanes<fx::kUnitFracBits>(rd)));
+  int64_t o[4];
+  std::memcpy(o, &p, sizeof(o));
+  for (int a = 0; a < 3; ++a) out.position[a][v] = static_cast<int32_t>(o[a]);
   return true;
 }
 
@@ -105,7 +124,7 @@ bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, co
   WideBall balls[kMaxWideBalls];
   for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
   for (uint32_t v = 0; v < m.vertex_count; ++v)
-    if (!deform_vertex(m, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
+    if (!deform_vertex(m, s, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
   return true;
 }
 

@@ -25,6 +25,19 @@ DeformKernel deform_kernel_default();
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
                      const skin::SkinnedVertices& out, DeformKernel kernel = deform_kernel_default());
 
+// A vertex's frame from its normal balls (deform.cpp): the blended centre
+// sum_j w_j c_j (Len, rounded), the blended rest displacement
+// sum_j w_j s_j d_ij (Len, saturated) and the balls' rotations blended by
+// the same weights (the shared ball's own rotation when every weighted ball
+// has the same one).
+struct NormalBallFrame {
+  int64_t centre[3];  // |.| < 2^31
+  fx::Vec3 disp;
+  fx::Quat quat;
+  fx::Rot3 rotation;
+};
+NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
+
 // Eq. (4) alone: the scalar specification, and the AVX2 kernel
 // (deform_avx2.cpp), which declines (returns false, writes nothing) when the
 // model has more balls than it widens on its stack.

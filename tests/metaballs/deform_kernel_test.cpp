@@ -1,9 +1,10 @@
 // The vector kernel of eq. (4) (normal-ball deformation) against the scalar
 // specification, word for word: on the built-in arm's real states, and on
 // adversarial balls and vertices (weights at 2^30 on one ball or split with
-// zeros, displacements at their limits, rotation "matrices" with every entry
-// at +-1 so R d leaves the int32 range, bulge scales at 1 and near 2, centres
-// at the Len limits so the result saturates).
+// zeros, displacements at their limits, balls that all share one rotation
+// or each their own, rotation "matrices" with every entry at +-1 so R d
+// leaves the int32 range, bulge scales at 1 and near 2, centres at the Len
+// limits so the result saturates).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -97,21 +98,25 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
       }
     }
     std::vector<fx::Rot3> rotation(balls);
+    std::vector<fx::Quat> quat(balls);
     std::vector<fx::Unit> scale(balls);
     std::vector<fx::Vec3> center(balls);
     for (uint32_t b = 0; b < balls; ++b) {
+      const fx::Quat q{
+          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
+          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
+      const int32_t c[4] = {q.w, q.x, q.y, q.z};
+      const fx::NormDivisor nd = fx::norm_divisor(c, 4);
+      const fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
+                          fx::divide_by_norm(q.z, nd)};
+      // Every third round all balls share one rotation, so every vertex takes
+      // the vector path with all its balls weighted.
+      quat[b] = round % 3 == 2 && b > 0 ? quat[0] : unit;
       if (round % 5 == 1) {  // every entry at +-1: |R d| up to 3 * 2^30, beyond int32
         for (auto& row : rotation[b].m)
           for (auto& e : row) e = next_random(&rng) % 2 ? fx::kUnitOne : -fx::kUnitOne;
       } else {
-        const fx::Quat q{
-            random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
-            random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
-        const int32_t c[4] = {q.w, q.x, q.y, q.z};
-        const fx::NormDivisor nd = fx::norm_divisor(c, 4);
-        const fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
-                            fx::divide_by_norm(q.z, nd)};
-        rotation[b] = fx::rot3_of_unit(unit);
+        rotation[b] = round % 3 == 2 && b > 0 ? rotation[0] : fx::rot3_of_unit(unit);
       }
       const uint32_t pick = static_cast<uint32_t>(next_random(&rng) % 3);
       scale[b] = pick == 0 ? fx::kUnitOne : pick == 1 ? INT32_MAX : random_between(&rng, fx::kUnitOne, INT32_MAX);
@@ -125,6 +130,7 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
     m.vertex_disp = disp;
     metaballs::MetaballState s = scene.state();
     s.ball_rotation = rotation;
+    s.ball_quat = quat;
     s.ball_scale = scale;
     s.ball_center = center;
     EXPECT_EQ(deform_kernels_differ(m, s), 0u) << "round " << round;

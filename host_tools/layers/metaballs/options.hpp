@@ -79,7 +79,7 @@ struct Options {
   std::vector<std::string> joint_balls;
   double joint_inner = 1.0;
   double joint_outer = 1.6;
-  int smoothing_passes = 2;
+  int smoothing_passes = 0;
   double smoothing_rate = 0.5;
   // Overlap candidates: 0 (the default) derives them from the joint's DOF
   // range, complete over it (docs/metaballs.md, "Why the offline candidate
