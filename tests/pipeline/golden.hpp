@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xd568cad81189c4a7u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x8a2e2b8f1c9120b4u;
+inline constexpr uint64_t kArmLayersBlob = 0x1b075136204f5111u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x726d81e2cf40c474u;
 }  // namespace sinew::test::golden
