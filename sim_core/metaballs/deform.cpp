@@ -6,25 +6,50 @@
 
 namespace sinew::metaballs::detail {
 
+uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, BlendCache* cache) {
+  const size_t base = size_t{v} * kVertexBalls;
+  uint16_t shared = kNoBall;
+  bool alike = true, cached = cache->valid;
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    const fx::Unit w = m.vertex_weight[base + k];
+    const uint16_t b = m.vertex_ball[base + k];
+    cached = cached && cache->ball[k] == b && cache->weight[k] == w;
+    if (w == 0) continue;
+    if (shared == kNoBall) shared = b;
+    alike = alike && s.ball_quat[b] == s.ball_quat[shared];
+  }
+  if (alike) return shared;
+  if (!cached) {
+    QuatBlend blend;
+    for (uint32_t k = 0; k < kVertexBalls; ++k) {
+      const fx::Unit w = m.vertex_weight[base + k];
+      cache->ball[k] = m.vertex_ball[base + k];
+      cache->weight[k] = w;
+      if (w != 0) blend.add(s.ball_quat[m.vertex_ball[base + k]], w);
+    }
+    cache->quat = blend.unit();
+    cache->rotation = fx::rot3_of_unit(cache->quat);
+    cache->valid = true;
+    ++cache->generation;
+  }
+  return kNoBall;
+}
+
 // Eq. (4) with the balls' rotations blended before they act:
 //   v = sum_j w_j c_j + R (sum_j w_j s_j d_ij),  R = nlerp_j(w_j, R_j),
 // equal to eq. (4) wherever the vertex's balls turn alike, and a rigid
 // motion of the vertex's ring where they do not (eq. 4 as written blends
 // differently rotated displacements linearly, which shrinks the section like
 // LBS where the balls' rotations change fast along a bone, e.g. a twist).
-NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
-  int64_t centre[3] = {0, 0, 0}, disp[3] = {0, 0, 0};  // Q30 x Len: |sum| < 2^30 * 2^31
-  QuatBlend blend;
-  uint16_t shared = kNoBall;
-  bool alike = true;
+NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v, BlendCache* cache) {
+  int64_t centre[3] = {0, 0, 0}, disp[3] = {0, 0, 0};  // Q30 x Len: |sum| < 2^30 * 2^32
+  bool any = false;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
     const size_t i = size_t{v} * kVertexBalls + k;
     const int64_t w = m.vertex_weight[i];
     if (w == 0) continue;
+    any = true;
     const uint16_t b = m.vertex_ball[i];
-    if (shared == kNoBall) shared = b;
-    alike = alike && s.ball_quat[b] == s.ball_quat[shared];
-    blend.add(s.ball_quat[b], m.vertex_weight[i]);
     const fx::Vec3 c = s.ball_center[b], d0 = m.vertex_disp[i];
     const int64_t cc[3] = {c.x, c.y, c.z};
     int64_t d[3] = {d0.x, d0.y, d0.z};
@@ -36,33 +61,38 @@ NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s
     }
   }
   NormalBallFrame f{};
-  if (shared == kNoBall) return f;  // no weight (not a validated model): the origin
+  if (!any) return f;  // no weight (not a validated model): the origin
   for (int a = 0; a < 3; ++a) f.centre[a] = fx::round_shift(centre[a], fx::kUnitFracBits);
   f.disp = {fx::sat_i32(fx::round_shift(disp[0], fx::kUnitFracBits)),
             fx::sat_i32(fx::round_shift(disp[1], fx::kUnitFracBits)),
             fx::sat_i32(fx::round_shift(disp[2], fx::kUnitFracBits))};
-  if (alike) {
-    f.quat = s.ball_quat[shared];
-    f.rotation = s.ball_rotation[shared];
-  } else {
-    f.quat = blend.unit();
-    f.rotation = fx::rot3_of_unit(f.quat);
-  }
+  const uint16_t shared = vertex_rotation(m, s, v, cache);
+  f.quat = shared != kNoBall ? s.ball_quat[shared] : cache->quat;
+  f.rotation = shared != kNoBall ? s.ball_rotation[shared] : cache->rotation;
   return f;
 }
 
 // The specification the vector kernels are tested against word for word:
 // v = c + round(R D) from the frame above, saturated.
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
-                               const skin::SkinnedVertices& out) {
-  const NormalBallFrame f = normal_ball_frame(m, s, v);
+                               const skin::SkinnedVertices& out, BlendCache* cache) {
+  const NormalBallFrame f = normal_ball_frame(m, s, v, cache);
   int64_t rd[3];
   rotate_q50(f.rotation, f.disp, rd);
   for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
 }
 
-void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out) {
-  for (uint32_t v = 0; v < m.vertex_count; ++v) deform_normal_ball_vertex(m, s, v, out);
+void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
+                                std::span<const uint32_t> skip) {
+  BlendCache cache;
+  size_t next = 0;
+  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+    if (next < skip.size() && skip[next] == v) {
+      ++next;
+      continue;
+    }
+    deform_normal_ball_vertex(m, s, v, out, &cache);
+  }
 }
 
 bool deform_kernel_supported(DeformKernel kernel) {
@@ -85,18 +115,29 @@ DeformKernel deform_kernel_default() {
 
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
                      const skin::SkinnedVertices& out, DeformKernel kernel) {
+  // Eq. (1) below computes the joint-region vertices from their own frames.
+  const std::span<const uint32_t> skip = s->features.joint_balls ? m.jv_vertex : std::span<const uint32_t>{};
   bool done = false;
 #if defined(__x86_64__)
   if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
-    done = deform_normal_balls_avx2(m, *s, out);
+    done = deform_normal_balls_avx2(m, *s, out, skip);
 #else
   (void)kernel;
 #endif
-  if (!done) deform_normal_balls_scalar(m, *s, out);
+  if (!done) deform_normal_balls_scalar(m, *s, out, skip);
   if (!s->features.joint_balls) {
     for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
     return;
   }
+  // The vertices of one ring share their joint ball, blend and w^alpha, so
+  // each rotation below is made once per ring (kept with what it was made
+  // from; the outputs do not depend on it).
+  BlendCache cache;
+  uint16_t eta_ball = kNoBall;
+  fx::Unit eta_blend = 0, rot_alpha = 0;
+  fx::Quat eta{}, rot_from{}, rot_eta{};
+  fx::Rot3 r{};
+  bool rot_valid = false;
   for (uint32_t i = 0; i < m.jv_count(); ++i) {
     const JointBall& jb = m.joint_balls[m.jv_ball[i]];
     const uint32_t v = m.jv_vertex[i];
@@ -105,16 +146,25 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
     // the bones' rotations blended by its own weight of the child bone, so
     // vertices attached to different bones get different transformations.
     const fx::Mat34& joint = joint_model[jb.joint];
-    const fx::Quat eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], m.jv_blend[i]);
+    if (m.jv_ball[i] != eta_ball || m.jv_blend[i] != eta_blend) {
+      eta_ball = m.jv_ball[i];
+      eta_blend = m.jv_blend[i];
+      eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], eta_blend);
+    }
     // Eq. (1), v = (1 - w_alpha) v_lambda + w_alpha v_eta, as one rigid
     // motion: centre and rest displacement blended linearly, the two
     // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
     // keeps the ring's section where they differ (a linear blend of two
     // rotations by an angle apart shrinks it by cos(angle / 2)).
-    const NormalBallFrame f = normal_ball_frame(m, *s, v);
+    const NormalBallFrame f = normal_ball_frame(m, *s, v, &cache);
     const int64_t alpha = m.jv_alpha[i];
-    const fx::Quat q = nlerp_fast(f.quat, eta, m.jv_alpha[i]);
-    const fx::Rot3 r = fx::rot3_of_unit(q);
+    if (!rot_valid || !(f.quat == rot_from) || !(eta == rot_eta) || m.jv_alpha[i] != rot_alpha) {
+      rot_from = f.quat;
+      rot_eta = eta;
+      rot_alpha = m.jv_alpha[i];
+      r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, rot_alpha));
+      rot_valid = true;
+    }
     const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
     const fx::Vec3 de = m.jv_disp[i];
     const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};

@@ -9,9 +9,9 @@
 //     widened once into sign-extended 64-bit lanes on the stack (192 bytes a
 //     ball, up to kMaxWideBalls = 256: 48 KiB; more balls decline to the
 //     scalar loop);
-//   - a vertex whose weighted balls do not all share one rotation (a blended
-//     rotation: a quaternion sum and a normalisation) is left to the
-//     specification; the others use the shared ball's widened rotation;
+//   - the vertex's rotation is the specification's (vertex_rotation): the
+//     shared ball's widened rotation, or the blend of the ring's balls,
+//     made and widened once for the vertices that share balls and weights;
 //   - sum w c and sum w (s d) are sums of exact vpmuldq products in 64-bit
 //     lanes: exactly the scalar int64 sums, so s d must fit int32: it does for
 //     every validated model (|d| <= 2^30, s < 2), and a vertex where it would
@@ -72,24 +72,36 @@ inline __m256i saturate_i32_lanes(__m256i x) {
   return _mm256_blendv_epi8(x, lo, _mm256_cmpgt_epi64(lo, x));
 }
 
-// The vertex at v when its weighted balls share one rotation; false (nothing
-// written) otherwise, or when a scaled displacement leaves the int32 range,
-// for the caller to run the specification.
-inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, uint32_t v,
-                          const skin::SkinnedVertices& out) {
+// A rotation's columns in 64-bit lanes.
+struct WideRotation {
+  __m256i col[3];
+};
+
+inline WideRotation widen_rotation(const fx::Rot3& r) {
+  WideRotation w;
+  for (int j = 0; j < 3; ++j) w.col[j] = _mm256_setr_epi64x(r.m[0][j], r.m[1][j], r.m[2][j], 0);
+  return w;
+}
+
+// The vertex at v; false (nothing written) when it has no weight or a scaled
+// displacement leaves the int32 range, for the caller to run the
+// specification. The rotation is the shared ball's (widened once a step) or
+// the cached blend's (widened once per blend).
+struct Blend {
+  BlendCache cache;
+  WideRotation wide{};
+  uint32_t widened = 0;  // the cache generation `wide` holds
+};
+
+inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, Blend* blend,
+                          uint32_t v, const skin::SkinnedVertices& out) {
   const size_t base = size_t{v} * kVertexBalls;
-  uint16_t shared = kNoBall;
-  for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    if (m.vertex_weight[base + k] == 0) continue;
-    const uint16_t b = m.vertex_ball[base + k];
-    if (shared == kNoBall) shared = b;
-    if (!(s.ball_quat[b] == s.ball_quat[shared])) return false;
-  }
-  if (shared == kNoBall) return false;
   __m256i centre = _mm256_setzero_si256(), disp = _mm256_setzero_si256();
+  bool any = false;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
     const int32_t w = m.vertex_weight[base + k];
     if (w == 0) continue;
+    any = true;
     const WideBall& b = balls[m.vertex_ball[base + k]];
     const fx::Vec3 d0 = m.vertex_disp[base + k];
     __m256i d = _mm256_setr_epi64x(d0.x, d0.y, d0.z, 0);
@@ -101,13 +113,24 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
     centre = _mm256_add_epi64(centre, _mm256_mul_epi32(b.center, wv));
     disp = _mm256_add_epi64(disp, _mm256_mul_epi32(d, wv));
   }
+  if (!any) return false;
+  const uint16_t shared = vertex_rotation(m, s, v, &blend->cache);
+  const __m256i* col = nullptr;
+  if (shared != kNoBall) {
+    col = balls[shared].col;
+  } else {
+    if (blend->widened != blend->cache.generation) {
+      blend->wide = widen_rotation(blend->cache.rotation);
+      blend->widened = blend->cache.generation;
+    }
+    col = blend->wide.col;
+  }
   int64_t dl[4];
   const __m256i dr = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(disp));
   std::memcpy(dl, &dr, sizeof(dl));
-  const WideBall& r = balls[shared];
-  __m256i rd = _mm256_mul_epi32(r.col[0], _mm256_set1_epi32(static_cast<int32_t>(dl[0])));
-  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(r.col[1], _mm256_set1_epi32(static_cast<int32_t>(dl[1]))));
-  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(r.col[2], _mm256_set1_epi32(static_cast<int32_t>(dl[2]))));
+  __m256i rd = _mm256_mul_epi32(col[0], _mm256_set1_epi32(static_cast<int32_t>(dl[0])));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[1], _mm256_set1_epi32(static_cast<int32_t>(dl[1]))));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[2], _mm256_set1_epi32(static_cast<int32_t>(dl[2]))));
   const __m256i p = saturate_i32_lanes(
       _mm256_add_epi64(round_shift_lanes<fx::kUnitFracBits>(centre), round_shift_lanes<fx::kUnitFracBits>(rd)));
   int64_t o[4];
@@ -118,13 +141,22 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
 
 }  // namespace
 
-bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out) {
+bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
+                              std::span<const uint32_t> skip) {
   const uint32_t count = m.ball_count();
   if (count > kMaxWideBalls) return false;
   WideBall balls[kMaxWideBalls];
   for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
-  for (uint32_t v = 0; v < m.vertex_count; ++v)
-    if (!deform_vertex(m, s, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
+  Blend blend;
+  BlendCache fallback;
+  size_t next = 0;
+  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+    if (next < skip.size() && skip[next] == v) {
+      ++next;
+      continue;
+    }
+    if (!deform_vertex(m, s, balls, &blend, v, out)) deform_normal_ball_vertex(m, s, v, out, &fallback);
+  }
   return true;
 }
 

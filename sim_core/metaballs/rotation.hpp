@@ -14,6 +14,18 @@
 
 namespace sinew::metaballs::detail {
 
+// Whether the exact dot product of a and b is negative (the hemisphere test;
+// fx::dot_wide's sign, without its call and saturation): each product split
+// into a quarter (floor) and its remainder, so no sum overflows.
+inline bool dot_negative(const fx::Quat& a, const fx::Quat& b) {
+  const int64_t p[4] = {int64_t{a.w} * b.w, int64_t{a.x} * b.x, int64_t{a.y} * b.y, int64_t{a.z} * b.z};
+  int64_t quarters = 0, remainders = 0;  // dot = 4 quarters + remainders, remainders in [0, 12]
+  for (const int64_t x : p) quarters += x >> 2, remainders += x & 3;
+  if (quarters >= 0) return false;
+  if (quarters < -3) return true;
+  return 4 * quarters + remainders < 0;
+}
+
 // A weighted sum of unit quaternions, each taken on the first's hemisphere,
 // renormalised with rsqrt_fast: nlerp of two or more rotations. Weights are
 // Q2.30 and sum to at most 2^30, so every Q60 component stays within 2^60.
@@ -24,7 +36,7 @@ struct QuatBlend {
 
   void add(const fx::Quat& q, fx::Unit w) {
     if (!any) first = q, any = true;
-    const int64_t u = fx::dot_wide(first, q) < 0 ? -int64_t{w} : int64_t{w};
+    const int64_t u = dot_negative(first, q) ? -int64_t{w} : int64_t{w};
     c[0] += u * q.w, c[1] += u * q.x, c[2] += u * q.y, c[3] += u * q.z;
   }
 
