@@ -6,32 +6,23 @@
 
 namespace sinew::metaballs::detail {
 
-uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, BlendCache* cache) {
+uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, fx::Quat* quat,
+                         fx::Rot3* rotation) {
   const size_t base = size_t{v} * kVertexBalls;
   uint16_t shared = kNoBall;
-  bool alike = true, cached = cache->valid;
+  bool alike = true;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    const fx::Unit w = m.vertex_weight[base + k];
+    if (m.vertex_weight[base + k] == 0) continue;
     const uint16_t b = m.vertex_ball[base + k];
-    cached = cached && cache->ball[k] == b && cache->weight[k] == w;
-    if (w == 0) continue;
     if (shared == kNoBall) shared = b;
     alike = alike && s.ball_quat[b] == s.ball_quat[shared];
   }
   if (alike) return shared;
-  if (!cached) {
-    QuatBlend blend;
-    for (uint32_t k = 0; k < kVertexBalls; ++k) {
-      const fx::Unit w = m.vertex_weight[base + k];
-      cache->ball[k] = m.vertex_ball[base + k];
-      cache->weight[k] = w;
-      if (w != 0) blend.add(s.ball_quat[m.vertex_ball[base + k]], w);
-    }
-    cache->quat = blend.unit();
-    cache->rotation = fx::rot3_of_unit(cache->quat);
-    cache->valid = true;
-    ++cache->generation;
-  }
+  QuatBlend blend;
+  for (uint32_t k = 0; k < kVertexBalls; ++k)
+    if (m.vertex_weight[base + k] != 0) blend.add(s.ball_quat[m.vertex_ball[base + k]], m.vertex_weight[base + k]);
+  *quat = blend.unit();
+  *rotation = fx::rot3_of_unit(*quat);
   return kNoBall;
 }
 
@@ -41,7 +32,7 @@ uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_
 // motion of the vertex's ring where they do not (eq. 4 as written blends
 // differently rotated displacements linearly, which shrinks the section like
 // LBS where the balls' rotations change fast along a bone, e.g. a twist).
-NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v, BlendCache* cache) {
+NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
   int64_t centre[3] = {0, 0, 0}, disp[3] = {0, 0, 0};  // Q30 x Len: |sum| < 2^30 * 2^32
   bool any = false;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
@@ -66,17 +57,19 @@ NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s
   f.disp = {fx::sat_i32(fx::round_shift(disp[0], fx::kUnitFracBits)),
             fx::sat_i32(fx::round_shift(disp[1], fx::kUnitFracBits)),
             fx::sat_i32(fx::round_shift(disp[2], fx::kUnitFracBits))};
-  const uint16_t shared = vertex_rotation(m, s, v, cache);
-  f.quat = shared != kNoBall ? s.ball_quat[shared] : cache->quat;
-  f.rotation = shared != kNoBall ? s.ball_rotation[shared] : cache->rotation;
+  const uint16_t shared = vertex_rotation(m, s, v, &f.quat, &f.rotation);
+  if (shared != kNoBall) {
+    f.quat = s.ball_quat[shared];
+    f.rotation = s.ball_rotation[shared];
+  }
   return f;
 }
 
 // The specification the vector kernels are tested against word for word:
 // v = c + round(R D) from the frame above, saturated.
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
-                               const skin::SkinnedVertices& out, BlendCache* cache) {
-  const NormalBallFrame f = normal_ball_frame(m, s, v, cache);
+                               const skin::SkinnedVertices& out) {
+  const NormalBallFrame f = normal_ball_frame(m, s, v);
   int64_t rd[3];
   rotate_q50(f.rotation, f.disp, rd);
   for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
@@ -84,14 +77,13 @@ void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, u
 
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
                                 std::span<const uint32_t> skip) {
-  BlendCache cache;
   size_t next = 0;
   for (uint32_t v = 0; v < m.vertex_count; ++v) {
     if (next < skip.size() && skip[next] == v) {
       ++next;
       continue;
     }
-    deform_normal_ball_vertex(m, s, v, out, &cache);
+    deform_normal_ball_vertex(m, s, v, out);
   }
 }
 
@@ -129,15 +121,11 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
     for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
     return;
   }
-  // The vertices of one ring share their joint ball, blend and w^alpha, so
-  // each rotation below is made once per ring (kept with what it was made
-  // from; the outputs do not depend on it).
-  BlendCache cache;
+  // The vertices of one ring share their joint ball and blend, so eta is
+  // made once per ring (kept with what it was made from).
   uint16_t eta_ball = kNoBall;
-  fx::Unit eta_blend = 0, rot_alpha = 0;
-  fx::Quat eta{}, rot_from{}, rot_eta{};
-  fx::Rot3 r{};
-  bool rot_valid = false;
+  fx::Unit eta_blend = 0;
+  fx::Quat eta{};
   for (uint32_t i = 0; i < m.jv_count(); ++i) {
     const JointBall& jb = m.joint_balls[m.jv_ball[i]];
     const uint32_t v = m.jv_vertex[i];
@@ -156,15 +144,9 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
     // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
     // keeps the ring's section where they differ (a linear blend of two
     // rotations by an angle apart shrinks it by cos(angle / 2)).
-    const NormalBallFrame f = normal_ball_frame(m, *s, v, &cache);
+    const NormalBallFrame f = normal_ball_frame(m, *s, v);
     const int64_t alpha = m.jv_alpha[i];
-    if (!rot_valid || !(f.quat == rot_from) || !(eta == rot_eta) || m.jv_alpha[i] != rot_alpha) {
-      rot_from = f.quat;
-      rot_eta = eta;
-      rot_alpha = m.jv_alpha[i];
-      r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, rot_alpha));
-      rot_valid = true;
-    }
+    const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
     const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
     const fx::Vec3 de = m.jv_disp[i];
     const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};

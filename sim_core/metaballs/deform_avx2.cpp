@@ -10,8 +10,7 @@
 //     ball, up to kMaxWideBalls = 256: 48 KiB; more balls decline to the
 //     scalar loop);
 //   - the vertex's rotation is the specification's (vertex_rotation): the
-//     shared ball's widened rotation, or the blend of the ring's balls,
-//     made and widened once for the vertices that share balls and weights;
+//     shared ball's widened rotation, or the blend of its balls' rotations;
 //   - sum w c and sum w (s d) are sums of exact vpmuldq products in 64-bit
 //     lanes: exactly the scalar int64 sums, so s d must fit int32: it does for
 //     every validated model (|d| <= 2^30, s < 2), and a vertex where it would
@@ -86,15 +85,9 @@ inline WideRotation widen_rotation(const fx::Rot3& r) {
 // The vertex at v; false (nothing written) when it has no weight or a scaled
 // displacement leaves the int32 range, for the caller to run the
 // specification. The rotation is the shared ball's (widened once a step) or
-// the cached blend's (widened once per blend).
-struct Blend {
-  BlendCache cache;
-  WideRotation wide{};
-  uint32_t widened = 0;  // the cache generation `wide` holds
-};
-
-inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, Blend* blend,
-                          uint32_t v, const skin::SkinnedVertices& out) {
+// the vertex's blend (vertex_rotation, widened here).
+inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, uint32_t v,
+                          const skin::SkinnedVertices& out) {
   const size_t base = size_t{v} * kVertexBalls;
   __m256i centre = _mm256_setzero_si256(), disp = _mm256_setzero_si256();
   bool any = false;
@@ -114,16 +107,16 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
     disp = _mm256_add_epi64(disp, _mm256_mul_epi32(d, wv));
   }
   if (!any) return false;
-  const uint16_t shared = vertex_rotation(m, s, v, &blend->cache);
+  fx::Quat quat;
+  fx::Rot3 rotation;
+  WideRotation blended;
+  const uint16_t shared = vertex_rotation(m, s, v, &quat, &rotation);
   const __m256i* col = nullptr;
   if (shared != kNoBall) {
     col = balls[shared].col;
   } else {
-    if (blend->widened != blend->cache.generation) {
-      blend->wide = widen_rotation(blend->cache.rotation);
-      blend->widened = blend->cache.generation;
-    }
-    col = blend->wide.col;
+    blended = widen_rotation(rotation);
+    col = blended.col;
   }
   int64_t dl[4];
   const __m256i dr = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(disp));
@@ -147,15 +140,13 @@ bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, co
   if (count > kMaxWideBalls) return false;
   WideBall balls[kMaxWideBalls];
   for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
-  Blend blend;
-  BlendCache fallback;
   size_t next = 0;
   for (uint32_t v = 0; v < m.vertex_count; ++v) {
     if (next < skip.size() && skip[next] == v) {
       ++next;
       continue;
     }
-    if (!deform_vertex(m, s, balls, &blend, v, out)) deform_normal_ball_vertex(m, s, v, out, &fallback);
+    if (!deform_vertex(m, s, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
   }
   return true;
 }

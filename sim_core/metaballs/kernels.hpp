@@ -26,22 +26,11 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
                      const skin::SkinnedVertices& out, DeformKernel kernel = deform_kernel_default());
 
 // The rotation of a vertex's normal balls (deform.cpp): the shared ball's own
-// when every weighted ball has the same one, else their nlerp by the
-// vertex's weights. The last blend is kept with the balls and weights it was
-// made from, so the vertices of one ring (the same balls and weights) make it
-// once; a blend depends on nothing else, so the outputs do not depend on the
-// cache. Valid within one step (the balls' rotations change between steps).
-struct BlendCache {
-  uint16_t ball[kVertexBalls] = {};
-  fx::Unit weight[kVertexBalls] = {};
-  fx::Quat quat{};
-  fx::Rot3 rotation{};
-  bool valid = false;
-  uint32_t generation = 0;  // counts the blends made (the vector kernel re-widens on a change)
-};
-// kNoBall: the vertex's rotation is cache->quat / cache->rotation; else the
-// ball whose rotation every weighted ball shares. The vertex has a weight.
-uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, BlendCache* cache);
+// when every weighted ball has the same one (returns that ball), else their
+// nlerp by the vertex's weights, written to *quat and *rotation (returns
+// kNoBall). The vertex has a weight.
+uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, fx::Quat* quat,
+                         fx::Rot3* rotation);
 
 // A vertex's frame from its normal balls: the blended centre
 // sum_j w_j c_j (Len, rounded), the blended rest displacement
@@ -52,7 +41,7 @@ struct NormalBallFrame {
   fx::Quat quat;
   fx::Rot3 rotation;
 };
-NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v, BlendCache* cache);
+NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
 
 // Eq. (4) alone: the scalar specification, and the AVX2 kernel
 // (deform_avx2.cpp), which declines (returns false, writes nothing) when the
@@ -63,7 +52,7 @@ void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, 
                                 std::span<const uint32_t> skip = {});
 // One vertex of the specification (the vector kernel's fallback).
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
-                               const skin::SkinnedVertices& out, BlendCache* cache);
+                               const skin::SkinnedVertices& out);
 #if defined(__x86_64__)
 bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
                               std::span<const uint32_t> skip = {});
