@@ -102,7 +102,7 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
                                             random_between(&rng, -limit, limit)};
       }
       // Every fourth round, odd vertices take the previous vertex's balls and
-      // weights (the blend cache's hits), with displacements of their own.
+      // weights (a ring's vertices), with displacements of their own.
       if (round % 4 == 3 && v % 2 == 1)
         for (uint32_t k = 0; k < metaballs::kVertexBalls; ++k) {
           const size_t i = size_t{v} * metaballs::kVertexBalls + k;
