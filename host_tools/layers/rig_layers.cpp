@@ -41,6 +41,7 @@ bool quantity_of(const std::string& name, pipeline::InputQuantity* out) {
   if (name == "length") return *out = pipeline::InputQuantity::kLength, true;
   if (name == "angle") return *out = pipeline::InputQuantity::kAngle, true;
   if (name == "scalar") return *out = pipeline::InputQuantity::kScalar, true;
+  if (name == "acceleration") return *out = pipeline::InputQuantity::kAcceleration, true;
   return false;
 }
 
@@ -145,6 +146,10 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     declare(t.force_input, {t.force_input, "N", "force", -40, 40, t.joint.where});
     declare(t.q_input, {t.q_input, "", "scalar", 1.0 / 256, 256, t.joint.where});
   }
+  // The skin's base-acceleration inputs, if undeclared.
+  for (const std::string& name : layers.skin.base_acceleration)
+    if (std::none_of(external.begin(), external.end(), [&](const ExternalInputTable& e) { return e.name == name; }))
+      external.push_back({name, "m/s^2", "acceleration", -200, 200, layers.skin.where});
   std::vector<pipeline::ExternalInputRecord> records;
   for (const ExternalInputTable& e : external) {
     pipeline::ExternalInputRecord r{};
@@ -152,7 +157,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     if (e.unit.size() >= sizeof(r.unit)) return fail(e.where, "unit must be at most 15 characters", error);
     pipeline::InputQuantity q;
     if (!quantity_of(e.quantity, &q))
-      return fail(e.where, "quantity must be \"force\", \"length\", \"angle\" or \"scalar\"", error);
+      return fail(e.where, "quantity must be \"force\", \"length\", \"angle\", \"scalar\" or \"acceleration\"", error);
     if (!(e.min < e.max) || std::fabs(e.min) > 32767 || std::fabs(e.max) > 32767)
       return fail(e.where, "min must be below max, both within +-32767", error);
     std::memcpy(r.name, e.name.data(), e.name.size());
@@ -287,7 +292,20 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
         const fx::Unit q = static_cast<fx::Unit>(std::floor(w * 1073741824.0 + 0.5));
         if (q > 0) region.push_back(static_cast<uint32_t>(v)), weight.push_back(q);
       }
-      sections.push_back(skin_section(model.skin_model(), region, weight));
+      uint32_t base[3] = {pipeline::kNoExternalInput, pipeline::kNoExternalInput, pipeline::kNoExternalInput};
+      if (!layers.skin.base_acceleration.empty()) {
+        if (layers.skin.base_acceleration.size() != 3)
+          return fail(layers.skin.where, "base_acceleration must name 3 inputs (x, y, z)", error);
+        for (size_t c = 0; c < 3; ++c) {
+          for (size_t k = 0; k < records.size(); ++k)
+            if (layers.skin.base_acceleration[c] == records[k].name) base[c] = static_cast<uint32_t>(k);
+          if (records[base[c]].quantity != static_cast<uint32_t>(pipeline::InputQuantity::kAcceleration))
+            return fail(layers.skin.where,
+                        "base_acceleration input '" + layers.skin.base_acceleration[c] + "' is not an acceleration",
+                        error);
+        }
+      }
+      sections.push_back(skin_section(model.skin_model(), region, weight, base));
       report->push_back("elastic skin region: " + std::to_string(region.size()) + " of " +
                         std::to_string(spec.vertices.size()) + " vertices");
       report->push_back("elastic skin: " + std::to_string(model.report.muscle_anchors) + " muscle anchors, " +
@@ -315,10 +333,21 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     o.force_input_hi = t.force_input_full;
     barnet::NetSpec net;
     barnet::BarnetBuild built;
-    const bool built_net = t.net == "arm-muscles"    ? barnet::arm_muscle_net(spec, {}, &net, error)
-                           : t.net == "arm-wrinkles" ? barnet::arm_wrinkle_net(spec, {}, &net, error)
-                                                     : barnet::joint_net(spec, g, j, o, &net, error);
-    if (t.net != "joint") net.external_count = o.external_count;
+    bool built_net = false;
+    if (t.net == "joint") {
+      built_net = barnet::joint_net(spec, g, j, o, &net, error);
+    } else {
+      barnet::JointMuscleNetOptions muscles;
+      muscles.segments = t.segments;
+      muscles.force = t.force;
+      barnet::SkinWrinkleOptions wrinkles;
+      wrinkles.force = t.force;
+      built_net = t.net == "muscles"       ? barnet::joint_muscle_net(spec, g, j, muscles, &net, error)
+                  : t.net == "wrinkles"    ? barnet::skin_wrinkle_net(spec, g, j, wrinkles, &net, error)
+                  : t.net == "arm-muscles" ? barnet::arm_muscle_net(spec, {}, &net, error)
+                                           : barnet::arm_wrinkle_net(spec, {}, &net, error);
+      barnet::drive_from_inputs({o.external_count, o.force_input, o.force_input_lo, o.force_input_hi, o.q_input}, &net);
+    }
     if (!built_net || !barnet::build_barnet(net, spec, &built, error)) return fail(t.joint.where, *error, error);
     sections.push_back(barnet_section(built.model()));
     report->push_back("barnet[" + std::to_string(i) + "] " + spec.joints[static_cast<size_t>(j)].name + ": " +

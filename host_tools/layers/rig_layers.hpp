@@ -66,6 +66,11 @@ struct SkinTable {
   bool warm_start = true;                // start each tick from the last one's skin (LEMAN)
   std::string mode = "static";           // "static" (relaxation) | "dynamic" (LEMAN §3 mass-spring)
   anatomy_build::SkinSolverSpec solver;  // mode is written into solver.dynamic
+  // External inputs measuring the acceleration of the rig's base (the frame
+  // its bones are given in), x, y, z in the rig's axes, m/s^2; declared
+  // (acceleration, +-200 m/s^2) if no [[external_input]] has the name. Empty:
+  // no base motion (LEMAN §3: the dynamic skin feels -a_base).
+  std::vector<std::string> base_acceleration;
 };
 
 struct BarnetTable {
@@ -80,10 +85,13 @@ struct BarnetTable {
   std::string force_input = {};
   std::string q_input = {};
   double force_input_full = 40;
-  // "joint": a ring net around `joint` (any rig; barnet-driven-skinning
-  // Figure 2). On the built-in arm only: "arm-muscles", the biceps/triceps
-  // net of Figure 3, or "arm-wrinkles", the wrinkle net on the fine mesh of
-  // Figure 6 (both driven by the elbow's flexion; the ring keys are ignored).
+  // barnet-driven-skinning's nets, on any rig: "joint", a ring net around
+  // `joint` (Figure 2); "muscles", the flexor/extensor net along the bone
+  // before `joint` (Figure 3; `segments` even, `force` apply); "wrinkles", a
+  // wrinkle net on the skin mesh on the fold side of `joint` (Figure 6;
+  // `force` applies). On the built-in arm only, the arm's own "arm-muscles"
+  // and "arm-wrinkles" (the elbow's; the ring keys are ignored). Every net
+  // takes force_input and q_input.
   std::string net = "joint";
 };
 

@@ -352,7 +352,7 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                if (!known_keys(path, e, n,
                                {"iterations", "warm_start", "mode", "tolerance", "fat", "substep_hz", "max_substeps",
                                 "constraint_passes", "vertex_mass", "stiffness_scale", "anchor_damping", "band_damping",
-                                "edge_damping", "gravity", "fat_normal"},
+                                "edge_damping", "gravity", "fat_normal", "base_acceleration"},
                                error) ||
                    !read_int(path, e, n, "iterations", 1, 256, &s.skin.iterations, error) ||
                    !read_bool(path, e, n, "warm_start", &s.skin.warm_start, error) ||
@@ -378,6 +378,20 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                    if (good) d.gravity[i] = *v;
                  }
                  if (!good) return *error = at(path, g, n + " gravity") + " must be an array of 3 numbers", false;
+               }
+               if (const toml::node* b = e.get("base_acceleration")) {
+                 const toml::array* a = b->as_array();
+                 bool good = a != nullptr && a->size() == 3;
+                 for (size_t i = 0; good && i < 3; ++i) {
+                   const auto v = a->get(i)->value<std::string>();
+                   good = v && !v->empty();
+                   if (good) s.skin.base_acceleration.push_back(*v);
+                 }
+                 if (!good)
+                   return *error =
+                              at(path, b, n + " base_acceleration") +
+                              " must name 3 external inputs (x, y, z), e.g. [\"base.ax\", \"base.ay\", \"base.az\"]",
+                          false;
                }
                std::string fat_normal = "anchor";
                if (!read_string(path, e, n, "fat_normal", &fat_normal, error)) return false;
@@ -414,10 +428,14 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                  !read_string(path, e, n, "q_input", &x.q_input, error) ||
                  !read_string(path, e, n, "net", &x.net, error))
                return false;
-             if (x.net != "joint" && x.net != "arm-muscles" && x.net != "arm-wrinkles")
-               return *error = x.joint.where + ": net must be \"joint\", \"arm-muscles\" or \"arm-wrinkles\"", false;
-             if (x.net != "joint" && !(x.force_input.empty() && x.q_input.empty()))
-               return *error = x.joint.where + ": force_input and q_input drive only a net = \"joint\"", false;
+             if (x.net != "joint" && x.net != "muscles" && x.net != "wrinkles" && x.net != "arm-muscles" &&
+                 x.net != "arm-wrinkles")
+               return *error = x.joint.where +
+                               ": net must be \"joint\", \"muscles\", \"wrinkles\", \"arm-muscles\" or "
+                               "\"arm-wrinkles\"",
+                      false;
+             if (x.net == "muscles" && x.segments % 2 != 0)
+               return *error = x.joint.where + ": segments must be even for net = \"muscles\"", false;
              if (x.ring_step < 0 || x.force < 0)
                return *error = x.joint.where + ": ring_step and force must be >= 0", false;
              if (!(x.force_input_full != 0 && std::fabs(x.force_input_full) <= 32767))

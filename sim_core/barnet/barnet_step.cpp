@@ -111,34 +111,22 @@ Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out
     if (ldlt_factor(st->factor, st->work) < free) ++sat.events;
   }
 
-  // 3. Eq. (4), per axis: x = D^-1 (p - D_f x_f), with p = D s + D_f s_f +
-  //    loads (the holding load of the skinned shape, then the loads), in
-  //    Q.36 force: q (Q16.16) x Len (Q12.20) products are exact.
+  // 3. Eq. (4), per axis: D x = p - D_f x_f, with p = D s + D_f s_f + loads
+  //    (the holding load of the skinned shape, then the loads) and x_f = s_f.
+  //    The holding load cancels exactly: D x = D s + loads, so the solve is
+  //    D (x - s) = loads and x = s + D^-1 loads. Solving for the move rather
+  //    than the position keeps the factor's relative error on the move alone
+  //    and needs no right-hand side from the bars. Force in Q.36 (Q.24 x 2^12).
   fx::Len max_disp = 0;
-  auto skinned = [st, &out, free](size_t c, uint32_t node) -> int64_t {
-    return node < free ? st->skinned[c][node] : out.node[c][node];
-  };
   for (size_t c = 0; c < 3; ++c) {
     for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->load[c][i] * (int64_t{1} << 12), sat);
-    for (uint32_t k = 0; k < m.bars.size(); ++k) {
-      const BarRecord& b = m.bars[k];
-      const int64_t q = st->q[k];
-      // Row a of [D D_f] s is sum over a's bars of q (s_a - s_b).
-      const int64_t qd = q * (skinned(c, b.a) - skinned(c, b.b));  // |qd| < 2^57
-      if (b.a < free) st->work[b.a] = clamp_vector(st->work[b.a] + qd, sat);
-      if (b.b < free) st->work[b.b] = clamp_vector(st->work[b.b] - qd, sat);
-      // -D_f x_f: +q x_f on a free node's bar to a fixed node.
-      if (b.a < free && b.b >= free)
-        st->work[b.a] = clamp_vector(st->work[b.a] + q * out.node[c][b.b], sat);
-      else if (b.b < free && b.a >= free)
-        st->work[b.b] = clamp_vector(st->work[b.b] + q * out.node[c][b.a], sat);
-    }
     ldlt_solve(st->factor, st->work, sat);
     for (uint32_t i = 0; i < free; ++i) {
-      const fx::Len x = fx::sat_i32(fx::round_shift(st->work[i], 20), sat);  // Q.40 -> Len
+      const int64_t d = fx::round_shift(st->work[i], 20);  // Q.40 -> Len, |d| < 2^41
+      const fx::Len x = fx::sat_i32(int64_t{st->skinned[c][i]} + d, sat);
       out.node[c][i] = x;
-      const int64_t d = int64_t{x} - st->skinned[c][i];
-      const int64_t mag = d < 0 ? -d : d;
+      const int64_t moved = int64_t{x} - st->skinned[c][i];
+      const int64_t mag = moved < 0 ? -moved : moved;
       if (mag > max_disp) max_disp = fx::sat_i32(mag);
     }
   }

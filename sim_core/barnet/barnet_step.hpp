@@ -5,9 +5,11 @@
 //   2. loads: each LoadRecord adds t(angle or external input) * force,
 //      carried by its bone; with ForceDensityInputs, D is re-assembled
 //      from the scaled q and re-factorised (fixed work per step);
-//   3. eq. (4): x = D^-1 (p - D_f x_f) for x, y and z independently, with
-//      the factor computed at init and p = D s + D_f s_f + loads (the load
-//      holding the net at the skinned shape, plus the bound loads);
+//   3. eq. (4): D x = p - D_f x_f for x, y and z independently, with the
+//      factor computed at init and p = D s + D_f s_f + loads (the load
+//      holding the net at the skinned shape, plus the bound loads); with
+//      x_f = s_f the holding load cancels exactly, so the step solves
+//      D (x - s) = loads and returns x = s + D^-1 loads;
 //   4. wrap: each bound fine vertex = bary . triangle + offset * normal.
 #pragma once
 

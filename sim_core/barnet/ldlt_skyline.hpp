@@ -20,11 +20,13 @@
 //
 // Error: the factor entries carry a relative error of about 2^-30 each and
 // every product in the solve is rounded once at 2^-36 (force) or 2^-40
-// (length); with |L| <= 1 the solution error is below kappa(D) * 2^-29 * |x|
-// plus (n + profile) * 2^-40 rig units. For the nets sinew builds (kappa of a
-// few hundred, |x| < 256 rig units) that is below 2^-12 of a Len LSB before
-// the final rounding to Len, so the solved positions are the correctly rounded
-// ones to within 1 LSB; tests/barnet measures it against a double solve.
+// (length); with |L| <= 1 the solution's error is a relative one of the
+// order of kappa(D) * 2^-29 in norm (far less per component for these
+// diagonally dominant M-matrices) plus (n + profile) * 2^-40 rig units. The
+// bar-net step solves for the nodes' move from their skinned positions (the
+// loads alone on the right), so the error scales with the move, not with
+// the positions; tests/barnet measures it against a double solve of eq. (4)
+// (within 2^-12 of a Len LSB before the final rounding on every net there).
 #pragma once
 
 #include <cstdint>

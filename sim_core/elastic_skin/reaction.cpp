@@ -84,12 +84,30 @@ fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::V
 
 fx::Len fat_of(const SkinModel& model, uint32_t v) { return fx::add_sat(model.fat[v], model.solver.fat_thickness); }
 
-uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
+uint32_t list_reaction_candidates(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
+  PrimitiveBound bounds[kBoundedPrimitives];
+  bound_primitives(muscles, bounds);
+  uint32_t count = 0;
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    fx::Vec3 n{};
+    const fx::Vec3 p = fat_point(model, *s, v, &n);
+    for (size_t i = 0; i < muscles.primitives.size(); ++i) {
+      if (muscles.primitives[i].active == 0 || far_from(bounds, i, p)) continue;
+      s->weight[count++] = v;
+      break;
+    }
+  }
+  return count;
+}
+
+uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates,
+                                 SkinState* s) {
   uint32_t moved = 0;
   const int steps = static_cast<int>(model.params.newton_steps);
   PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
-  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+  for (uint32_t k = 0; k < candidates; ++k) {
+    const uint32_t v = static_cast<uint32_t>(s->weight[k]);
     fx::Vec3 n{};
     fx::Vec3 p = fat_point(model, *s, v, &n);
     bool any = false;
@@ -110,7 +128,7 @@ uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleSta
       fx::Vec3 dir{};
       if (!fx::normalize_to_unit(d, &dir)) continue;
       const int64_t vd[3] = {dir.x, dir.y, dir.z};
-      int64_t along = 0;  // v . dir, Q44.20: |v| < 2^47, |dir| <= 2^30
+      int64_t along = 0;  // v . dir; within a tick v is the displacement per substep (Q28.36, <= 2^50)
       for (int c = 0; c < 3; ++c) along += fx::mul_shift_round(s->velocity[c][v], vd[c], fx::kUnitFracBits);
       if (along >= 0) continue;
       for (int c = 0; c < 3; ++c) s->velocity[c][v] -= fx::mul_shift_round(along, vd[c], fx::kUnitFracBits);
@@ -152,11 +170,17 @@ uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::Muscle
 
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
                       const SkinState& s) {
+  return count_inside_of(model, muscles, tolerance, s, nullptr, model.vertex_count);
+}
+
+uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
+                         const SkinState& s, const int64_t* listed, uint32_t count) {
   uint32_t inside = 0;
   const int64_t limit = fx::kUnitOne - int64_t{tolerance};
   PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
-  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+  for (uint32_t k = 0; k < count; ++k) {
+    const uint32_t v = listed != nullptr ? static_cast<uint32_t>(listed[k]) : k;
     fx::Vec3 n{};
     const fx::Vec3 p = fat_point(model, s, v, &n);
     for (size_t i = 0; i < muscles.primitives.size(); ++i) {

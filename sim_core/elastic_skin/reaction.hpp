@@ -18,12 +18,22 @@ namespace sinew::elastic_skin {
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
                                     SkinState* s);
 
-// Dynamic mode (LEMAN §3, §6.11): one Gauss-Seidel pass over the vertices;
-// each primitive in turn moves the fat point out by its whole penetration
-// and the vertex with it, and the vertex's velocity loses only its inward
-// normal component (along the move): the point slides tangentially. `fine`
+// Dynamic mode: the vertices whose fat point lies within reach of an
+// active primitive (inside its bounding sphere, or any point for a
+// primitive without one), written in index order to s->weight (scratch
+// between substeps); returns their count. A vertex left out is one no
+// reaction pass moves: the passes move only listed vertices and the
+// primitives stay put within a substep, so it stays out of reach.
+uint32_t list_reaction_candidates(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s);
+
+// Dynamic mode (LEMAN §3, §6.11): one Gauss-Seidel pass over the first
+// `candidates` vertices listed by list_reaction_candidates; each primitive
+// in turn moves the fat point out by its whole penetration and the vertex
+// with it, and the vertex's velocity loses only its inward normal
+// component (along the move): the point slides tangentially. `fine`
 // (Q28.36) follows the move. Returns the number of vertices moved.
-uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s);
+uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates,
+                                 SkinState* s);
 
 // Fat thickness of vertex v: its own plus the solver's global one (Len).
 fx::Len fat_of(const SkinModel& model, uint32_t v);
@@ -32,5 +42,11 @@ fx::Len fat_of(const SkinModel& model, uint32_t v);
 // (Q2.30 on the inside/outside function: F < 1 - tolerance).
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
                       const SkinState& s);
+
+// The same over `count` vertices: those listed (vertex indices), or the
+// first `count` with listed == nullptr. The dynamic step passes the last
+// substep's reaction candidates: no other fat point can be inside.
+uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
+                         const SkinState& s, const int64_t* listed, uint32_t count);
 
 }  // namespace sinew::elastic_skin

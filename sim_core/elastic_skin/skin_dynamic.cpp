@@ -14,29 +14,95 @@
 namespace sinew::elastic_skin {
 namespace {
 
-constexpr int64_t kMotionLimit = int64_t{1} << 46;  // |v| and |a|, Q44.20
-constexpr int kFineExtraBits = 16;                  // Q28.36 fine positions over Q12.20 Len
+// Within a tick the integrator works in the substep's own units: each
+// vertex carries d = v h, its displacement per substep (Q28.36 rig units,
+// held in SkinState::velocity between the tick's start and end), and every
+// gain is premultiplied by h or h^2, so a substep has no division:
+//   d' = (d + h^2 a + sum_i (h c_i / m) d_i) / (1 + h D),  x' = x + d'
+// which is the integrator of skin_model.hpp multiplied through by h.
+constexpr int64_t kMotionLimit = int64_t{1} << 46;        // |v|, Q44.20 rig units / s (between ticks)
+constexpr int64_t kDisplacementLimit = int64_t{1} << 50;  // |d| and |h^2 a|, Q28.36: 16384 units, past any Len
+constexpr int kFineExtraBits = 16;                        // Q28.36 fine positions over Q12.20 Len
+constexpr int kGainFracBits = 30;                         // h^2 k / m and h c / m, dimensionless, Q30
+constexpr int kSpringFracBits = 46;                       // h^2 * stiffness_scale / m per unit model stiffness
 constexpr int64_t kFineMax = int64_t{INT32_MAX} << kFineExtraBits;
 constexpr int64_t kFineMin = int64_t{INT32_MIN} << kFineExtraBits;
+constexpr int64_t kSaturated = int64_t{1} << 62;
 
 int64_t clamp_motion(int64_t v) { return fx::clamp_i64(v, -kMotionLimit, kMotionLimit); }
+int64_t clamp_displacement(int64_t d) { return fx::clamp_i64(d, -kDisplacementLimit, kDisplacementLimit); }
 
-// round_half_up(a * b / 2^16), saturated to +-2^62 rather than overflowing.
-// Operands whose bit widths sum to 62 or less multiply in 64 bits (the same
-// rounding: floor((a b + 2^15) / 2^16) either way); only wider ones, which
-// the skin's gains rarely reach, take the 128-bit product.
-int64_t mul_q16_sat(int64_t a, int64_t b) {
-  const uint64_t ma = fx::magnitude(a), mb = fx::magnitude(b);
-  if (std::bit_width(ma) + std::bit_width(mb) <= 62) return fx::round_shift(a * b, kQ16FracBits);
-  const fx::U128 p = fx::mul_u64(ma, mb);
-  if ((p.hi >> 14) != 0) return (a < 0) != (b < 0) ? -(int64_t{1} << 62) : int64_t{1} << 62;
-  return fx::mul_shift_round(a, b, kQ16FracBits);
+// round_half_up(a * b / 2^shift), saturated to +-2^62 rather than
+// overflowing. Operands whose bit widths sum to 62 or less multiply in 64
+// bits (the same rounding: floor((a b + 2^(shift-1)) / 2^shift) either way);
+// only wider ones, which the skin's gains rarely reach, take the 128-bit
+// product, out of line so the common case stays small enough to inline.
+[[gnu::noinline]] int64_t mul_shift_wide_sat(int64_t a, int64_t b, int shift) {
+  const fx::U128 p = fx::mul_u64(fx::magnitude(a), fx::magnitude(b));
+  if ((p.hi >> (shift - 2)) != 0) return (a < 0) != (b < 0) ? -kSaturated : kSaturated;
+  return fx::mul_shift_round(a, b, shift);
+}
+
+[[gnu::always_inline]] inline int64_t mul_shift_sat(int64_t a, int64_t b, int shift) {
+  if (std::bit_width(fx::magnitude(a)) + std::bit_width(fx::magnitude(b)) <= 62) return fx::round_shift(a * b, shift);
+  return mul_shift_wide_sat(a, b, shift);
+}
+
+// round(x * 2^shift / h_inv), saturated to +-2^62; x >= 0, 1 <= shift <= 32.
+int64_t per_substep(int64_t x, int shift, int64_t h_inv) {
+  if (x <= (kSaturated >> shift)) return fx::div_round(x << shift, h_inv);
+  const int64_t q = fx::div_round(x, h_inv);  // x > 2^(62 - shift): q keeps 30+ significant bits
+  return q > (kSaturated >> shift) ? kSaturated : q << shift;
+}
+
+// The spring of edge e (eq. 1, with the §5.2 push-back for compressed
+// edges) as the displacement it adds to its endpoint a in one substep,
+// h^2 a, Q28.36 rig units per component (b gets the opposite):
+//   h^2 k' spring (|w| - rest) / |w| w,  w = x_b - x_a.
+// (|w| - rest) / |w| = 1 - rest / |w| takes 1 / |w| from the
+// division-free reciprocal square root (relative error ~1e-9); only a
+// compressed edge, whose push-back multiplier needs the excess itself,
+// takes the exact root. False when the edge pulls with nothing.
+[[gnu::always_inline]] inline bool edge_displacement(const SkinParams& p, const Edge& e, int64_t spring_h2,
+                                                     const std::span<fx::Len> (&position)[3], int64_t out[3]) {
+  int64_t w[3];
+  uint64_t n2 = 0;
+  for (int c = 0; c < 3; ++c) {
+    w[c] = fx::sat_i32(int64_t{position[c][e.b]} - position[c][e.a]);
+    const uint64_t m = fx::magnitude(w[c]);
+    n2 += m * m;  // each <= 2^62: the sum < 2^64
+  }
+  if (n2 == 0 || e.k == 0) return false;
+  const fx::RsqrtResult r = fx::rsqrt_fast(n2);                                       // 1/|w| = y 2^(half_shift - 61)
+  const int shift = 31 - r.half_shift;                                                // 0..31
+  const int64_t scaled = int64_t{e.rest} * r.y;                                       // rest < 2^31, y < 2^31
+  const int64_t rest_over_len = shift > 0 ? fx::round_shift(scaled, shift) : scaled;  // Q2.30
+  const int64_t ratio = fx::kUnitOne - rest_over_len;                                 // (|w| - rest) / |w|, Q2.30
+  int64_t k = e.k;
+  if (ratio < 0) {
+    k = effective_stiffness(p, e.k, int64_t{fx::isqrt_fast(n2)} - e.rest, e.rest);
+    if (k == 0) return false;
+  }
+  // h^2 k' spring, Q30 (<= 1 on a stable step); times the ratio, Q30.
+  const int64_t gain = mul_shift_sat(mul_shift_sat(k, spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits),
+                                     ratio, fx::kUnitFracBits);
+  // Q30 x Q12.20 -> Q28.36.
+  for (int c = 0; c < 3; ++c)
+    out[c] = clamp_displacement(mul_shift_sat(gain, w[c], kGainFracBits + 20 - 20 - kFineExtraBits));
+  return true;
 }
 
 // start + (end - start) * j / n, rounded: the linear path across a tick
 // (by_n: the substep count n).
 fx::Len lerp_tick(fx::Len start, fx::Len end, uint32_t j, const InvariantDivisor& by_n) {
+  if (j == by_n.d) return end;  // the tick's last substep (and every one of a one-substep tick): exact
   return fx::sat_i32(int64_t{start} + div_round_by((int64_t{end} - start) * j, by_n));
+}
+
+// (end - start) / n as a displacement per substep, Q28.36.
+int64_t step_of(fx::Len start, fx::Len end, const InvariantDivisor& by_n) {
+  const int64_t whole = (int64_t{end} - start) * (int64_t{1} << kFineExtraBits);  // < 2^49
+  return by_n.d == 1 ? whole : div_round_by(whole, by_n);
 }
 
 LayerStatus bad_input(const char* field, const char* problem, int64_t value = 0, bool show = false) {
@@ -57,7 +123,7 @@ int64_t largest_omega_squared(const SkinModel& model, int64_t spring_gain, SkinS
   int64_t largest = 0;
   for (uint32_t v = 0; v < n; ++v)
     if (s->weight[v] > largest) largest = s->weight[v];
-  return mul_q16_sat(largest, spring_gain);
+  return mul_shift_sat(largest, spring_gain, kQ16FracBits);
 }
 
 void band_targets(const SkinModel& model, const muscle::MuscleState& m, std::span<fx::Len> (&out)[3]) {
@@ -69,21 +135,21 @@ void band_targets(const SkinModel& model, const muscle::MuscleState& m, std::spa
 }
 
 // Edge dashpots (LEMAN §3), explicit from the substep's start: on a,
-// c/m ((v_b - v_a) . e) e, the opposite on b (e: unit a -> b).
-void add_edge_dashpots(const SkinModel& model, int64_t edge_c, SkinState* s) {
+// (h c / m) ((d_b - d_a) . e) e, the opposite on b (e: unit a -> b).
+void add_edge_dashpots(const SkinModel& model, int64_t edge_gamma, SkinState* s) {
   for (const Edge& e : model.edges) {
     const fx::Vec3 w{fx::sub_sat(s->position[0][e.b], s->position[0][e.a]),
                      fx::sub_sat(s->position[1][e.b], s->position[1][e.a]),
                      fx::sub_sat(s->position[2][e.b], s->position[2][e.a])};
     fx::Vec3 dir{};
     if (!fx::normalize_to_unit(w, &dir)) continue;
-    const int64_t d[3] = {dir.x, dir.y, dir.z};
-    int64_t relative = 0;  // (v_b - v_a) . e, Q44.20: |v| <= 2^46
+    const int64_t u[3] = {dir.x, dir.y, dir.z};
+    int64_t relative = 0;  // (d_b - d_a) . e, Q28.36: |d| <= 2^50
     for (int c = 0; c < 3; ++c)
-      relative += fx::mul_shift_round(s->velocity[c][e.b] - s->velocity[c][e.a], d[c], fx::kUnitFracBits);
-    const int64_t along = clamp_motion(mul_q16_sat(edge_c, relative));
+      relative += fx::mul_shift_round(s->velocity[c][e.b] - s->velocity[c][e.a], u[c], fx::kUnitFracBits);
+    const int64_t along = clamp_displacement(mul_shift_sat(edge_gamma, relative, kGainFracBits));
     for (int c = 0; c < 3; ++c) {
-      const int64_t a = fx::mul_shift_round(along, d[c], fx::kUnitFracBits);
+      const int64_t a = fx::mul_shift_round(along, u[c], fx::kUnitFracBits);
       s->force[c][e.a] = fx::add_sat_i64(s->force[c][e.a], a);
       s->force[c][e.b] = fx::add_sat_i64(s->force[c][e.b], -a);
     }
@@ -105,22 +171,26 @@ int64_t largest_edge_damping(const SkinModel& model, int64_t edge_c, SkinState* 
   return edge_c > INT64_MAX / (2 * degree + 1) ? INT64_MAX : 2 * degree * edge_c;
 }
 
+// The tick's gains in substep units (h = 1 / H).
 struct Gains {
-  int64_t spring = 0;        // stiffness_scale / m, Q16.16 1/s^2 per unit of model stiffness
-  int64_t anchor_c = 0;      // anchor_damping / m, Q16.16 1/s
-  int64_t band_c = 0;        // band_damping / m, Q16.16 1/s
-  int64_t edge_c = 0;        // edge_damping / m, Q16.16 1/s
-  int64_t rate = 0;          // tick_hz: (end - start) * rate is a velocity
-  int64_t substep_rate = 0;  // H = tick_hz * n, 1/s
-  int64_t external[3] = {};  // gravity - a_base, Q44.20
-  // The tick's invariant divisors: substeps n, the substep rate H, and the
-  // implicit-dashpot denominator H + c_anchor / m of every vertex without
-  // rubber bands (Q16.16 1/s).
-  InvariantDivisor by_substeps, by_substep_rate, by_anchor_only;
-  int64_t anchor_only_den = 0;
+  int64_t spring_h2 = 0;     // h^2 stiffness_scale / m, Q46 per unit of model stiffness (Q16.16)
+  int64_t anchor_gamma = 0;  // h anchor_damping / m, Q30
+  int64_t band_gamma = 0;    // h band_damping / m, Q30
+  int64_t edge_gamma = 0;    // h edge_damping / m, Q30
+  int64_t external[3] = {};  // h^2 (gravity - a_base), Q28.36
+  // 1 / (1 + h c_anchor / m), Q30: the implicit-dashpot factor of every
+  // vertex without rubber bands.
+  int64_t anchor_only_factor = 0;
+  InvariantDivisor by_substeps;  // n
 };
 
-// One substep j of n: accelerations, implicit dashpots, then x += v' / H.
+// 1 / (1 + beta), Q30, for beta = h D >= 0 in Q30.
+int64_t damping_factor(int64_t beta_q30) {
+  return fx::div_round(int64_t{1} << (2 * kGainFracBits), fx::add_sat_i64(int64_t{1} << kGainFracBits, beta_q30));
+}
+
+// One substep j of n: displacements from the springs and the external
+// field, the implicit dashpots, then x += d'.
 void integrate(const SkinModel& model, const Gains& g, uint32_t j, SkinState* s) {
   const uint32_t count = model.vertex_count;
   for (int c = 0; c < 3; ++c)
@@ -128,50 +198,49 @@ void integrate(const SkinModel& model, const Gains& g, uint32_t j, SkinState* s)
   for (uint32_t v = 0; v < count; ++v) s->weight[v] = 0;
   // Edges (§5.2, eq. 1), from the positions at the substep's start (Jacobi).
   for (const Edge& e : model.edges) {
-    int64_t k = 0;
-    fx::Vec3 f{};
-    if (!edge_pull(model.params, e, s->position, &k, &f)) continue;
-    const int64_t kk = mul_q16_sat(k, g.spring);
-    const int64_t a[3] = {mul_q16_sat(kk, f.x), mul_q16_sat(kk, f.y), mul_q16_sat(kk, f.z)};
+    int64_t a[3];
+    if (!edge_displacement(model.params, e, g.spring_h2, s->position, a)) continue;
     for (int c = 0; c < 3; ++c) {
       s->force[c][e.a] = fx::add_sat_i64(s->force[c][e.a], a[c]);
       s->force[c][e.b] = fx::add_sat_i64(s->force[c][e.b], -a[c]);
     }
   }
-  if (g.edge_c != 0) add_edge_dashpots(model, g.edge_c, s);
-  // Rubber bands (§5.5): zero-length spring plus dashpot to the moving target.
+  if (g.edge_gamma != 0) add_edge_dashpots(model, g.edge_gamma, s);
+  // Rubber bands (§5.5): zero-length spring plus dashpot to the moving
+  // target; s->weight sums the vertex's band gammas (its extra damping).
+  constexpr int kToFine = kGainFracBits + 20 - 20 - kFineExtraBits;  // Q30 x Len -> Q28.36
   for (size_t i = 0; i < model.bands.size(); ++i) {
     const RubberBand& b = model.bands[i];
-    const int64_t kk = mul_q16_sat(b.k, g.spring);
+    const int64_t kappa = mul_shift_sat(b.k, g.spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits);
     for (int c = 0; c < 3; ++c) {
       const fx::Len target = lerp_tick(s->band_start[c][i], s->band_end[c][i], j, g.by_substeps);
-      const int64_t target_v = clamp_motion((int64_t{s->band_end[c][i]} - s->band_start[c][i]) * g.rate);
-      const int64_t a = mul_q16_sat(kk, int64_t{target} - s->position[c][b.vertex]) + mul_q16_sat(g.band_c, target_v);
+      const int64_t target_d = step_of(s->band_start[c][i], s->band_end[c][i], g.by_substeps);
+      const int64_t a = mul_shift_sat(kappa, int64_t{target} - s->position[c][b.vertex], kToFine) +
+                        mul_shift_sat(g.band_gamma, target_d, kGainFracBits);
       s->force[c][b.vertex] = fx::add_sat_i64(s->force[c][b.vertex], a);
     }
-    s->weight[b.vertex] = fx::add_sat_i64(s->weight[b.vertex], g.band_c);
+    s->weight[b.vertex] = fx::add_sat_i64(s->weight[b.vertex], g.band_gamma);
   }
-  const int64_t h_q16 = g.substep_rate << kQ16FracBits;
   for (uint32_t v = 0; v < count; ++v) {
-    const int64_t kk = mul_q16_sat(model.anchor_stiffness[v], g.spring);
-    const int64_t damping = fx::add_sat_i64(s->weight[v], g.anchor_c);  // sum c_i / m, Q16.16 1/s
-    const int64_t den = fx::add_sat_i64(h_q16, damping);                // > 0
-    const bool shared_den = den == g.anchor_only_den;
+    const int64_t kappa =
+        mul_shift_sat(model.anchor_stiffness[v], g.spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits);
+    const int64_t factor =
+        s->weight[v] == 0 ? g.anchor_only_factor : damping_factor(fx::add_sat_i64(s->weight[v], g.anchor_gamma));
     for (int c = 0; c < 3; ++c) {
-      const fx::Len anchor = lerp_tick(s->anchor_start[c][v], s->anchor[c][v], j, g.by_substeps);
-      const int64_t anchor_v = clamp_motion((int64_t{s->anchor[c][v]} - s->anchor_start[c][v]) * g.rate);
-      int64_t a = fx::add_sat_i64(s->force[c][v], mul_q16_sat(kk, int64_t{anchor} - s->position[c][v]));
-      a = fx::add_sat_i64(a, mul_q16_sat(g.anchor_c, anchor_v));
-      // v' - v = (a + sum c_i v_i - D v) / (H + D), D = sum c_i / m.
-      const int64_t velocity = s->velocity[c][v];
-      const int64_t num = clamp_motion(fx::add_sat_i64(a, -mul_q16_sat(damping, velocity)));
-      const int64_t dv =
-          shared_den ? div_round_by(num << kQ16FracBits, g.by_anchor_only) : fx::div_round(num << kQ16FracBits, den);
-      const int64_t next = clamp_motion(velocity + dv);
+      // The anchor's linear path across the tick, by its move per substep.
+      const int64_t anchor_d = s->anchor_step[c][v];
+      const fx::Len anchor = j == g.by_substeps.d
+                                 ? s->anchor[c][v]
+                                 : fx::sat_i32(fx::round_shift((int64_t{s->anchor_start[c][v]} << kFineExtraBits) +
+                                                                   anchor_d * static_cast<int64_t>(j),
+                                                               kFineExtraBits));
+      int64_t a = fx::add_sat_i64(s->force[c][v], mul_shift_sat(kappa, int64_t{anchor} - s->position[c][v], kToFine));
+      a = fx::add_sat_i64(a, mul_shift_sat(g.anchor_gamma, anchor_d, kGainFracBits));
+      // (1 + h D) d' = d + h^2 a + sum (h c_i / m) d_i.
+      const int64_t next = clamp_displacement(
+          mul_shift_sat(clamp_displacement(s->velocity[c][v] + clamp_displacement(a)), factor, kGainFracBits));
       s->velocity[c][v] = next;
-      // |next| <= 2^46: next << 16 fits; the step is < 2^62.
-      const int64_t fine =
-          fx::clamp_i64(s->fine[c][v] + div_round_by(next << kFineExtraBits, g.by_substep_rate), kFineMin, kFineMax);
+      const int64_t fine = fx::clamp_i64(s->fine[c][v] + next, kFineMin, kFineMax);
       s->fine[c][v] = fine;
       s->position[c][v] = fx::sat_i32(fx::round_shift(fine, kFineExtraBits));
     }
@@ -198,32 +267,40 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
   if (n == 0) return bad_input("tick_hz", "the tick needs more than max_substeps substeps", tick.tick_hz, true);
   if (s.fine[0].size() != model.vertex_count || s.band_end[0].size() != model.bands.size())
     return bad_input("state", "not initialised for a dynamic skin model");
-  Gains g;
-  g.spring = fx::div_round(int64_t{sp.stiffness_scale} << kMassFracBits, sp.vertex_mass);
-  g.anchor_c = fx::div_round(int64_t{sp.anchor_damping} << kMassFracBits, sp.vertex_mass);
-  g.band_c = fx::div_round(int64_t{sp.band_damping} << kMassFracBits, sp.vertex_mass);
-  g.edge_c = fx::div_round(int64_t{sp.edge_damping} << kMassFracBits, sp.vertex_mass);
-  g.rate = tick.tick_hz;
-  g.substep_rate = int64_t{tick.tick_hz} * n;
-  g.by_substeps = invariant_divisor(n);
-  g.by_substep_rate = invariant_divisor(g.substep_rate);
-  g.anchor_only_den = fx::add_sat_i64(g.substep_rate << kQ16FracBits, g.anchor_c);  // as integrate() forms it
-  g.by_anchor_only = invariant_divisor(g.anchor_only_den);
+  // Q16.16 gains per unit mass: k / m in 1/s^2, c / m in 1/s.
+  const int64_t spring = fx::div_round(int64_t{sp.stiffness_scale} << kMassFracBits, sp.vertex_mass);
+  const int64_t anchor_c = fx::div_round(int64_t{sp.anchor_damping} << kMassFracBits, sp.vertex_mass);
+  const int64_t band_c = fx::div_round(int64_t{sp.band_damping} << kMassFracBits, sp.vertex_mass);
+  const int64_t edge_c = fx::div_round(int64_t{sp.edge_damping} << kMassFracBits, sp.vertex_mass);
+  const int64_t substep_rate = int64_t{tick.tick_hz} * n;  // H = 1 / h, <= 6.4e6
   // Stability (symplectic Euler): h * omega_max <= 1, i.e. omega^2 <= H^2.
-  const int64_t h2 = (g.substep_rate * g.substep_rate) << kQ16FracBits;  // H <= 6.4e6: < 2^62
-  const int64_t omega2 = largest_omega_squared(model, g.spring, &s);
+  const int64_t h2 = (substep_rate * substep_rate) << kQ16FracBits;  // < 2^62
+  const int64_t omega2 = largest_omega_squared(model, spring, &s);
   if (omega2 > h2)
     return bad_input("substep_hz", "substeps too long for the skin's stiffest vertex (h * omega > 1)",
                      fx::isqrt_fast(static_cast<uint64_t>(omega2 >> kQ16FracBits)), true);
   // Explicit edge dashpots: h * gamma_max <= 1, i.e. gamma_max <= H.
-  if (g.edge_c != 0 && largest_edge_damping(model, g.edge_c, &s) > (g.substep_rate << kQ16FracBits))
+  if (edge_c != 0 && largest_edge_damping(model, edge_c, &s) > (substep_rate << kQ16FracBits))
     return bad_input("substep_hz", "substeps too long for the edge dashpots (h * 2 c degree / m > 1)", sp.edge_damping,
                      true);
-  // Q24.8 -> Q44.20: |g - a| < 2^32, shifted < 2^44.
-  constexpr int kToMotion = 20 - kAccelFracBits;
-  g.external[0] = (int64_t{sp.gravity.x} - tick.base_acceleration.x) * (int64_t{1} << kToMotion);
-  g.external[1] = (int64_t{sp.gravity.y} - tick.base_acceleration.y) * (int64_t{1} << kToMotion);
-  g.external[2] = (int64_t{sp.gravity.z} - tick.base_acceleration.z) * (int64_t{1} << kToMotion);
+  Gains g;
+  g.by_substeps = invariant_divisor(n);
+  // h^2 k / m: Q16.16 * 2^30 / H^2 -> Q46, rounded once per division by H.
+  g.spring_h2 = per_substep(per_substep(spring, 15, substep_rate), 15, substep_rate);
+  g.anchor_gamma = per_substep(anchor_c, kGainFracBits - kQ16FracBits, substep_rate);
+  g.band_gamma = per_substep(band_c, kGainFracBits - kQ16FracBits, substep_rate);
+  g.edge_gamma = per_substep(edge_c, kGainFracBits - kQ16FracBits, substep_rate);
+  g.anchor_only_factor = damping_factor(g.anchor_gamma);
+  // h^2 (gravity - a_base): Q24.8 * 2^28 / H^2 -> Q28.36 (|g - a| < 2^33).
+  const int64_t field[3] = {int64_t{sp.gravity.x} - tick.base_acceleration.x,
+                            int64_t{sp.gravity.y} - tick.base_acceleration.y,
+                            int64_t{sp.gravity.z} - tick.base_acceleration.z};
+  constexpr int kFieldShift = (20 + kFineExtraBits - kAccelFracBits) / 2;  // 14 per division
+  for (int c = 0; c < 3; ++c) {
+    const int64_t magnitude = per_substep(per_substep(field[c] < 0 ? -field[c] : field[c], kFieldShift, substep_rate),
+                                          kFieldShift, substep_rate);
+    g.external[c] = field[c] < 0 ? -magnitude : magnitude;
+  }
 
   SkinStats fresh;
   fresh.steps = s.stats.steps;
@@ -255,15 +332,30 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
       for (size_t i = 0; i < model.bands.size(); ++i) s.band_start[c][i] = s.band_end[c][i];
     }
   }
+  for (int c = 0; c < 3; ++c)
+    for (uint32_t v = 0; v < model.vertex_count; ++v)
+      s.anchor_step[c][v] = step_of(s.anchor_start[c][v], s.anchor[c][v], g.by_substeps);
+  // Velocities to displacements per substep for the tick (d = v / H:
+  // |v| <= 2^46, so v << 16 fits).
+  const InvariantDivisor by_rate = invariant_divisor(substep_rate);
+  for (int c = 0; c < 3; ++c)
+    for (uint32_t v = 0; v < model.vertex_count; ++v)
+      s.velocity[c][v] = div_round_by(s.velocity[c][v] * (int64_t{1} << kFineExtraBits), by_rate);
+  uint32_t candidates = 0;
   for (uint32_t j = 1; j <= n; ++j) {
     if (j == n)
       for (int c = 0; c < 3; ++c)
         for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
     integrate(model, g, j, &s);
     estimate_surface_normals(model, &s);  // kSurface only: the fat along the moved skin's normal (§5.6)
+    candidates = list_reaction_candidates(model, mstate, &s);
     for (uint32_t pass = 0; pass < sp.constraint_passes; ++pass)
-      s.stats.reactions += apply_sliding_reactions(model, mstate, &s);
+      s.stats.reactions += apply_sliding_reactions(model, mstate, candidates, &s);
   }
+  // And back: v = d H, Q44.20 rig units / s.
+  for (int c = 0; c < 3; ++c)
+    for (uint32_t v = 0; v < model.vertex_count; ++v)
+      s.velocity[c][v] = clamp_motion(mul_shift_sat(s.velocity[c][v], substep_rate, kFineExtraBits));
   uint64_t worst = 0;
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
     uint64_t d2 = 0;
@@ -274,10 +366,12 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
     if (d2 > worst) worst = d2;
   }
   s.stats.substeps = n;
+  s.stats.omega_max = fx::isqrt_fast(static_cast<uint64_t>(omega2 >> kQ16FracBits));
   s.stats.residual = fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
   // Against the normals the last reaction pass used (re-estimating them from
-  // the pushed skin would tilt some fat points back in by the push's turn).
-  s.stats.inside_after = count_inside(model, mstate, fx::kUnitOne >> 10, s);
+  // the pushed skin would tilt some fat points back in by the push's turn),
+  // over the last substep's candidates: no other fat point is in reach.
+  s.stats.inside_after = count_inside_of(model, mstate, fx::kUnitOne >> 10, s, s.weight.data(), candidates);
   s.started = 1;
   ++s.stats.steps;
   return {};

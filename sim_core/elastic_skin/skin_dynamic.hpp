@@ -5,15 +5,22 @@
 //
 // Fixed point, every product rounded half up and saturated:
 //   positions  fine:  Q28.36 rig units (int64); output Q12.20, rounded
-//   velocities       Q44.20 rig units / s (int64), clamped to +-2^46
-//   accelerations    Q44.20 rig units / s^2 (int64), clamped to +-2^46
-//   gains k / m      Q16.16 1/s^2 (spring), c / m Q16.16 1/s (dashpot), int64
+//   velocities       Q44.20 rig units / s (int64) between steps, clamped to
+//                    +-2^46; within a step the displacement per substep
+//                    d = v h, Q28.36, clamped to +-2^50
+//   gains            per substep: h^2 k / m and h c / m, Q30 (dimensionless;
+//                    h^2 k / m <= 1 on a step the stability check admits),
+//                    h^2 stiffness_scale / m Q46 per unit model stiffness
+//   field            h^2 (gravity - a_base), Q28.36
+// so a substep has products only: d' = (d + h^2 a + sum (h c_i / m) d_i) /
+// (1 + h D) with 1 / (1 + h D) a Q30 factor fixed for the tick, x' = x + d'.
 // Per substep j = 1..n of a tick:
-//   1. anchors and band targets at start + (end - start) * j / n
-//   2. accelerations: edges (§5.2 push-back rule), anchor springs, rubber
+//   1. anchors and band targets at start + j (end - start) / n
+//   2. h^2 x accelerations: edges (§5.2 push-back rule), anchor springs, rubber
 //      bands (spring + dashpot, §5.5), anchor dashpots, gravity - a_base
-//   3. v' then x' (skin_model.hpp); position = round(fine)
-//   4. constraint_passes Gauss-Seidel passes of the sliding reactions with
+//   3. d' then x' (skin_model.hpp); position = round(fine)
+//   4. the vertices within reach of an active primitive are listed, then
+//      constraint_passes Gauss-Seidel passes of the sliding reactions with
 //      the fat layer (global + per-point thickness along the anchor normal,
 //      or with fat_normal = kSurface along the skin mesh's normal estimated
 //      once per substep after step 3, surface_normals.hpp)

@@ -139,7 +139,11 @@ struct SkinSolverParams {
   // below this (Len); 0 runs every iteration. The last iteration run removes
   // all penetration either way.
   fx::Len tolerance = 0;
-  uint32_t substep_hz = 4000;      // dynamic: target substep rate (Hz), 1..kMaxSubstepHz
+  // Dynamic: target substep rate (Hz), 1..kMaxSubstepHz. The default, 1 kHz,
+  // is a multiple of the usual loop rates (1000, 500, 250, 200, 100 Hz), so
+  // they all integrate with h = 1 ms; a skin whose h * omega_max exceeds 1
+  // at that rate is refused at its first step and needs a higher one.
+  uint32_t substep_hz = 1000;
   uint32_t max_substeps = 16;      // dynamic: bound on n, 1..kMaxSubsteps
   uint32_t constraint_passes = 3;  // dynamic: Gauss-Seidel reaction passes per substep (§6.11), 1..4
   int32_t vertex_mass = 167772;    // kg per skin vertex, Q8.24 (0.01 kg), > 0

@@ -20,6 +20,7 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   for (int a = 0; a < 3; ++a) s->fine[a] = c.take<int64_t>(dn);
   for (int a = 0; a < 3; ++a) s->velocity[a] = c.take<int64_t>(dn);
   for (int a = 0; a < 3; ++a) s->anchor_start[a] = c.take<fx::Len>(dn);
+  for (int a = 0; a < 3; ++a) s->anchor_step[a] = c.take<int64_t>(dn);
   for (int a = 0; a < 3; ++a) s->band_start[a] = c.take<fx::Len>(bands);
   for (int a = 0; a < 3; ++a) s->band_end[a] = c.take<fx::Len>(bands);
   const bool surface = model.solver.fat_normal == static_cast<uint8_t>(FatNormal::kSurface);

@@ -25,6 +25,7 @@ struct SkinStats {
   uint8_t converged = 0;        // static: stopped on solver.tolerance before the iteration count
   uint32_t substeps = 0;        // dynamic: substeps run in the last step
   fx::Len residual = 0;         // static: == max_relax_last; dynamic: largest move of the last substep
+  uint32_t omega_max = 0;       // dynamic: the Gershgorin bound of the stiffest vertex's omega, rad/s (floor)
 };
 
 struct SkinState {
@@ -40,9 +41,12 @@ struct SkinState {
   // constraints together, so it tends to zero at (constrained) equilibrium.
   std::span<fx::Len> max_relax;
   // Dynamic mode only (empty in static mode):
-  std::span<int64_t> fine[3];          // positions, Q28.36 rig units (position = fine rounded to Q12.20)
-  std::span<int64_t> velocity[3];      // Q44.20 rig units / s
+  std::span<int64_t> fine[3];  // positions, Q28.36 rig units (position = fine rounded to Q12.20)
+  // Q44.20 rig units / s between steps; within a step the displacement per
+  // substep, Q28.36 (skin_dynamic.cpp).
+  std::span<int64_t> velocity[3];
   std::span<fx::Len> anchor_start[3];  // virtual anchors at the start of the step
+  std::span<int64_t> anchor_step[3];   // (anchor - anchor_start) / n: the anchor's move per substep, Q28.36
   std::span<fx::Len> band_start[3];    // rubber-band targets at the start of the step, one per band
   std::span<fx::Len> band_end[3];      // ... at its end
   // solver.fat_normal = kSurface only (else empty): the skin mesh's vertex

@@ -1,5 +1,6 @@
 #include "virtual_anchors.hpp"
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
 
@@ -8,10 +9,12 @@ namespace {
 
 int64_t comp(fx::Vec3 v, int c) { return c == 0 ? v.x : (c == 1 ? v.y : v.z); }
 
+// Normalised by the division-free reciprocal square root: it runs for
+// every skin vertex every tick.
 fx::Vec3 unit_blend(fx::Vec3 a, fx::Vec3 b, fx::Unit w) {
   const fx::Vec3 mixed = fx::add(a, fx::scale(fx::sub(b, a), w));
   fx::Vec3 n{};
-  return fx::normalize_to_unit(mixed, &n) ? n : a;
+  return fx::normalize_fast(mixed, &n) ? n : a;
 }
 
 }  // namespace
@@ -51,6 +54,11 @@ AnchorPoint map_anchor(const Anchor& a, std::span<const fx::Mat34> bones, const 
     const fx::Mat34& ba = bones[a.component];
     const fx::Mat34& bb = bones[a.bone_b];
     const fx::Vec3 pa = fx::transform_point(ba, a.local_a);
+    if (a.weight_b == 0) {  // one bone: what the blend below gives with w = 0, without the second bone
+      p.position = pa;
+      p.normal = unit_blend(fx::transform_vector(ba, a.normal_a), {0, 0, 0}, 0);
+      return p;
+    }
     const fx::Vec3 pb = fx::transform_point(bb, a.local_b);
     p.position = fx::add(pa, fx::scale(fx::sub(pb, pa), a.weight_b));
     p.normal = unit_blend(fx::transform_vector(ba, a.normal_a), fx::transform_vector(bb, a.normal_b), a.weight_b);

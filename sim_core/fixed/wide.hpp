@@ -11,6 +11,15 @@ struct U128 {
   uint64_t lo;
 };
 
+#if defined(__SIZEOF_INT128__)
+// One hardware multiply where the compiler has a 128-bit type (x86-64,
+// aarch64); the same exact product as the portable form below (armhf).
+__extension__ typedef unsigned __int128 NativeU128;
+inline constexpr U128 mul_u64(uint64_t a, uint64_t b) {
+  const NativeU128 p = static_cast<NativeU128>(a) * b;
+  return U128{static_cast<uint64_t>(p >> 64), static_cast<uint64_t>(p)};
+}
+#else
 inline constexpr U128 mul_u64(uint64_t a, uint64_t b) {
   const uint64_t a_lo = a & 0xFFFFFFFFu, a_hi = a >> 32;
   const uint64_t b_lo = b & 0xFFFFFFFFu, b_hi = b >> 32;
@@ -18,6 +27,7 @@ inline constexpr U128 mul_u64(uint64_t a, uint64_t b) {
   const uint64_t mid = (p0 >> 32) + (p1 & 0xFFFFFFFFu) + (p2 & 0xFFFFFFFFu);
   return U128{p3 + (p1 >> 32) + (p2 >> 32) + (mid >> 32), (mid << 32) | (p0 & 0xFFFFFFFFu)};
 }
+#endif
 
 inline constexpr uint64_t magnitude(int64_t v) {
   return v < 0 ? uint64_t{0} - static_cast<uint64_t>(v) : static_cast<uint64_t>(v);

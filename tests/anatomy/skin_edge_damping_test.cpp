@@ -31,6 +31,7 @@ constexpr double kEdgeDampEdgeK = 1.0;
 constexpr double kEdgeDampMass = 0.01;
 constexpr int kEdgeDampStartMs = 100, kEdgeDampStopMs = 300;
 constexpr int64_t kEdgeDampLsbPerMs = 512;
+constexpr uint32_t kEdgeDampSubstepHz = 4000;  // h = 1/4000 s, the bounds below
 
 double edge_damp_bone_x(double t) {
   const double ms = std::clamp(t * 1000.0, double{kEdgeDampStartMs}, double{kEdgeDampStopMs}) - kEdgeDampStartMs;
@@ -52,6 +53,7 @@ std::vector<double> edge_damp_run(double edge_damping, double seconds) {
   s.model.solver.anchor_damping = 0;
   s.model.solver.band_damping = 0;
   s.model.solver.edge_damping = to_q16(edge_damping);
+  s.model.solver.substep_hz = kEdgeDampSubstepHz;
   EXPECT_TRUE(s.finish());
   std::vector<double> out;
   const int ticks = static_cast<int>(std::lround(seconds * 1000));
@@ -133,14 +135,14 @@ TEST(SkinEdgeDamping, EdgeDashpotShortensSettlingLikeTheIndependentIntegration) 
   }
   const double swing = 0.02;  // the free vertex's lag: |v| / omega = 0.49 / 44.7 < 0.011, doubled
   std::printf("largest |skin - oracle|: damped %.3g, undamped %.3g units (bounds %.3g, %.3g)\n", worst_damped,
-              worst_free, speed_damped / 4000 + 0.0125 * swing + 16.0 / 1048576.0,
-              speed_free / 4000 + 2e-5 + 16.0 / 1048576.0);
-  EXPECT_LE(worst_damped, speed_damped / 4000 + 0.0125 * swing + 16.0 / 1048576.0);
+              worst_free, speed_damped / kEdgeDampSubstepHz + 0.0125 * swing + 16.0 / 1048576.0,
+              speed_free / kEdgeDampSubstepHz + 2e-5 + 16.0 / 1048576.0);
+  EXPECT_LE(worst_damped, speed_damped / kEdgeDampSubstepHz + 0.0125 * swing + 16.0 / 1048576.0);
   // Without the dashpot the phase error of symplectic Euler accumulates
   // over the undamped swing: (h omega)^2 / 24 = 5.2e-6 per radian; 3 s at
   // 44.7 rad/s shift the phase by 7e-4 rad, i.e. 8e-6 units of the 0.011
   // swing (2e-5 allowed).
-  EXPECT_LE(worst_free, speed_free / 4000 + 2e-5 + 16.0 / 1048576.0);
+  EXPECT_LE(worst_free, speed_free / kEdgeDampSubstepHz + 2e-5 + 16.0 / 1048576.0);
   const double settle_damped = edge_damp_settling(damped, band), settle_free = edge_damp_settling(free_swing, band);
   const double oracle_settle_damped = edge_damp_settling(oracle_damped, band);
   std::printf(
@@ -164,6 +166,7 @@ TEST(SkinEdgeDamping, RefusesDashpotsTooStiffForTheSubstep) {
   s.add_vertex(0.1, 0, 0, 1.0);
   s.add_edge(0, 1, 1.0, 0.1);
   s.model.solver.edge_damping = to_q16(30.0);
+  s.model.solver.substep_hz = kEdgeDampSubstepHz;
   ASSERT_TRUE(s.finish());
   const auto st = s.step(1000);
   EXPECT_FALSE(st.ok());

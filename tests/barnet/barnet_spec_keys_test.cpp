@@ -11,22 +11,17 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
-#include "host_tools/layers/rig_layers.hpp"
-#include "host_tools/rigc/builtin_rigs.hpp"
-#include "host_tools/rigc/toml_spec.hpp"
-#include "sim_core/pipeline/layer_set.hpp"
-#include "sim_core/pipeline/pipeline.hpp"
-#include "sim_core/rig/crc32c.hpp"
-#include "sim_core/rig/rig_format.hpp"
+#include "net_oracle.hpp"
+#include "spec_rig.hpp"
 
 namespace {
 
 namespace pl = sinew::pipeline;
+namespace tb = sinew::test::barnet;
+using BarnetRig = tb::SpecRig;
 
 const char* const kPlainSpec = R"(
 [rig]
@@ -47,93 +42,15 @@ force_input_full = 20.0
 q_input = "biceps.tone"
 )";
 
-struct BarnetRig {
-  std::vector<uint8_t> bytes;
-  std::vector<uint64_t> blob, arena, layer_arena, pipeline_arena;
-  sinew::rig::Rig rig;
-  pl::LayerSet layers;
-  pl::Pipeline pipeline;
-  std::string error;
-  size_t elbow = 0;  // the elbow's flexion input
-
-  bool compile_and_load(const char* text) {
-    const std::string path = (std::filesystem::temp_directory_path() / "sinew_barnet_keys.toml").string();
-    std::ofstream(path) << text;
-    sinew::rigc::RigSpec spec;
-    sinew::layers::LayerSpecs specs;
-    sinew::rigc::CompileReport core;
-    std::vector<std::string> report;
-    const bool ok = sinew::rigc::load_toml_rig(path, &spec, &specs, &error) &&
-                    sinew::layers::add_layer_dofs(&spec, specs, &report, &error) &&
-                    sinew::rigc::compile_rig(spec, &bytes, &core, &error) &&
-                    sinew::layers::compile_layers(spec, specs, &bytes, &report, &error);
-    std::filesystem::remove(path);
-    if (!ok) return false;
-    const std::vector<std::string> names = sinew::rigc::input_names(spec);
-    while (elbow < names.size() && names[elbow].rfind("elbow", 0) != 0) ++elbow;
-    if (elbow == names.size()) return error = "no elbow input", false;
-    return load();
+// The first net of the rig after its last tick against eq. (4) on the same
+// bones and inputs (net_oracle.hpp); its nodes must be the pipeline's.
+struct FirstNet {
+  explicit FirstNet(BarnetRig& r) : check(r.layers.barnet[0], r.pipeline.engine.model, r.angles, r.external_values) {
+    for (uint32_t i = 0; i < r.layers.barnet[0].nodes.size(); ++i)
+      for (size_t c = 0; c < 3; ++c) same &= r.pipeline.barnet_nodes[c][i] == check.loaded.node(c, i);
   }
-
-  // Rewrites the blob's CRC after a deliberate change to `bytes`, so the
-  // loader reaches the changed field.
-  void reseal() {
-    constexpr size_t kCrc = offsetof(sinew::rig::FileHeader, crc32c);
-    std::memset(bytes.data() + kCrc, 0, 4);
-    const uint32_t crc = sinew::rig::crc32c(0, bytes.data(), bytes.size());
-    std::memcpy(bytes.data() + kCrc, &crc, 4);
-  }
-
-  // Loads `bytes` (compiled, possibly altered since).
-  bool load() {
-    blob.assign(bytes.size() / 8 + 1, 0);
-    std::memcpy(blob.data(), bytes.data(), bytes.size());
-    const auto* p = reinterpret_cast<const uint8_t*>(blob.data());
-    size_t a = 0, b = 0;
-    sinew::rig::LoadStatus st = sinew::rig::rig_validate(p, bytes.size(), &a);
-    arena.assign(a / 8 + 1, 0);
-    if (st.ok()) st = sinew::rig::rig_init(p, bytes.size(), arena.data(), arena.size() * 8, &rig);
-    if (st.ok()) st = pl::layers_validate(rig, p, bytes.size(), &b);
-    layer_arena.assign(b / 8 + 1, 0);
-    if (st.ok()) st = pl::layers_init(rig, p, bytes.size(), layer_arena.data(), layer_arena.size() * 8, &layers);
-    if (!st.ok()) return error = st.message, false;
-    const size_t pb = pl::pipeline_state_bytes(rig, layers, {});
-    pipeline_arena.assign(pb / 8 + 1, 0);
-    const pl::PipelineStatus ps = pl::pipeline_init(rig, layers, {}, pipeline_arena.data(), pb + 8, &pipeline);
-    if (!ps.ok()) return error = ps.message, false;
-    return true;
-  }
-
-  // Byte offset of the blob's first BNET section (0: none).
-  size_t barnet_section_offset() const {
-    sinew::rig::FileHeader f;
-    std::memcpy(&f, bytes.data(), sizeof(f));
-    for (uint32_t i = 0; i < f.section_count; ++i) {
-      sinew::rig::SectionEntry e;
-      std::memcpy(&e, bytes.data() + f.section_table_offset + i * sizeof(e), sizeof(e));
-      if (e.id == pl::kSectionBarnet) return e.offset;
-    }
-    return 0;
-  }
-
-  // The layer_version of the blob's first BNET section (0: none).
-  uint32_t barnet_section_version() const {
-    const size_t at = barnet_section_offset();
-    if (at == 0) return 0;
-    pl::LayerSectionHeader h;
-    std::memcpy(&h, bytes.data() + at, sizeof(h));
-    return h.layer_version;
-  }
-
-  // One pipeline tick at the given elbow angle (degrees) and external values.
-  int32_t step(double elbow_degrees, std::vector<int32_t> external) {
-    std::vector<int32_t> inputs(rig.input_count, 0);
-    inputs[elbow] = static_cast<int32_t>(std::llround(elbow_degrees / 360.0 * 4294967296.0));
-    inputs.insert(inputs.end(), external.begin(), external.end());
-    const pl::PipelineStatus s = pl::pipeline_step(&pipeline, inputs);
-    EXPECT_TRUE(s.ok()) << s.message;
-    return pipeline.barnet[0].stats.max_displacement;
-  }
+  tb::NetCheck check;
+  bool same = true;
 };
 
 constexpr int32_t kQ16 = 1 << 16;
@@ -170,18 +87,43 @@ TEST(BarnetSpecKeys, ForceAndForceDensityInputsDriveTheNet) {
 
   std::vector<int32_t> external(r.layers.external_count(), 0);
   external[tone] = kQ16;
-  EXPECT_LE(r.step(120, external), 1) << "flexion alone no longer loads the net";
-  external[grip] = 20 * kQ16;
-  const int32_t stiff = r.step(0, external);
-  external[tone] = kQ16 / 2;
-  const int32_t soft = r.step(0, external);
-  external[grip] = 10 * kQ16;
-  const int32_t soft_half = r.step(0, external);
-  std::printf("elbow net from inputs: largest node move %d LSB at q, %d at q/2, %d at q/2 and half the force\n", stiff,
-              soft, soft_half);
-  EXPECT_GT(stiff, 1000) << "the full grip must bulge the net";
-  EXPECT_NEAR(soft, 2 * stiff, 3) << "half the force density, twice the bulge (D linear in q)";
-  EXPECT_NEAR(2 * soft_half, soft, 3) << "the load is linear in the input's value";
+  // No grip, no load: the net is the skinned control mesh exactly (eq. (4)
+  // with p = D s + D_f s_f solves to s within 2^-12 LSB before rounding).
+  EXPECT_EQ(r.step(120, external), 0) << "flexion alone no longer loads the net";
+  // Each state against eq. (4) on the pipeline's bones, inputs and q of the
+  // step (scaled_q: q = 1 x 1 and x 1/2, dyadic, so exact), within the
+  // rounding bound of net_oracle.hpp.
+  struct State {
+    int32_t grip, tone;
+    int32_t moved = 0;
+    double want = 0, bound = 0;
+  };
+  State states[3] = {{20 * kQ16, kQ16}, {20 * kQ16, kQ16 / 2}, {10 * kQ16, kQ16 / 2}};
+  for (State& st : states) {
+    external[grip] = st.grip;
+    external[tone] = st.tone;
+    st.moved = r.step(0, external);
+    const FirstNet net(r);
+    ASSERT_TRUE(net.check.ok) << net.check.loaded.error();
+    EXPECT_TRUE(net.same) << "the pipeline steps the compiled net";
+    const double worst = tb::eq4_worst(net.check);
+    st.want = net.check.move.largest;
+    st.bound = net.check.move.bound;
+    std::printf(
+        "elbow net, grip %d N, q x %.2f: largest node move %d LSB, eq. (4) %.2f; worst node |runtime - eq. (4)| "
+        "%.4f LSB (bound %.4f)\n",
+        st.grip / kQ16, st.tone / double(kQ16), st.moved, st.want, worst, st.bound);
+    EXPECT_LE(worst, st.bound);
+    EXPECT_LE(std::abs(st.moved - st.want), st.bound);
+    // The check must tell the loaded net from a still one.
+    EXPECT_GT(st.want, 2 * st.bound) << "eq. (4) moves the net beyond the rounding";
+  }
+  // Figure 3 (d) from the input: D is linear in q, so half the q gives twice
+  // the move; each run is within its bound of eq. (4).
+  EXPECT_LE(std::abs(states[1].moved - 2.0 * states[0].moved), states[1].bound + 2 * states[0].bound)
+      << "half the force density, twice the bulge";
+  EXPECT_LE(std::abs(2.0 * states[2].moved - states[1].moved), 2 * states[2].bound + states[1].bound)
+      << "the load is linear in the input's value";
 }
 
 TEST(BarnetSpecKeys, VersionTwoSectionWithAWrongExternalCountIsRefused) {
@@ -214,7 +156,8 @@ TEST(BarnetSpecKeys, VersionTwoSectionWithAWrongExternalCountIsRefused) {
 TEST(BarnetSpecKeys, NetKeySelectsThePapersArmNets) {
   // net = "arm-muscles" (Figure 3: 12 free nodes) and "arm-wrinkles"
   // (Figure 6: the fine mesh's vertices) on the built-in arm, through the
-  // pipeline: the bind pose leaves the skinned mesh, flexion moves the net.
+  // pipeline: the bind pose leaves the skinned mesh, full flexion moves the
+  // net as eq. (4) says (net_oracle.hpp).
   for (const char* net : {"arm-muscles", "arm-wrinkles"}) {
     const std::string text =
         std::string("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"") + net + "\"\n";
@@ -226,7 +169,16 @@ TEST(BarnetSpecKeys, NetKeySelectsThePapersArmNets) {
     for (const sinew::barnet::NodeRecord& n : m.nodes) free += n.kind == 0 ? 1u : 0u;
     EXPECT_EQ(free, std::string(net) == "arm-muscles" ? 12u : 77u) << net;
     EXPECT_EQ(r.step(0, {}), 0) << net << ": no flexion, no load";
-    EXPECT_GT(r.step(150, {}), 1000) << net << ": the loads follow the flexion";
+    const int32_t moved = r.step(150, {});
+    const FirstNet check(r);
+    ASSERT_TRUE(check.check.ok) << check.check.loaded.error();
+    EXPECT_TRUE(check.same) << net;
+    const double worst = tb::eq4_worst(check.check);
+    std::printf("%s at 150 deg: largest node move %d LSB, eq. (4) %.2f; worst |runtime - eq. (4)| %.4f (bound %.4f)\n",
+                net, moved, check.check.move.largest, worst, check.check.move.bound);
+    EXPECT_LE(worst, check.check.move.bound) << net;
+    EXPECT_LE(std::abs(moved - check.check.move.largest), check.check.move.bound) << net;
+    EXPECT_GT(check.check.move.largest, 2 * check.check.move.bound) << net << ": the loads follow the flexion";
   }
   BarnetRig bad;
   EXPECT_FALSE(bad.compile_and_load("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"x\"\n"));

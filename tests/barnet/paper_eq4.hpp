@@ -24,8 +24,10 @@ struct PaperSystem {
 };
 
 // C_s(j, i) = +1 at one extremity of bar j, -1 at the other (eq. (1));
-// D = C^t Q C, D_f = C^t Q C_f, formed as the products they are.
-inline PaperSystem paper_system(const bn::BarnetModel& m, double q_scale = 1.0) {
+// D = C^t Q C, D_f = C^t Q C_f, formed as the products they are. q: the
+// bars' force densities (Q16.16 values; empty: the model's) times q_scale.
+inline PaperSystem paper_system(const bn::BarnetModel& m, double q_scale = 1.0,
+                                const std::vector<double>& q_bars = {}) {
   PaperSystem s;
   std::vector<int> column(m.nodes.size(), -1);
   std::vector<bool> fixed(m.nodes.size(), false);
@@ -40,7 +42,7 @@ inline PaperSystem paper_system(const bn::BarnetModel& m, double q_scale = 1.0) 
   std::vector<double> c(bars * s.free_count, 0), cf(bars * s.fixed_count, 0), q(bars, 0);
   for (size_t j = 0; j < bars; ++j) {
     const bn::BarRecord& b = m.bars[j];
-    q[j] = std::ldexp(static_cast<double>(b.q), -16) * q_scale;
+    q[j] = std::ldexp(q_bars.empty() ? static_cast<double>(b.q) : q_bars[j], -16) * q_scale;
     const uint32_t ends[2] = {b.a, b.b};
     const double sign[2] = {+1.0, -1.0};
     for (int e = 0; e < 2; ++e) {

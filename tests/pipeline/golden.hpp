@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0x1b075136204f5111u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x726d81e2cf40c474u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x816be84ab27b820eu;
 }  // namespace sinew::test::golden

@@ -97,7 +97,7 @@ struct SkinSolverSpec {
   // re-estimated every pass, instead of along the anchor's normal.
   bool fat_surface_normal = false;
   bool dynamic = false;   // LEMAN §3 mass-spring skin instead of the static relaxation
-  int substep_hz = 4000;  // dynamic: target substep rate
+  int substep_hz = 1000;  // dynamic: target substep rate
   int max_substeps = 16;
   int constraint_passes = 3;
   double vertex_mass = 0.01;      // kg per vertex

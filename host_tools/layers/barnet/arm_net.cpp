@@ -11,12 +11,6 @@ namespace {
 
 constexpr double kSkinRingStep = 0.005;  // builtin_arm's ring spacing (m)
 
-int input_of(const rigc::RigSpec& rig, int joint) {
-  int input = 0;
-  for (int j = 0; j < joint; ++j) input += static_cast<int>(rig.joints[static_cast<size_t>(j)].dofs.size());
-  return input;
-}
-
 }  // namespace
 
 bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* out, std::string* error) {
@@ -59,7 +53,7 @@ bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* ou
     const double magnitude = o.force * (o.outer_share + (1 - o.outer_share) * (1 + cy) / 2);
     s.loads.push_back({node(o.loaded_ring, k),
                        shoulder,
-                       input_of(arm, elbow),
+                       first_input_of(arm, elbow),
                        o.flex_lo,
                        o.flex_hi,
                        {0, magnitude * cy, magnitude * cz}});

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "host_tools/rigc/quantize.hpp"
 
@@ -14,7 +15,10 @@ ArmSession::ArmSession(rigc::SkinChoice method, const ArmNetOptions& options)
         return arm_elbow_net(arm, options, net, error);
       }) {}
 
-ArmSession::ArmSession(rigc::SkinChoice method, const NetBuilder& build_net) : spec_(rigc::builtin_arm(method)) {
+ArmSession::ArmSession(rigc::SkinChoice method, const NetBuilder& build_net)
+    : ArmSession(rigc::builtin_arm(method), build_net) {}
+
+ArmSession::ArmSession(rigc::RigSpec rig, const NetBuilder& build_net) : spec_(std::move(rig)) {
   std::vector<uint8_t> bytes;
   rigc::CompileReport report;
   if (!rigc::compile_rig(spec_, &bytes, &report, &error_)) return;
@@ -45,6 +49,7 @@ ArmSession::ArmSession(rigc::SkinChoice method, const NetBuilder& build_net) : s
     return;
   }
   model_ = build_.model();
+  external_.assign(model_.external_count, 0);
   const size_t bytes_needed = bn::barnet_state_bytes(model_);
   barnet_arena_.assign(bytes_needed / 8 + 1, 0);
   const bn::Status s = bn::barnet_init(model_, barnet_arena_.data(), barnet_arena_.size() * 8, &state_);
@@ -64,7 +69,7 @@ bool ArmSession::engine_step() { return engine::engine_step(&engine_, inputs_); 
 
 bool ArmSession::step() {
   if (!engine::engine_step(&engine_, inputs_)) return false;
-  const bn::Status s = bn::barnet_step(&state_, {engine_.model, inputs_}, outputs_);
+  const bn::Status s = bn::barnet_step(&state_, {engine_.model, inputs_, external_}, outputs_);
   return s.ok();
 }
 

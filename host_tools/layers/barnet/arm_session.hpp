@@ -1,7 +1,8 @@
-// The built-in arm with its elbow bar-net, compiled, loaded and ready to step:
-// the engine gives the bone global transforms, the bar-net step the node and
-// wrapped skin positions. Shared by the bar-net tests, benchmark and
-// determinism workload. Memory is allocated here, once, before any step.
+// The built-in arm with its elbow bar-net (or any rig with any net),
+// compiled, loaded and ready to step: the engine gives the bone global
+// transforms, the bar-net step the node and wrapped skin positions. Shared
+// by the bar-net tests, benchmark and determinism workload. Memory is
+// allocated here, once, before any step.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +27,8 @@ class ArmSession {
   // The arm with another net: e.g. arm_muscle_net (Figure 3) or
   // arm_wrinkle_net (Figure 6).
   ArmSession(rigc::SkinChoice method, const NetBuilder& net);
+  // Any rig (e.g. rigc::builtin_hand) with a net built for it.
+  ArmSession(rigc::RigSpec rig, const NetBuilder& net);
   ArmSession(const ArmSession&) = delete;
   ArmSession& operator=(const ArmSession&) = delete;
 
@@ -38,6 +41,9 @@ class ArmSession {
   bool engine_step();  // the smooth-skinning baseline alone
 
   std::vector<int32_t>& inputs() { return inputs_; }
+  // The net's external inputs (Q16.16, model().external_count of them),
+  // passed to every step; all 0 until set.
+  std::vector<int32_t>& external() { return external_; }
   int input(const std::string& name) const;
   const rigc::RigSpec& spec() const { return spec_; }
   const rig::Rig& rig() const { return rig_; }
@@ -57,7 +63,7 @@ class ArmSession {
   std::vector<uint64_t> blob_, rig_arena_, engine_arena_, barnet_arena_;
   rig::Rig rig_;
   engine::Engine engine_;
-  std::vector<int32_t> inputs_;
+  std::vector<int32_t> inputs_, external_;
   BarnetBuild build_;
   sinew::barnet::BarnetModel model_;
   sinew::barnet::BarnetState state_;

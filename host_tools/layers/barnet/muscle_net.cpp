@@ -1,9 +1,12 @@
 #include "muscle_net.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "host_tools/rigc/builtin_rigs.hpp"
+#include "skin_tube.hpp"
 
 namespace sinew::layers::barnet {
 namespace {
@@ -18,12 +21,6 @@ constexpr int kTricepsSegment = kMuscleNetSegments / 2;
 
 uint32_t tube_node(int ring, int k) {
   return static_cast<uint32_t>(ring * kMuscleNetSegments + (k % kMuscleNetSegments));
-}
-
-int input_of(const rigc::RigSpec& rig, int joint) {
-  int input = 0;
-  for (int j = 0; j < joint; ++j) input += static_cast<int>(rig.joints[static_cast<size_t>(j)].dofs.size());
-  return input;
 }
 
 }  // namespace
@@ -68,10 +65,85 @@ bool arm_muscle_net(const rigc::RigSpec& arm, const MuscleNetOptions& o, NetSpec
       const double ry = s.nodes[i].rest[1], rz = s.nodes[i].rest[2], r = std::sqrt(ry * ry + rz * rz);
       const double magnitude = biceps ? o.biceps_force : -o.biceps_force * o.triceps_share;
       s.loads.push_back(
-          {i, shoulder, input_of(arm, elbow), o.flex_lo, o.flex_hi, {0, magnitude * ry / r, magnitude * rz / r}});
+          {i, shoulder, first_input_of(arm, elbow), o.flex_lo, o.flex_hi, {0, magnitude * ry / r, magnitude * rz / r}});
     }
   for (int ring = r0; ring <= last; ++ring)
     for (int k = 0; k < per_ring; ++k) s.wrap_vertices.push_back(static_cast<uint32_t>(ring * per_ring + k));
+  *out = std::move(s);
+  return true;
+}
+
+uint32_t joint_muscle_line_node(const JointMuscleNetOptions& o, bool flexor, int ring) {
+  return static_cast<uint32_t>(ring * o.segments + (flexor ? 0 : o.segments / 2));
+}
+
+bool joint_muscle_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const JointMuscleNetOptions& o,
+                      NetSpec* out, std::string* error) {
+  if (o.rings < 5 || o.rings > 15) return *error = "rings: must be 5..15", false;
+  if (o.segments < 4 || o.segments > 32 || o.segments % 2 != 0) return *error = "segments: must be even, 4..32", false;
+  if (!(o.span_lo >= 0 && o.span_lo < o.span_hi && o.span_hi <= 1))
+    return *error = "span_lo/span_hi: must satisfy 0 <= span_lo < span_hi <= 1", false;
+  if (!(o.q > 0) || !(o.force >= 0) || !(o.extensor_share >= 0))
+    return *error = "q must be positive, force and extensor_share >= 0", false;
+  Bend bend;
+  if (!joint_bend(rig, g, joint, &bend, error)) return false;
+  const std::string name = "joint '" + rig.joints[static_cast<size_t>(joint)].name + "'";
+  const double radius = g.skin_radius[static_cast<size_t>(bend.parent)];
+  if (!(radius > 0)) return *error = name + ": the bone before it carries no skin for the muscles", false;
+  if (!(bend.length > 0)) return *error = name + ": it sits on its parent's joint: no bone for the muscles", false;
+  const double force = o.force > 0 ? o.force : 0.4 * radius;
+  // The tube's axis runs along the parent's bone, from its joint p0 to this one.
+  const Vec3d p0 = sub(bend.c, scaled(bend.u, bend.length));
+  const double t0 = o.span_lo * bend.length, t1 = o.span_hi * bend.length;
+  const double step = (t1 - t0) / (o.rings - 1);
+  // The parent bone's skin (its muscles' surface) near the axis.
+  const std::vector<SkinSample> near =
+      skin_samples(rig, g, {bend.parent}, p0, bend.u, 2.5 * radius, t0 - step, t1 + step);
+  if (near.size() < 3) return *error = name + ": fewer than 3 skin vertices along the bone before it", false;
+
+  // Node (ring, k) on the ray at angle k from the fold side, at the skin's
+  // distance there, skinned as the skin vertex nearest it (the control mesh
+  // is bound to the skeleton as the skin is).
+  NetSpec s;
+  const Vec3d a = bend.fold, b = cross(bend.u, a);
+  const double pi = 3.14159265358979323846;
+  const int flexor = 0, extensor = o.segments / 2;
+  for (int ring = 0; ring < o.rings; ++ring) {
+    const double t = t0 + ring * step;
+    for (int k = 0; k < o.segments; ++k) {
+      const double theta = 2 * pi * k / o.segments;
+      const Vec3d dir = add(scaled(a, std::cos(theta)), scaled(b, std::sin(theta)));
+      size_t nearest = 0;
+      const double rho = skin_distance(near, t, dir, step, &nearest);
+      NodeSpec n;
+      n.rest = add(add(p0, scaled(bend.u, t)), scaled(dir, rho));
+      // "Only the nodes lying around the central line of the two muscles
+      // are set to free, all other nodes are fixed."
+      n.fixed = ring == 0 || ring == o.rings - 1 || (k != flexor && k != extensor);
+      n.influences = rig.vertices[near[nearest].vertex].influences;
+      s.nodes.push_back(n);
+    }
+  }
+  add_tube_mesh(o.rings, o.segments, o.q, &s);
+  // Figure 3 (b): radial loads on the midpoints of the two lines (the middle
+  // inner ring, or the two middle ones), carried by the parent bone and
+  // activated by the joint's flexion: outwards on the flexor (it contracts
+  // and bulges), inwards on the extensor (it relaxes and is stretched).
+  const int inner = o.rings - 2;
+  std::vector<int> loaded{(inner + 1) / 2};
+  if (inner % 2 == 0) loaded = {inner / 2, inner / 2 + 1};
+  for (const int ring : loaded)
+    for (const bool flex : {true, false}) {
+      const uint32_t i = joint_muscle_line_node(o, flex, ring);
+      const Vec3d rel = sub(s.nodes[i].rest, p0);
+      const Vec3d radial = normalized(sub(rel, scaled(bend.u, dot(rel, bend.u))));
+      const double magnitude = flex ? force : -force * o.extensor_share;
+      s.loads.push_back({i, bend.parent, bend.input, 0.0, bend.flex_hi, scaled(radial, magnitude)});
+    }
+  for (const SkinSample& v : near)
+    if (v.axial >= t0 && v.axial <= t1) s.wrap_vertices.push_back(v.vertex);
+  std::sort(s.wrap_vertices.begin(), s.wrap_vertices.end());
+  if (s.wrap_vertices.empty()) return *error = name + ": no skin vertex between the muscle net's end rings", false;
   *out = std::move(s);
   return true;
 }

@@ -306,6 +306,23 @@ void add_tube_mesh(int rings, int segments, double q, NetSpec* net) {
   for (const auto& [a, b] : edges) net->bars.push_back({a, b, q});
 }
 
+int first_input_of(const rigc::RigSpec& rig, int joint) {
+  int input = 0;
+  for (int j = 0; j < joint; ++j) input += static_cast<int>(rig.joints[static_cast<size_t>(j)].dofs.size());
+  return input;
+}
+
+void drive_from_inputs(const InputDrive& d, NetSpec* net) {
+  if (d.force_input >= 0)
+    for (LoadSpec& l : net->loads) {
+      l.external_input = d.force_input;
+      l.value_lo = d.value_lo;
+      l.value_hi = d.value_hi;
+    }
+  net->external_count = d.external_count;
+  if (d.q_input >= 0) net->q_inputs.push_back({d.q_input, 0, static_cast<uint32_t>(net->bars.size())});
+}
+
 bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* out, std::string* error) {
   BarnetBuild b;
   b.length_exponent = rigc::choose_length_exponent(rig);

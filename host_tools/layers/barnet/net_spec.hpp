@@ -88,6 +88,21 @@ struct BarnetBuild {
 // the bars, each with force density q.
 void add_tube_mesh(int rings, int segments, double q, NetSpec* net);
 
+// The first rig input of `joint` (inputs are the joints' DOFs in joint order).
+int first_input_of(const rigc::RigSpec& rig, int joint);
+
+// Drives a built net from external inputs (EXTI indices; -1: none): every
+// load's activation follows `force_input` (0 at value_lo, 1 at value_hi)
+// instead of its joint angle, and every bar's q is scaled by `q_input` (one
+// run over all bars, re-factorised every step).
+struct InputDrive {
+  uint32_t external_count = 0;
+  int force_input = -1;
+  double value_lo = 0, value_hi = 40;
+  int q_input = -1;
+};
+void drive_from_inputs(const InputDrive& drive, NetSpec* net);
+
 // Returns false with a message naming the spec record and field.
 bool build_barnet(const NetSpec& spec, const rigc::RigSpec& rig, BarnetBuild* out, std::string* error);
 
