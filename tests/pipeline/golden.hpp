@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xd568cad81189c4a7u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x8418ef96f17cab13u;
+inline constexpr uint64_t kArmLayersBlob = 0x1b075136204f5111u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x816be84ab27b820eu;
 }  // namespace sinew::test::golden
