@@ -83,10 +83,11 @@ TEST(ElasticSkin, LargestRelaxationVectorShrinksWithIterations) {
   for (uint32_t i : {0u, 1u, 2u, 4u, 9u, 19u, 29u, 39u, 59u}) std::printf(" [%u] %.4f", i + 1, mm(i));
   std::printf("\n");
   // Each round is Jacobi on eqs. (1)-(2) (RelaxationRoundIsSection52 below):
-  // x_v <- (sum k_e x_j + k_a anchor_v) / (sum k_e + k_a) for springs acting
-  // linearly, an iteration matrix whose rows sum to sum k_e / (sum k_e + k_a)
-  // (the paper's "conservatively large" denominator). So every round shrinks
-  // the relaxation vector by at least rho, the largest row sum of this model;
+  // with the springs acting linearly and the constraints settled,
+  // x_v <- (sum k_e x_j + k_a anchor_v) / (sum k_e + k_a), an iteration
+  // matrix whose rows sum to sum k_e / (sum k_e + k_a) (the paper's
+  // "conservatively large" denominator). Each round then shrinks the
+  // relaxation vector by at least rho, the largest row sum of this model;
   // "close to equilibrium after about 30 iterations" is 29 rounds of it.
   const es::SkinModel& m = arm.skin_model();
   std::vector<double> edge_sum(m.vertex_count, 0);
