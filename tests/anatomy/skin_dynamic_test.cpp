@@ -208,7 +208,8 @@ TEST(SkinDynamic, FollowThroughMatchesAnIndependentIntegration) {
     // by at most V / omega_d in the anchor's frame (edges along x at their
     // rest length do not couple y motions to first order), omega_d^2 =
     // k_a s / m - (c / 2m)^2, and the swing decays as exp(-(c / 2m) t).
-    // So |y - final| < band from t_stop + ln(2 V / (omega_d band)) / (c / 2m).
+    // So |y - final| < band from t_stop + ln(2 V / (omega_d band)) / (c / 2m),
+    // sampled at the ticks (one tick later at most).
     const double speed = chain_bone_vy(0.2), decay = kDamping / (2 * kMass);
     const double omega_d = std::sqrt(kAnchorK[v] * kScale / kMass - decay * decay);
     const double settle_bound = kStopMs / 1000.0 + std::log(2 * speed / (omega_d * band)) / decay + 1.0 / kHz;

@@ -122,7 +122,8 @@ double edge_damp_settling(const std::vector<double>& x, double band) {
 // sigma_k = c (phi_k1 - phi_k0)^2 / (2 m |phi_k|^2) (modal damping: at
 // damping ratios below 0.04 the dashpot's coupling of the modes moves the
 // rates by O(zeta^2)). Both steps' amplitudes, all decaying at the slowest
-// rate from the stop: t_stop + ln(A / band) / sigma_min.
+// rate from the stop: t_stop + ln(A / band) / sigma_min, plus one 1 ms tick
+// of sampling.
 double edge_damp_settling_bound(double c, double band) {
   const double m = kEdgeDampMass, ka = kEdgeDampAnchorK * kEdgeDampScale, ke = kEdgeDampEdgeK * kEdgeDampScale;
   const double a = ka + ke, d = ke;  // K = [[a, -ke], [-ke, d]]
