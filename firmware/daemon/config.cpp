@@ -314,14 +314,17 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
                         "on here with sph, metaballs, barnet, anatomy = true",
                false;
     if (!known_keys_only(*layers, "layers",
-                         {"sph", "metaballs", "barnet", "anatomy", "skin_iterations", "tresca", "sph_joint"}, origin,
-                         error) ||
+                         {"sph", "metaballs", "barnet", "anatomy", "skin_iterations", "tresca", "sph_joint",
+                          "skin_max_anchor_acceleration"},
+                         origin, error) ||
         !read_flag(*layers, "sph", &c.layer_sph, origin, error) ||
         !read_flag(*layers, "metaballs", &c.layer_metaballs, origin, error) ||
         !read_flag(*layers, "barnet", &c.layer_barnet, origin, error) ||
         !read_flag(*layers, "anatomy", &c.layer_anatomy, origin, error) ||
         !read_flag(*layers, "tresca", &c.layer_tresca, origin, error) ||
-        !read_number(*layers, "skin_iterations", 0, 256, &c.layer_skin_iterations, origin, error))
+        !read_number(*layers, "skin_iterations", 0, 256, &c.layer_skin_iterations, origin, error) ||
+        !read_number(*layers, "skin_max_anchor_acceleration", 0, 32767, &c.layer_skin_max_anchor_acceleration, origin,
+                     error))
       return false;
     if (const toml::node* joint = layers->get("sph_joint")) {
       const std::optional<std::string> v = joint->value_exact<std::string>();

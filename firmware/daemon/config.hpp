@@ -52,6 +52,9 @@ struct DaemonConfig {
   bool layer_tresca = true;               // the SPH yield condition, eqs. (3)-(4)
   bool layer_sph_joint_measured = false;  // [layers] sph_joint = "measured": the sensors' angles are the truth
   int layer_skin_iterations = 0;          // elastic-skin relaxations per tick; 0: the rig's
+  // The dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none
+  // (pipeline::PipelineOptions::skin_max_anchor_acceleration).
+  int layer_skin_max_anchor_acceleration = 500;
 };
 
 // Reads and validates a config file; errors name the file, line and key.

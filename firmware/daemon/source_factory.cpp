@@ -90,6 +90,7 @@ bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::P
   o.tresca = config.layer_tresca;
   o.sph_joint_measured = config.layer_sph_joint_measured;
   o.skin_iterations = static_cast<uint32_t>(config.layer_skin_iterations);
+  o.skin_max_anchor_acceleration = static_cast<uint32_t>(config.layer_skin_max_anchor_acceleration);
   o.tick_hz = config.rate_hz;
   *out = o;
   return true;

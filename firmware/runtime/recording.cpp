@@ -46,7 +46,11 @@ std::string encode_run_description(const RunDescription& run) {
                 o.anatomy ? "true" : "false", o.tresca ? "true" : "false", o.skin_iterations);
   // Written only when set, so that the description of a simulated-joint run
   // (and every recording made before the key existed) stays as it was.
-  return std::string(buf) + (o.sph_joint_measured ? "sph_joint_measured = true\n" : "");
+  std::string out = std::string(buf) + (o.sph_joint_measured ? "sph_joint_measured = true\n" : "");
+  // Likewise the dynamic skin's anchor-acceleration cap, when not the default.
+  if (o.skin_max_anchor_acceleration != pipeline::PipelineOptions{}.skin_max_anchor_acceleration)
+    out += "skin_max_anchor_acceleration = " + std::to_string(o.skin_max_anchor_acceleration) + "\n";
+  return out;
 }
 
 bool parse_run_description(std::string_view text, RunDescription* out, std::string* error) {
@@ -87,6 +91,9 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
       ok = parse_uint(value, 10, &o.tick_hz) && o.tick_hz > 0, bit = 1u << 2;
     } else if (key == "skin_iterations") {
       ok = parse_uint(value, 10, &o.skin_iterations), bit = 1u << 3;
+    } else if (key == "skin_max_anchor_acceleration") {  // optional, as sph_joint_measured
+      ok = parse_uint(value, 10, &o.skin_max_anchor_acceleration) && o.skin_max_anchor_acceleration <= 32767,
+      bit = 1u << 10;
     } else {
       for (size_t i = 0; i < std::size(flags); ++i)
         if (key == flags[i].key) ok = parse_bool(value, flags[i].field), bit = 1u << (4 + i);
@@ -102,7 +109,8 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
   }
   if (line_no == 0) return *error = "empty recording description", false;
   constexpr unsigned kRequired = (1u << 9) - 1;  // every key but sph_joint_measured
-  if ((seen & kRequired) != kRequired) return *error = "recording description lacks a key (rig, tick rate and layers)", false;
+  if ((seen & kRequired) != kRequired)
+    return *error = "recording description lacks a key (rig, tick rate and layers)", false;
   *out = run;
   return true;
 }

@@ -41,6 +41,7 @@ bool quantity_of(const std::string& name, pipeline::InputQuantity* out) {
   if (name == "length") return *out = pipeline::InputQuantity::kLength, true;
   if (name == "angle") return *out = pipeline::InputQuantity::kAngle, true;
   if (name == "scalar") return *out = pipeline::InputQuantity::kScalar, true;
+  if (name == "acceleration") return *out = pipeline::InputQuantity::kAcceleration, true;
   return false;
 }
 
@@ -145,6 +146,10 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     declare(t.force_input, {t.force_input, "N", "force", -40, 40, t.joint.where});
     declare(t.q_input, {t.q_input, "", "scalar", 1.0 / 256, 256, t.joint.where});
   }
+  // The skin's base-acceleration inputs, if undeclared.
+  for (const std::string& name : layers.skin.base_acceleration)
+    if (std::none_of(external.begin(), external.end(), [&](const ExternalInputTable& e) { return e.name == name; }))
+      external.push_back({name, "m/s^2", "acceleration", -200, 200, layers.skin.where});
   std::vector<pipeline::ExternalInputRecord> records;
   for (const ExternalInputTable& e : external) {
     pipeline::ExternalInputRecord r{};
@@ -152,7 +157,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     if (e.unit.size() >= sizeof(r.unit)) return fail(e.where, "unit must be at most 15 characters", error);
     pipeline::InputQuantity q;
     if (!quantity_of(e.quantity, &q))
-      return fail(e.where, "quantity must be \"force\", \"length\", \"angle\" or \"scalar\"", error);
+      return fail(e.where, "quantity must be \"force\", \"length\", \"angle\", \"scalar\" or \"acceleration\"", error);
     if (!(e.min < e.max) || std::fabs(e.min) > 32767 || std::fabs(e.max) > 32767)
       return fail(e.where, "min must be below max, both within +-32767", error);
     std::memcpy(r.name, e.name.data(), e.name.size());
@@ -289,13 +294,31 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
         const fx::Unit q = static_cast<fx::Unit>(std::floor(w * 1073741824.0 + 0.5));
         if (q > 0) region.push_back(static_cast<uint32_t>(v)), weight.push_back(q);
       }
-      sections.push_back(skin_section(model.skin_model(), region, weight));
+      uint32_t base[3] = {pipeline::kNoExternalInput, pipeline::kNoExternalInput, pipeline::kNoExternalInput};
+      if (!layers.skin.base_acceleration.empty()) {
+        if (layers.skin.base_acceleration.size() != 3)
+          return fail(layers.skin.where, "base_acceleration must name 3 inputs (x, y, z)", error);
+        for (size_t c = 0; c < 3; ++c) {
+          for (size_t k = 0; k < records.size(); ++k)
+            if (layers.skin.base_acceleration[c] == records[k].name) base[c] = static_cast<uint32_t>(k);
+          if (records[base[c]].quantity != static_cast<uint32_t>(pipeline::InputQuantity::kAcceleration))
+            return fail(layers.skin.where,
+                        "base_acceleration input '" + layers.skin.base_acceleration[c] + "' is not an acceleration",
+                        error);
+        }
+      }
+      sections.push_back(skin_section(model.skin_model(), region, weight, base));
       report->push_back("elastic skin region: " + std::to_string(region.size()) + " of " +
                         std::to_string(spec.vertices.size()) + " vertices");
       report->push_back("elastic skin: " + std::to_string(model.report.muscle_anchors) + " muscle anchors, " +
                         std::to_string(model.report.bone_anchors) + " bone anchors, " +
                         std::to_string(model.report.edges) + " springs, " + std::to_string(model.report.bands) +
                         " rubber bands, " + std::to_string(layers.skin.iterations) + " relaxations per tick");
+      if (layers.skin.solver.dynamic)
+        report->push_back("elastic skin, dynamic: " + fmt(model.report.vertex_mass * 1e3) + " g a vertex, " +
+                          fmt(model.report.stiffness_scale) + " N/m and " + fmt(model.report.anchor_damping) +
+                          " N s/m per unit stiffness, stiffest mode " + fmt(model.report.omega_max) + " rad/s, " +
+                          std::to_string(model.report.substep_hz) + " Hz substeps");
     }
   }
 

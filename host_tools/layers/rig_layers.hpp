@@ -67,6 +67,11 @@ struct SkinTable {
   bool warm_start = true;                // start each tick from the last one's skin (LEMAN)
   std::string mode = "static";           // "static" (relaxation) | "dynamic" (LEMAN §3 mass-spring)
   anatomy_build::SkinSolverSpec solver;  // mode is written into solver.dynamic
+  // External inputs measuring the acceleration of the rig's base (the frame
+  // its bones are given in), x, y, z in the rig's axes, m/s^2; declared
+  // (acceleration, +-200 m/s^2) if no [[external_input]] has the name. Empty:
+  // no base motion (LEMAN §3: the dynamic skin feels -a_base).
+  std::vector<std::string> base_acceleration;
 };
 
 struct BarnetTable {

@@ -360,7 +360,8 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                if (!known_keys(path, e, n,
                                {"iterations", "warm_start", "mode", "tolerance", "fat", "substep_hz", "max_substeps",
                                 "constraint_passes", "vertex_mass", "stiffness_scale", "anchor_damping", "band_damping",
-                                "edge_damping", "gravity", "fat_normal"},
+                                "edge_damping", "gravity", "fat_normal", "base_acceleration", "surface_density",
+                                "frequency", "damping_ratio"},
                                error) ||
                    !read_int(path, e, n, "iterations", 1, 256, &s.skin.iterations, error) ||
                    !read_bool(path, e, n, "warm_start", &s.skin.warm_start, error) ||
@@ -374,6 +375,9 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                    !read_number(path, e, n, "stiffness_scale", &d.stiffness_scale, error) ||
                    !read_number(path, e, n, "anchor_damping", &d.anchor_damping, error) ||
                    !read_number(path, e, n, "band_damping", &d.band_damping, error) ||
+                   !read_number(path, e, n, "surface_density", &d.surface_density, error) ||
+                   !read_number(path, e, n, "frequency", &d.frequency, error) ||
+                   !read_number(path, e, n, "damping_ratio", &d.damping_ratio, error) ||
                    !read_number(path, e, n, "edge_damping", &d.edge_damping, error) ||
                    !in_range(path, e, n, "edge_damping", d.edge_damping >= 0, ">= 0 (N s per model unit)", error))
                  return false;
@@ -387,6 +391,20 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                  }
                  if (!good) return *error = at(path, g, n + " gravity") + " must be an array of 3 numbers", false;
                }
+               if (const toml::node* b = e.get("base_acceleration")) {
+                 const toml::array* a = b->as_array();
+                 bool good = a != nullptr && a->size() == 3;
+                 for (size_t i = 0; good && i < 3; ++i) {
+                   const auto v = a->get(i)->value<std::string>();
+                   good = v && !v->empty();
+                   if (good) s.skin.base_acceleration.push_back(*v);
+                 }
+                 if (!good)
+                   return *error =
+                              at(path, b, n + " base_acceleration") +
+                              " must name 3 external inputs (x, y, z), e.g. [\"base.ax\", \"base.ay\", \"base.az\"]",
+                          false;
+               }
                std::string fat_normal = "anchor";
                if (!read_string(path, e, n, "fat_normal", &fat_normal, error)) return false;
                if (fat_normal != "anchor" && fat_normal != "surface")
@@ -395,13 +413,22 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                if (s.skin.mode != "static" && s.skin.mode != "dynamic")
                  return *error = at(path, &e, n) + " mode must be \"static\" or \"dynamic\"", false;
                d.dynamic = s.skin.mode == "dynamic";
-               if (d.tolerance < 0 || d.fat_global < 0 || d.stiffness_scale < 0 || d.anchor_damping < 0 ||
-                   d.band_damping < 0)
+               // Absent tissue values are derived by the builder (docs/anatomy.md,
+               // "Physical defaults"); given ones must be physical.
+               if (d.tolerance < 0 || d.fat_global < 0 || d.stiffness_scale < 0 ||
+                   (e.contains("anchor_damping") && d.anchor_damping < 0) ||
+                   (e.contains("band_damping") && d.band_damping < 0))
                  return *error = at(path, &e, n) +
                                  " tolerance, fat, stiffness_scale, anchor_damping and band_damping must be >= 0",
                         false;
-               if (!(d.vertex_mass > 0 && d.vertex_mass < 128))
+               if (e.contains("vertex_mass") && !(d.vertex_mass > 0 && d.vertex_mass < 128))
                  return *error = at(path, &e, n) + " vertex_mass must be in (0, 128) kg", false;
+               if (!(d.surface_density > 0 && d.surface_density < 1000))
+                 return *error = at(path, &e, n) + " surface_density must be in (0, 1000) kg/m^2", false;
+               if (!(d.frequency > 0 && d.frequency <= 1000))
+                 return *error = at(path, &e, n) + " frequency must be in (0, 1000] Hz", false;
+               if (!(d.damping_ratio >= 0 && d.damping_ratio <= 10))
+                 return *error = at(path, &e, n) + " damping_ratio must be in [0, 10]", false;
                return true;
              }) &&
       each("barnet",

@@ -124,12 +124,18 @@ uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleSta
       s->position[2][v] = fx::add_sat(s->position[2][v], d.z);
       // Velocity: drop the component into the primitive (against the move),
       // keep the tangential one (LEMAN §3: "forces perpendicular ... are not
-      // affected, so the elastic surface may slide along").
+      // affected, so the elastic surface may slide along"). Relative to the
+      // layer beneath, which the bones carry as they carry the vertex's
+      // anchor: a muscle moving out into the skin hands it its speed, and a
+      // skin carried with a jumping bone keeps the carried speed.
       fx::Vec3 dir{};
       if (!fx::normalize_to_unit(d, &dir)) continue;
       const int64_t vd[3] = {dir.x, dir.y, dir.z};
-      int64_t along = 0;  // v . dir; within a tick v is the displacement per substep (Q28.36, <= 2^50)
-      for (int c = 0; c < 3; ++c) along += fx::mul_shift_round(s->velocity[c][v], vd[c], fx::kUnitFracBits);
+      // (v - v_anchor) . dir; within a tick both are displacements per
+      // substep (Q28.36, <= 2^50 each).
+      int64_t along = 0;
+      for (int c = 0; c < 3; ++c)
+        along += fx::mul_shift_round(s->velocity[c][v] - s->anchor_step[c][v], vd[c], fx::kUnitFracBits);
       if (along >= 0) continue;
       for (int c = 0; c < 3; ++c) s->velocity[c][v] -= fx::mul_shift_round(along, vd[c], fx::kUnitFracBits);
     }

@@ -1,5 +1,6 @@
 #include "skin_dynamic.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
@@ -28,6 +29,7 @@ constexpr int kSpringFracBits = 46;                       // h^2 * stiffness_sca
 constexpr int64_t kFineMax = int64_t{INT32_MAX} << kFineExtraBits;
 constexpr int64_t kFineMin = int64_t{INT32_MIN} << kFineExtraBits;
 constexpr int64_t kSaturated = int64_t{1} << 62;
+constexpr uint32_t kStartRelaxations = 30;  // the first step's settling (§5.2: "about 30")
 
 int64_t clamp_motion(int64_t v) { return fx::clamp_i64(v, -kMotionLimit, kMotionLimit); }
 int64_t clamp_displacement(int64_t d) { return fx::clamp_i64(d, -kDisplacementLimit, kDisplacementLimit); }
@@ -93,9 +95,10 @@ int64_t per_substep(int64_t x, int shift, int64_t h_inv) {
 }
 
 // start + (end - start) * j / n, rounded: the linear path across a tick
-// (by_n: the substep count n).
+// (by_n: the substep count n), exact at both ends.
 fx::Len lerp_tick(fx::Len start, fx::Len end, uint32_t j, const InvariantDivisor& by_n) {
-  if (j == by_n.d) return end;  // the tick's last substep (and every one of a one-substep tick): exact
+  if (j == 0) return start;
+  if (j == by_n.d) return end;
   return fx::sat_i32(int64_t{start} + div_round_by((int64_t{end} - start) * j, by_n));
 }
 
@@ -189,8 +192,12 @@ int64_t damping_factor(int64_t beta_q30) {
   return fx::div_round(int64_t{1} << (2 * kGainFracBits), fx::add_sat_i64(int64_t{1} << kGainFracBits, beta_q30));
 }
 
-// One substep j of n: displacements from the springs and the external
-// field, the implicit dashpots, then x += d'.
+// One substep of n, the one that starts at t = j / n of the tick (j = 0..n-1):
+// displacements from the springs and the external field, the implicit
+// dashpots, then x += d'. The springs pull towards the anchors and band
+// targets at the substep's start, where the positions are (symplectic
+// Euler takes every force at t_j): a bone that jumps within a tick then
+// pulls on the skin only from the next substep on.
 void integrate(const SkinModel& model, const Gains& g, uint32_t j, SkinState* s) {
   const uint32_t count = model.vertex_count;
   for (int c = 0; c < 3; ++c)
@@ -229,11 +236,10 @@ void integrate(const SkinModel& model, const Gains& g, uint32_t j, SkinState* s)
     for (int c = 0; c < 3; ++c) {
       // The anchor's linear path across the tick, by its move per substep.
       const int64_t anchor_d = s->anchor_step[c][v];
-      const fx::Len anchor = j == g.by_substeps.d
-                                 ? s->anchor[c][v]
-                                 : fx::sat_i32(fx::round_shift((int64_t{s->anchor_start[c][v]} << kFineExtraBits) +
-                                                                   anchor_d * static_cast<int64_t>(j),
-                                                               kFineExtraBits));
+      const fx::Len anchor = j == 0 ? s->anchor_start[c][v]
+                                    : fx::sat_i32(fx::round_shift((int64_t{s->anchor_start[c][v]} << kFineExtraBits) +
+                                                                      anchor_d * static_cast<int64_t>(j),
+                                                                  kFineExtraBits));
       int64_t a = fx::add_sat_i64(s->force[c][v], mul_shift_sat(kappa, int64_t{anchor} - s->position[c][v], kToFine));
       a = fx::add_sat_i64(a, mul_shift_sat(g.anchor_gamma, anchor_d, kGainFracBits));
       // (1 + h D) d' = d + h^2 a + sum (h c_i / m) d_i.
@@ -326,27 +332,72 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
       for (uint32_t v = 0; v < model.vertex_count; ++v) {
         s.anchor_start[c][v] = s.anchor[c][v];
         s.position[c][v] = s.anchor[c][v];
-        s.fine[c][v] = int64_t{s.anchor[c][v]} << kFineExtraBits;
         s.velocity[c][v] = 0;
       }
       for (size_t i = 0; i < model.bands.size(); ++i) s.band_start[c][i] = s.band_end[c][i];
     }
+    // At rest means at the springs' equilibrium over the muscles, not on the
+    // bare anchors (the skin would spring from them into its place): the
+    // static relaxation of §5.2 for kStartRelaxations rounds, where the
+    // paper finds the skin close to equilibrium.
+    for (uint32_t i = 0; i < kStartRelaxations; ++i) {
+      relax_once(model, mstate, &s);
+      estimate_surface_normals(model, &s);
+      apply_reaction_constraints(model, mstate, i + 1 == kStartRelaxations ? fx::kUnitOne : model.params.reaction_gain,
+                                 &s);
+    }
+    for (int c = 0; c < 3; ++c)
+      for (uint32_t v = 0; v < model.vertex_count; ++v)
+        s.fine[c][v] = int64_t{s.position[c][v]} << kFineExtraBits;
   }
-  for (int c = 0; c < 3; ++c)
-    for (uint32_t v = 0; v < model.vertex_count; ++v)
-      s.anchor_step[c][v] = step_of(s.anchor_start[c][v], s.anchor[c][v], g.by_substeps);
   // Velocities to displacements per substep for the tick (d = v / H:
   // |v| <= 2^46, so v << 16 fits).
   const InvariantDivisor by_rate = invariant_divisor(substep_rate);
   for (int c = 0; c < 3; ++c)
     for (uint32_t v = 0; v < model.vertex_count; ++v)
       s.velocity[c][v] = div_round_by(s.velocity[c][v] * (int64_t{1} << kFineExtraBits), by_rate);
+  // The anchors' moves per substep this tick, and the acceleration cap: an
+  // anchor's velocity change from the last tick, h (step - last step), may
+  // reach a_max T per tick, i.e. a_max n h^2 in substep units; the excess
+  // goes to the vertex's own displacement (it is carried).
+  const int64_t cap =
+      tick.max_anchor_acceleration <= 0
+          ? 0
+          : per_substep(per_substep(int64_t{tick.max_anchor_acceleration} * n, kFieldShift, substep_rate), kFieldShift,
+                        substep_rate);
+  const bool comparable = s.started != 0 && s.step_rate == substep_rate;
+  s.stats.carried = 0;
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    int64_t step[3], change[3];
+    uint64_t change2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      step[c] = step_of(s.anchor_start[c][v], s.anchor[c][v], g.by_substeps);
+      change[c] = comparable ? step[c] - s.anchor_step[c][v] : 0;  // |each| < 2^50
+      // In Len, saturated at 2^31 so that the three squares sum below 2^64.
+      const uint64_t m = std::min<uint64_t>(fx::magnitude(change[c]) >> kFineExtraBits, INT32_MAX);
+      change2 += m * m;
+      s.anchor_step[c][v] = step[c];
+    }
+    if (cap == 0 || change2 == 0) continue;
+    const uint64_t cap_len = std::min<uint64_t>(static_cast<uint64_t>(cap) >> kFineExtraBits, INT32_MAX);
+    if (change2 <= cap_len * cap_len) continue;
+    // Keep cap / |change| of the change as the skin's excitation, carry the
+    // rest: ratio in Q30 (< 1 here).
+    const int64_t length = fx::isqrt_fast(change2);  // Len, > cap_len
+    const int64_t ratio = fx::div_round(static_cast<int64_t>(cap_len) << fx::kUnitFracBits, length);
+    for (int c = 0; c < 3; ++c) {
+      const int64_t kept = mul_shift_sat(change[c], ratio, fx::kUnitFracBits);
+      s.velocity[c][v] = clamp_displacement(s.velocity[c][v] + change[c] - kept);
+    }
+    ++s.stats.carried;
+  }
+  s.step_rate = static_cast<uint32_t>(substep_rate);
   uint32_t candidates = 0;
   for (uint32_t j = 1; j <= n; ++j) {
     if (j == n)
       for (int c = 0; c < 3; ++c)
         for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
-    integrate(model, g, j, &s);
+    integrate(model, g, j - 1, &s);
     estimate_surface_normals(model, &s);  // kSurface only: the fat along the moved skin's normal (§5.6)
     candidates = list_reaction_candidates(model, mstate, &s);
     for (uint32_t pass = 0; pass < sp.constraint_passes; ++pass)

@@ -25,7 +25,9 @@
 //      or with fat_normal = kSurface along the skin mesh's normal estimated
 //      once per substep after step 3, surface_normals.hpp)
 // Worst-case work per tick: n * (edges + bands + vertices * (1 +
-// constraint_passes * primitives * newton_steps)); no allocation.
+// constraint_passes * primitives * newton_steps)); the first step adds 30
+// rounds of the static relaxation, which start the skin at its equilibrium
+// over the muscles rather than on its bare anchors; no allocation.
 #pragma once
 
 #include <span>
@@ -43,6 +45,14 @@ struct SkinTick {
   // Acceleration of the frame the bones are given in (e.g. a robot's base on
   // a moving vehicle), rig units / s^2, Q24.8: the skin feels -a_base.
   fx::Vec3 base_acceleration{0, 0, 0};
+  // The largest acceleration of a virtual anchor the skin feels, rig units /
+  // s^2, Q24.8 (0: no limit). A bone that jumps within a tick (a glitching
+  // sensor, a joint driven from one limit to the other) would hit the skin
+  // with its anchor dashpots' whole impulse and fling it off the limb; the
+  // part of an anchor's velocity change beyond this limit carries the
+  // vertex with it instead (it moves as if rigidly attached), so only a
+  // physically plausible acceleration excites the skin's dynamics.
+  int32_t max_anchor_acceleration = 0;
 };
 
 // Substeps of one tick: ceil(substep_hz / tick_hz), at least 1; 0 if above

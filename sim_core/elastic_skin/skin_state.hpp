@@ -26,6 +26,7 @@ struct SkinStats {
   uint32_t substeps = 0;        // dynamic: substeps run in the last step
   fx::Len residual = 0;         // static: == max_relax_last; dynamic: largest move of the last substep
   uint32_t omega_max = 0;       // dynamic: the Gershgorin bound of the stiffest vertex's omega, rad/s (floor)
+  uint32_t carried = 0;         // dynamic: vertices whose anchor's acceleration was capped this step
 };
 
 struct SkinState {
@@ -53,6 +54,7 @@ struct SkinState {
   // normals of the last estimate, Q2.30 (zero: none, the anchor normal rules).
   std::span<fx::Unit> surface_normal[3];
   uint8_t started = 0;
+  uint32_t step_rate = 0;  // dynamic: the substep rate (1/s) anchor_step is per
   SkinStats stats;
 };
 

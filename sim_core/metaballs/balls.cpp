@@ -61,6 +61,7 @@ void compute_balls(const MetaballModel& m, MetaballState* s) {
     // The ball's own rotation: the bones' rotations blended by the same
     // weights.
     const fx::Quat q = nlerp_fast(s->bone_rotation[joints[0]], s->bone_rotation[joints[1]], weights[1]);
+    s->ball_quat[b] = q;
     s->ball_rotation[b] = fx::rot3_of_unit(q);
     s->ball_scale[b] = fx::kUnitOne;
   }

@@ -1,37 +1,90 @@
 // Stage 4: vertices from the normal balls (eq. 4) and the joint balls (eq. 5),
-// blended by eq. (1).
+// blended by eq. (1), each as one rigid motion of the vertex's rest
+// displacement (docs/metaballs.md, "Rotations blended before they act").
 #include "kernels.hpp"
 #include "rotation.hpp"
 
 namespace sinew::metaballs::detail {
 
-// Eq. (4): v = sum_j w_ij (c_j + s_j R_j d_ij); s_j is the bulge scale, so
-// the skin over a bulging ball moves out with its radius. The specification
-// the vector kernels are tested against word for word.
-void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
-                               const skin::SkinnedVertices& out) {
-  int64_t acc[3] = {0, 0, 0};
+uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, fx::Quat* quat,
+                         fx::Rot3* rotation) {
+  const size_t base = size_t{v} * kVertexBalls;
+  uint16_t shared = kNoBall;
+  bool alike = true;
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    if (m.vertex_weight[base + k] == 0) continue;
+    const uint16_t b = m.vertex_ball[base + k];
+    if (shared == kNoBall) shared = b;
+    alike = alike && s.ball_quat[b] == s.ball_quat[shared];
+  }
+  if (alike) return shared;
+  QuatBlend blend;
+  for (uint32_t k = 0; k < kVertexBalls; ++k)
+    if (m.vertex_weight[base + k] != 0) blend.add(s.ball_quat[m.vertex_ball[base + k]], m.vertex_weight[base + k]);
+  *quat = blend.unit();
+  *rotation = fx::rot3_of_unit(*quat);
+  return kNoBall;
+}
+
+// Eq. (4) with the balls' rotations blended before they act:
+//   v = sum_j w_j c_j + R (sum_j w_j s_j d_ij),  R = nlerp_j(w_j, R_j),
+// equal to eq. (4) wherever the vertex's balls turn alike, and a rigid
+// motion of the vertex's ring where they do not (eq. 4 as written blends
+// differently rotated displacements linearly, which shrinks the section like
+// LBS where the balls' rotations change fast along a bone, e.g. a twist).
+NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
+  int64_t centre[3] = {0, 0, 0}, disp[3] = {0, 0, 0};  // Q30 x Len: |sum| < 2^30 * 2^32
+  bool any = false;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
     const size_t i = size_t{v} * kVertexBalls + k;
     const int64_t w = m.vertex_weight[i];
     if (w == 0) continue;
+    any = true;
     const uint16_t b = m.vertex_ball[i];
-    int64_t rd[3];
-    rotate_q50(s.ball_rotation[b], m.vertex_disp[i], rd);
-    const int64_t scale = s.ball_scale[b];
-    const fx::Vec3 c = s.ball_center[b];
+    const fx::Vec3 c = s.ball_center[b], d0 = m.vertex_disp[i];
     const int64_t cc[3] = {c.x, c.y, c.z};
+    int64_t d[3] = {d0.x, d0.y, d0.z};
+    const int64_t scale = s.ball_scale[b];
     for (int a = 0; a < 3; ++a) {
-      int64_t d = fx::round_shift(rd[a], fx::kUnitFracBits);  // Len, |d| < 2^31
-      if (scale != fx::kUnitOne) d = fx::round_shift(d * scale, fx::kUnitFracBits);
-      acc[a] += w * (cc[a] + d);  // convex: |sum| < 2^30 * 2^32
+      if (scale != fx::kUnitOne) d[a] = fx::round_shift(d[a] * scale, fx::kUnitFracBits);  // |s d| < 2^32
+      centre[a] += w * cc[a];
+      disp[a] += w * d[a];
     }
   }
-  for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(fx::round_shift(acc[a], fx::kUnitFracBits));
+  NormalBallFrame f{};
+  if (!any) return f;  // no weight (not a validated model): the origin
+  for (int a = 0; a < 3; ++a) f.centre[a] = fx::round_shift(centre[a], fx::kUnitFracBits);
+  f.disp = {fx::sat_i32(fx::round_shift(disp[0], fx::kUnitFracBits)),
+            fx::sat_i32(fx::round_shift(disp[1], fx::kUnitFracBits)),
+            fx::sat_i32(fx::round_shift(disp[2], fx::kUnitFracBits))};
+  const uint16_t shared = vertex_rotation(m, s, v, &f.quat, &f.rotation);
+  if (shared != kNoBall) {
+    f.quat = s.ball_quat[shared];
+    f.rotation = s.ball_rotation[shared];
+  }
+  return f;
 }
 
-void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out) {
-  for (uint32_t v = 0; v < m.vertex_count; ++v) deform_normal_ball_vertex(m, s, v, out);
+// The specification the vector kernels are tested against word for word:
+// v = c + round(R D) from the frame above, saturated.
+void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
+                               const skin::SkinnedVertices& out) {
+  const NormalBallFrame f = normal_ball_frame(m, s, v);
+  int64_t rd[3];
+  rotate_q50(f.rotation, f.disp, rd);
+  for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+}
+
+void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
+                                std::span<const uint32_t> skip) {
+  size_t next = 0;
+  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+    if (next < skip.size() && skip[next] == v) {
+      ++next;
+      continue;
+    }
+    deform_normal_ball_vertex(m, s, v, out);
+  }
 }
 
 bool deform_kernel_supported(DeformKernel kernel) {
@@ -54,38 +107,61 @@ DeformKernel deform_kernel_default() {
 
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
                      const skin::SkinnedVertices& out, DeformKernel kernel) {
+  // Eq. (1) below computes the joint-region vertices from their own frames.
+  const std::span<const uint32_t> skip = s->features.joint_balls ? m.jv_vertex : std::span<const uint32_t>{};
   bool done = false;
 #if defined(__x86_64__)
   if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
-    done = deform_normal_balls_avx2(m, *s, out);
+    done = deform_normal_balls_avx2(m, *s, out, skip);
 #else
   (void)kernel;
 #endif
-  if (!done) deform_normal_balls_scalar(m, *s, out);
+  if (!done) deform_normal_balls_scalar(m, *s, out, skip);
   if (!s->features.joint_balls) {
     for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
     return;
   }
+  // The vertices of one ring share their joint ball and blend, so eta is
+  // made once per ring (kept with what it was made from).
+  uint16_t eta_ball = kNoBall;
+  fx::Unit eta_blend = 0;
+  fx::Quat eta{};
   for (uint32_t i = 0; i < m.jv_count(); ++i) {
     const JointBall& jb = m.joint_balls[m.jv_ball[i]];
-    // Eq. (5): v = c_eta + R_eta d_eta. The centre is the skeleton joint; the
-    // ball is carried equally by both bones, and each vertex turns with the
-    // bones' rotations blended by its own weight of the child bone, so
+    const uint32_t v = m.jv_vertex[i];
+    // Eq. (5): v_eta = c_eta + R_eta d_eta. The centre is the skeleton joint;
+    // the ball is carried equally by both bones, and each vertex turns with
+    // the bones' rotations blended by its own weight of the child bone, so
     // vertices attached to different bones get different transformations.
     const fx::Mat34& joint = joint_model[jb.joint];
-    const fx::Quat q = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], m.jv_blend[i]);
-    const fx::Rot3 r = fx::rot3_of_unit(q);
-    int64_t rd[3], rl[3];
-    rotate_q50(r, m.jv_disp[i], rd);
-    rotate_q50(r, m.jv_laplacian[i], rl);
-    const uint32_t v = m.jv_vertex[i];
-    const int64_t alpha = m.jv_alpha[i];
-    for (int a = 0; a < 3; ++a) {
-      const int64_t eta = fx::sat_i32(int64_t{joint.t[a]} + fx::round_shift(rd[a], fx::kUnitFracBits));
-      const int64_t lambda = out.position[a][v];
-      // Eq. (1): v = (1 - w_alpha) v_lambda + w_alpha v_eta.
-      out.position[a][v] = fx::sat_i32(lambda + fx::round_shift(alpha * (eta - lambda), fx::kUnitFracBits));
+    if (m.jv_ball[i] != eta_ball || m.jv_blend[i] != eta_blend) {
+      eta_ball = m.jv_ball[i];
+      eta_blend = m.jv_blend[i];
+      eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], eta_blend);
     }
+    // Eq. (1), v = (1 - w_alpha) v_lambda + w_alpha v_eta, as one rigid
+    // motion: centre and rest displacement blended linearly, the two
+    // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
+    // keeps the ring's section where they differ (a linear blend of two
+    // rotations by an angle apart shrinks it by cos(angle / 2)).
+    const NormalBallFrame f = normal_ball_frame(m, *s, v);
+    const int64_t alpha = m.jv_alpha[i];
+    const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
+    const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
+    const fx::Vec3 de = m.jv_disp[i];
+    const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};
+    fx::Vec3 d;
+    int32_t* dc[3] = {&d.x, &d.y, &d.z};
+    int64_t centre[3];
+    for (int a = 0; a < 3; ++a) {
+      // |joint - centre| < 2^32 and |d_eta - d_lambda| < 2^32: products < 2^62.
+      centre[a] = f.centre[a] + fx::round_shift(alpha * (jt[a] - f.centre[a]), fx::kUnitFracBits);
+      *dc[a] = fx::sat_i32(d_lambda[a] + fx::round_shift(alpha * (d_eta[a] - d_lambda[a]), fx::kUnitFracBits));
+    }
+    int64_t rd[3], rl[3];
+    rotate_q50(r, d, rd);
+    rotate_q50(r, m.jv_laplacian[i], rl);
+    for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
     s->jv_posed_laplacian[i] = {fx::sat_i32(fx::round_shift(rl[0], fx::kUnitFracBits)),
                                 fx::sat_i32(fx::round_shift(rl[1], fx::kUnitFracBits)),
                                 fx::sat_i32(fx::round_shift(rl[2], fx::kUnitFracBits))};

@@ -1,23 +1,26 @@
 // AVX2 kernel of the normal-ball deformation, eq. (4) of
-// metaballs-pbd-skinning: the same output words as the scalar specification
-// (deform_normal_ball_vertex in deform.cpp) for every input. Built with -mavx2
-// for this file only, on x86-64 only; called only when the CPU reports AVX2.
+// metaballs-pbd-skinning with the balls' rotations blended before they act
+// (deform.cpp): the same output words as the scalar specification
+// (deform_normal_ball_vertex) for every input. Built with -mavx2 for this
+// file only, on x86-64 only; called only when the CPU reports AVX2.
 //
 // One vertex per step, one 64-bit lane per coordinate (lane 3 unused):
 //   - per step, each ball's rotation columns, centre and bulge scale are
 //     widened once into sign-extended 64-bit lanes on the stack (192 bytes a
 //     ball, up to kMaxWideBalls = 256: 48 KiB; more balls decline to the
 //     scalar loop);
-//   - R d is three vpmuldq products summed in 64-bit lanes: exactly the
+//   - the vertex's rotation is the specification's (vertex_rotation): the
+//     shared ball's widened rotation, or the blend of its balls' rotations;
+//   - sum w c and sum w (s d) are sums of exact vpmuldq products in 64-bit
+//     lanes: exactly the scalar int64 sums, so s d must fit int32: it does for
+//     every validated model (|d| <= 2^30, s < 2), and a vertex where it would
+//     not is redone by the specification;
+//   - R D is three vpmuldq products summed in 64-bit lanes: exactly the
 //     scalar int64 sums of rotate_q50;
 //   - round half up is (x + 2^(s-1)) >> s with the arithmetic shift built
 //     from a logical one on x + 2^63 (AVX2 has no 64-bit arithmetic shift):
 //     exact for every int64;
-//   - w (c + d) is summed as w c + w d, both exact 32x32->64 products, so the
-//     displacement d must fit int32: it does for every validated model
-//     (|R d| <= |d| < 2^31), and a vertex where it would not is redone by the
-//     specification;
-//   - the result is saturated to int32 as sat_i32 does.
+//   - saturation to int32 is sat_i32's.
 #include <immintrin.h>
 
 #include <cstring>
@@ -68,44 +71,83 @@ inline __m256i saturate_i32_lanes(__m256i x) {
   return _mm256_blendv_epi8(x, lo, _mm256_cmpgt_epi64(lo, x));
 }
 
-// Eq. (4) at vertex v; false (nothing written) when a displacement leaves
-// the int32 range, for the caller to run the specification.
-inline bool deform_vertex(const MetaballModel& m, const WideBall* balls, uint32_t v, const skin::SkinnedVertices& out) {
-  __m256i acc = _mm256_setzero_si256();
+// A rotation's columns in 64-bit lanes.
+struct WideRotation {
+  __m256i col[3];
+};
+
+inline WideRotation widen_rotation(const fx::Rot3& r) {
+  WideRotation w;
+  for (int j = 0; j < 3; ++j) w.col[j] = _mm256_setr_epi64x(r.m[0][j], r.m[1][j], r.m[2][j], 0);
+  return w;
+}
+
+// The vertex at v; false (nothing written) when it has no weight or a scaled
+// displacement leaves the int32 range, for the caller to run the
+// specification. The rotation is the shared ball's (widened once a step) or
+// the vertex's blend (vertex_rotation, widened here).
+inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, uint32_t v,
+                          const skin::SkinnedVertices& out) {
+  const size_t base = size_t{v} * kVertexBalls;
+  __m256i centre = _mm256_setzero_si256(), disp = _mm256_setzero_si256();
+  bool any = false;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    const size_t i = size_t{v} * kVertexBalls + k;
-    const int32_t w = m.vertex_weight[i];
+    const int32_t w = m.vertex_weight[base + k];
     if (w == 0) continue;
-    const WideBall& b = balls[m.vertex_ball[i]];
-    const fx::Vec3 d = m.vertex_disp[i];
-    __m256i rd = _mm256_mul_epi32(b.col[0], _mm256_set1_epi32(d.x));
-    rd = _mm256_add_epi64(rd, _mm256_mul_epi32(b.col[1], _mm256_set1_epi32(d.y)));
-    rd = _mm256_add_epi64(rd, _mm256_mul_epi32(b.col[2], _mm256_set1_epi32(d.z)));
-    __m256i disp = round_shift_lanes<fx::kUnitFracBits>(rd);  // Len
-    if (!lanes_fit_i32(disp)) return false;
+    any = true;
+    const WideBall& b = balls[m.vertex_ball[base + k]];
+    const fx::Vec3 d0 = m.vertex_disp[base + k];
+    __m256i d = _mm256_setr_epi64x(d0.x, d0.y, d0.z, 0);
     if (b.scaled) {
-      disp = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(disp, b.scale));
-      if (!lanes_fit_i32(disp)) return false;
+      d = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(d, b.scale));
+      if (!lanes_fit_i32(d)) return false;
     }
     const __m256i wv = _mm256_set1_epi32(w);
-    acc = _mm256_add_epi64(acc, _mm256_add_epi64(_mm256_mul_epi32(b.center, wv), _mm256_mul_epi32(disp, wv)));
+    centre = _mm256_add_epi64(centre, _mm256_mul_epi32(b.center, wv));
+    disp = _mm256_add_epi64(disp, _mm256_mul_epi32(d, wv));
   }
-  int64_t r[4];
-  const __m256i p = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(acc));
-  std::memcpy(r, &p, sizeof(r));
-  for (int a = 0; a < 3; ++a) out.position[a][v] = static_cast<int32_t>(r[a]);
+  if (!any) return false;
+  fx::Quat quat;
+  fx::Rot3 rotation;
+  WideRotation blended;
+  const uint16_t shared = vertex_rotation(m, s, v, &quat, &rotation);
+  const __m256i* col = nullptr;
+  if (shared != kNoBall) {
+    col = balls[shared].col;
+  } else {
+    blended = widen_rotation(rotation);
+    col = blended.col;
+  }
+  int64_t dl[4];
+  const __m256i dr = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(disp));
+  std::memcpy(dl, &dr, sizeof(dl));
+  __m256i rd = _mm256_mul_epi32(col[0], _mm256_set1_epi32(static_cast<int32_t>(dl[0])));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[1], _mm256_set1_epi32(static_cast<int32_t>(dl[1]))));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[2], _mm256_set1_epi32(static_cast<int32_t>(dl[2]))));
+  const __m256i p = saturate_i32_lanes(
+      _mm256_add_epi64(round_shift_lanes<fx::kUnitFracBits>(centre), round_shift_lanes<fx::kUnitFracBits>(rd)));
+  int64_t o[4];
+  std::memcpy(o, &p, sizeof(o));
+  for (int a = 0; a < 3; ++a) out.position[a][v] = static_cast<int32_t>(o[a]);
   return true;
 }
 
 }  // namespace
 
-bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out) {
+bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
+                              std::span<const uint32_t> skip) {
   const uint32_t count = m.ball_count();
   if (count > kMaxWideBalls) return false;
   WideBall balls[kMaxWideBalls];
   for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
-  for (uint32_t v = 0; v < m.vertex_count; ++v)
-    if (!deform_vertex(m, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
+  size_t next = 0;
+  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+    if (next < skip.size() && skip[next] == v) {
+      ++next;
+      continue;
+    }
+    if (!deform_vertex(m, s, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
+  }
   return true;
 }
 

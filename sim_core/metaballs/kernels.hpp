@@ -25,15 +25,37 @@ DeformKernel deform_kernel_default();
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
                      const skin::SkinnedVertices& out, DeformKernel kernel = deform_kernel_default());
 
+// The rotation of a vertex's normal balls (deform.cpp): the shared ball's own
+// when every weighted ball has the same one (returns that ball), else their
+// nlerp by the vertex's weights, written to *quat and *rotation (returns
+// kNoBall). The vertex has a weight.
+uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, fx::Quat* quat,
+                         fx::Rot3* rotation);
+
+// A vertex's frame from its normal balls: the blended centre
+// sum_j w_j c_j (Len, rounded), the blended rest displacement
+// sum_j w_j s_j d_ij (Len, saturated) and the rotation above.
+struct NormalBallFrame {
+  int64_t centre[3];  // |.| < 2^31
+  fx::Vec3 disp;
+  fx::Quat quat;
+  fx::Rot3 rotation;
+};
+NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
+
 // Eq. (4) alone: the scalar specification, and the AVX2 kernel
 // (deform_avx2.cpp), which declines (returns false, writes nothing) when the
-// model has more balls than it widens on its stack.
-void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out);
+// model has more balls than it widens on its stack. Both leave the vertices
+// of `skip` (ascending) unwritten: the joint-region vertices, which eq. (1)
+// computes from their frames anyway.
+void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
+                                std::span<const uint32_t> skip = {});
 // One vertex of the specification (the vector kernel's fallback).
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
                                const skin::SkinnedVertices& out);
 #if defined(__x86_64__)
-bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out);
+bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
+                              std::span<const uint32_t> skip = {});
 #endif
 
 // smoothing.cpp: stage 5.

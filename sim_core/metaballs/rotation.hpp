@@ -14,28 +14,57 @@
 
 namespace sinew::metaballs::detail {
 
-// (1 - t) a + t b on a's hemisphere, renormalised with rsqrt_fast; t in Q2.30
-// [0, 1].
-inline fx::Quat nlerp_fast(const fx::Quat& a, const fx::Quat& b, fx::Unit t) {
-  if (t == 0) return a;
-  const int64_t sign = fx::dot_wide(a, b) < 0 ? -1 : 1;
-  const int64_t s = fx::kUnitOne - int64_t{t}, u = sign * t;
-  const int64_t c[4] = {s * a.w + u * b.w, s * a.x + u * b.x, s * a.y + u * b.y,
-                        s * a.z + u * b.z};  // Q60, |c| <= 2^60
-  int64_t q[4];
-  uint64_t n2 = 0;
-  for (int i = 0; i < 4; ++i) {
-    q[i] = fx::round_shift(c[i], fx::kUnitFracBits);  // Q30
-    n2 += static_cast<uint64_t>(q[i] * q[i]);
+// Whether the exact dot product of a and b is negative (the hemisphere test;
+// fx::dot_wide's sign, without its call and saturation): each product split
+// into a quarter (floor) and its remainder, so no sum overflows.
+inline bool dot_negative(const fx::Quat& a, const fx::Quat& b) {
+  const int64_t p[4] = {int64_t{a.w} * b.w, int64_t{a.x} * b.x, int64_t{a.y} * b.y, int64_t{a.z} * b.z};
+  int64_t quarters = 0, remainders = 0;  // dot = 4 quarters + remainders, remainders in [0, 12]
+  for (const int64_t x : p) quarters += x >> 2, remainders += x & 3;
+  if (quarters >= 0) return false;
+  if (quarters < -3) return true;
+  return 4 * quarters + remainders < 0;
+}
+
+// A weighted sum of unit quaternions, each taken on the first's hemisphere,
+// renormalised with rsqrt_fast: nlerp of two or more rotations. Weights are
+// Q2.30 and sum to at most 2^30, so every Q60 component stays within 2^60.
+struct QuatBlend {
+  int64_t c[4] = {0, 0, 0, 0};  // Q60
+  fx::Quat first{};
+  bool any = false;
+
+  void add(const fx::Quat& q, fx::Unit w) {
+    if (!any) first = q, any = true;
+    const int64_t u = dot_negative(first, q) ? -int64_t{w} : int64_t{w};
+    c[0] += u * q.w, c[1] += u * q.x, c[2] += u * q.y, c[3] += u * q.z;
   }
-  if (n2 == 0)
-    return a;  // antipodal halves cancel: keep a (only at t = 1/2 of a
-               // 360-degree gap)
-  const fx::RsqrtResult r = fx::rsqrt_fast(n2);
-  // q / |q| in Q30: q * y * 2^(half_shift - 61) * 2^30.
-  const int shift = 31 - r.half_shift;
-  const auto n = [&](int64_t v) { return fx::sat_i32(shift > 0 ? fx::round_shift(v * r.y, shift) : v * r.y); };
-  return {n(q[0]), n(q[1]), n(q[2]), n(q[3])};
+
+  fx::Quat unit() const {
+    int64_t q[4];
+    uint64_t n2 = 0;
+    for (int i = 0; i < 4; ++i) {
+      q[i] = fx::round_shift(c[i], fx::kUnitFracBits);  // Q30
+      n2 += static_cast<uint64_t>(q[i] * q[i]);
+    }
+    if (n2 == 0) return first;  // antipodal halves cancel (a 360-degree gap): keep the first
+    const fx::RsqrtResult r = fx::rsqrt_fast(n2);
+    // q / |q| in Q30: q * y * 2^(half_shift - 61) * 2^30.
+    const int shift = 31 - r.half_shift;
+    const auto n = [&](int64_t v) { return fx::sat_i32(shift > 0 ? fx::round_shift(v * r.y, shift) : v * r.y); };
+    return {n(q[0]), n(q[1]), n(q[2]), n(q[3])};
+  }
+};
+
+// (1 - t) a + t b on a's hemisphere, renormalised; t in Q2.30 [0, 1]. The
+// ends and equal rotations return an input unchanged.
+inline fx::Quat nlerp_fast(const fx::Quat& a, const fx::Quat& b, fx::Unit t) {
+  if (t == 0 || a == b) return a;
+  if (t == fx::kUnitOne) return b;
+  QuatBlend s;
+  s.add(a, fx::kUnitOne - t);
+  s.add(b, t);
+  return s.unit();
 }
 
 // R d for a Len vector d (|d| < 2^30), exact in Q50.

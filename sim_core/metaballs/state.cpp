@@ -25,6 +25,7 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->jiggle_damping = c.take<fx::Unit>(jiggle);
   s->action_point = c.take<fx::Vec3>(m.action_balls.size());
   s->ball_rotation = c.take<fx::Rot3>(nb);
+  s->ball_quat = c.take<fx::Quat>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
   s->jv_scratch = c.take<fx::Vec3>(m.jv_count());
@@ -57,6 +58,7 @@ Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballStat
     st.ball_center[b] = st.ball_previous[b] = st.ball_target[b] = st.ball_last_target[b] = model.ball_rest[b];
     st.ball_last_step[b] = {0, 0, 0};
     st.ball_scale[b] = fx::kUnitOne;
+    st.ball_quat[b] = fx::quat_identity();
   }
   for (size_t b = 0; b < st.jiggle_stiffness.size(); ++b) {
     st.jiggle_stiffness[b] = model.ball_jiggle[b];

@@ -56,6 +56,7 @@ struct MetaballState {
   // Per action ball: its point of the line this step (the line is kinematic).
   std::span<fx::Vec3> action_point;
   std::span<fx::Rot3> ball_rotation;  // R^lambda
+  std::span<fx::Quat> ball_quat;      // R^lambda as a unit quaternion (blended per vertex)
   std::span<fx::Unit> ball_scale;     // r / r0 in [1, 2), Q2.30
   // Per joint-region vertex.
   std::span<fx::Vec3> jv_posed_laplacian;  // rest Laplacian rotated with the vertex

@@ -64,10 +64,11 @@ static_assert(sizeof(LayerArrayEntry) == 16);
 
 // What an external input measures; its values are Q16.16 in that unit.
 enum class InputQuantity : uint32_t {
-  kForce = 0,   // newtons
-  kLength = 1,  // metres
-  kAngle = 2,   // degrees
-  kScalar = 3,  // dimensionless
+  kForce = 0,         // newtons
+  kLength = 1,        // metres
+  kAngle = 2,         // degrees
+  kScalar = 3,        // dimensionless
+  kAcceleration = 4,  // metres / s^2 (the rig's base: the elastic skin's a_base)
 };
 
 // An input the rig's layers read besides its joint DOFs (e.g. a force
@@ -190,6 +191,12 @@ inline constexpr uint32_t kMusclesArraysV4 = 5;
 // FatNormal::kSurface; writers emit it only then, and a loader reads that
 // byte as 0 (the anchor normal) in every older version. The skin's faces
 // are the rig's triangles (SkinModel::triangles), not stored again.
+// Layer version 5 (SKIN only): the version 3 record (fat_normal as in
+// version 4) followed by the three external inputs (EXTI indices, or
+// kNoExternalInput) that measure the acceleration of the frame the bones
+// are given in, x, y, z in the rig's axes (InputQuantity::kAcceleration):
+// the dynamic skin feels -a_base (LEMAN §3). Writers emit it only when one
+// is set.
 struct SkinSectionParams {
   uint32_t joint_count, vertex_count;
   elastic_skin::SkinParams params;
@@ -205,13 +212,19 @@ struct SkinSectionParamsV3 {
   elastic_skin::SkinParams params;
   elastic_skin::SkinSolverParams solver;
 };
+struct SkinSectionParamsV5 {
+  SkinSectionParamsV3 v3;
+  uint32_t base_acceleration_input[3];
+  uint32_t reserved;
+};
 inline constexpr uint32_t kSkinSectionVersion2 = 2;
 inline constexpr uint32_t kSkinSectionVersion3 = 3;
 inline constexpr uint32_t kSkinSectionVersion4 = 4;
+inline constexpr uint32_t kSkinSectionVersion5 = 5;
 static_assert(sizeof(elastic_skin::SkinParams) == 28 && sizeof(elastic_skin::Anchor) == 80 &&
               sizeof(elastic_skin::Edge) == 16 && sizeof(elastic_skin::RubberBand) == 20 &&
               sizeof(elastic_skin::SkinSolverParams) == 56 && sizeof(SkinSectionParamsV2) == 88 &&
-              sizeof(SkinSectionParamsV3) == 92 &&
+              sizeof(SkinSectionParamsV3) == 92 && sizeof(SkinSectionParamsV5) == 108 &&
               offsetof(elastic_skin::SkinSolverParams, edge_damping) == kSkinSolverBytesV2);
 inline constexpr uint32_t kSkinArrays = 7;
 

@@ -175,6 +175,10 @@ bool layout_of(uint32_t id, uint32_t version, Layout* out) {
     *out = {sizeof(SkinSectionParamsV3), kSkinArrays, kSkinSpec};
     return true;
   }
+  if (id == kSectionElasticSkin && version == kSkinSectionVersion5) {
+    *out = {sizeof(SkinSectionParamsV5), kSkinArrays, kSkinSpec};
+    return true;
+  }
   if (id == kSectionSphJoint && version == kSphSectionVersion2) {
     *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
     return true;
@@ -234,9 +238,9 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
     return fail(LoadError::kSectionSize, id, instance, "size", -1, "shorter than the 32-byte layer header", size, true);
   std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
   const LayerSectionHeader& h = out->header;
-  const bool skin_v2 =
-      id == kSectionElasticSkin && (h.layer_version == kSkinSectionVersion2 ||
-                                    h.layer_version == kSkinSectionVersion3 || h.layer_version == kSkinSectionVersion4);
+  const bool skin_v2 = id == kSectionElasticSkin &&
+                       (h.layer_version == kSkinSectionVersion2 || h.layer_version == kSkinSectionVersion3 ||
+                        h.layer_version == kSkinSectionVersion4 || h.layer_version == kSkinSectionVersion5);
   const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
   const bool muscles_v2 = id == kSectionMuscles &&
                           (h.layer_version == kMusclesSectionVersion2 || h.layer_version == kMusclesSectionVersion3 ||
@@ -327,7 +331,7 @@ LoadStatus check_external(const SectionView& v, std::span<const ExternalInputRec
       return fail(LoadError::kBadValue, v.id, v.instance, "name", i, "empty or not NUL-terminated");
     if (std::memchr(r.unit, 0, sizeof(r.unit)) == nullptr)
       return fail(LoadError::kBadValue, v.id, v.instance, "unit", i, "not NUL-terminated");
-    if (r.quantity > static_cast<uint32_t>(InputQuantity::kScalar))
+    if (r.quantity > static_cast<uint32_t>(InputQuantity::kAcceleration))
       return fail(LoadError::kBadValue, v.id, v.instance, "quantity", i, "unknown quantity", r.quantity, true);
     if (r.min >= r.max) return fail(LoadError::kBadValue, v.id, v.instance, "min", i, "must be below max", r.min, true);
     for (uint32_t k = 0; k < i; ++k)
@@ -445,10 +449,25 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
 }
 
 LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::MuscleModel& muscles,
-                     elastic_skin::SkinModel* out, std::span<const uint32_t>* region,
-                     std::span<const fx::Unit>* region_weight) {
+                     std::span<const ExternalInputRecord> external, LayerSet* set) {
+  elastic_skin::SkinModel* out = &set->skin;
+  std::span<const uint32_t>* region = &set->skin_region;
+  std::span<const fx::Unit>* region_weight = &set->skin_region_weight;
   SkinSectionParamsV3 p{};
-  if (v.header.layer_version == kSkinSectionVersion3 || v.header.layer_version == kSkinSectionVersion4) {
+  if (v.header.layer_version == kSkinSectionVersion5) {
+    const SkinSectionParamsV5 p5 = params_of<SkinSectionParamsV5>(v);
+    p = p5.v3;
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t k = p5.base_acceleration_input[c];
+      if (k != kNoExternalInput && k >= external.size())
+        return fail(LoadError::kBadIndex, v.id, v.instance, "base_acceleration_input", c,
+                    "not an external input of the rig (EXTI)", k, true);
+      if (k != kNoExternalInput && external[k].quantity != static_cast<uint32_t>(InputQuantity::kAcceleration))
+        return fail(LoadError::kBadValue, v.id, v.instance, "base_acceleration_input", c,
+                    "names an external input that is not an acceleration", k, true);
+      set->skin_base_acceleration[c] = k;
+    }
+  } else if (v.header.layer_version == kSkinSectionVersion3 || v.header.layer_version == kSkinSectionVersion4) {
     p = params_of<SkinSectionParamsV3>(v);
   } else if (v.header.layer_version == kSkinSectionVersion2) {  // the solver record without edge_damping
     const SkinSectionParamsV2 p2 = params_of<SkinSectionParamsV2>(v);
@@ -472,9 +491,9 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
           p.params,
           p.solver,
           rig.triangles};
-  // fat_normal is a version 4 field: older sections keep the anchor normal
-  // whatever their reserved byte holds.
-  if (v.header.layer_version != kSkinSectionVersion4) out->solver.fat_normal = 0;
+  // fat_normal is a version 4 field (kept in 5): older sections keep the
+  // anchor normal whatever their reserved byte holds.
+  if (v.header.layer_version < kSkinSectionVersion4) out->solver.fat_normal = 0;
   *region = array_of<uint32_t>(v, 5);
   *region_weight = array_of<fx::Unit>(v, 6);
   if (out->vertex_count != rig.vertex_count())
@@ -604,7 +623,7 @@ LoadStatus layers_init(const rig::Rig& rig, const uint8_t* blob, size_t size, vo
         break;
       case kSectionElasticSkin:
         set.has_skin = true;
-        st = load_skin(v, rig, set.muscles, &set.skin, &set.skin_region, &set.skin_region_weight);
+        st = load_skin(v, rig, set.muscles, set.external, &set);
         break;
       case kSectionBarnet:
         st = load_barnet(v, rig, set.external_count(), &set.barnet[set.barnet_count++]);

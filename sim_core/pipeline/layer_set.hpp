@@ -31,6 +31,9 @@ struct LayerSet {
   elastic_skin::SkinModel skin;
   std::span<const uint32_t> skin_region;         // vertices the skin displaces (empty: all)
   std::span<const fx::Unit> skin_region_weight;  // their weights, Q2.30 in (0, 1]
+  // The external inputs of the base's acceleration, x, y, z (SKIN version 5),
+  // or kNoExternalInput: the dynamic skin then feels no base motion.
+  uint32_t skin_base_acceleration[3] = {kNoExternalInput, kNoExternalInput, kNoExternalInput};
   barnet::BarnetModel barnet[kMaxBarnets];
   uint32_t barnet_count = 0;
   // The tick rate the rate-dependent sections were built for (SPH); 0 when

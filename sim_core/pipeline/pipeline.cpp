@@ -181,7 +181,16 @@ PipelineStatus run_barnet(Pipeline* p, std::span<const int32_t> inputs) {
   return first;
 }
 
-PipelineStatus run_anatomy(Pipeline* p) {
+// An acceleration input (Q16.16 m/s^2) in the skin's Q24.8 rig units / s^2:
+// one rig unit is 2^length_exponent m, so the value shifts right by
+// 8 + length_exponent (rounded half up, or left and saturated).
+int32_t rig_acceleration(int32_t q16_metres, int32_t length_exponent) {
+  const int shift = 16 - elastic_skin::kAccelFracBits + length_exponent;  // -8..24
+  if (shift > 0) return fx::sat_i32(fx::round_shift(q16_metres, shift));
+  return fx::sat_i32(int64_t{q16_metres} * (int64_t{1} << -shift));
+}
+
+PipelineStatus run_anatomy(Pipeline* p, std::span<const int32_t> inputs) {
   const muscle::LayerStatus ms = muscle::muscle_step(p->layers->muscles, p->engine.model, &p->muscles);
   if (!ms.ok()) return fail(PipelineError::kLayer, "muscles", ms.message);
   if (!p->layers->has_skin) return {};
@@ -191,6 +200,15 @@ PipelineStatus run_anatomy(Pipeline* p) {
   // was built for, else rigc's default rate (1 kHz).
   elastic_skin::SkinTick tick;
   tick.tick_hz = p->options.tick_hz != 0 ? p->options.tick_hz : (p->layers->rate_hz != 0 ? p->layers->rate_hz : 1000);
+  // The base's measured acceleration (LEMAN §3: the skin feels -a_base).
+  int32_t base[3] = {0, 0, 0};
+  for (int c = 0; c < 3; ++c) {
+    const uint32_t k = p->layers->skin_base_acceleration[c];
+    if (k != kNoExternalInput) base[c] = rig_acceleration(inputs[p->rig->input_count + k], p->rig->length_exponent);
+  }
+  tick.base_acceleration = {base[0], base[1], base[2]};
+  const uint32_t cap = std::min<uint32_t>(p->options.skin_max_anchor_acceleration, 32767);
+  tick.max_anchor_acceleration = rig_acceleration(static_cast<int32_t>(cap << 16), p->rig->length_exponent);
   const muscle::LayerStatus ss =
       elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, tick, &p->skin);
   if (!ss.ok()) return fail(PipelineError::kLayer, "elastic skin", ss.message);
@@ -371,7 +389,7 @@ PipelineStatus pipeline_run_stage(Pipeline* p, Stage s, std::span<const int32_t>
     case Stage::kBarnet:
       return run_barnet(p, inputs);
     case Stage::kAnatomy:
-      return run_anatomy(p);
+      return run_anatomy(p, inputs);
   }
   return {};
 }

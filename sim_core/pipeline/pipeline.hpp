@@ -55,6 +55,12 @@ struct PipelineOptions {
   // The dynamic elastic skin takes its time step from it too (0 and no SPH
   // rate: 1 kHz).
   uint32_t tick_hz = 0;
+  // The dynamic skin's limit on the acceleration of its anchors, m/s^2
+  // (elastic_skin::SkinTick::max_anchor_acceleration; 0: none, 1..32767).
+  // 500 m/s^2 (about 50 g) is above a boxer's fist; a bone that moves
+  // faster than that within a tick is taken as a jump, and the skin is
+  // carried with it instead of being flung off the limb.
+  uint32_t skin_max_anchor_acceleration = 500;
 };
 
 enum class PipelineError : uint8_t {

@@ -44,7 +44,7 @@ struct SphParams {
   fx::Unit elastic_gain = 0;    // k_e dt^2: pull toward the skinned rest position, [0, 1)
   fx::Unit pressure_gain = 0;   // k_p dt^2 / h: equation of state p = k_p (rho - rho0), [0, 1)
   fx::Unit viscosity_gain = 0;  // mu dt: viscosity Laplacian, [0, 1)
-  fx::Unit damping = 0;         // velocity kept per substep, 1 - c dt, (0, 1]
+  fx::Unit damping = 0;         // velocity kept per substep, 1 - c dt, (0, 1]; damping x v truncated toward 0
   // External load: rig units per substep^2 per newton, dt^2 / (m unit),
   // with m the mass of one particle; Q2.30, >= 0.
   fx::Unit load_gain = 0;

@@ -212,7 +212,13 @@ void integrate(SphState* st, fx::Saturation& sat) {
   for (int a = 0; a < 3; ++a)
     for (uint32_t i = 0; i < m.particle_count(); ++i) {
       // Symplectic Euler in Len per substep: v' = damping v + a dt^2, x' = x + v'.
-      const int64_t v = fx::round_shift(int64_t{st->velocity[a][i]} * m.params.damping, 30) + st->scratch[a][i];
+      // damping v is truncated toward zero (|v| < 2^31, damping <= 2^30: the
+      // product is below 2^61), so every velocity decays to rest: rounded to
+      // nearest, one below 1 / (2 (1 - damping)) LSB (25 at 1 kHz, 2
+      // substeps, c = 40 /s) would keep itself forever and a free particle
+      // would never stop.
+      const int64_t kept = int64_t{st->velocity[a][i]} * m.params.damping;
+      const int64_t v = (kept >= 0 ? kept >> 30 : -((-kept) >> 30)) + st->scratch[a][i];
       st->velocity[a][i] = fx::sat_i32(v, sat);
       st->position[a][i] = fx::sat_i32(int64_t{st->position[a][i]} + st->velocity[a][i], sat);
     }

@@ -119,11 +119,13 @@ class DynamicSkin {
     elastic_skin::SkinTick tick;
     tick.tick_hz = tick_hz;
     tick.base_acceleration = base_acceleration;
+    tick.max_anchor_acceleration = max_anchor_acceleration;
     return elastic_skin::skin_step(model, muscles, mstate, std::span<const fx::Mat34>(&bone, 1), tick, &state);
   }
   double pos(int axis, uint32_t v) const { return from_len(state.position[axis][v]); }
   double vel(int axis, uint32_t v) const { return from_len(state.velocity[axis][v]); }
 
+  int32_t max_anchor_acceleration = 0;  // SkinTick's cap, Q24.8 units / s^2 (0: none)
   elastic_skin::SkinModel model;
   muscle::MuscleModel muscles;
   muscle::MuscleState mstate;

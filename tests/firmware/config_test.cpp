@@ -139,6 +139,10 @@ TEST(DaemonConfig, LayerSwitches) {
             std::string::npos);
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_iterations = 300\n").find("skin_iterations"),
             std::string::npos);
+  EXPECT_EQ(c.layer_skin_max_anchor_acceleration, 500);
+  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_max_anchor_acceleration = 40000\n")
+                .find("skin_max_anchor_acceleration"),
+            std::string::npos);
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nanatomy = 1\n").find("must be true or false"),
             std::string::npos);
 }

@@ -35,6 +35,12 @@ TEST(RunDescription, RoundTripsEveryField) {
   run.options.sph_joint_measured = true;
   ASSERT_TRUE(fw::parse_run_description(fw::encode_run_description(run), &back, &error)) << error;
   EXPECT_TRUE(back.options.sph_joint_measured);
+  // The dynamic skin's anchor cap too, when not the default.
+  EXPECT_EQ(back.options.skin_max_anchor_acceleration, 500u);
+  EXPECT_EQ(fw::encode_run_description(run).find("skin_max_anchor_acceleration"), std::string::npos);
+  run.options.skin_max_anchor_acceleration = 0;
+  ASSERT_TRUE(fw::parse_run_description(fw::encode_run_description(run), &back, &error)) << error;
+  EXPECT_EQ(back.options.skin_max_anchor_acceleration, 0u);
 }
 
 TEST(RunDescription, RefusesWhatItCannotReproduce) {

@@ -4,6 +4,7 @@
 // (volume preservation itself is tested in tests/metaballs).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +31,16 @@ std::vector<sinew::hal::output::DecodedPose> run(const std::string& name, const 
   return sinew::test::read_frame_log(log).poses;
 }
 
+// The built-in arm is a tube about the x axis at rest (its joints lie on
+// it): its thickest radius R is the largest distance of a rest vertex from
+// that axis (metres). A layer that moved a vertex off plain skinning by the
+// limb's diameter 2 R or more would have put it off its limb.
+double arm_limb_radius() {
+  double r = 0;
+  for (const auto& v : sinew::rigc::builtin_arm().vertices) r = std::max(r, std::hypot(v.position[1], v.position[2]));
+  return r;
+}
+
 }  // namespace
 
 TEST(LayerEndToEnd, MetaballsLayerChangesTheSkinWithinBounds) {
@@ -52,11 +63,15 @@ TEST(LayerEndToEnd, MetaballsLayerChangesTheSkinWithinBounds) {
       }
     differing_frames += differs ? 1 : 0;
   }
-  std::printf("metaballs vs plain skinning: %zu of %zu frames differ, largest vertex difference %.4f m\n",
-              differing_frames, plain.size(), largest_m);
+  // Within the limb's diameter (the built-in arm's balls carry no bulge
+  // gain, which would scale it by 1 + gain: tests/pipeline/pipeline_test.cpp).
+  const double limit = 2 * arm_limb_radius();
+  std::printf(
+      "metaballs vs plain skinning: %zu of %zu frames differ, largest vertex difference %.4f m (bound %.3f m)\n",
+      differing_frames, plain.size(), largest_m, limit);
   EXPECT_GT(differing_frames, 50u);
   EXPECT_GT(largest_m, 1e-4);
-  EXPECT_LT(largest_m, 0.05) << "the layer reshapes the skin, it does not tear it";
+  EXPECT_LT(largest_m, limit) << "the layer reshapes the skin, it does not tear it";
 }
 
 // [layers] only switches on what the rig carries: a layer asked of a blob
@@ -83,6 +98,7 @@ TEST(LayerEndToEnd, ALayerTheRigLacksIsRefused) {
 // deepest elbow of a run.
 struct BulgeAtFlexion {
   double straight_deg, straight_mm, deep_deg, deep_mm;
+  double lsb_mm;  // the frames' resolution: one Len LSB
 };
 
 BulgeAtFlexion bulge_at_flexion(const std::string& name, const std::string& layer) {
@@ -102,28 +118,33 @@ BulgeAtFlexion bulge_at_flexion(const std::string& name, const std::string& laye
     if (plain[f].input_value[sinew::test::kArmElbow] > plain[deepest].input_value[sinew::test::kArmElbow]) deepest = f;
   }
   const auto deg = [&](size_t f) { return plain[f].input_value[sinew::test::kArmElbow] * (360.0 / 4294967296.0); };
-  const BulgeAtFlexion b{deg(straightest), bulge[straightest] * 1e3, deg(deepest), bulge[deepest] * 1e3};
+  const double lsb_mm = plain.empty() ? 0 : std::ldexp(1.0, plain[0].length_exponent - 20) * 1e3;
+  const BulgeAtFlexion b{deg(straightest), bulge[straightest] * 1e3, deg(deepest), bulge[deepest] * 1e3, lsb_mm};
   std::printf("%s vs plain skinning: elbow %.1f deg -> largest move %.2f mm; elbow %.1f deg -> %.2f mm\n", name.c_str(),
               b.straight_deg, b.straight_mm, b.deep_deg, b.deep_mm);
   return b;
 }
 
-// The bar-net's elbow bulge in the daemon's frames grows with flexion.
+// The bar-net's elbow bulge in the daemon's frames grows with flexion (its
+// loads' activation rises with the elbow angle; eq. (4)'s size of it is
+// checked in tests/pipeline and tests/barnet): by more than the frames'
+// resolution, and within the limb's diameter.
 TEST(LayerEndToEnd, BarnetBulgeGrowsWithElbowFlexion) {
   const BulgeAtFlexion b = bulge_at_flexion("barnet", "barnet = true");
-  EXPECT_GT(b.deep_mm, b.straight_mm + 1.0);
-  EXPECT_LT(b.deep_mm, 50.0);
+  EXPECT_GT(b.deep_mm, b.straight_mm + b.lsb_mm);
+  EXPECT_LT(b.deep_mm, 2 * arm_limb_radius() * 1e3);
 }
 
 // Muscles under an elastic skin: the skin moves off plain skinning more at
 // deep flexion (the biceps bulge, the crease pushed out of the muscles) than
-// near straight. How far each skin vertex may lie from its anchor is bounded
-// from the model in tests/anatomy/skin_follows_bones_test.cpp; here the upper
-// bound only rules out a blow-up in the daemon.
+// near straight, by more than the frames' resolution. How far each skin
+// vertex may lie from its anchor is bounded from the model in
+// tests/anatomy/skin_follows_bones_test.cpp; here the upper bound only rules
+// out a blow-up in the daemon: no vertex leaves its limb (the diameter).
 TEST(LayerEndToEnd, AnatomyBulgeGrowsWithElbowFlexion) {
   const BulgeAtFlexion b = bulge_at_flexion("anatomy", "anatomy = true");
-  EXPECT_GT(b.deep_mm, b.straight_mm + 1.0);
-  EXPECT_LT(b.deep_mm, 200.0);
+  EXPECT_GT(b.deep_mm, b.straight_mm + b.lsb_mm);
+  EXPECT_LT(b.deep_mm, 2 * arm_limb_radius() * 1e3);
 }
 
 // Every layer the built-in rigs carry, at once, in the daemon (offline,

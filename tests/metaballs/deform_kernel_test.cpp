@@ -1,12 +1,13 @@
 // The vector kernel of eq. (4) (normal-ball deformation) against the scalar
 // specification, word for word: on the built-in arm's real states, and on
 // adversarial balls and vertices (weights at 2^30 on one ball or split with
-// zeros, displacements at their limits, rotation "matrices" with every entry
-// at +-1 so R d leaves the int32 range, bulge scales at 1 and near 2, centres
-// at the Len limits so the result saturates).
+// zeros, displacements at their limits, balls that all share one rotation
+// or each their own, runs of vertices with the same balls and weights, rotation "matrices" with every entry at +-1 so R
+// d leaves the int32 range, bulge scales at 1 and near 2, centres at the Len limits so the result saturates).
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "arm_scene.hpp"
@@ -31,13 +32,16 @@ struct DeformOutput {
   }
 };
 
-// Runs eq. (4) by both kernels and counts the words that differ.
-uint32_t deform_kernels_differ(const metaballs::MetaballModel& m, const metaballs::MetaballState& s) {
+// Runs eq. (4) by both kernels and counts the words that differ (the
+// skipped vertices must be left unwritten by both).
+uint32_t deform_kernels_differ(const metaballs::MetaballModel& m, const metaballs::MetaballState& s,
+                               std::span<const uint32_t> skip = {}) {
   DeformOutput scalar(m.vertex_count), vector(m.vertex_count);
-  mbd::deform_normal_balls_scalar(m, s, scalar.view());
+  mbd::deform_normal_balls_scalar(m, s, scalar.view(), skip);
   uint32_t differ = 0;
+  for (const uint32_t v : skip) EXPECT_EQ(scalar.axis[0][v], 0x5A5A5A5A) << "skipped vertex " << v << " written";
 #if defined(__x86_64__)
-  EXPECT_TRUE(mbd::deform_normal_balls_avx2(m, s, vector.view()));
+  EXPECT_TRUE(mbd::deform_normal_balls_avx2(m, s, vector.view(), skip));
   for (int a = 0; a < 3; ++a)
     for (uint32_t v = 0; v < m.vertex_count; ++v) differ += scalar.axis[a][v] != vector.axis[a][v] ? 1u : 0u;
 #endif
@@ -63,6 +67,8 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnTheArm) {
   for (const auto& p : poses) {
     ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
     EXPECT_EQ(deform_kernels_differ(scene.model(), scene.state()), 0u) << p[0] << " " << p[1] << " " << p[2];
+    EXPECT_EQ(deform_kernels_differ(scene.model(), scene.state(), scene.model().jv_vertex), 0u)
+        << p[0] << " " << p[1] << " " << p[2] << ", joint-region vertices skipped";
   }
 }
 
@@ -95,23 +101,35 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
                                  : fx::Vec3{random_between(&rng, -limit, limit), random_between(&rng, -limit, limit),
                                             random_between(&rng, -limit, limit)};
       }
+      // Every fourth round, odd vertices take the previous vertex's balls and
+      // weights (a ring's vertices), with displacements of their own.
+      if (round % 4 == 3 && v % 2 == 1)
+        for (uint32_t k = 0; k < metaballs::kVertexBalls; ++k) {
+          const size_t i = size_t{v} * metaballs::kVertexBalls + k;
+          ball[i] = ball[i - metaballs::kVertexBalls];
+          weight[i] = weight[i - metaballs::kVertexBalls];
+        }
     }
     std::vector<fx::Rot3> rotation(balls);
+    std::vector<fx::Quat> quat(balls);
     std::vector<fx::Unit> scale(balls);
     std::vector<fx::Vec3> center(balls);
     for (uint32_t b = 0; b < balls; ++b) {
+      const fx::Quat q{
+          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
+          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
+      const int32_t c[4] = {q.w, q.x, q.y, q.z};
+      const fx::NormDivisor nd = fx::norm_divisor(c, 4);
+      const fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
+                          fx::divide_by_norm(q.z, nd)};
+      // Every third round all balls share one rotation, so every vertex takes
+      // the vector path with all its balls weighted.
+      quat[b] = round % 3 == 2 && b > 0 ? quat[0] : unit;
       if (round % 5 == 1) {  // every entry at +-1: |R d| up to 3 * 2^30, beyond int32
         for (auto& row : rotation[b].m)
           for (auto& e : row) e = next_random(&rng) % 2 ? fx::kUnitOne : -fx::kUnitOne;
       } else {
-        const fx::Quat q{
-            random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
-            random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
-        const int32_t c[4] = {q.w, q.x, q.y, q.z};
-        const fx::NormDivisor nd = fx::norm_divisor(c, 4);
-        const fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
-                            fx::divide_by_norm(q.z, nd)};
-        rotation[b] = fx::rot3_of_unit(unit);
+        rotation[b] = round % 3 == 2 && b > 0 ? rotation[0] : fx::rot3_of_unit(unit);
       }
       const uint32_t pick = static_cast<uint32_t>(next_random(&rng) % 3);
       scale[b] = pick == 0 ? fx::kUnitOne : pick == 1 ? INT32_MAX : random_between(&rng, fx::kUnitOne, INT32_MAX);
@@ -125,6 +143,7 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
     m.vertex_disp = disp;
     metaballs::MetaballState s = scene.state();
     s.ball_rotation = rotation;
+    s.ball_quat = quat;
     s.ball_scale = scale;
     s.ball_center = center;
     EXPECT_EQ(deform_kernels_differ(m, s), 0u) << "round " << round;

@@ -1,6 +1,7 @@
-// The primary deformation (eq. 1, 2, 4, 5 with bulging; PBD, smoothing and
-// overlap off) against a double-precision evaluation of the same equations
-// from the same model and joint transforms. Native only.
+// The primary deformation (eq. 1, 2, 4, 5 with bulging, each vertex one rigid
+// motion as deform.cpp computes it; PBD, smoothing and overlap off) against a
+// double-precision evaluation of the same equations from the same model and
+// joint transforms. Native only.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -107,7 +108,7 @@ TEST(MetaballsOracle, PrimaryDeformationMatchesDoublePrecision) {
     }
     const uint32_t nb = m.ball_count();
     std::vector<V> centre(nb);
-    std::vector<std::array<std::array<double, 3>, 3>> rot(nb);
+    std::vector<Q> ball_q(nb);
     std::vector<double> scale(nb, 1.0);
     for (uint32_t b = 0; b < nb; ++b) {
       const uint16_t j0 = m.ball_joint[2 * b], j1 = m.ball_joint[2 * b + 1];
@@ -115,10 +116,7 @@ TEST(MetaballsOracle, PrimaryDeformationMatchesDoublePrecision) {
       const V c = v3(m.ball_rest[b]);
       const V p0 = lin_apply(bone[j0].m, c), p1 = lin_apply(bone[j1].m, c);
       for (int a = 0; a < 3; ++a) centre[b][a] = w0 * (p0[a] + bone[j0].t[a]) + w1 * (p1[a] + bone[j1].t[a]);
-      double r[3][3];
-      rot_of(w1 == 0 ? q[j0] : nlerp(q[j0], q[j1], w1), r);
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) rot[b][i][k] = r[i][k];
+      ball_q[b] = w1 == 0 ? q[j0] : nlerp(q[j0], q[j1], w1);
     }
     for (const auto& bu : m.bulges) {
       double tr = 0;
@@ -126,31 +124,55 @@ TEST(MetaballsOracle, PrimaryDeformationMatchesDoublePrecision) {
         for (int k = 0; k < 3; ++k) tr += bone[bu.bone_a].m[i][k] * bone[bu.bone_b].m[i][k];
       scale[bu.ball] = 1 + std::ldexp(bu.gain, -30) * std::clamp((3 - tr) / 4, 0.0, 1.0);
     }
+    // Eq. (4) with the balls' rotations blended before they act: the blended
+    // centre and rest displacement, turned by the balls' rotations blended by
+    // the same weights (each on the first's hemisphere, normalised).
+    struct Frame {
+      V centre{0, 0, 0}, disp{0, 0, 0};
+      Q q{0, 0, 0, 0};
+    };
+    std::vector<Frame> frame(m.vertex_count);
     std::vector<V> out(m.vertex_count);
     for (uint32_t v = 0; v < m.vertex_count; ++v) {
-      V acc{0, 0, 0};
+      Frame& f = frame[v];
+      bool first = true;
+      Q q0{};
       for (uint32_t k = 0; k < mb::kVertexBalls; ++k) {
         const size_t i = size_t{v} * mb::kVertexBalls + k;
         const double w = std::ldexp(m.vertex_weight[i], -30);
         if (w == 0) continue;
         const uint16_t b = m.vertex_ball[i];
-        double r[3][3];
-        for (int a = 0; a < 3; ++a)
-          for (int c = 0; c < 3; ++c) r[a][c] = rot[b][a][c];
-        const V d = lin_apply(r, v3(m.vertex_disp[i]));
-        for (int a = 0; a < 3; ++a) acc[a] += w * (centre[b][a] + scale[b] * d[a]);
+        if (first) q0 = ball_q[b], first = false;
+        const double sign =
+            q0[0] * ball_q[b][0] + q0[1] * ball_q[b][1] + q0[2] * ball_q[b][2] + q0[3] * ball_q[b][3] < 0 ? -1.0 : 1.0;
+        for (int c = 0; c < 4; ++c) f.q[c] += sign * w * ball_q[b][c];
+        const V d = v3(m.vertex_disp[i]);
+        for (int a = 0; a < 3; ++a) {
+          f.centre[a] += w * centre[b][a];
+          f.disp[a] += w * scale[b] * d[a];
+        }
       }
-      out[v] = acc;
+      f.q = normalized(f.q);
+      double r[3][3];
+      rot_of(f.q, r);
+      const V rd = lin_apply(r, f.disp);
+      for (int a = 0; a < 3; ++a) out[v][a] = f.centre[a] + rd[a];
     }
+    // Eq. (5) and eq. (1) as one rigid motion: centre and displacement
+    // blended by w^alpha, the two rotations by nlerp.
     for (uint32_t i = 0; i < m.jv_count(); ++i) {
       const mb::JointBall& jb = m.joint_balls[m.jv_ball[i]];
-      double r[3][3];
-      rot_of(nlerp(q[jb.bone_a], q[jb.bone_b], std::ldexp(m.jv_blend[i], -30)), r);
-      const V d = lin_apply(r, v3(m.jv_disp[i]));
+      const uint32_t v = m.jv_vertex[i];
+      const Q eta = nlerp(q[jb.bone_a], q[jb.bone_b], std::ldexp(m.jv_blend[i], -30));
       const double alpha = std::ldexp(m.jv_alpha[i], -30);
-      V& p = out[m.jv_vertex[i]];
+      double r[3][3];
+      rot_of(nlerp(frame[v].q, eta, alpha), r);
+      const V de = v3(m.jv_disp[i]);
+      V d{};
+      for (int a = 0; a < 3; ++a) d[a] = (1 - alpha) * frame[v].disp[a] + alpha * de[a];
+      const V rd = lin_apply(r, d);
       for (int a = 0; a < 3; ++a)
-        p[a] = (1 - alpha) * p[a] + alpha * (std::ldexp(s.engine().model[jb.joint].t[a], -20) + d[a]);
+        out[v][a] = (1 - alpha) * frame[v].centre[a] + alpha * std::ldexp(s.engine().model[jb.joint].t[a], -20) + rd[a];
     }
     double pose_worst = 0;
     for (uint32_t v = 0; v < m.vertex_count; ++v)

@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/layers/metaballs/options.hpp"
 #include "host_tools/layers/rig_layers.hpp"
+#include "host_tools/rigc/quantize.hpp"
 #include "host_tools/rigc/toml_spec.hpp"
 #include "sim_core/metaballs/jiggle_gains.hpp"
 #include "sim_core/pipeline/layer_format.hpp"
@@ -104,6 +106,94 @@ TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
   EXPECT_FALSE(m.bulges.empty());
   std::printf("spec keys: %zu jiggle balls at %u Hz (k %d, d %d), %zu bulging balls, %zu overlap candidates\n",
               jiggling, m.jiggle_rate_hz, want.stiffness, want.damping, m.bulges.size(), m.overlap_vertices.size());
+}
+
+// Jiggle is in physical units by default: a jiggle region without
+// jiggle_frequency swings at the default frequency and window for the
+// spec's rate; jiggle_frequency = 0 asks for the per-step gains; a
+// [metaballs] table without jiggle regions is the same either way (its
+// section carries no rate and keeps its bytes).
+const char* const kJiggleOnlySpec = R"(
+[rig]
+source = "builtin:arm"
+skinning = "dqs"
+rate_hz = 500
+
+[metaballs]
+)";
+const char* const kRegion = R"(
+[[metaballs.jiggle]]
+bone = "shoulder"
+from = 0.3
+to = 0.7
+stiffness = 0.05
+)";
+
+TEST(MetaballsSpecKeys, JiggleIsInPhysicalUnitsByDefault) {
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(
+      compile("sinew_metaballs_default_jiggle.toml", std::string(kJiggleOnlySpec) + kRegion, &bytes, &layers, &error))
+      << error;
+  const sinew::metaballs_build::Options defaults;
+  EXPECT_GT(defaults.jiggle_frequency, 0);
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  const auto& m = loaded.layers.metaballs;
+  EXPECT_EQ(m.jiggle_rate_hz, 500u);
+  sinew::metaballs::JiggleGains want;
+  ASSERT_TRUE(sinew::metaballs::jiggle_gains(sinew::rigc::to_fixed(defaults.jiggle_frequency, 16),
+                                             sinew::rigc::to_fixed(defaults.jiggle_window, 16), 500, &want));
+  EXPECT_EQ(m.jiggle_damping, want.damping);
+  size_t jiggling = 0;
+  for (const auto k : m.ball_jiggle)
+    if (k != 0) {
+      EXPECT_EQ(k, want.stiffness);
+      ++jiggling;
+    }
+  EXPECT_GT(jiggling, 0u);
+  std::printf("default jiggle: %zu balls swing at %.1f Hz within %.2f s (k %d, d %d at 500 Hz)\n", jiggling,
+              defaults.jiggle_frequency, defaults.jiggle_window, want.stiffness, want.damping);
+}
+
+TEST(MetaballsSpecKeys, JiggleFrequencyZeroKeepsThePerStepGains) {
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_step_jiggle.toml",
+                      std::string(kJiggleOnlySpec) + "jiggle_frequency = 0\njiggle_damping = 0.95\n" + kRegion, &bytes,
+                      &layers, &error))
+      << error;
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  const auto& m = loaded.layers.metaballs;
+  EXPECT_EQ(m.jiggle_rate_hz, 0u);
+  EXPECT_EQ(m.jiggle_damping, sinew::rigc::to_fixed(0.95, 30));
+  size_t jiggling = 0;
+  for (const auto k : m.ball_jiggle)
+    if (k != 0) {
+      EXPECT_EQ(k, sinew::rigc::to_fixed(0.05, 30));
+      ++jiggling;
+    }
+  EXPECT_GT(jiggling, 0u);
+}
+
+TEST(MetaballsSpecKeys, NoJiggleRegionsNoRateAndTheSameBytes) {
+  std::vector<uint8_t> by_default, per_step;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_no_jiggle.toml", kJiggleOnlySpec, &by_default, &layers, &error)) << error;
+  ASSERT_TRUE(compile("sinew_metaballs_no_jiggle0.toml", std::string(kJiggleOnlySpec) + "jiggle_frequency = 0\n",
+                      &per_step, &layers, &error))
+      << error;
+  EXPECT_EQ(by_default, per_step);
+  LoadedLayers loaded;
+  loaded.bytes = by_default;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  EXPECT_EQ(loaded.layers.metaballs.jiggle_rate_hz, 0u);
 }
 
 TEST(MetaballsSpecKeys, UnknownKeyIsRefused) {

@@ -166,7 +166,7 @@ inline void push_skin(std::vector<uint8_t>* bytes, uint32_t iterations) {
 // of the whole circle, wrap offsets at the extremes and barycentrics far
 // outside [0, 1] (they only need to sum to 2^30).
 inline void push_barnet(std::vector<uint8_t>* bytes) {
-  namespace bn = barnet;
+  namespace bn = sinew::barnet;
   for (uint32_t inst = 0; inst < pipeline::kMaxBarnets; ++inst) {
     const LayerView v = layer_view(*bytes, pipeline::kSectionBarnet, inst);
     if (!v) return;

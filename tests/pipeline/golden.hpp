@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xd568cad81189c4a7u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0xc1e25ea39ea3a1cfu;
+inline constexpr uint64_t kArmLayersBlob = 0x1b075136204f5111u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x816be84ab27b820eu;
 }  // namespace sinew::test::golden

@@ -5,6 +5,7 @@
 // refused with the spec's line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -188,9 +189,17 @@ TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
   EXPECT_EQ(s.max_substeps, 8u);
   EXPECT_EQ(s.constraint_passes, 2u);
   EXPECT_EQ(s.vertex_mass, std::lround(0.02 * 16777216.0));
-  EXPECT_EQ(s.stiffness_scale, std::lround(std::ldexp(40.0, e) * 65536.0));
-  EXPECT_EQ(s.anchor_damping, std::lround(std::ldexp(0.25, e) * 65536.0));
-  EXPECT_EQ(s.band_damping, std::lround(std::ldexp(0.125, e) * 65536.0));
+  // The runtime measures length in rig units, time in s, mass in kg: its
+  // stiffnesses and dampings carry the same numbers as N/m and N s/m, so
+  // k / m = 40 N/m / 0.02 kg = 2000 /s^2 and c / m = 12.5 /s whatever the
+  // rig unit (e = -8 here); only accelerations and lengths scale with it.
+  ASSERT_NE(e, 0);
+  EXPECT_EQ(s.stiffness_scale, std::lround(40.0 * 65536.0));
+  EXPECT_EQ(s.anchor_damping, std::lround(0.25 * 65536.0));
+  EXPECT_EQ(s.band_damping, std::lround(0.125 * 65536.0));
+  // Within the two quantisations: 1/2 LSB of Q16.16 on 40 and of Q8.24 on 0.02.
+  EXPECT_NEAR(static_cast<double>(s.stiffness_scale) / s.vertex_mass * 256.0, 40.0 / 0.02,
+              2000 * (0.5 / (40 * 65536.0) + 0.5 / (0.02 * 16777216.0)));
   EXPECT_EQ(s.tolerance, std::lround(std::ldexp(0.001, 20 - e)));
   EXPECT_EQ(s.fat_thickness, std::lround(std::ldexp(0.002, 20 - e)));
   EXPECT_EQ(s.gravity.y, std::lround(std::ldexp(-9.81, 8 - e)));  // Q24.8
@@ -255,7 +264,7 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
   EXPECT_EQ(m.deformations[0].twist, static_cast<int32_t>(4294967296.0 / 12));  // 30 degrees
   EXPECT_EQ(m.deformations[0].bend, sinew::rigc::to_angle(-10));                // -10 degrees
   ASSERT_TRUE(l.layers.has_skin);
-  EXPECT_EQ(l.layers.skin.solver.edge_damping, std::lround(std::ldexp(0.25, e) * 65536.0));
+  EXPECT_EQ(l.layers.skin.solver.edge_damping, std::lround(0.25 * 65536.0));  // N s/m: no rig-unit factor
   EXPECT_EQ(l.layers.skin.solver.fat_normal, static_cast<uint8_t>(sinew::elastic_skin::FatNormal::kSurface));
   EXPECT_EQ(l.layers.skin.triangles.size(), l.rig.triangles.size());
 
@@ -340,4 +349,72 @@ TEST(RigSpecs, MuscleBellyExponentsReachTheLoadedModel) {
     const std::string bad = spec_error("bad_exponent_" + std::to_string(i++) + ".toml", k.text);
     EXPECT_NE(bad.find(k.expected), std::string::npos) << "spec:\n" << k.text << "\ngot: " << bad;
   }
+}
+
+// A dynamic [skin] without tissue keys gets them from the tissue
+// (docs/anatomy.md, "Physical defaults"): the vertex mass from 3 kg/m^2 over
+// the skin's area, the spring scale that makes a mean anchor swing at 10 Hz,
+// the damping of a 0.3 damping ratio, and the lowest stable multiple of
+// 1 kHz as the substep rate; a substep rate below the stiffest mode is
+// refused naming the key.
+TEST(RigSpecs, DynamicSkinTissueDefaultsFollowThePhysics) {
+  std::ifstream in(kSource + "/rigs/arm.toml");
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
+  const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
+  const size_t at = text.find(skin);
+  ASSERT_NE(at, std::string::npos);
+  std::string dynamic = text;
+  dynamic.insert(at + skin.size(), "mode = \"dynamic\"\n");
+  const std::string path = kSource + "/tests/data/skin_tissue_defaults.toml";
+  std::ofstream(path) << dynamic;
+  const Compiled c = compile_spec(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(c.ok) << c.error;
+  Loaded l;
+  std::string error;
+  ASSERT_TRUE(load(c.blob, &l, &error)) << error;
+  const sinew::elastic_skin::SkinModel& m = l.layers.skin;
+  const sinew::elastic_skin::SkinSolverParams& s = m.solver;
+  // The skin's area, model units (metres) squared, from the loaded rest mesh.
+  const double unit = std::ldexp(1.0, l.rig.length_exponent - 20);
+  double area = 0;
+  for (size_t t = 0; t + 2 < l.rig.triangles.size(); t += 3) {
+    double p[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) p[k][a] = l.rig.position[a][l.rig.triangles[t + static_cast<size_t>(k)]] * unit;
+    const double u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+    const double v[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+    area += std::sqrt(std::pow(u[1] * v[2] - u[2] * v[1], 2) + std::pow(u[2] * v[0] - u[0] * v[2], 2) +
+                      std::pow(u[0] * v[1] - u[1] * v[0], 2)) /
+            2;
+  }
+  const double mass = s.vertex_mass / 16777216.0;
+  // The rest mesh is the rig's, rounded to Q12.20: 1e-5 relative covers it.
+  EXPECT_NEAR(mass, 3.0 * area / m.vertex_count, 1e-5 * mass + 0.5 / 16777216.0);
+  double mean_ka = 0;
+  for (uint32_t k : m.anchor_stiffness) mean_ka += k / 65536.0;
+  mean_ka /= m.vertex_count;
+  const double omega = 2 * M_PI * 10.0;
+  const double scale = s.stiffness_scale / 65536.0, damping = s.anchor_damping / 65536.0;
+  // Each within its own Q16.16 and the mass's Q8.24 rounding.
+  EXPECT_NEAR(std::sqrt(mean_ka * scale / mass), omega, omega * (0.5 / s.stiffness_scale + 0.5 / s.vertex_mass + 1e-6));
+  EXPECT_NEAR(damping, 2 * 0.3 * mass * omega, 0.5 / 65536.0 + 2 * 0.3 * omega * 0.5 / 16777216.0);
+  EXPECT_EQ(s.band_damping, s.anchor_damping);
+  // The runtime's Gershgorin bound of the stiffest mode, from the model.
+  std::vector<double> row(m.vertex_count, 0);
+  for (uint32_t v = 0; v < m.vertex_count; ++v) row[v] = m.anchor_stiffness[v] / 65536.0;
+  for (const auto& e : m.edges) row[e.a] += 2 * e.k / 65536.0, row[e.b] += 2 * e.k / 65536.0;
+  for (const auto& b : m.bands) row[b.vertex] += b.k / 65536.0;
+  const double omega_max = std::sqrt(*std::max_element(row.begin(), row.end()) * scale / mass);
+  EXPECT_GE(s.substep_hz, omega_max);           // stable: h omega_max <= 1
+  EXPECT_LT(s.substep_hz - 1000.0, omega_max);  // and the lowest multiple of 1 kHz that is
+  EXPECT_EQ(s.substep_hz % 1000, 0u);
+  EXPECT_GE(s.max_substeps * 100u, s.substep_hz);  // a 100 Hz loop fits
+
+  std::string slow = text;
+  slow.insert(at + skin.size(), "mode = \"dynamic\"\nsubstep_hz = 100\n");
+  const std::string refused = spec_error("skin_slow_substeps.toml", slow);
+  EXPECT_NE(refused.find("[skin] substep_hz = 100 is too low for the skin's stiffest mode"), std::string::npos)
+      << refused;
 }

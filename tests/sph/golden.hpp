@@ -6,7 +6,7 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kSphArm = 0xbe718026777d5b5au;
+inline constexpr uint64_t kSphArm = 0x4d1a17b3d80f8928u;
 // The same workload with surface_tension = 1 N/m (SphDeterminism, second test).
-inline constexpr uint64_t kSphArmSurfaceTension = 0xecadf93b0ad8136cu;
+inline constexpr uint64_t kSphArmSurfaceTension = 0x51c6b09467abff5eu;
 }  // namespace sinew::test::golden

@@ -157,49 +157,73 @@ TEST(SphFigure4, TrescaYieldStopsTheBendUnderAGrowingForce) {
 }
 
 TEST(SphTable1, ParticleCountsSideBySide) {
-  // Short form: 150 ticks of ramp + 25 held; SINEW_SOAK=1: 300 + 50.
-  const int ramp = sinew::test::soak_enabled() ? 300 : 150, hold = sinew::test::soak_enabled() ? 50 : 25;
+  // Table 1 reports "at what angle the elbow would stop" under the yield,
+  // a static figure. The load is therefore ramped slowly against the
+  // tension's oscillator (omega = sqrt(k_e) = 55 rad/s, period 115 ms,
+  // c = 40 /s): 300 ticks (2.6 periods); SINEW_SOAK=1: 1000 (8.7). The
+  // ramp's start transient decays as exp(-c t / 2), below 1 % after
+  // 2 ln(100) / c = 230 ms: a yield before that would compare transients,
+  // not stop angles, so it is checked.
+  const int ramp = sinew::test::soak_enabled() ? 1000 : 300, hold = 50;
+  const sinew::layers::SphBuildOptions reference = options(500);
+  const double transient_ticks = 2 * std::log(100.0) / reference.damping * reference.tick_hz;
   std::printf(
       "table 1: same elbow, force ramp 0 -> 30 N over %d ticks then "
       "held %d ticks, Tresca on\n",
       ramp, hold);
   std::printf(
-      "  particles  h(mm)  step(us)  steps/s  pairs/tick  final bend(deg)  max "
-      "bend(deg)  yielded  joint yielded\n");
+      "  particles  h(mm)  step(us)  pairs/tick  pairs/particle/substep  yield tick  yield force(N)  stop "
+      "angle(deg)  final(deg)\n");
   const uint32_t counts[3] = {500u, 1000u, 1500u};
-  double max_bend[3] = {0, 0, 0}, final_bend[3] = {0, 0, 0}, pairs[3] = {0, 0, 0};
+  double stop[3] = {0, 0, 0}, pairs[3] = {0, 0, 0};
   for (int k = 0; k < 3; ++k) {
-    SphArm arm(options(counts[k]));
+    const sinew::layers::SphBuildOptions o = options(counts[k]);
+    SphArm arm(o);
     ASSERT_TRUE(arm.ok()) << arm.error();
-    double seconds = 0;
+    double seconds = 0, yield_force = 0;
+    int yield_tick = -1;
     for (int t = 0; t < ramp + hold; ++t) {
       const double f = t < ramp ? 30.0 * (t + 1) / ramp : 30.0;
       const auto start = std::chrono::steady_clock::now();
       ASSERT_TRUE(arm.tick(0, f, 0).ok());
       seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      max_bend[k] = std::max(max_bend[k], arm.bend_degrees());
+      stop[k] = std::max(stop[k], arm.bend_degrees());
       pairs[k] += static_cast<double>(arm.state().stats.neighbour_pairs);
+      if (arm.state().joint_yielded && yield_tick < 0) {
+        yield_tick = t + 1;
+        yield_force = f;
+      }
     }
     pairs[k] /= ramp + hold;
-    final_bend[k] = arm.bend_degrees();
-    std::printf("  %9u  %5.1f  %8.1f  %7.0f  %10.0f  %15.2f  %13.2f  %7u  %s\n", counts[k], arm.built().h_metres * 1e3,
-                seconds / (ramp + hold) * 1e6, (ramp + hold) / seconds, pairs[k], arm.bend_degrees(), max_bend[k],
-                arm.state().yielded_particles, arm.state().joint_yielded ? "yes" : "no");
+    std::printf("  %9u  %5.1f  %8.1f  %10.0f  %22.2f  %10d  %14.2f  %15.2f  %10.2f\n", counts[k],
+                arm.built().h_metres * 1e3, seconds / (ramp + hold) * 1e6, pairs[k], pairs[k] / counts[k] / o.substeps,
+                yield_tick, yield_force, stop[k], arm.bend_degrees());
+    // The stop angle is the yield's (figure 4 (d)) once the ramp is quasi-static.
+    ASSERT_GT(yield_tick, transient_ticks) << counts[k] << " particles: the joint must yield, after the transient";
+    ASSERT_GT(stop[k], 0.0) << "the load flexes the elbow (figure 3 (c))";
+    // Bounded work: the search keeps at most max_neighbours per particle
+    // and substep (docs/sph.md, "Limits").
+    EXPECT_LE(pairs[k], static_cast<double>(counts[k]) * o.max_neighbours * o.substeps);
   }
-  // The paper's findings (§5, table 1), as trends, not numbers. The angle
-  // compared is where the elbow stops under the held load (the table's
-  // "bend angle"; the peak is the dynamic overshoot of the ramp).
-  //  - the load flexes the elbow at every count (figure 3 (c));
-  for (double b : final_bend) EXPECT_GT(b, 0.0);
+  // The paper's findings (§5, table 1). Stop angles:
+  //  - "1500 particles were found to be subject to strong elasticity and
+  //    bending restrictions owing to the high density of the particles",
+  //    while with 500 "the density was not significant ... so the yield
+  //    conditions ... were not properly applied": the elbow stops earlier
+  //    with 1500 particles than with 500. (A finer kernel, h ~ N^(-1/3),
+  //    resolves the density rise of the crease, which the yield reads.)
+  EXPECT_LT(stop[2], stop[0]) << "1500 particles must stop the elbow before 500 do";
   //  - "1000 particles were measured with elasticity and yield conditions
   //    similar to those of 1500": 1000 stops nearer 1500 than 500 does.
-  //    (The paper's other bend finding, 1500 bending less than 500, is
-  //    printed, not asserted: docs/sph.md, "Table 1", says why.)
-  EXPECT_LT(std::abs(final_bend[1] - final_bend[2]), std::abs(final_bend[0] - final_bend[2]));
-  //  - cost grows with the count ("500 ... very high speed", "1500 ...
-  //    slow", 1000 "speed increased significantly" against 1500). Measured
-  //    as neighbour pairs evaluated per tick, the work of a step
-  //    (deterministic; times are printed above, not asserted).
-  EXPECT_LT(pairs[0], pairs[1]);
-  EXPECT_LT(pairs[1], pairs[2]);
+  EXPECT_LT(std::abs(stop[1] - stop[2]), std::abs(stop[0] - stop[2]));
+  // Cost ("500 ... very high speed", "1500 ... slow", 1000's "speed
+  // increased significantly" against 1500), counted as neighbour pairs per
+  // tick, the work of a step (deterministic; the times above are printed,
+  // not asserted). With h a fixed number of spacings, every particle's
+  // kernel holds the same number of lattice neighbours in the bulk and
+  // fewer within h of the surface, a fraction ~ 3 A h / (16 V) of the
+  // capsule that falls as N^(-1/3): the work grows at least in proportion
+  // to N. So 1000 costs at most 2/3 of 1500, and 500 at most half of 1000.
+  EXPECT_GE(pairs[1] / pairs[0], 1000.0 / 500.0);
+  EXPECT_GE(pairs[2] / pairs[1], 1500.0 / 1000.0);
 }

@@ -475,7 +475,9 @@ void integrate(SphState* st, fx::Saturation& sat) {
   for (int a = 0; a < 3; ++a)
     for (uint32_t i = 0; i < m.particle_count(); ++i) {
       // Symplectic Euler in Len per substep: v' = damping v + a dt^2, x' = x + v'.
-      const int64_t v = fx::round_shift(int64_t{st->velocity[a][i]} * m.params.damping, 30) + st->scratch[a][i];
+      // damping v truncated toward zero, as sph_step (every velocity decays to rest).
+      const int64_t kept = int64_t{st->velocity[a][i]} * m.params.damping;
+      const int64_t v = (kept >= 0 ? kept >> 30 : -((-kept) >> 30)) + st->scratch[a][i];
       st->velocity[a][i] = fx::sat_i32(v, sat);
       st->position[a][i] = fx::sat_i32(int64_t{st->position[a][i]} + st->velocity[a][i], sat);
     }

@@ -22,12 +22,16 @@ sinew::layers::SphBuildOptions small(uint32_t particles = 500) {
 }
 }  // namespace
 
-TEST(SphRuntime, StepsNeverAllocate) {
-  // Allocation does not depend on the particle count: the short form keeps
-  // 2000 steps on a small tissue; SINEW_SOAK=1 runs 10000 on 500 particles.
+namespace {
+
+// Allocation does not depend on the particle count: the short form keeps
+// 2000 steps on a small tissue; SINEW_SOAK=1 runs 10000 on 500 particles.
+void expect_no_allocation(double surface_tension) {
   const uint32_t particles = sinew::test::soak_enabled() ? 500 : 64;
   const int steps = sinew::test::soak_enabled() ? 10000 : 2000;
-  SphArm arm(small(particles));
+  sinew::layers::SphBuildOptions o = small(particles);
+  o.surface_tension = surface_tension;
+  SphArm arm(o);
   ASSERT_TRUE(arm.ok()) << arm.error();
   const size_t elbow = static_cast<size_t>(arm.input("elbow.0"));
   sinew::test::AllocationCounter counter;
@@ -36,9 +40,26 @@ TEST(SphRuntime, StepsNeverAllocate) {
     ASSERT_TRUE(arm.tick(0, (t / 500) % 2 ? 10 : 0, 0).ok());
     sinew::sph::sph_apply_skin(arm.state(), arm.engine().vertices.position);
   }
-  std::printf("sph: %llu heap allocations in %d engine + sph steps (%u particles)\n",
-              static_cast<unsigned long long>(counter.allocations()), steps, particles);
+  std::printf("sph: %llu heap allocations in %d engine + sph steps (%u particles, surface tension %g N/m)\n",
+              static_cast<unsigned long long>(counter.allocations()), steps, particles, surface_tension);
   EXPECT_EQ(counter.allocations(), 0u);
+}
+
+}  // namespace
+
+TEST(SphRuntime, StepsNeverAllocate) { expect_no_allocation(0); }
+
+// The colour-field sums are carved at init only when the tension is on
+// (sph_state_bytes): that path allocates nothing either.
+TEST(SphRuntime, StepsWithSurfaceTensionNeverAllocate) {
+  SphArm probe(small(64));
+  sinew::layers::SphBuildOptions o = small(64);
+  o.surface_tension = 1.0;
+  SphArm tension(o);
+  ASSERT_TRUE(probe.ok() && tension.ok());
+  ASSERT_NE(tension.model().params.tension_gain, 0) << "the tension path must run";
+  ASSERT_GT(sinew::sph::sph_state_bytes(tension.model()), sinew::sph::sph_state_bytes(probe.model()));
+  expect_no_allocation(1.0);
 }
 
 TEST(SphRuntime, RandomMotionAndForcesStayBounded) {

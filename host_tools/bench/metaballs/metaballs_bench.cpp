@@ -138,6 +138,7 @@ Scene* make_scene(int which, int variant) {
     o.target_ball_count = 500;
     o.pair_reach = 0.04;  // ~3 neighbours each side at this density
   }
+  o.jiggle_frequency = 0;  // the base keeps the per-step jiggle
   if (variant == 1) {
     o.jiggle_frequency = 4;
     o.jiggle_window = 0.4;

@@ -576,28 +576,98 @@ class Builder {
     p.reaction_gain = rigc::to_fixed(s.reaction_gain, 30);
     p.newton_steps = static_cast<uint32_t>(std::max(0, s.newton_steps));
     p.warm_start = s.warm_start ? 1 : 0;
-    // Solver: one rig unit is 2^e model units, so per-length quantities
-    // (N / unit, N s / unit) scale by 2^e and accelerations by 2^-e.
+    // Solver: the runtime measures length in rig units (2^e model units),
+    // time in s and mass in kg, so its force unit is kg rig unit / s^2 and a
+    // stiffness (force per length) or a damping (force per velocity) has the
+    // same number in it as in N/m and N s/m: k x / m and c v / m come out
+    // in rig units / s^2 when x and v are in rig units. Accelerations
+    // (gravity) scale by 2^-e.
     es::SkinSolverParams& o = out_.solver;
     const SkinSolverSpec& d = s.solver;
-    const double unit = std::ldexp(1.0, e_);
     o.mode = static_cast<uint8_t>(d.dynamic ? es::SkinMode::kDynamic : es::SkinMode::kStatic);
     o.tolerance = len(d.tolerance);
     o.fat_thickness = len(d.fat_global);
     o.fat_normal = static_cast<uint8_t>(d.fat_surface_normal ? es::FatNormal::kSurface : es::FatNormal::kAnchor);
     if (d.fat_surface_normal) out_.triangles.assign(rig_.triangles.begin(), rig_.triangles.end());
     if (d.dynamic) {
-      o.substep_hz = static_cast<uint32_t>(std::max(0, d.substep_hz));
-      o.max_substeps = static_cast<uint32_t>(std::max(0, d.max_substeps));
+      Tissue t;
+      if (!tissue(d, &t)) return false;
+      o.substep_hz = t.substep_hz;
+      o.max_substeps = t.max_substeps;
       o.constraint_passes = static_cast<uint32_t>(std::max(0, d.constraint_passes));
-      o.vertex_mass = rigc::to_fixed(d.vertex_mass, es::kMassFracBits);
-      o.stiffness_scale = rigc::to_fixed(d.stiffness_scale * unit, es::kQ16FracBits);
-      o.anchor_damping = rigc::to_fixed(d.anchor_damping * unit, es::kQ16FracBits);
-      o.band_damping = rigc::to_fixed(d.band_damping * unit, es::kQ16FracBits);
+      o.vertex_mass = rigc::to_fixed(t.mass, es::kMassFracBits);
+      o.stiffness_scale = rigc::to_fixed(t.scale, es::kQ16FracBits);
+      o.anchor_damping = rigc::to_fixed(t.anchor_c, es::kQ16FracBits);
+      o.band_damping = rigc::to_fixed(t.band_c, es::kQ16FracBits);
       const auto accel = [&](double a) { return rigc::to_fixed(std::ldexp(a, -e_), es::kAccelFracBits); };
       o.gravity = {accel(d.gravity[0]), accel(d.gravity[1]), accel(d.gravity[2])};
-      o.edge_damping = rigc::to_fixed(d.edge_damping * unit, es::kQ16FracBits);
+      o.edge_damping = rigc::to_fixed(d.edge_damping, es::kQ16FracBits);
     }
+    return true;
+  }
+
+  // The dynamic skin's mass, stiffness and damping, given or derived from the
+  // tissue (docs/anatomy.md, "Physical defaults"), and its substep rate.
+  struct Tissue {
+    double mass = 0, scale = 0, anchor_c = 0, band_c = 0;
+    uint32_t substep_hz = 0, max_substeps = 0;
+  };
+  bool tissue(const SkinSolverSpec& d, Tissue* t) {
+    const size_t n = out_.anchor_stiffness.size();
+    if (n == 0) return fail("anatomy: the dynamic skin has no vertices");
+    double area = 0;  // model units^2 (m^2)
+    for (size_t i = 0; i + 2 < rig_.triangles.size(); i += 3) {
+      const P3 e1 = sub(rest_[rig_.triangles[i + 1]], rest_[rig_.triangles[i]]);
+      const P3 e2 = sub(rest_[rig_.triangles[i + 2]], rest_[rig_.triangles[i]]);
+      area += norm({e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]}) / 2;
+    }
+    double mean_ka = 0;
+    for (es::Stiffness k : out_.anchor_stiffness) mean_ka += k / 65536.0;
+    mean_ka /= static_cast<double>(n);
+    t->mass = d.vertex_mass > 0 ? d.vertex_mass : d.surface_density * area / static_cast<double>(n);
+    const double omega = 2 * M_PI * d.frequency;
+    if (d.stiffness_scale > 0) {
+      t->scale = d.stiffness_scale;
+    } else {
+      if (!(mean_ka > 0)) return fail("anatomy: the skin's anchors have no stiffness to derive stiffness_scale from");
+      t->scale = t->mass * omega * omega / mean_ka;
+    }
+    t->anchor_c = d.anchor_damping >= 0 ? d.anchor_damping : 2 * d.damping_ratio * t->mass * omega;
+    t->band_c = d.band_damping >= 0 ? d.band_damping : t->anchor_c;
+    if (!(t->mass >= std::ldexp(1.0, -es::kMassFracBits) && t->mass < 128))
+      return fail("anatomy: [skin] vertex mass " + std::to_string(t->mass) + " kg outside [2^-24, 128)");
+    // The runtime's stability bound (Gershgorin): omega_max^2 = max over
+    // vertices of (k_a + 2 sum k_e + sum k_r) scale / m.
+    std::vector<double> row(n, 0);
+    for (size_t v = 0; v < n; ++v) row[v] = out_.anchor_stiffness[v] / 65536.0;
+    for (const es::Edge& e : out_.edges) row[e.a] += 2 * e.k / 65536.0, row[e.b] += 2 * e.k / 65536.0;
+    for (const es::RubberBand& b : out_.bands) row[b.vertex] += b.k / 65536.0;
+    const double omega_max = std::sqrt(*std::max_element(row.begin(), row.end()) * t->scale / t->mass);
+    if (d.substep_hz > 0) {
+      t->substep_hz = static_cast<uint32_t>(d.substep_hz);
+      t->max_substeps = static_cast<uint32_t>(std::max(0, d.max_substeps));
+      if (omega_max > t->substep_hz)
+        return fail("anatomy: [skin] substep_hz = " + std::to_string(d.substep_hz) +
+                    " is too low for the skin's stiffest mode (omega_max " + std::to_string(omega_max) +
+                    " rad/s needs h omega <= 1: at least " + std::to_string(static_cast<long>(std::ceil(omega_max))) +
+                    " Hz)");
+    } else {
+      // The runtime's stability bound h omega_max <= 1 (half symplectic
+      // Euler's limit of 2), on a multiple of 1 kHz so that the usual loop
+      // rates share the substep. omega_max is the membrane's stiffest mode;
+      // the modes one sees, near the anchor frequency, have h omega far
+      // smaller (10 Hz at 1 kHz: 0.063, frequency error (h omega)^2/24 <
+      // 2e-4).
+      t->substep_hz = static_cast<uint32_t>(1000 * std::max(1.0, std::ceil(omega_max / 1000)));
+      if (t->substep_hz > es::kMaxSubstepHz) return fail("anatomy: the skin is too stiff for any substep rate");
+      t->max_substeps = std::clamp<uint32_t>((t->substep_hz + 99) / 100,
+                                             static_cast<uint32_t>(std::max(1, d.max_substeps)), es::kMaxSubsteps);
+    }
+    out_.report.vertex_mass = t->mass;
+    out_.report.stiffness_scale = t->scale;
+    out_.report.anchor_damping = t->anchor_c;
+    out_.report.omega_max = omega_max;
+    out_.report.substep_hz = t->substep_hz;
     return true;
   }
 

@@ -29,6 +29,9 @@ struct BuildReport {
   double max_newton_residual = 0;    // model units, worst trilinear inverse
   double max_rest_anchor_error = 0;  // model units: forward map at rest vs rest position
   double mean_edge_length = 0;       // model units
+  // The dynamic skin's solver as built (derived or given), SI.
+  double vertex_mass = 0, stiffness_scale = 0, anchor_damping = 0, omega_max = 0;
+  uint32_t substep_hz = 0;
 };
 
 struct AnatomyModel {

@@ -101,14 +101,22 @@ struct SkinSolverSpec {
   // LEMAN §5.6: offset the fat along the skin mesh's current normal,
   // re-estimated every pass, instead of along the anchor's normal.
   bool fat_surface_normal = false;
-  bool dynamic = false;   // LEMAN §3 mass-spring skin instead of the static relaxation
-  int substep_hz = 1000;  // dynamic: target substep rate
-  int max_substeps = 16;
+  bool dynamic = false;  // LEMAN §3 mass-spring skin instead of the static relaxation
+  // Dynamic: target substep rate; 0: the lowest multiple of 1 kHz with
+  // h omega_max <= 1 (the runtime's stability bound; omega_max the
+  // Gershgorin bound of the stiffest mode).
+  int substep_hz = 0;
+  int max_substeps = 16;  // with substep_hz 0, raised so that a 100 Hz loop fits (at most 64)
   int constraint_passes = 3;
-  double vertex_mass = 0.01;      // kg per vertex
-  double stiffness_scale = 50;    // N per model unit for a model stiffness of 1
-  double anchor_damping = 0.5;    // N s per model unit
-  double band_damping = 0.5;      // N s per model unit
+  // The tissue (docs/anatomy.md, "Physical defaults"): each value <= 0 (or
+  // < 0 for the dampings) is derived. Model units are taken as metres.
+  double vertex_mass = 0;         // kg per vertex; 0: surface_density x skin area / vertices
+  double surface_density = 3.0;   // kg/m^2: skin and the tissue it carries (about 3 mm at 1000 kg/m^3)
+  double frequency = 10;          // Hz: a vertex of mean anchor stiffness on its anchor spring
+  double damping_ratio = 0.3;     // of that oscillator, from the anchor dashpot
+  double stiffness_scale = 0;     // N per model unit for a model stiffness of 1; 0: m (2 pi f)^2 / mean k_a
+  double anchor_damping = -1;     // N s per model unit; < 0: 2 zeta m 2 pi f
+  double band_damping = -1;       // N s per model unit; < 0: the anchor's
   double gravity[3] = {0, 0, 0};  // model units / s^2
   double edge_damping = 0;        // N s per model unit, dashpot along each skin edge (SKIN v3), >= 0
 };

@@ -771,7 +771,10 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
   if (b.pairs.size() > mb::kMaxPairs) return *error = "pair_reach: more than 32768 stretch pairs (lower it)", false;
   b.pbd_iterations = static_cast<uint32_t>(o.pbd_iterations);
   b.jiggle_damping = rigc::to_fixed(o.jiggle_damping, 30);
-  if (o.jiggle_frequency > 0 && !apply_jiggle_gains(o, &b, error)) return false;
+  // Physical gains only when a ball jiggles: a model without jiggle keeps
+  // jiggle_rate_hz 0 and its bytes whatever the jiggle options say.
+  const bool jiggles = std::any_of(b.ball_jiggle.begin(), b.ball_jiggle.end(), [](fx::Unit k) { return k > 0; });
+  if (jiggles && o.jiggle_frequency > 0 && !apply_jiggle_gains(o, &b, error)) return false;
   if (!make_vertex_weights(g, o, radius, &b, error) || !make_joint_balls(spec, g, o, &b, error)) return false;
   b.smoothing_passes = static_cast<uint32_t>(o.smoothing_passes);
   b.smoothing_rate = rigc::to_fixed(o.smoothing_rate, 30);

@@ -138,11 +138,25 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
 }
 
 LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<const uint32_t> region,
-                          std::span<const fx::Unit> region_weight) {
+                          std::span<const fx::Unit> region_weight, const uint32_t (&base_acceleration)[3]) {
   // Version 1 while the solver record is the default (the bytes of rigs
   // without the new settings do not change); version 2 otherwise.
-  // Version 3 only with edge dashpots (the record's last member).
+  // Version 3 only with edge dashpots (the record's last member), 4 with
+  // the fat along the surface normal, 5 with base-acceleration inputs.
   const elastic_skin::SkinSolverParams defaults{};
+  const bool v5 = base_acceleration[0] != pipeline::kNoExternalInput ||
+                  base_acceleration[1] != pipeline::kNoExternalInput ||
+                  base_acceleration[2] != pipeline::kNoExternalInput;
+  if (v5) {
+    pipeline::SkinSectionParamsV5 p5{};
+    p5.v3 = {m.joint_count, m.vertex_count, m.params, m.solver};
+    for (int c = 0; c < 3; ++c) p5.base_acceleration_input[c] = base_acceleration[c];
+    SectionBuilder b(pipeline::kSectionElasticSkin, 0, &p5, sizeof(p5), pipeline::kSkinArrays);
+    b.version(pipeline::kSkinSectionVersion5);
+    b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
+    b.array(region).array(region_weight);
+    return b.finish();
+  }
   const bool v4 = m.solver.fat_normal != 0;
   const bool v3 = !v4 && m.solver.edge_damping != 0;
   const bool v2 = !v4 && !v3 && std::memcmp(&m.solver, &defaults, pipeline::kSkinSolverBytesV2) != 0;

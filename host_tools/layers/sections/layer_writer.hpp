@@ -13,6 +13,9 @@
 
 namespace sinew::layers {
 
+inline constexpr uint32_t kNoBaseAcceleration[3] = {pipeline::kNoExternalInput, pipeline::kNoExternalInput,
+                                                    pipeline::kNoExternalInput};
+
 struct LayerSection {
   uint32_t id = 0;
   std::vector<uint8_t> payload;  // a multiple of 8 bytes
@@ -21,8 +24,11 @@ struct LayerSection {
 LayerSection sph_section(const ::sinew::sph::SphModel& model, uint32_t rate_hz, uint32_t force_input);
 LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& model);
 LayerSection muscles_section(const ::sinew::muscle::MuscleModel& model);
+// base_acceleration: the EXTI indices of the base's acceleration x, y, z
+// (pipeline::kNoExternalInput: none); any set makes it a version 5 section.
 LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& model, std::span<const uint32_t> region = {},
-                          std::span<const fx::Unit> region_weight = {});
+                          std::span<const fx::Unit> region_weight = {},
+                          const uint32_t (&base_acceleration)[3] = kNoBaseAcceleration);
 LayerSection barnet_section(const ::sinew::barnet::BarnetModel& model);
 LayerSection external_inputs_section(std::span<const pipeline::ExternalInputRecord> inputs);
 
