@@ -590,8 +590,11 @@ class Builder {
         }
       }
       // §5.5: the attach point is where the skin point's inward ray meets
-      // the muscle; the band pulls to the ring vertex nearest it.
-      if (!attach_by_ray(r.vertex, r.muscle, &r.slice, &r.ring_vertex))
+      // the muscle; the band pulls to the ring vertex nearest it. A band the
+      // builder placed itself (vertex -1) whose ray misses (a skin normal
+      // that points past a thin muscle) keeps the muscle point it was
+      // selected by; a named skin vertex must meet its muscle.
+      if (!attach_by_ray(r.vertex, r.muscle, &r.slice, &r.ring_vertex) && b.vertex >= 0)
         return fail("rubber band " + std::to_string(i) + ": the ray from skin vertex " + std::to_string(r.vertex) +
                     " along its inward normal misses muscle " + std::to_string(r.muscle));
       out_.bands.push_back(r);
