@@ -1,10 +1,12 @@
 #include "anatomy_build.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
+#include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/rigc/quantize.hpp"
 #include "sim_core/elastic_skin/skin_validate.hpp"
 #include "sim_core/elastic_skin/virtual_anchors.hpp"
@@ -539,6 +541,41 @@ class Builder {
     return q >= static_cast<double>(es::kMaxStiffness) ? es::kMaxStiffness : static_cast<es::Stiffness>(q);
   }
 
+  // The first crossing of the ray from skin vertex v along its inward rest
+  // normal with muscle m's rest surface (its rings, slice to slice, as
+  // triangles; Moller-Trumbore), and the ring vertex nearest it.
+  bool attach_by_ray(uint32_t v, uint32_t m, uint32_t* slice, uint32_t* ring_vertex) const {
+    const P3 origin = rest_[v], dir = layers::scaled(rest_normal(v), -1.0);
+    const uint32_t ring = mstate_.ring_vertices;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k)
+      for (uint32_t j = 0; j < ring; ++j) {
+        const P3 a = muscle_vertex(m, k, j), b = muscle_vertex(m, k, (j + 1) % ring);
+        const P3 c = muscle_vertex(m, k + 1, j), d = muscle_vertex(m, k + 1, (j + 1) % ring);
+        for (const auto& tri : {std::array<P3, 3>{a, b, c}, std::array<P3, 3>{b, d, c}}) {
+          const P3 e1 = sub(tri[1], tri[0]), e2 = sub(tri[2], tri[0]);
+          const P3 pv = layers::cross(dir, e2);
+          const double det = dot(e1, pv);
+          if (std::fabs(det) < 1e-18) continue;
+          const P3 tv = sub(origin, tri[0]);
+          const double u = dot(tv, pv) / det;
+          const P3 qv = layers::cross(tv, e1);
+          const double w = dot(dir, qv) / det;
+          const double t = dot(e2, qv) / det;
+          if (u >= 0 && w >= 0 && u + w <= 1 && t >= 0 && t < nearest) nearest = t;
+        }
+      }
+    if (!std::isfinite(nearest)) return false;
+    const P3 hit = layers::add(origin, layers::scaled(dir, nearest));
+    double best = std::numeric_limits<double>::infinity();
+    for (uint32_t k = 0; k < muscle::kSlices; ++k)
+      for (uint32_t j = 0; j < ring; ++j) {
+        const double dd = norm(sub(muscle_vertex(m, k, j), hit));
+        if (dd < best) best = dd, *slice = k, *ring_vertex = j;
+      }
+    return true;
+  }
+
   bool bands() {
     for (size_t i = 0; i < spec_.skin.bands.size(); ++i) {
       const RubberBandSpec& b = spec_.skin.bands[i];
@@ -551,8 +588,10 @@ class Builder {
       r.ring_vertex = static_cast<uint32_t>(b.ring_vertex);
       r.k = stiffness(b.stiffness);
       if (b.vertex >= 0) {
+        if (static_cast<size_t>(b.vertex) >= rest_.size())
+          return fail("rubber band " + std::to_string(i) + ": skin vertex out of range");
         r.vertex = static_cast<uint32_t>(b.vertex);
-      } else {  // nearest skin vertex to the muscle point at rest
+      } else {  // the skin point: the vertex nearest the muscle point at rest
         const P3 target = muscle_vertex(r.muscle, r.slice, r.ring_vertex);
         double best = std::numeric_limits<double>::infinity();
         for (uint32_t v = 0; v < rest_.size(); ++v) {
@@ -560,6 +599,14 @@ class Builder {
           if (d < best) best = d, r.vertex = v;
         }
       }
+      // §5.5: the attach point is where the skin point's inward ray meets
+      // the muscle; the band pulls to the ring vertex nearest it. A band the
+      // builder placed itself (vertex -1) whose ray misses (a skin normal
+      // that points past a thin muscle) keeps the muscle point it was
+      // selected by; a named skin vertex must meet its muscle.
+      if (!attach_by_ray(r.vertex, r.muscle, &r.slice, &r.ring_vertex) && b.vertex >= 0)
+        return fail("rubber band " + std::to_string(i) + ": the ray from skin vertex " + std::to_string(r.vertex) +
+                    " along its inward normal misses muscle " + std::to_string(r.muscle));
       out_.bands.push_back(r);
     }
     out_.report.bands = static_cast<uint32_t>(out_.bands.size());

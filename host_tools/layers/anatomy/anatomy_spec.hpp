@@ -87,8 +87,14 @@ struct PrimitiveSpec {
   double taper = 0, twist = 0, bend = 0;
 };
 
+// LEMAN §5.5: a rubber band binds a skin point to the muscle layer where a
+// ray from it, perpendicular to the skin (along the inward rest normal),
+// meets the muscle's surface; the band's target is the muscle ring vertex
+// nearest that hit. `vertex` names the skin point; -1 selects the skin
+// vertex nearest the muscle point (slice, ring_vertex) at rest, whose ray
+// is then traced the same way.
 struct RubberBandSpec {
-  int vertex = -1;  // skin vertex; -1: the skin vertex nearest the muscle point at rest
+  int vertex = -1;  // skin vertex; -1: the one nearest the muscle point (slice, ring_vertex) at rest
   int muscle = 0, slice = 4, ring_vertex = 0;
   double stiffness = 0.5;
 };
