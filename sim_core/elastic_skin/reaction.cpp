@@ -192,7 +192,7 @@ uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& musc
     for (size_t i = 0; i < muscles.primitives.size(); ++i) {
       const muscle::PrimitiveFrame& f = muscles.primitives[i];
       if (f.active == 0 || far_from(bounds, i, p)) continue;
-      if (muscle::primitive_sample(f, p).value < limit) {
+      if (muscle::primitive_value(f, p) < limit) {
         ++inside;
         break;
       }

@@ -32,16 +32,24 @@ Powers powers(fx::Unit q, int exponent) {
 
 // The exact kernel for one exponent p in {2, 4, 8} (spheres, cylinders):
 // fills s's value, inside and gradient_length and g; returns g narrowed.
+// With value_only, a point outside (F >= 1) gets its value alone: the
+// push-out and the inside count read nothing else of it.
 fx::Vec3 exact_gradient(const PrimitiveFrame& f, bool cylinder, int exponent, fx::Len emax, const int64_t local[3],
-                        int64_t g[3], PrimitiveSample* out) {
+                        int64_t g[3], PrimitiveSample* out, bool value_only) {
   PrimitiveSample& s = *out;
   const int terms = cylinder ? 2 : 3;
   int64_t value = 0;
-  uint64_t largest = 0;
+  Powers pw[3] = {};
   for (int i = 0; i < terms; ++i) {
     const fx::Unit q = fx::sat_i32(fx::div_round(local[i] * kOne, f.extent[i]));  // |q| < 1
-    const Powers pw = powers(q, exponent);
-    value += pw.p;
+    pw[i] = powers(q, exponent);
+    value += pw[i].p;
+  }
+  s.value = value;
+  s.inside = value < kOne;
+  if (value_only && !s.inside) return {0, 0, 0};
+  uint64_t largest = 0;
+  for (int i = 0; i < terms; ++i) {
     // emax / a_i in Q16, for the push-out direction of the reaction
     // constraints (leman-layered-elastic-characters §3). A validated
     // primitive's aspect is <= 64 (2^22), but a muscle-attached one's extents
@@ -50,12 +58,10 @@ fx::Vec3 exact_gradient(const PrimitiveFrame& f, bool cylinder, int exponent, fx
     // the cap the value is exact, as before; beyond it the thin axes' share
     // of the gradient direction is too small.
     const int64_t ratio = fx::clamp_i64(fx::div_round(int64_t{emax} << 16, f.extent[i]), 0, kMaxGradientRatio);
-    g[i] = int64_t{exponent} * pw.p_minus1 * ratio;
+    g[i] = int64_t{exponent} * pw[i].p_minus1 * ratio;
     const uint64_t m = fx::magnitude(g[i]);
     if (m > largest) largest = m;
   }
-  s.value = value;
-  s.inside = value < kOne;
   // Keep the gradient's direction exact whatever its size: shift it so the
   // largest component has 30 significant bits, normalise, remember the shift.
   int shift = 0;
@@ -90,8 +96,9 @@ PrimitiveSample finish_sample(const PrimitiveFrame& f, bool deformed, const Defo
 }
 
 // primitive_sample; a general superquadric also leaves its evaluation in
-// *general (the push-out's Newton step reads it).
-PrimitiveSample sample(const PrimitiveFrame& f, fx::Vec3 p, SuperquadricEval* general) {
+// *general (the push-out's Newton step reads it). value_only: see
+// exact_gradient.
+PrimitiveSample sample(const PrimitiveFrame& f, fx::Vec3 p, SuperquadricEval* general, bool value_only = false) {
   PrimitiveSample s;
   s.value = kOutsideBox;
   const bool cylinder = f.kind == static_cast<uint8_t>(PrimitiveKind::kCylinder);
@@ -124,7 +131,8 @@ PrimitiveSample sample(const PrimitiveFrame& f, fx::Vec3 p, SuperquadricEval* ge
     g_local = {static_cast<int32_t>(g[0]), static_cast<int32_t>(g[1]), static_cast<int32_t>(g[2])};
     s.gradient_length = general->gradient_length;
   } else {
-    g_local = exact_gradient(f, cylinder, exponent, emax, local, g, &s);
+    g_local = exact_gradient(f, cylinder, exponent, emax, local, g, &s, value_only);
+    if (value_only && !s.inside) return s;
   }
   return finish_sample(f, deformed, trace, g, g_local, s);
 }
@@ -138,6 +146,11 @@ PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p) {
   return sample(f, p, &general);
 }
 
+int64_t primitive_value(const PrimitiveFrame& f, fx::Vec3 p) {
+  SuperquadricEval general;
+  return sample(f, p, &general, true).value;
+}
+
 fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallback, int newton_steps) {
   if (is_deformed(f.deformation)) return push_out_deformed(f, p, fallback, newton_steps);
   fx::Len emax = 0;
@@ -147,7 +160,7 @@ fx::Vec3 primitive_push_out(const PrimitiveFrame& f, fx::Vec3 p, fx::Vec3 fallba
   const bool general = is_general_superquadric(f);
   for (int step = 0; step < newton_steps; ++step) {
     SuperquadricEval q;
-    const PrimitiveSample s = sample(f, p, &q);
+    const PrimitiveSample s = sample(f, p, &q, true);
     if (!s.inside) break;
     if (general) {  // the same Newton step on G = F^(1/p_z), in the log domain (superquadric.hpp)
       fx::Vec3 dir = s.normal;

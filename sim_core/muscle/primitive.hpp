@@ -38,6 +38,10 @@ struct PrimitiveSample {
 // components stay below 2^62; beyond the cap the direction is approximate.
 PrimitiveSample primitive_sample(const PrimitiveFrame& f, fx::Vec3 p);
 
+// F alone (primitive_sample's value), without the gradient and normal where
+// the point is outside: the inside tests of the reaction constraints.
+int64_t primitive_value(const PrimitiveFrame& f, fx::Vec3 p);
+
 // Moves p out of the primitive along the gradient: `newton_steps` Newton
 // steps on G = F^(1/p) (p_z for the general superquadric) along the
 // gradient (never more than the largest extent per step). `fallback` (a unit vector) is used at the centre,
