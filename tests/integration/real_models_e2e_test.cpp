@@ -50,3 +50,6 @@ void run_model(const std::string& spec_name) {
 
 TEST(RealModelsEndToEnd, RiggedFigureWithEveryLayer) { run_model("rigged_figure_layers.toml"); }
 TEST(RealModelsEndToEnd, GenericHandWithEveryLayer) { run_model("generic_hand_layers.toml"); }
+// The same with the dynamic skin, its base acceleration swept by the
+// trajectory source like every other input.
+TEST(RealModelsEndToEnd, GenericHandWithTheDynamicSkin) { run_model("generic_hand_dynamic_layers.toml"); }
