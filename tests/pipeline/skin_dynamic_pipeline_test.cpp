@@ -12,15 +12,21 @@ namespace pl = sinew::pipeline;
 
 namespace {
 
-std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* error) {
+// The built-in arm with the dynamic skin; `tweak` may edit its layer tables.
+template <typename Tweak>
+std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* error, Tweak tweak) {
   sinew::rigc::RigSpec spec;
   sinew::layers::LayerSpecs layers;
   if (!sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec) ||
       !sinew::layers::builtin_layers("arm", &layers))
     return nullptr;
   layers.skin.solver.dynamic = true;
-  layers.skin.solver.gravity[1] = -9.81;
+  tweak(layers);
   return sinew::test::compiled_with_layers(std::move(spec), layers, error);
+}
+
+std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* error) {
+  return arm_with_dynamic_skin(error, [](sinew::layers::LayerSpecs& l) { l.skin.solver.gravity[1] = -9.81; });
 }
 
 uint32_t skin_section_version(const std::vector<uint8_t>& bytes) {
@@ -67,14 +73,9 @@ namespace {
 // The built-in arm with the dynamic skin, no gravity, and the base's
 // acceleration read from three external inputs.
 std::unique_ptr<sinew::test::LoadedLayers> arm_on_a_moving_base(std::string* error) {
-  sinew::rigc::RigSpec spec;
-  sinew::layers::LayerSpecs layers;
-  if (!sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec) ||
-      !sinew::layers::builtin_layers("arm", &layers))
-    return nullptr;
-  layers.skin.solver.dynamic = true;
-  layers.skin.base_acceleration = {"base.ax", "base.ay", "base.az"};
-  return sinew::test::compiled_with_layers(std::move(spec), layers, error);
+  return arm_with_dynamic_skin(error, [](sinew::layers::LayerSpecs& l) {
+    l.skin.base_acceleration = {"base.ax", "base.ay", "base.az"};
+  });
 }
 
 // Every skin vertex of `steps` ticks at 1 kHz: the elbow swings 40 degrees
@@ -116,13 +117,7 @@ TEST(SkinDynamicPipeline, BaseAccelerationInputsReachTheSkinAsAnInertialField) {
   extra[ay] = 4 << 16;
   const std::vector<int32_t> accelerated = run_skin(moving.get(), extra, 300);
 
-  sinew::rigc::RigSpec spec;
-  sinew::layers::LayerSpecs layers;
-  ASSERT_TRUE(sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec));
-  ASSERT_TRUE(sinew::layers::builtin_layers("arm", &layers));
-  layers.skin.solver.dynamic = true;
-  layers.skin.solver.gravity[1] = -4.0;
-  auto heavy = sinew::test::compiled_with_layers(std::move(spec), layers, &error);
+  auto heavy = arm_with_dynamic_skin(&error, [](sinew::layers::LayerSpecs& l) { l.skin.solver.gravity[1] = -4.0; });
   ASSERT_NE(heavy, nullptr) << error;
   const std::vector<int32_t> under_gravity = run_skin(heavy.get(), {}, 300);
   EXPECT_EQ(accelerated, under_gravity);

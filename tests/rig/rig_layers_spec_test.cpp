@@ -74,6 +74,29 @@ std::string spec_error(const std::string& name, const std::string& text) {
   return c.error;
 }
 
+// Compiles `text` as tests/data/<name> and loads it (the file is removed).
+bool compile_text(const std::string& name, const std::string& text, Loaded* l, std::string* error) {
+  const std::string path = kSource + "/tests/data/" + name;
+  std::ofstream(path) << text;
+  const Compiled c = compile_spec(path);
+  std::remove(path.c_str());
+  if (!c.ok) return *error = c.error, false;
+  return load(c.blob, l, error);
+}
+
+const std::string kArmSkinTable =
+    "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
+
+// rigs/arm.toml with `keys` at the top of its [skin] table ("" if it has none).
+std::string arm_spec_with_skin_keys(const std::string& keys) {
+  std::ifstream in(kSource + "/rigs/arm.toml");
+  std::string text, line;
+  while (std::getline(in, line)) text += line + "\n";
+  const size_t at = text.find(kArmSkinTable);
+  if (at == std::string::npos) return "";
+  return text.insert(at + kArmSkinTable.size(), keys);
+}
+
 }  // namespace
 
 TEST(RigSpecs, CommittedSpecsCompileEveryLayerKind) {
@@ -166,24 +189,14 @@ TEST(RigSpecs, FuzzSeedsAreCurrent) {
 // The elastic skin's solver keys (docs/anatomy.md, "Dynamic mode") reach
 // the loaded model, converted to rig units; a bad mode names the table.
 TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
-  std::ifstream in(kSource + "/rigs/arm.toml");
-  std::string text, line;
-  while (std::getline(in, line)) text += line + "\n";
-  const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
-  const size_t at = text.find(skin);
-  ASSERT_NE(at, std::string::npos);
-  text.insert(at + skin.size(),
-              "mode = \"dynamic\"\nvertex_mass = 0.02\nstiffness_scale = 40\nanchor_damping = 0.25\n"
-              "band_damping = 0.125\nsubstep_hz = 2000\nmax_substeps = 8\nconstraint_passes = 2\n"
-              "tolerance = 0.001\nfat = 0.002\ngravity = [0, -9.81, 0]\n");
-  const std::string path = kSource + "/tests/data/skin_solver_keys.toml";
-  std::ofstream(path) << text;
-  const Compiled c = compile_spec(path);
-  std::remove(path.c_str());
-  ASSERT_TRUE(c.ok) << c.error;
+  const std::string text = arm_spec_with_skin_keys(
+      "mode = \"dynamic\"\nvertex_mass = 0.02\nstiffness_scale = 40\nanchor_damping = 0.25\n"
+      "band_damping = 0.125\nsubstep_hz = 2000\nmax_substeps = 8\nconstraint_passes = 2\n"
+      "tolerance = 0.001\nfat = 0.002\ngravity = [0, -9.81, 0]\n");
+  ASSERT_FALSE(text.empty());
   Loaded l;
   std::string error;
-  ASSERT_TRUE(load(c.blob, &l, &error)) << error;
+  ASSERT_TRUE(compile_text("skin_solver_keys.toml", text, &l, &error)) << error;
   ASSERT_TRUE(l.layers.has_skin);
   const sinew::elastic_skin::SkinSolverParams& s = l.layers.skin.solver;
   const int e = l.rig.length_exponent;  // one rig unit is 2^e model units
@@ -220,31 +233,21 @@ TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
 // model (a MUSC version 3 section); each out-of-range value is refused
 // naming the table, the key and its range.
 TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
-  std::ifstream in(kSource + "/rigs/arm.toml");
-  std::string text, line;
-  while (std::getline(in, line)) text += line + "\n";
+  std::string text = arm_spec_with_skin_keys("mode = \"dynamic\"\nedge_damping = 0.25\nfat_normal = \"surface\"\n");
   const std::string insertion = "insertion = \"elbow\"\n";
   size_t at = text.find(insertion);
   ASSERT_NE(at, std::string::npos);
   text.insert(at + insertion.size(),
               "end_axes = \"bone_normals\"\npivot = \"variable\"\nbelly_taper = 0.25\nbelly_twist = 30\n"
               "belly_bend = -10\n");
-  const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
-  at = text.find(skin);
+  at = text.find(kArmSkinTable);
   ASSERT_NE(at, std::string::npos);
   text.insert(at,
               "[[muscle.slice]]\nindex = 3\ntranslate = [0.001, 0, 0]\nrotate = [0, 0, 15]\n"
               "[[muscle.slice]]\nindex = 7\nrotate = [-20, 0, 0]\n\n");
-  at = text.find(skin);
-  text.insert(at + skin.size(), "mode = \"dynamic\"\nedge_damping = 0.25\nfat_normal = \"surface\"\n");
-  const std::string path = kSource + "/tests/data/muscle_shape_keys.toml";
-  std::ofstream(path) << text;
-  const Compiled c = compile_spec(path);
-  std::remove(path.c_str());
-  ASSERT_TRUE(c.ok) << c.error;
   Loaded l;
   std::string error;
-  ASSERT_TRUE(load(c.blob, &l, &error)) << error;
+  ASSERT_TRUE(compile_text("muscle_shape_keys.toml", text, &l, &error)) << error;
   ASSERT_TRUE(l.layers.has_muscles);
   const int e = l.rig.length_exponent;
   const sinew::muscle::MuscleModel& m = l.layers.muscles;
@@ -361,22 +364,11 @@ TEST(RigSpecs, MuscleBellyExponentsReachTheLoadedModel) {
 // 1 kHz as the substep rate; a substep rate below the stiffest mode is
 // refused naming the key.
 TEST(RigSpecs, DynamicSkinTissueDefaultsFollowThePhysics) {
-  std::ifstream in(kSource + "/rigs/arm.toml");
-  std::string text, line;
-  while (std::getline(in, line)) text += line + "\n";
-  const std::string skin = "[skin]                  # elastic skin over the muscle (LEMAN), in its support region\n";
-  const size_t at = text.find(skin);
-  ASSERT_NE(at, std::string::npos);
-  std::string dynamic = text;
-  dynamic.insert(at + skin.size(), "mode = \"dynamic\"\n");
-  const std::string path = kSource + "/tests/data/skin_tissue_defaults.toml";
-  std::ofstream(path) << dynamic;
-  const Compiled c = compile_spec(path);
-  std::remove(path.c_str());
-  ASSERT_TRUE(c.ok) << c.error;
+  const std::string dynamic = arm_spec_with_skin_keys("mode = \"dynamic\"\n");
+  ASSERT_FALSE(dynamic.empty());
   Loaded l;
   std::string error;
-  ASSERT_TRUE(load(c.blob, &l, &error)) << error;
+  ASSERT_TRUE(compile_text("skin_tissue_defaults.toml", dynamic, &l, &error)) << error;
   const sinew::elastic_skin::SkinModel& m = l.layers.skin;
   const sinew::elastic_skin::SkinSolverParams& s = m.solver;
   // The skin's area, model units (metres) squared, from the loaded rest mesh.
@@ -415,9 +407,8 @@ TEST(RigSpecs, DynamicSkinTissueDefaultsFollowThePhysics) {
   EXPECT_EQ(s.substep_hz % 1000, 0u);
   EXPECT_GE(s.max_substeps * 100u, s.substep_hz);  // a 100 Hz loop fits
 
-  std::string slow = text;
-  slow.insert(at + skin.size(), "mode = \"dynamic\"\nsubstep_hz = 100\n");
-  const std::string refused = spec_error("skin_slow_substeps.toml", slow);
+  const std::string refused =
+      spec_error("skin_slow_substeps.toml", arm_spec_with_skin_keys("mode = \"dynamic\"\nsubstep_hz = 100\n"));
   EXPECT_NE(refused.find("[skin] substep_hz = 100 is too low for the skin's stiffest mode"), std::string::npos)
       << refused;
 }
