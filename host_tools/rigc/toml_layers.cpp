@@ -147,7 +147,7 @@ bool read_muscle_slices(const std::string& path, const toml::table& e, layers::M
 // PrimitiveDeformation and PrimitiveExponents).
 bool read_muscle_shape(const std::string& path, const toml::table& e, const std::string& n, layers::MuscleTable* x,
                        std::string* error) {
-  std::string end_axes = "path", pivot = "off";
+  std::string end_axes = "bone_normals", pivot = "off";
   if (!read_string(path, e, n, "end_axes", &end_axes, error) || !read_string(path, e, n, "pivot", &pivot, error) ||
       !read_number(path, e, n, "belly_taper", &x->belly_taper, error) ||
       !read_number(path, e, n, "belly_twist", &x->belly_twist, error) ||

@@ -71,7 +71,9 @@ TEST(MuscleExponents, GeneralBelliesCompileToMuscVersion4AndRun) {
   EXPECT_EQ(m.exponents[1].power_z, 4 << 16);
   EXPECT_EQ(m.primitives[1].exponent, 4) << "an equal 4 keeps the exact kernel";
   EXPECT_TRUE(m.deformations.empty());
-  EXPECT_TRUE(m.shapes.empty());
+  // The spec's default end axes, from the bones' normals (§4.2), travel in
+  // the shapes array, one per muscle.
+  EXPECT_EQ(m.shapes.size(), m.muscles.size());
   // The built-in arm (exponent 4 only) keeps its older section and bytes.
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);

@@ -22,7 +22,7 @@ struct MuscleRequest {
   double thickness = 1.0;           // multiplies the derived slice radii
   // Non-default shape (anatomically-based-modeling §4.2-4.3, Table 1) and
   // the belly primitive's Barr deformations (anatomy_spec.hpp ranges).
-  bool end_axes_from_bones = false;                         // end-slice Z from the bones' surface normals
+  bool end_axes_from_bones = true;                          // end-slice Z from the bones' surface normals (§4.2)
   int pivot = 0;                                            // 0 off, 1 on, 2 variable: a pivot over the insertion joint
   std::array<SliceEditSpec, 8> slice_edit{};                // Table 1 translate / rotate per slice
   double belly_taper = 0, belly_twist = 0, belly_bend = 0;  // twist, bend in degrees
