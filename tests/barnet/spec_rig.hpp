@@ -119,8 +119,9 @@ struct SpecRig {
     all.resize(rig.input_count, 0);
     all.insert(all.end(), external.begin(), external.end());
     all.resize(rig.input_count + layers.external_count(), 0);
-    angles.assign(all.begin(), all.begin() + rig.input_count);
-    external_values.assign(all.begin() + rig.input_count, all.end());
+    const auto split = static_cast<std::ptrdiff_t>(rig.input_count);
+    angles.assign(all.begin(), all.begin() + split);
+    external_values.assign(all.begin() + split, all.end());
     const pl::PipelineStatus s = pl::pipeline_step(&pipeline, all);
     EXPECT_TRUE(s.ok()) << s.message;
     return s.ok();

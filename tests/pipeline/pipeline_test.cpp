@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <set>
@@ -258,7 +259,7 @@ TEST(Pipeline, PoseDrivenStepsMeasureTheDofsTheyCarry) {
   // measured DOFs less that for the commanded ones, plus both runs' bounds
   // against it; every other vertex not at all.
   const sinew::barnet::BarnetModel& m = arm->layers.barnet[0];
-  const uint32_t rig_inputs = arm->rig.input_count;
+  const auto rig_inputs = static_cast<std::ptrdiff_t>(arm->rig.input_count);
   const std::vector<int32_t> angles(inputs.begin(), inputs.begin() + rig_inputs),
       external(inputs.begin() + rig_inputs, inputs.end());
   const std::vector<int32_t> measured_angles(arm->pipeline.measured.begin(),

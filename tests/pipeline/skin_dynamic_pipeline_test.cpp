@@ -4,6 +4,8 @@
 // rig keeps its version 1 section.
 #include <gtest/gtest.h>
 
+#include <cstddef>
+
 #include "host_tools/layers/rig_layers.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "tests/pipeline/pipeline_fixture.hpp"
@@ -86,7 +88,7 @@ std::vector<int32_t> run_skin(sinew::test::LoadedLayers* arm, const std::vector<
   std::string error;
   EXPECT_TRUE(arm->start(options, &error)) << error;
   std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
-  std::copy(extra.begin(), extra.end(), inputs.begin() + arm->rig.input_count);
+  std::copy(extra.begin(), extra.end(), inputs.begin() + static_cast<std::ptrdiff_t>(arm->rig.input_count));
   std::vector<int32_t> out;
   for (int k = 0; k < steps; ++k) {
     inputs[0] = sinew::test::degrees(k < 100 ? k * 0.4 : 40.0);
