@@ -142,7 +142,8 @@ if [ ! -s "$tarball" ] || [ "${SINEW_FRESH_REFRESH:-0}" = 1 ]; then
   start=$SECONDS
   stage="$(mktemp -d "$cache_dir/debootstrap.XXXXXX")"
   work_dirs+=("$stage")
-  if ! debootstrap --variant=minbase --arch="$arch" "$suite" "$stage/root" "$mirror" > "$stage.log" 2>&1; then
+  base="$stage/base"  # the new root's directory
+  if ! debootstrap --variant=minbase --arch="$arch" "$suite" "$base" "$mirror" > "$stage.log" 2>&1; then
     tail -n 20 "$stage.log"
     rm -f "$stage.log"
     unsupported "debootstrap failed (log above)"
@@ -150,9 +151,9 @@ if [ ! -s "$tarball" ] || [ "${SINEW_FRESH_REFRESH:-0}" = 1 ]; then
   rm -f "$stage.log"
   # debootstrap leaves its apt lists and .debs behind: a fresh machine has
   # neither, and install-deps.sh must do its own apt-get update.
-  rm -rf "$stage/root/var/lib/apt/lists/"* "$stage/root/var/cache/apt/archives/"*.deb
-  tar -C "$stage/root" --numeric-owner -czf "$stage/root.tar.gz" .
-  mv "$stage/root.tar.gz" "$tarball"
+  rm -rf "$base/var/lib/apt/lists/"* "$base/var/cache/apt/archives/"*.deb
+  tar -C "$base" --numeric-owner -czf "$stage/base.tar.gz" .
+  mv "$stage/base.tar.gz" "$tarball"
   rm -rf --one-file-system "$stage"
   echo "fresh-machine-test: base root cached in $tarball ($(du -h "$tarball" | cut -f1), $((SECONDS - start)) s)"
 else
