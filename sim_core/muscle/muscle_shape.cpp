@@ -47,7 +47,7 @@ fx::Vec3 end_slice_z(const fx::Mat34& bone_a, fx::Vec3 normal_a, const fx::Mat34
   fx::Vec3 n{fx::sat_i32(fx::round_shift(int64_t{na.x} + nb.x, 1)),
              fx::sat_i32(fx::round_shift(int64_t{na.y} + nb.y, 1)),
              fx::sat_i32(fx::round_shift(int64_t{na.z} + nb.z, 1))};
-  if (inward) n = {-n.x, -n.y, -n.z};
+  if (inward) n = {fx::neg_sat(n.x), fx::neg_sat(n.y), fx::neg_sat(n.z)};
   const fx::Vec3 perp = fx::sub(n, along(x, fx::sat_i32(component(n, x))));
   return unit_or(perp, fallback, degenerate);
 }
