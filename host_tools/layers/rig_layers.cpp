@@ -253,19 +253,51 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
       r.belly_bend = m.belly_bend;
       r.belly_exponent = m.belly_exponent;
       r.belly_exponent_z = m.belly_exponent_z;
+      r.band = m.band;
       requests.push_back(r);
     }
     anatomy_build::SkinRequest skin;
     skin.iterations = layers.skin.iterations;
     skin.warm_start = layers.skin.warm_start;
     skin.solver = layers.skin.solver;
+    if (!layers.rubber_bands.empty() && !layers.skin.on)
+      return fail(layers.rubber_bands.front().where, "rubber bands bind the skin: they need a [skin] table", error);
+    for (const RubberBandTable& b : layers.rubber_bands) {
+      int muscle = -1;
+      for (size_t i = 0; i < layers.muscles.size(); ++i)
+        if (layers.muscles[i].name == b.muscle) muscle = static_cast<int>(i);
+      if (muscle < 0) return fail(b.where, "muscle \"" + b.muscle + "\" is not a [[muscle]] name", error);
+      if (b.vertex >= 0 && static_cast<size_t>(b.vertex) >= spec.vertices.size())
+        return fail(b.where,
+                    "vertex " + std::to_string(b.vertex) + " is beyond the mesh's " +
+                        std::to_string(spec.vertices.size()) + " vertices",
+                    error);
+      skin.bands.push_back({b.vertex, muscle, b.slice, b.ring_vertex, b.stiffness, b.where});
+    }
+    for (const auto& [v, t] : layers.skin.fat_vertices)
+      if (static_cast<size_t>(v) >= spec.vertices.size())
+        return fail(layers.skin.where,
+                    "fat_vertices: vertex " + std::to_string(v) + " is beyond the mesh's " +
+                        std::to_string(spec.vertices.size()) + " vertices",
+                    error);
+    skin.fat_overrides = layers.skin.fat_vertices;
     anatomy_build::AnatomySpec anatomy;
     std::vector<anatomy_build::MusclePath> paths;
     const std::string& where = layers.muscles.front().where;
     if (!anatomy_build::joint_anatomy(spec, g, requests, skin, &anatomy, &paths, error))
       return fail(where, *error, error);
+    for (const RubberBandTable& b : layers.rubber_bands)
+      if (b.ring_vertex >= anatomy.ring_vertices)
+        return fail(b.where,
+                    "ring_vertex " + std::to_string(b.ring_vertex) + " is beyond the muscles' " +
+                        std::to_string(anatomy.ring_vertices) + " ring vertices",
+                    error);
     anatomy_build::AnatomyModel model;
-    if (!anatomy_build::build_anatomy(rig, anatomy, &model, error)) return fail(where, *error, error);
+    if (!anatomy_build::build_anatomy(rig, anatomy, &model, error)) {
+      for (const RubberBandTable& b : layers.rubber_bands)
+        if (error->rfind(b.where, 0) == 0) return false;  // the band's own table is named already
+      return fail(where, *error, error);
+    }
     sections.push_back(muscles_section(model.muscle_model()));
     report->push_back("muscles: " + std::to_string(model.muscles.size()) + " with " +
                       std::to_string(model.primitives.size()) + " primitives");

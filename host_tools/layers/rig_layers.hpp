@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host_tools/layers/anatomy/anatomy_spec.hpp"
@@ -53,11 +54,24 @@ struct MuscleTable {
   std::string where;
   // Non-default shape (anatomically-based-modeling §4.2-4.3, Table 1) and
   // the belly primitive's Barr deformations (anatomy_spec.hpp ranges).
-  bool end_axes_from_bones = true;   // end-slice Z from the bones' surface normals (§4.2)
-  int pivot = 0;                     // 0 off, 1 on, 2 variable: a pivot over the insertion joint
+  bool end_axes_from_bones = true;  // end-slice Z from the bones' surface normals (§4.2)
+  int pivot = 0;                    // 0 off, 1 on, 2 variable: a pivot over the insertion joint
   std::array<anatomy_build::SliceEditSpec, 8> slice_edit{};  // Table 1 translate / rotate per slice
   double belly_taper = 0, belly_twist = 0, belly_bend = 0;   // twist, bend in degrees
   double belly_exponent = 4, belly_exponent_z = 0;           // superquadric exponents; 0: exponent_z = exponent
+  bool band = true;  // the default fascia band at the belly (LEMAN §5.5); [[rubber_band]] adds others
+};
+
+// LEMAN §5.5: a rubber band from a skin point to a muscle. The builder
+// traces the skin point's inward normal to the muscle's surface and binds
+// the band to the ring vertex nearest the hit (anatomy_spec.hpp).
+struct RubberBandTable {
+  std::string muscle;      // a [[muscle]] name
+  int slice = 4;           // [0, 7]: the muscle point that picks the skin vertex when `vertex` is absent
+  int ring_vertex = -1;    // [0, ring): -1 the belly's outermost (3/4 turn, as the default band)
+  int vertex = -1;         // skin (rig) vertex; -1: the one nearest the muscle point (slice, ring_vertex) at rest
+  double stiffness = 0.5;  // model stiffness (eq. (1)'s units, as the skin's springs), > 0
+  std::string where;
 };
 
 struct SkinTable {
@@ -72,6 +86,10 @@ struct SkinTable {
   // (acceleration, +-200 m/s^2) if no [[external_input]] has the name. Empty:
   // no base motion (LEMAN §3: the dynamic skin feels -a_base).
   std::vector<std::string> base_acceleration;
+  // LEMAN §5.6 per-point fat: (rig vertex, thickness in model units)
+  // replacing the derived uniform thickness at that vertex ([skin] fat adds
+  // to every vertex on top).
+  std::vector<std::pair<int, double>> fat_vertices;
 };
 
 struct BarnetTable {
@@ -107,11 +125,13 @@ struct LayerSpecs {
   std::vector<SphTable> sph;
   MetaballsTable metaballs;
   std::vector<MuscleTable> muscles;
+  std::vector<RubberBandTable> rubber_bands;
   SkinTable skin;
   std::vector<BarnetTable> barnets;
   std::vector<ExternalInputTable> external;
   bool empty() const {
-    return sph.empty() && !metaballs.on && muscles.empty() && !skin.on && barnets.empty() && external.empty();
+    return sph.empty() && !metaballs.on && muscles.empty() && rubber_bands.empty() && !skin.on && barnets.empty() &&
+           external.empty();
   }
 };
 

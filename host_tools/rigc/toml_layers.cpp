@@ -1,7 +1,9 @@
 #include "toml_layers.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
+#include <optional>
 
 namespace sinew::rigc {
 namespace {
@@ -331,9 +333,10 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
              const toml::node* side = e.get("side");
              if (!known_keys(path, e, n,
                              {"name", "origin", "insertion", "side", "thickness", "end_axes", "pivot", "slice",
-                              "belly_taper", "belly_twist", "belly_bend", "belly_exponent", "belly_exponent_z"},
+                              "belly_taper", "belly_twist", "belly_bend", "belly_exponent", "belly_exponent_z", "band"},
                              error) ||
                  !read_muscle_shape(path, e, n, &x, error) || !read_string(path, e, n, "name", &x.name, error) ||
+                 !read_bool(path, e, n, "band", &x.band, error) ||
                  !read_joint(path, e, n, "origin", &x.origin, error) ||
                  !read_joint(path, e, n, "insertion", &x.insertion, error) ||
                  !read_number(path, e, n, "thickness", &x.thickness, error))
@@ -353,15 +356,51 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
              s.muscles.push_back(x);
              return true;
            }) &&
+      each("rubber_band",
+           [&](const toml::table& e) {
+             // LEMAN §5.5; the muscle's name and the skin vertex are resolved
+             // by compile_layers, which knows the muscles and the mesh.
+             layers::RubberBandTable x;
+             const std::string n = "[[rubber_band]]";
+             x.where = at(path, &e, n);
+             if (!known_keys(path, e, n, {"muscle", "slice", "ring_vertex", "vertex", "stiffness"}, error) ||
+                 !read_string(path, e, n, "muscle", &x.muscle, error) ||
+                 !read_int(path, e, n, "slice", 0, 7, &x.slice, error) ||
+                 !read_int(path, e, n, "ring_vertex", 0, 1023, &x.ring_vertex, error) ||
+                 !read_int(path, e, n, "vertex", 0, INT32_MAX, &x.vertex, error) ||
+                 !read_number(path, e, n, "stiffness", &x.stiffness, error))
+               return false;
+             if (x.muscle.empty()) return *error = x.where + " muscle must name a [[muscle]]", false;
+             if (!(x.stiffness > 0 && x.stiffness <= 256))
+               return *error = x.where + " stiffness must be in (0, 256] (the skin springs' units)", false;
+             s.rubber_bands.push_back(x);
+             return true;
+           }) &&
       single("skin", &s.skin.on, &s.skin.where,
              [&](const toml::table& e) {
                const std::string n = "[skin]";
                anatomy_build::SkinSolverSpec& d = s.skin.solver;
                if (!known_keys(path, e, n,
-                               {"iterations", "warm_start", "mode", "tolerance", "fat", "substep_hz", "max_substeps",
-                                "constraint_passes", "vertex_mass", "stiffness_scale", "anchor_damping", "band_damping",
-                                "edge_damping", "gravity", "fat_normal", "base_acceleration", "surface_density",
-                                "frequency", "damping_ratio"},
+                               {"iterations",
+                                "warm_start",
+                                "mode",
+                                "tolerance",
+                                "fat",
+                                "substep_hz",
+                                "max_substeps",
+                                "constraint_passes",
+                                "vertex_mass",
+                                "stiffness_scale",
+                                "anchor_damping",
+                                "band_damping",
+                                "edge_damping",
+                                "gravity",
+                                "fat_normal",
+                                "base_acceleration",
+                                "surface_density",
+                                "frequency",
+                                "damping_ratio",
+                                "fat_vertices"},
                                error) ||
                    !read_int(path, e, n, "iterations", 1, 256, &s.skin.iterations, error) ||
                    !read_bool(path, e, n, "warm_start", &s.skin.warm_start, error) ||
@@ -403,6 +442,24 @@ bool read_toml_layers(const std::string& path, const toml::table& t, layers::Lay
                    return *error =
                               at(path, b, n + " base_acceleration") +
                               " must name 3 external inputs (x, y, z), e.g. [\"base.ax\", \"base.ay\", \"base.az\"]",
+                          false;
+               }
+               if (const toml::node* f = e.get("fat_vertices")) {
+                 // LEMAN §5.6's per-point thickness: [[vertex, thickness], ...].
+                 const toml::array* a = f->as_array();
+                 bool good = a != nullptr;
+                 for (size_t i = 0; good && i < a->size(); ++i) {
+                   const toml::array* pair = a->get(i)->as_array();
+                   good = pair != nullptr && pair->size() == 2;
+                   const auto v = good ? pair->get(0)->value_exact<int64_t>() : std::nullopt;
+                   const auto t = good ? pair->get(1)->value<double>() : std::nullopt;
+                   good = v && t && *v >= 0 && *v <= INT32_MAX && std::isfinite(*t) && *t >= 0;
+                   if (good) s.skin.fat_vertices.emplace_back(static_cast<int>(*v), *t);
+                 }
+                 if (!good)
+                   return *error = at(path, f, n + " fat_vertices") +
+                                   " must be an array of [vertex, thickness] pairs (vertex an index >= 0, thickness "
+                                   ">= 0 in model units)",
                           false;
                }
                std::string fat_normal = "anchor";

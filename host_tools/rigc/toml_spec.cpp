@@ -149,8 +149,8 @@ bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* la
     return false;
   }
   for (const auto& [key, node] : t) {
-    static const char* const kTables[] = {"rig",  "joint",  "synergy",        "sph",   "metaballs", "muscle",
-                                          "skin", "barnet", "external_input", "motion"};
+    static const char* const kTables[] = {"rig",  "joint",  "synergy",        "sph",    "metaballs",  "muscle",
+                                          "skin", "barnet", "external_input", "motion", "rubber_band"};
     bool known = false;
     for (const char* k : kTables) known |= key.str() == k;
     if (!known) return *error = where(path, &node, std::string(key.str())) + ": unknown table", false;
@@ -160,7 +160,8 @@ bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* la
       if (key.str() != "source" && key.str() != "skinning" && key.str() != "rate_hz")
         return *error = where(path, &node, "[rig] " + std::string(key.str())) + ": unknown key", false;
   const auto source = t["rig"]["source"].value<std::string>();
-  if (!source) return *error = path + ": [rig] source is required (\"builtin:arm\", \"builtin:hand\" or a glTF path)", false;
+  if (!source)
+    return *error = path + ": [rig] source is required (\"builtin:arm\", \"builtin:hand\" or a glTF path)", false;
   const std::string skinning = t["rig"]["skinning"].value_or<std::string>("dqs");
   if (skinning != "lbs" && skinning != "dqs")
     return *error = where(path, t["rig"]["skinning"].node(), "[rig] skinning") + " must be \"lbs\" or \"dqs\"", false;

@@ -94,7 +94,7 @@ TEST(RubberBandRay, TargetsTheMusclePointUnderTheSkinPoint) {
   }
   ASSERT_GE(back, 0);
   sinew::test::ArmAnatomy arm([&](sinew::anatomy_build::AnatomySpec& s) {
-    s.skin.bands.push_back({back, 0, 4, 6, 0.5});
+    s.skin.bands.push_back({back, 0, 4, 6, 0.5, {}});
   });
   ASSERT_TRUE(arm.ok()) << arm.error();
   ASSERT_TRUE(arm.step_muscles().ok());  // the muscles at the rest pose

@@ -412,3 +412,98 @@ TEST(RigSpecs, DynamicSkinTissueDefaultsFollowThePhysics) {
   EXPECT_NE(refused.find("[skin] substep_hz = 100 is too low for the skin's stiffest mode"), std::string::npos)
       << refused;
 }
+
+// [[rubber_band]] and [skin] fat_vertices (docs/anatomy.md): a band a spec
+// names by its muscle point binds the skin vertex nearest that point, so the
+// same band named by that vertex compiles to the same record; band = false
+// drops a muscle's own fascia band; per-vertex fat replaces the derived
+// thickness at exactly those vertices. Bad tables are refused naming the
+// line and the key.
+TEST(RigSpecs, RubberBandAndFatVertexTablesReachTheLoadedModel) {
+  const std::string base = arm_spec_with_skin_keys("");
+  ASSERT_FALSE(base.empty());
+  Loaded plain;
+  std::string error;
+  ASSERT_TRUE(compile_text("bands_plain.toml", base, &plain, &error)) << error;
+  const auto& bands0 = plain.layers.skin.bands;
+  ASSERT_EQ(bands0.size(), 1u);  // the biceps' own fascia band
+
+  Loaded by_point;
+  ASSERT_TRUE(compile_text("bands_by_point.toml",
+                           base + "\n[[rubber_band]]\nmuscle = \"biceps\"\nslice = 2\nring_vertex = 1\nstiffness = 2\n",
+                           &by_point, &error))
+      << error;
+  const auto& bands1 = by_point.layers.skin.bands;
+  ASSERT_EQ(bands1.size(), 2u);
+  EXPECT_EQ(bands1[0].vertex, bands0[0].vertex);  // the default band is untouched
+  EXPECT_EQ(bands1[1].muscle, 0u);
+  EXPECT_EQ(bands1[1].k, 2 * 65536);
+  EXPECT_NE(bands1[1].vertex, bands0[0].vertex);
+
+  Loaded by_vertex;
+  const std::string vertex = std::to_string(bands1[1].vertex);
+  ASSERT_TRUE(compile_text("bands_by_vertex.toml",
+                           base + "\n[[rubber_band]]\nmuscle = \"biceps\"\nvertex = " + vertex + "\nstiffness = 2\n",
+                           &by_vertex, &error))
+      << error;
+  const auto& bands2 = by_vertex.layers.skin.bands;
+  ASSERT_EQ(bands2.size(), 2u);
+  EXPECT_EQ(bands2[1].vertex, bands1[1].vertex);
+  EXPECT_EQ(bands2[1].slice, bands1[1].slice);
+  EXPECT_EQ(bands2[1].ring_vertex, bands1[1].ring_vertex);
+
+  std::string no_default = base;
+  const std::string name = "name = \"biceps\"\n";
+  const size_t at = no_default.find(name);
+  ASSERT_NE(at, std::string::npos);
+  no_default.insert(at + name.size(), "band = false\n");
+  Loaded none;
+  ASSERT_TRUE(compile_text("bands_none.toml", no_default, &none, &error)) << error;
+  EXPECT_TRUE(none.layers.skin.bands.empty());
+
+  // Fat: two vertices of the skin's region get their own thickness.
+  const uint32_t v0 = bands0[0].vertex, v1 = bands1[1].vertex;
+  Loaded fat;
+  ASSERT_TRUE(compile_text("fat_vertices.toml",
+                           arm_spec_with_skin_keys("fat_vertices = [[" + std::to_string(v0) + ", 0.0], [" +
+                                                   std::to_string(v1) + ", 0.011]]\n"),
+                           &fat, &error))
+      << error;
+  const auto& f0 = plain.layers.skin.fat;
+  const auto& f1 = fat.layers.skin.fat;
+  ASSERT_EQ(f0.size(), f1.size());
+  ASSERT_GT(f0[v0], 0);
+  const int e = fat.rig.length_exponent;
+  for (size_t v = 0; v < f1.size(); ++v) {
+    if (v == v0)
+      EXPECT_EQ(f1[v], 0);
+    else if (v == v1)
+      EXPECT_EQ(f1[v], sinew::rigc::to_len(0.011, e));
+    else
+      ASSERT_EQ(f1[v], f0[v]) << "vertex " << v;
+  }
+
+  struct Case {
+    std::string text, expected;
+  };
+  const std::string band = "\n[[rubber_band]]\n";
+  const Case cases[] = {
+      {base + band + "muscle = \"triceps\"\n", "[[rubber_band]]: muscle \"triceps\" is not a [[muscle]] name"},
+      {base + band + "slice = 3\n", "[[rubber_band]] muscle must name a [[muscle]]"},
+      {base + band + "muscle = \"biceps\"\nslice = 8\n", "[[rubber_band]] slice must be an integer in [0, 7]"},
+      {base + band + "muscle = \"biceps\"\nring_vertex = 8\n",
+       "[[rubber_band]]: ring_vertex 8 is beyond the muscles' 8 ring vertices"},
+      {base + band + "muscle = \"biceps\"\nvertex = 99999999\n", "is beyond the mesh's"},
+      {base + band + "muscle = \"biceps\"\nstiffness = 0\n", "[[rubber_band]] stiffness must be in (0, 256]"},
+      {base + band + "muscle = \"biceps\"\nk = 1\n", "[[rubber_band]] k: unknown key"},
+      {arm_spec_with_skin_keys("fat_vertices = [[1, -0.1]]\n"), "[skin] fat_vertices must be an array of"},
+      {arm_spec_with_skin_keys("fat_vertices = [1, 0.1]\n"), "[skin] fat_vertices must be an array of"},
+      {arm_spec_with_skin_keys("fat_vertices = [[99999999, 0.1]]\n"),
+       "[skin]: fat_vertices: vertex 99999999 is beyond the mesh's"},
+  };
+  int i = 0;
+  for (const Case& k : cases) {
+    const std::string bad = spec_error("bad_band_" + std::to_string(i++) + ".toml", k.text);
+    EXPECT_NE(bad.find(k.expected), std::string::npos) << "spec:\n" << k.text << "\ngot: " << bad;
+  }
+}

@@ -579,17 +579,17 @@ class Builder {
   bool bands() {
     for (size_t i = 0; i < spec_.skin.bands.size(); ++i) {
       const RubberBandSpec& b = spec_.skin.bands[i];
+      const std::string name = b.label.empty() ? "rubber band " + std::to_string(i) : b.label;
       if (b.muscle < 0 || static_cast<size_t>(b.muscle) >= out_.muscles.size() || b.slice < 0 ||
           b.slice >= static_cast<int>(muscle::kSlices) || b.ring_vertex < 0 || b.ring_vertex >= spec_.ring_vertices)
-        return fail("rubber band " + std::to_string(i) + ": muscle, slice or ring vertex out of range");
+        return fail(name + ": muscle, slice or ring vertex out of range");
       es::RubberBand r;
       r.muscle = static_cast<uint32_t>(b.muscle);
       r.slice = static_cast<uint32_t>(b.slice);
       r.ring_vertex = static_cast<uint32_t>(b.ring_vertex);
       r.k = stiffness(b.stiffness);
       if (b.vertex >= 0) {
-        if (static_cast<size_t>(b.vertex) >= rest_.size())
-          return fail("rubber band " + std::to_string(i) + ": skin vertex out of range");
+        if (static_cast<size_t>(b.vertex) >= rest_.size()) return fail(name + ": skin vertex out of range");
         r.vertex = static_cast<uint32_t>(b.vertex);
       } else {  // the skin point: the vertex nearest the muscle point at rest
         const P3 target = muscle_vertex(r.muscle, r.slice, r.ring_vertex);
@@ -605,7 +605,7 @@ class Builder {
       // that points past a thin muscle) keeps the muscle point it was
       // selected by; a named skin vertex must meet its muscle.
       if (!attach_by_ray(r.vertex, r.muscle, &r.slice, &r.ring_vertex) && b.vertex >= 0)
-        return fail("rubber band " + std::to_string(i) + ": the ray from skin vertex " + std::to_string(r.vertex) +
+        return fail(name + ": the ray from skin vertex " + std::to_string(r.vertex) +
                     " along its inward normal misses muscle " + std::to_string(r.muscle));
       out_.bands.push_back(r);
     }

@@ -97,6 +97,7 @@ struct RubberBandSpec {
   int vertex = -1;  // skin vertex; -1: the one nearest the muscle point (slice, ring_vertex) at rest
   int muscle = 0, slice = 4, ring_vertex = 0;
   double stiffness = 0.5;
+  std::string label;  // names the band in errors (a spec table's line); empty: "rubber band <index>"
 };
 
 // The skin solver (elastic_skin::SkinSolverParams) in model units, seconds

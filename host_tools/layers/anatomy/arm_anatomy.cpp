@@ -1,5 +1,4 @@
 #include "anatomy_spec.hpp"
-
 #include "host_tools/rigc/builtin_rigs.hpp"
 
 namespace sinew::anatomy_build {
@@ -68,8 +67,8 @@ AnatomySpec arm_anatomy(const rigc::RigSpec& arm) {
   a.primitives.push_back(tp);
 
   // Fasciae at the bellies: the outermost ring vertex (3/4 turn: -Y) of slice 4.
-  a.skin.bands.push_back({-1, 0, 4, 6, 0.5});
-  a.skin.bands.push_back({-1, 1, 3, 6, 0.5});
+  a.skin.bands.push_back({-1, 0, 4, 6, 0.5, {}});
+  a.skin.bands.push_back({-1, 1, 3, 6, 0.5, {}});
   return a;
 }
 

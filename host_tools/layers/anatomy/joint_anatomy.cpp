@@ -174,8 +174,13 @@ bool joint_anatomy(const rigc::RigSpec& rig, const RigGeometry& g, const std::ve
     belly.bend = m.belly_bend;
     a.primitives.push_back(belly);
     // A fascia at the belly: the outermost ring vertex (3/4 turn: -Y) of slice 4.
-    a.skin.bands.push_back({-1, static_cast<int>(i), 4, 3 * a.ring_vertices / 4, 0.5});
+    if (m.band) a.skin.bands.push_back({-1, static_cast<int>(i), 4, 3 * a.ring_vertices / 4, 0.5, {}});
   }
+  for (RubberBandSpec b : skin.bands) {
+    if (b.ring_vertex < 0) b.ring_vertex = 3 * a.ring_vertices / 4;
+    a.skin.bands.push_back(b);
+  }
+  a.skin.fat_overrides = skin.fat_overrides;
   // Skin: lengths from the skin radius (the arm's 2 cm collision sphere and
   // 6 mm fat at 4.5 cm); every vertex must find an anchor.
   a.skin.iterations = skin.iterations;

@@ -29,6 +29,7 @@ struct MuscleRequest {
   // The belly's superquadric exponents (PrimitiveSpec): across, and along
   // the muscle (0: the same as across); [1, 16].
   double belly_exponent = 4, belly_exponent_z = 0;
+  bool band = true;  // a fascia band at the belly's outermost point (LEMAN §5.5)
 };
 
 struct SkinRequest {
@@ -36,6 +37,11 @@ struct SkinRequest {
   bool warm_start = true;
   double anchor_coefficient = 0.1;
   SkinSolverSpec solver;  // static relaxation by default
+  // Bands beyond the muscles' own (muscle: index into the requests;
+  // ring_vertex -1: the belly's outermost, 3/4 turn) and per-vertex fat
+  // thicknesses (model units) replacing the derived uniform one.
+  std::vector<RubberBandSpec> bands;
+  std::vector<std::pair<int, double>> fat_overrides;
 };
 
 // A muscle's rest path in the mesh's bind space (origin and insertion
