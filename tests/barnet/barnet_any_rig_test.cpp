@@ -277,8 +277,9 @@ TEST(BarnetAnyRig, GltfNetsMatchGoldenAndAllocateNothing) {
       for (uint32_t i = 0; i < r.layers.barnet_count; ++i) h.add_u32(r.pipeline.barnet[i].stats.saturated);
     }
     EXPECT_EQ(allocations.allocations(), 0u) << file;
-    const uint64_t digest = h.digest();
-    sinew::determinism::print_determinism_line((std::string("barnet-") + file).c_str(), digest);
-    EXPECT_EQ(digest, golden) << file << ": the nets' outputs changed";
+    // No determinism line: the glTF import runs in the host builds only, and
+    // compare-hashes wants every workload in every build; the golden pins
+    // each host build (gcc and clang, any level) to the same digest.
+    EXPECT_EQ(h.digest(), golden) << file << ": the nets' outputs changed";
   }
 }
