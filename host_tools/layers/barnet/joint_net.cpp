@@ -36,18 +36,14 @@ bool joint_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const 
   // axis at angle k, at the skin's distance there, so even a coarse mesh
   // gives a net. Its skin weights are those of the nearest skin vertex.
   NetSpec s;
-  const double pi = 3.14159265358979323846;
   for (int ring = 0; ring < o.rings; ++ring) {
     const double t = (ring - mid) * step;
     for (int k = 0; k < o.segments; ++k) {
-      const double theta = 2 * pi * k / o.segments;
-      const Vec3d dir = add(scaled(v, std::cos(theta)), scaled(w, std::sin(theta)));
-      size_t nearest = 0;
-      const double rho = skin_distance(near, t, dir, step, &nearest);
+      const TubePoint p = skin_tube_point(near, c, u, v, w, t, k, o.segments, step);
       NodeSpec n;
-      n.rest = add(add(c, scaled(u, t)), scaled(dir, rho));
+      n.rest = p.rest;
       n.fixed = ring < 2 || ring > o.rings - 3;
-      n.influences = rig.vertices[near[nearest].vertex].influences;
+      n.influences = rig.vertices[p.vertex].influences;
       s.nodes.push_back(n);
     }
   }

@@ -106,21 +106,17 @@ bool joint_muscle_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint,
   // is bound to the skeleton as the skin is).
   NetSpec s;
   const Vec3d a = bend.fold, b = cross(bend.u, a);
-  const double pi = 3.14159265358979323846;
   const int flexor = 0, extensor = o.segments / 2;
   for (int ring = 0; ring < o.rings; ++ring) {
     const double t = t0 + ring * step;
     for (int k = 0; k < o.segments; ++k) {
-      const double theta = 2 * pi * k / o.segments;
-      const Vec3d dir = add(scaled(a, std::cos(theta)), scaled(b, std::sin(theta)));
-      size_t nearest = 0;
-      const double rho = skin_distance(near, t, dir, step, &nearest);
+      const TubePoint p = skin_tube_point(near, p0, bend.u, a, b, t, k, o.segments, step);
       NodeSpec n;
-      n.rest = add(add(p0, scaled(bend.u, t)), scaled(dir, rho));
+      n.rest = p.rest;
       // "Only the nodes lying around the central line of the two muscles
       // are set to free, all other nodes are fixed."
       n.fixed = ring == 0 || ring == o.rings - 1 || (k != flexor && k != extensor);
-      n.influences = rig.vertices[near[nearest].vertex].influences;
+      n.influences = rig.vertices[p.vertex].influences;
       s.nodes.push_back(n);
     }
   }

@@ -74,4 +74,14 @@ double skin_distance(const std::vector<SkinSample>& near, double t, const Vec3d&
   return rho / static_cast<double>(keep);
 }
 
+TubePoint skin_tube_point(const std::vector<SkinSample>& near, const Vec3d& centre, const Vec3d& u, const Vec3d& a,
+                          const Vec3d& b, double t, int k, int segments, double step) {
+  const double pi = 3.14159265358979323846;
+  const double theta = 2 * pi * k / segments;
+  const Vec3d dir = add(scaled(a, std::cos(theta)), scaled(b, std::sin(theta)));
+  size_t nearest = 0;
+  const double rho = skin_distance(near, t, dir, step, &nearest);
+  return {add(add(centre, scaled(u, t)), scaled(dir, rho)), near[nearest].vertex};
+}
+
 }  // namespace sinew::layers::barnet

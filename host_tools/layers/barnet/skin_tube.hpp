@@ -57,4 +57,16 @@ std::vector<SkinSample> skin_samples(const rigc::RigSpec& rig, const RigGeometry
 // angle, so even a coarse mesh gives a tube. *nearest: the nearest one.
 double skin_distance(const std::vector<SkinSample>& samples, double t, const Vec3d& dir, double step, size_t* nearest);
 
+// A node of a control tube on the skin: on the ray from the axis point
+// centre + t u at angle 2 pi k / segments in the plane of unit a and b, at
+// the skin's distance there. `vertex`: the nearest skin vertex, whose skin
+// weights the node takes (the control mesh is bound to the skeleton as the
+// skin is).
+struct TubePoint {
+  Vec3d rest;
+  uint32_t vertex;
+};
+TubePoint skin_tube_point(const std::vector<SkinSample>& samples, const Vec3d& centre, const Vec3d& u, const Vec3d& a,
+                          const Vec3d& b, double t, int k, int segments, double step);
+
 }  // namespace sinew::layers::barnet
