@@ -167,9 +167,8 @@ std::unique_ptr<hal::InputSource> simulated_rig(const SourceConfig& s, const Loa
   if (port < 0) return source;
   if (port > 65535) return *error = where(s, "modbus_port") + " must be 0..65535", nullptr;
   auto feeder = std::make_shared<hal::sim::ModbusFeeder>();
-  // The device refreshes its registers at 1 kHz on its own clock (not the ticks).
-  if (!feeder->start(hal::sim::RigMotion(ranges), rotation, faults, start_ns, 1000000, static_cast<uint16_t>(port),
-                     error))
+  // The device measures when asked, on its own clock (not the ticks).
+  if (!feeder->start(hal::sim::RigMotion(ranges), rotation, faults, start_ns, static_cast<uint16_t>(port), error))
     return *error = "source " + s.name + ": " + *error, nullptr;
   return std::make_unique<KeepAlive>(std::move(source), std::move(feeder));
 }

@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
   const uint64_t start = hal::monotonic_ns();
   hal::sim::ModbusFeeder feeder;
   if (modbus_port >= 0 &&
-      !feeder.start(motion, rotation, options.faults, start, 1000000, static_cast<uint16_t>(modbus_port), &error))
+      !feeder.start(motion, rotation, options.faults, start, static_cast<uint16_t>(modbus_port), &error))
     return std::fprintf(stderr, "rigsim: %s\n", error.c_str()), 2;
   const hal::sim::FaultPlan faults = options.faults;
   hal::sim::SimulatedRigBus bus(motion, options, start);

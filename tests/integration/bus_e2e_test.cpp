@@ -1,7 +1,7 @@
 // End to end through the daemon binary with the simulated rig on the
 // in-process CAN bus: (1) every fault kind the rig injects has its documented
 // effect and counters, with no crash and every tick's frame written; (2) a
-// live run recorded as a candump log replays into bit-identical frames;
+// run recorded as a candump log replays into bit-identical frames;
 // (3) the Modbus device on loopback keeps feeding through its timeouts and
 // exceptions.
 #include <gtest/gtest.h>
@@ -9,7 +9,6 @@
 
 #include <cstdio>
 #include <fstream>
-#include <map>
 #include <string>
 
 #include "hal/common/pose_frame.hpp"
@@ -100,24 +99,28 @@ TEST(BusEndToEnd, EveryFaultHasItsDocumentedEffect) {
   EXPECT_FALSE(status_at(3.5, 3) & sinew::hal::kJointRejected);
 }
 
-// Live at 20 Hz with faults, recording what the bus delivered; the replay of
-// that candump log must give the same frame for every tick slot the live run
-// executed (a late live tick is skipped and shows as a gap in the tick
-// numbers; the slot right after a gap may differ only in per-tick flags).
-TEST(BusEndToEnd, LiveRunAndItsCandumpReplayWriteIdenticalFrames) {
+// A run at 20 Hz with faults, recording what the bus delivered; the replay of
+// that candump log must give the same frame for every tick. The recording
+// run is offline, so every tick slot runs and the comparison is exact at any
+// machine speed (a live run skips late ticks, and after a long enough gap
+// its CAN source is still draining the backlog: docs/testing.md). The
+// simulated rig stamps its frames on the schedule in both modes, so the
+// recording is the one a live run makes; that live and offline runs write
+// the same frames is LiveOffline's test.
+TEST(BusEndToEnd, ARecordedRunAndItsCandumpReplayWriteIdenticalFrames) {
   const std::string dir = testing::TempDir();
-  const std::string record = dir + "/live-input.candump";
+  const std::string record = dir + "/recorded-input.candump";
   const std::string faults =
       "[[source.fault]]\nkind = \"corrupt\"\nfrom_s = 0.3\nto_s = 0.4\n"
       "[[source.fault]]\nkind = \"drop\"\ninput = \"elbow.0\"\nfrom_s = 0.6\nto_s = 0.9\n"
       "[[source.fault]]\nkind = \"bus-off\"\nfrom_s = 1.2\nto_s = 1.4\n";
-  const DaemonRun live =
-      run_daemon("live",
+  const DaemonRun recorded =
+      run_daemon("recorded",
                  std::string(kRig) +
-                     "[loop]\nrate_hz = 20\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"live\"\n"
+                     "[loop]\nrate_hz = 20\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"offline\"\n"
                      "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\nrecord = \"" +
                      record + "\"\n" + faults,
-                 dir + "/live.frames");
+                 dir + "/recorded.frames");
   const DaemonRun replay =
       run_daemon("replay",
                  std::string(kRig) +
@@ -126,39 +129,32 @@ TEST(BusEndToEnd, LiveRunAndItsCandumpReplayWriteIdenticalFrames) {
                      record + "\"\n",
                  dir + "/replay.frames");
   ASSERT_EQ(replay.poses.size(), 40u);
-  ASSERT_GE(live.poses.size(), 36u) << "more than 10 % of live ticks skipped\n" << live.out;
-  std::map<uint64_t, const DecodedPose*> by_tick;
-  for (const DecodedPose& p : replay.poses) by_tick[p.tick] = &p;
-  size_t compared = 0, after_gap = 0;
-  uint64_t previous = UINT64_MAX;
-  for (const DecodedPose& a : live.poses) {
-    ASSERT_TRUE(by_tick.count(a.tick)) << "tick " << a.tick;
-    const DecodedPose& b = *by_tick[a.tick];
-    const bool gap = previous != UINT64_MAX && a.tick != previous + 1;
-    previous = a.tick;
+  ASSERT_EQ(recorded.poses.size(), 40u);
+  for (size_t f = 0; f < recorded.poses.size(); ++f) {
+    const DecodedPose& a = recorded.poses[f];
+    const DecodedPose& b = replay.poses[f];
+    ASSERT_EQ(a.tick, b.tick);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(a.position[c], b.position[c]) << "tick " << a.tick;
     EXPECT_EQ(a.input_value, b.input_value) << "tick " << a.tick;
-    if (gap) {
-      ++after_gap;
-      continue;
-    }
     EXPECT_EQ(a.input_status, b.input_status) << "tick " << a.tick;
-    ++compared;
     if (::testing::Test::HasFailure()) break;
   }
-  std::printf("live frames %zu, replay frames %zu, identical %zu (+%zu after a skipped tick: positions and values)\n",
-              live.poses.size(), replay.poses.size(), compared, after_gap);
-  EXPECT_EQ(counter(live.out, "bad-crc"), counter(replay.out, "bad-crc"));
-  EXPECT_GT(counter(live.out, "bad-crc"), 0u);
+  EXPECT_EQ(counter(recorded.out, "bad-crc"), counter(replay.out, "bad-crc"));
+  EXPECT_GT(counter(recorded.out, "bad-crc"), 0u);
 }
 
 // The rig's Modbus device goes mute, then answers exceptions; the daemon's
-// Modbus source times out, backs off, reconnects and goes on, and the tick
-// never waits for it (every tick's frame is written).
+// Modbus source times out, backs off, reconnects and goes on, and the ticks
+// go on past both faults. Load-proof (docs/testing.md): the device applies
+// its faults at each request's time, the back-off is capped at 100 ms so the
+// poller asks inside each 0.5 s window and has 1.4 s to recover at the end,
+// and ticks are only required to reach past the faults (a live run skips
+// late ticks; that the tick never waits for a mute device is shown
+// structurally by ModbusSource.SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits).
 TEST(BusEndToEnd, ModbusDeviceFaultsAreSurvived) {
   const std::string config =
       std::string(kRig) +
-      "[loop]\nrate_hz = 50\nduration_s = 2.5\nstats_interval_s = 0\nmode = \"live\"\n"
+      "[loop]\nrate_hz = 50\nduration_s = 3.5\nstats_interval_s = 0\nmode = \"live\"\n"
       "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\nmodbus_port = 0\n";
   // Port 0 picks a free port, which the Modbus source cannot know: use a fixed
   // one derived from the process id instead.
@@ -167,12 +163,13 @@ TEST(BusEndToEnd, ModbusDeviceFaultsAreSurvived) {
   body.replace(body.find("modbus_port = 0"), 15, "modbus_port = " + std::to_string(port));
   body +=
       "[[source.fault]]\nkind = \"modbus-timeout\"\nfrom_s = 0.5\nto_s = 1.0\n"
-      "[[source.fault]]\nkind = \"modbus-exception\"\nfrom_s = 1.4\nto_s = 1.7\n"
+      "[[source.fault]]\nkind = \"modbus-exception\"\nfrom_s = 1.5\nto_s = 2.1\n"
       "[[source]]\ntype = \"modbus\"\nname = \"plc\"\nport = " +
-      std::to_string(port) + "\nlayout = \"simulated-rig\"\ntimeout_ms = 50\nbackoff_ms = 20\n";
+      std::to_string(port) + "\nlayout = \"simulated-rig\"\ntimeout_ms = 200\nbackoff_ms = 20\nbackoff_max_ms = 100\n";
   const DaemonRun r = run_daemon("modbus", body, testing::TempDir() + "/modbus.frames");
   std::printf("%s", r.out.c_str());
-  EXPECT_GE(r.poses.size(), 112u) << "ticks went on";  // 125 at 50 Hz; a few may be skipped
+  ASSERT_FALSE(r.poses.empty());
+  EXPECT_GT(r.poses.back().tick, 105u) << "ticks went on past the faults (2.1 s is tick 105)";
   const size_t line = r.out.find("source plc");
   ASSERT_NE(line, std::string::npos);
   const std::string plc = r.out.substr(line, r.out.find('\n', line) - line);

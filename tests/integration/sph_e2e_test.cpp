@@ -223,31 +223,44 @@ TEST(SphEndToEnd, BendStaysWithinTheForceBalance) {
 // The force sensor read over Modbus: the simulated rig's CAN stream drops
 // elbow.force for the whole run, so only the Modbus device (layout
 // "simulated-rig", quantity force) can deliver it. Live, on loopback TCP.
+// The rig declares elbow.force (and the frames log it) whether the SPH layer
+// runs or not, so this live run leaves the layer off: the tests above show
+// the layer's response to the force offline, where no tick is late.
+//
+// Load-proof (docs/testing.md): a live tick that runs late finds only samples
+// stamped after its time and leaves the input stale, so how many frames are
+// fresh depends on the machine. What is asserted holds at any speed: every
+// fresh frame carries the sensor's signal, and the run saw at least one.
 TEST(SphEndToEnd, ForceArrivesOverModbus) {
   const std::string dir = testing::TempDir();
   const std::string config = dir + "/sph-modbus.toml", frames = dir + "/sph-modbus.frames";
   std::remove(frames.c_str());
   const int port = 20000 + static_cast<int>((::getpid() + 7919) % 20000);
+  // backoff_max_ms: a reply slowed past timeout_ms by a busy machine costs a
+  // reconnect and at most 100 ms, not the default's 2 s of back-off.
   std::ofstream(config) << "[rig]\nbuiltin = \"arm\"\n"
                         << "[loop]\nrate_hz = 25\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"live\"\n"
-                        << "[layers]\nsph = true\n"
                         << "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10\n"
                         << "modbus_port = " << port << "\n"
                         << "[[source.fault]]\nkind = \"drop\"\ninput = \"elbow.force\"\nfrom_s = 0\nto_s = 100\n"
                         << "[[source]]\ntype = \"modbus\"\nname = \"plc\"\nport = " << port
-                        << "\nlayout = \"simulated-rig\"\ntimeout_ms = 50\nperiod_ms = 10\n"
+                        << "\nlayout = \"simulated-rig\"\ntimeout_ms = 50\nbackoff_max_ms = 100\nperiod_ms = 10\n"
                         << "[[sink]]\ntype = \"log\"\npath = \"" << frames << "\"\n";
   const sinew::test::DaemonRun daemon = sinew::test::run_sinewd(config, dir + "/sph-modbus.out");
   ASSERT_EQ(daemon.status, 0) << daemon.command << "\n" << daemon.out;
   const std::vector<DecodedPose> poses = sinew::test::read_frame_log(frames).poses;
-  ASSERT_GE(poses.size(), 25u) << daemon.out;  // 50 ticks; late ones are skipped
+  ASSERT_FALSE(poses.empty()) << daemon.out;  // late ticks are skipped, not every one
   // Every fresh frame must carry the simulated sensor's signal
-  // A sin(2 pi (s0 + t) / T) at its tick's time t, with s0 the feeder's
-  // start before the first tick (fitted, 1 ms steps over a second). A fresh
-  // sample is at most 1.5 polls (15 ms) old and a live tick runs within its
-  // 40 ms slot: the tolerance is the signal's steepest change over one tick,
-  // A (2 pi / T) 40 ms, plus half a fitting step. A wrong register scale, a
-  // sign or a missing sample misses it.
+  // A sin(2 pi (s0 + t) / T) at its tick's time t, with s0 the device's
+  // start before the first tick (fitted, 1 ms steps over a second). The
+  // device measures when a request arrives (hal/modbus/sim/modbus_feeder),
+  // the poller stamps the sample when the reply is read, a reply later than
+  // timeout_ms (50 ms) is a timeout and no sample, and a fresh input's last
+  // sample is at most its timeout (1.5 periods: 15 ms) older than the
+  // tick's time and never newer. So a fresh value was measured within
+  // 15 + 50 ms before t: the tolerance is the signal's steepest change over
+  // that span, plus half a fitting step. A wrong register scale, a sign or
+  // another input's register misses it.
   double force_max = 0;
   size_t fed = 0;
   std::vector<std::pair<double, double>> fresh;  // (tick time s, newtons)
@@ -259,8 +272,9 @@ TEST(SphEndToEnd, ForceArrivesOverModbus) {
     ++fed;
     fresh.emplace_back(static_cast<double>(p.tick) / 25.0, newtons);
   }
+  ASSERT_GE(fed, 1u) << "no frame carried a fresh force in " << poses.size() << " ticks\n" << daemon.out;
   const double two_pi = 2 * 3.14159265358979323846, slope = kForceAmplitude * two_pi / kForcePeriod;
-  const double tolerance = slope * (0.040 + 0.0005);
+  const double tolerance = slope * (0.015 + 0.050 + 0.0005);
   double best = 1e9, best_s0 = 0;
   for (int ms = 0; ms <= 1000; ++ms) {
     double worst = 0;
@@ -273,7 +287,6 @@ TEST(SphEndToEnd, ForceArrivesOverModbus) {
       "force over Modbus: %zu of %zu frames fresh, largest |force| %.2f N (amplitude %.2f N); against the signal "
       "started %.3f s before the first tick: worst %.3f N (tolerance %.3f N)\n",
       fed, poses.size(), force_max, kForceAmplitude, best_s0, best, tolerance);
-  EXPECT_GT(fed, poses.size() / 2) << daemon.out;
   EXPECT_LE(best, tolerance) << "the force read over Modbus is not the sensor's signal\n" << daemon.out;
   // A register unit is 16 uN, Q16.16 15 uN: nothing beyond the amplitude.
   EXPECT_LE(force_max, kForceAmplitude + 32e-6);

@@ -1,32 +1,23 @@
 #include "hal/modbus/sim/modbus_feeder.hpp"
 
-#include <ctime>
-
 #include "hal/common/monotonic_clock.hpp"
 
 namespace sinew::hal::sim {
 
 bool ModbusFeeder::start(RigMotion motion, std::vector<bool> rotation, FaultPlan faults, uint64_t start_ns,
-                         uint64_t update_period_ns, uint16_t port, std::string* error) {
+                         uint16_t port, std::string* error) {
   if (motion.input_count() * 2 > static_cast<size_t>(ModbusServer::kRegisters))
     return *error = "simulated Modbus device: too many inputs for its registers", false;
-  if (update_period_ns == 0) return *error = "simulated Modbus device: update period must be positive", false;
   motion_ = std::move(motion);
   rotation_ = std::move(rotation);
   faults_ = std::move(faults);
   start_ns_ = start_ns;
-  period_ns_ = update_period_ns;
   update(hal::monotonic_ns());
+  // Measured on demand: the server thread samples the motion and the faults
+  // at each request, so a request never reads a value older than itself.
+  server_.set_sampler([this](uint64_t now_ns) { update(now_ns); });
   if (!server_.start(port)) return *error = "simulated Modbus device: cannot listen on 127.0.0.1", false;
-  stopping_ = false;
-  thread_ = std::thread([this] { run(); });
   return true;
-}
-
-void ModbusFeeder::stop() {
-  stopping_ = true;
-  if (thread_.joinable()) thread_.join();
-  server_.stop();
 }
 
 void ModbusFeeder::update(uint64_t now_ns) {
@@ -39,16 +30,6 @@ void ModbusFeeder::update(uint64_t now_ns) {
   }
   server_.set_mute(faults_.active(FaultKind::kModbusTimeout, t, -1) != nullptr);
   server_.fail_reads_at(faults_.active(FaultKind::kModbusException, t, -1) ? 0 : -1, 4);
-}
-
-void ModbusFeeder::run() {
-  uint64_t next = hal::monotonic_ns();
-  while (!stopping_.load()) {
-    next += period_ns_;
-    timespec ts{static_cast<time_t>(next / 1000000000u), static_cast<long>(next % 1000000000u)};
-    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-    update(hal::monotonic_ns());
-  }
 }
 
 }  // namespace sinew::hal::sim

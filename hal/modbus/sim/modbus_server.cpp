@@ -117,6 +117,7 @@ void ModbusServer::run() {
     // Back to front, so dropping a client keeps the earlier indices valid.
     for (size_t i = polled - 1; i >= 1; --i) {
       if (fds[i].revents == 0) continue;
+      if (sampler_) sampler_(now_ns());
       if (mute_.load()) {
         listen_for_mute(fds[i].fd, i - 1);
       } else {

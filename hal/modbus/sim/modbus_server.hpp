@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -24,6 +25,13 @@ class ModbusServer {
   ~ModbusServer();
   ModbusServer(const ModbusServer&) = delete;
   ModbusServer& operator=(const ModbusServer&) = delete;
+
+  // Called on the server thread with the monotonic time whenever a client's
+  // request is about to be read, before the server decides to answer, fail
+  // or stay mute: a device that measures on demand sets its registers and
+  // its faults there (ModbusFeeder), so what a request reads is the value at
+  // that request's time, however the threads are scheduled. Set before start().
+  void set_sampler(std::function<void(uint64_t now_ns)> sampler) { sampler_ = std::move(sampler); }
 
   // Listens on 127.0.0.1:port (0: any free port). False if it cannot bind.
   bool start(uint16_t port = 0);
@@ -61,6 +69,7 @@ class ModbusServer {
     uint64_t last_request_ns = 0;
   };
   std::vector<Client> clients_;  // server thread only
+  std::function<void(uint64_t)> sampler_;
 
   mutable std::mutex mutex_;  // mapping values, failure injection, silences
   int fail_address_ = -1;
