@@ -26,7 +26,8 @@ start_view() {
   local port="$1"; shift
   "$SINEW_VIEW" --http-port "$port" "$@" > "$work/view-$port.log" 2>&1 &
   pids+=($!)
-  for _ in $(seq 100); do
+  # A liveness bound (60 s): the page is usually served within a second.
+  for _ in $(seq 600); do
     if node -e "fetch('http://127.0.0.1:$port/').then(r=>process.exit(r.ok?0:1),()=>process.exit(1))"; then return 0; fi
     sleep 0.1
   done
@@ -37,7 +38,9 @@ start_view() {
 # line (one browser opens the pages in turn).
 probe() {
   echo "[${SECONDS}s] opening ${*:2}" >&2
-  node --no-warnings "$here/page_probe.mjs" "$1" 40 "${@:2}"
+  # 120 s for the page to show MIN_FRAMES frames: a liveness bound (headless
+  # Chromium alone can take tens of seconds to start on a busy machine).
+  node --no-warnings "$here/page_probe.mjs" "$1" 120 "${@:2}"
 }
 
 # json FILE EXPR: a JavaScript expression over the probe's JSON (as `j`),

@@ -16,7 +16,15 @@ type = \"udp\"
 name = \"udp\"
 host = \"127.0.0.1\"
 port = $udp_port"
-"$SINEWD" --config "$work/live.toml" > "$work/daemon.out" 2>&1 || { echo "FAIL: sinewd"; cat "$work/daemon.out"; exit 1; }
+# The UDP sink sends without blocking: on a busy machine the loopback may
+# refuse a datagram, which the daemon reports as a dropped frame (exit 1).
+# The page needs only some frames; anything else is a failure.
+daemon_status=0
+"$SINEWD" --config "$work/live.toml" > "$work/daemon.out" 2>&1 || daemon_status=$?
+if [ "$daemon_status" != 0 ] &&
+   ! { [ "$daemon_status" = 1 ] && grep -q 'frames dropped by the sinks' "$work/daemon.out"; }; then
+  echo "FAIL: sinewd exited $daemon_status"; cat "$work/daemon.out"; exit 1
+fi
 
 probe 1 "http://127.0.0.1:$http_port/?show=metaballs,muscles,barnet" "$OUT_DIR/view_live.png" > "$work/live.json" ||
   { echo "FAIL: page probe"; cat "$work/live.json"; cat "$work/view-$http_port.log"; exit 1; }
