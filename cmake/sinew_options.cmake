@@ -1,5 +1,17 @@
 # Project-wide compile settings.
 
+# ccache, when installed, makes a rebuild of unchanged sources (another preset's
+# clone, a second checkout) a cache hit. Paths are rewritten relative to the
+# source tree (CCACHE_BASEDIR, and no working directory in the hash), so a fresh
+# clone elsewhere hits the cache of an earlier one. SINEW_CCACHE=OFF turns it off
+# (e.g. to time a cold build).
+option(SINEW_CCACHE "Compile through ccache when it is installed" ON)
+find_program(SINEW_CCACHE_PROGRAM ccache)
+if(SINEW_CCACHE AND SINEW_CCACHE_PROGRAM AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
+  set(CMAKE_CXX_COMPILER_LAUNCHER
+      ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${PROJECT_SOURCE_DIR} CCACHE_NOHASHDIR=1 ${SINEW_CCACHE_PROGRAM})
+endif()
+
 if(SINEW_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)

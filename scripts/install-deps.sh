@@ -21,6 +21,8 @@ test_pkgs=(
   clang libgtest-dev googletest libbenchmark-dev librapidcheck-dev libeigen3-dev
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user-static
   can-utils
+  # the builds compile through ccache when it is present (cmake/sinew_options.cmake)
+  ccache
   debootstrap
   # sinew-view and its browser tests (host only: the board needs none of it)
   libcivetweb-dev chromium

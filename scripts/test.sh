@@ -21,15 +21,30 @@ hash_log="build/determinism-hashes.txt"
 mkdir -p build
 : > "$hash_log"
 
+# Each step's wall time, printed at the end (also when a step fails), so a
+# run shows where its time went (docs/testing.md, "CI time").
+timings=()
+suite_start=$SECONDS
+print_timings() {
+  echo "=== time per step (wall clock, s)"
+  printf '%s\n' "${timings[@]}"
+  echo "total $((SECONDS - suite_start)) s"
+}
+trap print_timings EXIT
+
 for preset in "${presets[@]}"; do
   echo "=== $preset: configure and build"
   start=$SECONDS
   cmake --preset "$preset" >/dev/null
   cmake --build --preset "$preset" -j "$jobs"
-  echo "=== $preset: built in $((SECONDS - start)) s; test"
+  built=$((SECONDS - start))
+  timings+=("$(printf '%-8s build %5d' "$preset" "$built")")
+  echo "=== $preset: built in $built s; test"
   start=$SECONDS
   ctest --preset "$preset" -j "$jobs" --output-on-failure
-  echo "=== $preset: tested in $((SECONDS - start)) s"
+  tested=$((SECONDS - start))
+  timings[-1]="$(printf '%-8s build %5d  test %5d' "$preset" "$built" "$tested")"
+  echo "=== $preset: tested in $tested s"
   # The determinism lines this build's tests printed, for the cross-build
   # comparison (ctest keeps every test's output in LastTest.log).
   grep '^determinism-hash' "build/$preset/Testing/Temporary/LastTest.log" | sed "s/^/$preset /" >> "$hash_log"
@@ -48,6 +63,7 @@ if [ "${SINEW_SKIP_FRESH_MACHINE:-0}" = 1 ]; then
 else
   start=$SECONDS
   scripts/fresh-machine-test.sh --skip-if-unsupported
+  timings+=("$(printf '%-8s %5d' "fresh root" "$((SECONDS - start))")")
   echo "=== fresh Debian 12 root: done in $((SECONDS - start)) s"
 fi
 echo "all test suites passed"
