@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
@@ -186,8 +187,24 @@ TEST(AsyncSink, WriteDoesNotAllocate) {
   sink.close();
 }
 
+namespace {
+// Waits until `sink` has been handed `count` frames; false after 30 s (a
+// liveness bound: success returns as soon as the frames are there).
+bool delivered_within_bound(GateSink& sink, size_t count) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  for (;;) {
+    {
+      const std::lock_guard<std::mutex> lock(sink.mutex);
+      if (sink.ticks.size() >= count) return true;
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+}  // namespace
+
 // Polled I/O threads: the tick never wakes the I/O thread for a frame (no
-// system call in write()), yet every frame leaves within a few polls; the
+// system call in write()), yet every frame leaves without close(); the
 // per-frame mode wakes it (the figure the poll removes).
 TEST(AsyncSink, PolledIoThreadDrainsWithoutBeingWoken) {
   for (const uint64_t poll_ns : {uint64_t{0}, uint64_t{500'000}}) {
@@ -199,28 +216,30 @@ TEST(AsyncSink, PolledIoThreadDrainsWithoutBeingWoken) {
     options.poll_ns = poll_ns;
     fw::AsyncSink sink(std::move(gate), kDims, options, &report);
     TickFrame f(0);
-    for (uint64_t t = 0; t < 40; ++t) {
-      f.set(t);
+    // Each frame once the previous one has left, so the I/O thread has run
+    // dry between frames. The per-frame mode wakes the I/O thread only if it
+    // already sleeps, which no fixed pause can promise on a loaded machine, so
+    // frames go on (up to 10 000, within 30 s) until a wake-up was counted.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);  // a liveness bound
+    uint64_t frames = 0;
+    while (frames < 40 ||
+           (poll_ns == 0 && sink.wakes() == 0 && frames < 10000 && std::chrono::steady_clock::now() < deadline)) {
+      f.set(frames);
       EXPECT_TRUE(sink.write(f.frame));
-      std::this_thread::sleep_for(std::chrono::microseconds(200));  // the I/O thread catches up and sleeps
-    }
-    // Delivered without close(): 200 polls of 0.5 ms is far beyond one.
-    for (int wait = 0; wait < 200; ++wait) {
-      {
-        const std::lock_guard<std::mutex> lock(g->mutex);
-        if (g->ticks.size() == 40) break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      ++frames;
+      // Delivered without close(): the I/O thread drains on its own.
+      ASSERT_TRUE(delivered_within_bound(*g, frames)) << "poll_ns " << poll_ns << ", frame " << frames - 1;
+      std::this_thread::sleep_for(std::chrono::microseconds(200));  // room for the I/O thread to go to sleep
     }
     {
       const std::lock_guard<std::mutex> lock(g->mutex);
-      ASSERT_EQ(g->ticks.size(), 40u) << "poll_ns " << poll_ns;
-      for (uint64_t t = 0; t < 40; ++t) EXPECT_EQ(g->ticks[t], t);
+      ASSERT_EQ(g->ticks.size(), frames) << "poll_ns " << poll_ns;
+      for (uint64_t t = 0; t < frames; ++t) EXPECT_EQ(g->ticks[t], t);
     }
     if (poll_ns > 0)
       EXPECT_EQ(sink.wakes(), 0u);
     else
-      EXPECT_GT(sink.wakes(), 0u);
+      EXPECT_GT(sink.wakes(), 0u) << frames << " frames";
     sink.close();
     EXPECT_EQ(sink.ring_drops(), 0u);
   }
@@ -252,14 +271,26 @@ TEST(AsyncSink, StatusFollowsTheWritesWithoutAFlush) {
     EXPECT_EQ(sink.status_line().rfind("written 0;", 0), 0u) << sink.status_line();
     TickFrame f(0);
     // Frames for 1.5 s, one a millisecond: several refresh periods.
-    for (uint64_t t = 0; t < 1500; ++t) {
+    uint64_t t = 0;
+    for (; t < 1500; ++t) {
       f.set(t);
       EXPECT_TRUE(sink.write(f.frame));
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    const std::string line = sink.status_line();
-    const uint64_t shown = std::strtoull(line.c_str() + std::strlen("written "), nullptr, 10);
-    EXPECT_GE(shown, 500u) << "poll_ns " << poll_ns << ": " << line;
+    // An I/O thread delayed by load refreshes later, so frames go on, one every
+    // 50 ms, until the line shows them (30 s: a liveness bound). Without the
+    // refresh it would say "written 0" until the flush at close().
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    auto shown = [&] {
+      const std::string line = sink.status_line();
+      return std::strtoull(line.c_str() + std::strlen("written "), nullptr, 10);
+    };
+    while (shown() < 500 && std::chrono::steady_clock::now() < deadline) {
+      f.set(t++);
+      EXPECT_TRUE(sink.write(f.frame));
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_GE(shown(), 500u) << "poll_ns " << poll_ns << ": " << sink.status_line();
     sink.close();
   }
 }

@@ -150,7 +150,7 @@ TEST(BusEndToEnd, ARecordedRunAndItsCandumpReplayWriteIdenticalFrames) {
 // poller asks inside each 0.5 s window and has 1.4 s to recover at the end,
 // and ticks are only required to reach past the faults (a live run skips
 // late ticks; that the tick never waits for a mute device is shown
-// structurally by ModbusSource.SilentServerHonoursTheResponseTimeoutAndTheTickNeverWaits).
+// structurally by ModbusSource.TheTickNeverWaitsForAServerThatDoesNotAnswer).
 TEST(BusEndToEnd, ModbusDeviceFaultsAreSurvived) {
   const std::string config =
       std::string(kRig) +

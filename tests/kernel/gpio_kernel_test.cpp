@@ -171,24 +171,43 @@ TEST_F(GpioSim, LimitSwitchDebouncedOnKernelTimestamps) {
   c.limits[0].line = kLimit;
   c.limits[0].active_low = false;
   c.limits[0].side = LimitSide::kMax;
-  c.limits[0].debounce_ns = 20 * kMs;
+  // The verdicts depend only on the kernel's edge timestamps and on the tick
+  // times handed to latch(), chosen below from clock reads around the pulls,
+  // never on how fast the pulls or the latches run. A window of 2 s keeps each
+  // bounce (one sysfs write) far inside it in a TCG guest on a loaded host,
+  // and costs no waiting.
+  constexpr uint64_t kWindow = 2000 * kMs;
+  c.limits[0].debounce_ns = kWindow;
   create(c);
-  for (int i = 0; i < 5; ++i) {  // bounces, each far shorter than 20 ms
+  for (int i = 0; i < 5; ++i) {  // bounces, each far shorter than the window
     pull(kLimit, true);
     pull(kLimit, false);
   }
+  const uint64_t before_press = monotonic_ns();  // the press's edge is stamped after this
   pull(kLimit, true);
-  const uint64_t pressed = monotonic_ns();
-  ASSERT_EQ(latch(), 1u);
+  const uint64_t after_press = monotonic_ns();
+  // Half a window after the press began, the press has not held long enough.
+  ASSERT_EQ(source_->latch(before_press + kWindow / 2, out_, health_), 1u);
   EXPECT_EQ(out_[0].status, 0);
-  usleep(40'000);
-  ASSERT_EQ(latch(), 1u);
+  // A window after it ended, it has: a tick time, not a sleep. Latched until
+  // the press's edge has been read (a liveness bound: it is normally there already).
+  const uint64_t held = after_press + 2 * kWindow;
+  const uint64_t deadline = monotonic_ns() + 30'000 * kMs;
+  for (;;) {
+    ASSERT_EQ(source_->latch(held, out_, health_), 1u);
+    if (out_[0].status == kSampleAtMaxLimit || monotonic_ns() >= deadline) break;
+    usleep(1000);
+  }
   EXPECT_EQ(out_[0].status, kSampleAtMaxLimit);
-  std::printf("limit via gpio-sim: %llu bounces ignored, pressed %.3f ms after the last pull\n",
-              static_cast<unsigned long long>(source_->limit(0).bounces()),
-              (static_cast<double>(source_->limit(0).changed_ns()) - static_cast<double>(pressed)) / 1e6);
+  std::printf(
+      "limit via gpio-sim: %llu bounces ignored, press edge stamped %.3f ms after its pull began\n",
+      static_cast<unsigned long long>(source_->limit(0).bounces()),
+      (static_cast<double>(source_->limit(0).changed_ns() - kWindow) - static_cast<double>(before_press)) / 1e6);
   EXPECT_EQ(source_->limit(0).changes(), 1u);
   EXPECT_GE(source_->limit(0).bounces(), 5u);
+  // Accepted a window after the last edge, not after an earlier bounce.
+  EXPECT_GE(source_->limit(0).changed_ns(), before_press + kWindow);
+  EXPECT_LE(source_->limit(0).changed_ns(), held);
 }
 
 TEST_F(GpioSim, SyncEdgeWakesTheWaiter) {
@@ -204,7 +223,7 @@ TEST_F(GpioSim, SyncEdgeWakesTheWaiter) {
     usleep(20'000);
     pull(kSync, true);
   });
-  const SyncEdge e = source_->wait_sync(2000 * kMs);
+  const SyncEdge e = source_->wait_sync(30'000 * kMs);  // a liveness bound: the edge returns it at once
   const uint64_t woke = monotonic_ns();
   master.join();
   ASSERT_EQ(e.result, WaitResult::kReady);

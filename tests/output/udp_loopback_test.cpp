@@ -23,7 +23,9 @@ using hal::output::UdpSender;
 using receiver::ReceiveResult;
 using receiver::UdpReceiver;
 
-constexpr int kWaitMs = 2000;  // generous for a loaded machine; loopback delivers in microseconds
+// A liveness bound for datagrams already sent: success returns as soon as they
+// arrive (microseconds on loopback), so only a lost datagram waits it out.
+constexpr int kWaitMs = 30000;
 constexpr uint32_t kLargeMesh = 4192;
 
 void open_receiver(UdpReceiver& r) {
@@ -211,13 +213,22 @@ TEST(UdpLoopback, ReorderedDatagramsThroughARelay) {
   order.insert(order.end(), f3.begin(), f3.end());
   for (const Datagram& d : order) relay.forward(d, rx.port());
 
+  // Received until every forwarded datagram has been taken in (not until a
+  // quiet spell, which a late datagram on a loaded machine would end early),
+  // then nothing more may come.
   std::vector<uint64_t> ticks;
   DecodedPose got;
   std::string error;
-  while (rx.receive(500, &got, &error) == ReceiveResult::kFrame) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kWaitMs);
+  while (rx.stats().datagrams < order.size() && std::chrono::steady_clock::now() < deadline) {
+    const ReceiveResult result = rx.receive(100, &got, &error);
+    ASSERT_NE(result, ReceiveResult::kError) << error;
+    if (result != ReceiveResult::kFrame) continue;
     ticks.push_back(got.tick);
     expect_same_pose(got, poses[got.tick]->frame(), false);
   }
+  ASSERT_EQ(rx.stats().datagrams, order.size());
+  EXPECT_EQ(rx.receive(50, &got, &error), ReceiveResult::kTimeout);
   EXPECT_EQ(ticks, (std::vector<uint64_t>{0, 1, 2, 4}));
   EXPECT_EQ(rx.stats().frames_lost, 1u);
   EXPECT_EQ(rx.stats().frames_out_of_order, 1u);
@@ -238,8 +249,10 @@ TEST(UdpLoopback, SenderNeverBlocksOnAnUnreadSocket) {
     pose.set_tick(t);
     tx.write(pose.frame());
   }
+  // Only a liveness bound (a sender blocking on the unread socket would never
+  // return); the time is not a speed claim.
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_LT(seconds, 10.0);
+  EXPECT_LT(seconds, 60.0);
   EXPECT_EQ(tx.stats().frames_sent + tx.stats().frames_dropped, kFrames);
   EXPECT_EQ(tx.next_sequence(), kFrames);
 }
