@@ -18,10 +18,8 @@ seconds="${1:-600}"
 runs="${RUNS:-}"
 timeout="${TIMEOUT:-30}"
 malloc_limit="${MALLOC_LIMIT_MB:-512}"
-# target:corpus:max_len
-all="candump_parser_fuzz:candump:4096 can_frame_decoder_fuzz:can_frame:4096 config_parser_fuzz:config:4096
-daemon_config_fuzz:daemon_config:4096 rig_loader_fuzz:rig:65536 gltf_import_fuzz:gltf:65536
-frame_log_reader_fuzz:frame_log:16384 udp_receiver_fuzz:udp:16384"
+source scripts/lib/fuzz-targets.sh
+all="$sinew_fuzz_targets"
 selected=()
 for entry in $all; do
   target="${entry%%:*}"
