@@ -7,6 +7,7 @@
 #            and the integration tests through the aarch64 daemon
 #   armhf    cross build under qemu-user: sim_core unit and determinism tests
 # Every build prints its `determinism-hash` lines; they must all agree.
+# A preset's tests run while the next preset builds (one suite at a time).
 # Last, scripts/fresh-machine-test.sh runs the main job (scripts/run.sh) in a
 # fresh Debian 12 root; skipped when not root, when chroot cannot work here,
 # or with SINEW_SKIP_FRESH_MACHINE=1.
@@ -30,7 +31,55 @@ print_timings() {
   printf '%s\n' "${timings[@]}"
   echo "total $((SECONDS - suite_start)) s"
 }
-trap print_timings EXIT
+
+# One preset's tests run while the next preset builds: the tests are
+# load-proof (docs/testing.md; scripts/test-under-load.sh checks them with
+# every core busy), and many of them wait on sockets, daemons and qemu, so
+# the build fills the cores they leave idle. Only one test suite runs at a
+# time (the suites share loopback ports and names). SINEW_CI_SERIAL=1 runs
+# every step alone, for timing one step or reading its output in order.
+serial="${SINEW_CI_SERIAL:-0}"
+pending_preset=""
+pending_pid=""
+failed=()
+
+run_tests() {  # preset: ctest into build/<preset>/ctest-output.log, time in .seconds
+  local preset="$1" start=$SECONDS rc=0
+  ctest --preset "$preset" -j "$jobs" --output-on-failure \
+    > "build/$preset/ctest-output.log" 2>&1 || rc=$?
+  echo $((SECONDS - start)) > "build/$preset/ctest-output.seconds"
+  return $rc
+}
+
+finish_tests() {  # waits for the pending suite, prints its output, records it
+  [ -n "$pending_preset" ] || return 0
+  local preset="$pending_preset" rc=0
+  wait "$pending_pid" || rc=$?
+  pending_preset=""
+  pending_pid=""
+  echo "=== $preset: test output"
+  cat "build/$preset/ctest-output.log"
+  local tested
+  tested="$(cat "build/$preset/ctest-output.seconds" 2>/dev/null || echo '?')"
+  local i
+  for i in "${!timings[@]}"; do
+    if [[ "${timings[$i]}" == "$(printf '%-8s' "$preset") build"* ]]; then
+      timings[i]="${timings[$i]}  test ${tested}"
+    fi
+  done
+  echo "=== $preset: tested in $tested s (exit $rc)"
+  # The determinism lines this build's tests printed, for the cross-build
+  # comparison (ctest keeps every test's output in LastTest.log).
+  grep '^determinism-hash' "build/$preset/Testing/Temporary/LastTest.log" | sed "s/^/$preset /" >> "$hash_log" || true
+  if [ "$rc" -ne 0 ]; then failed+=("$preset"); fi
+}
+
+abandon_tests() {  # a build failed: stop the suite still running
+  [ -n "$pending_pid" ] || return 0
+  pkill -TERM -P "$pending_pid" 2>/dev/null || true
+  kill "$pending_pid" 2>/dev/null || true
+}
+trap 'abandon_tests; print_timings' EXIT
 
 for preset in "${presets[@]}"; do
   echo "=== $preset: configure and build"
@@ -39,16 +88,19 @@ for preset in "${presets[@]}"; do
   cmake --build --preset "$preset" -j "$jobs"
   built=$((SECONDS - start))
   timings+=("$(printf '%-8s build %5d' "$preset" "$built")")
-  echo "=== $preset: built in $built s; test"
-  start=$SECONDS
-  ctest --preset "$preset" -j "$jobs" --output-on-failure
-  tested=$((SECONDS - start))
-  timings[-1]="$(printf '%-8s build %5d  test %5d' "$preset" "$built" "$tested")"
-  echo "=== $preset: tested in $tested s"
-  # The determinism lines this build's tests printed, for the cross-build
-  # comparison (ctest keeps every test's output in LastTest.log).
-  grep '^determinism-hash' "build/$preset/Testing/Temporary/LastTest.log" | sed "s/^/$preset /" >> "$hash_log"
+  echo "=== $preset: built in $built s"
+  finish_tests  # the previous preset's suite, if it is still running
+  echo "=== $preset: test"
+  run_tests "$preset" &
+  pending_preset="$preset"
+  pending_pid=$!
+  if [ "$serial" = 1 ]; then finish_tests; fi
 done
+finish_tests
+if [ "${#failed[@]}" -gt 0 ]; then
+  echo "=== tests failed in: ${failed[*]}" >&2
+  exit 1
+fi
 
 echo "=== determinism across builds"
 cat "$hash_log"
