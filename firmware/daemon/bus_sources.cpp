@@ -468,22 +468,33 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
 
 }  // namespace
 
-std::unique_ptr<hal::InputSource> make_bus_source(const SourceConfig& s, const LoadedRig& rig,
-                                                  const DaemonConfig& config, uint64_t start_ns, std::string* error) {
-  if (s.type == "can") return socketcan(s, rig, config, start_ns, error);
-  if (s.type == "candump") return candump(s, rig, config, start_ns, error);
-  if (s.type == "simulated-rig") {
+std::unique_ptr<hal::InputSource> open_can_source(const SourceConfig& s, const SourceSetup& setup, std::string* error) {
+  return socketcan(s, setup.rig, setup.config, setup.start_ns, error);
+}
+
+std::unique_ptr<hal::InputSource> open_candump_source(const SourceConfig& s, const SourceSetup& setup,
+                                                      std::string* error) {
+  return candump(s, setup.rig, setup.config, setup.start_ns, error);
+}
+
+std::unique_ptr<hal::InputSource> open_simulated_rig_source(const SourceConfig& s, const SourceSetup& setup,
+                                                            std::string* error) {
 #if SINEW_SIMULATED_DEVICES
-    return simulated_rig(s, rig, config, start_ns, error);
+  return simulated_rig(s, setup.rig, setup.config, setup.start_ns, error);
 #else
-    return *error = no_simulated_devices(s, "type 'simulated-rig'"), nullptr;
+  (void)setup;
+  return *error = no_simulated_devices(s, "type 'simulated-rig'"), nullptr;
 #endif
-  }
-  if (s.type == "modbus") return modbus(s, rig, error);
-  if (s.type == "gpio") return gpio(s, rig, start_ns, error);
-  *error =
-      "source " + s.name + ": unknown type '" + s.type + "' (trajectory, can, candump, simulated-rig, modbus, gpio)";
-  return nullptr;
+}
+
+std::unique_ptr<hal::InputSource> open_modbus_source(const SourceConfig& s, const SourceSetup& setup,
+                                                     std::string* error) {
+  return modbus(s, setup.rig, error);
+}
+
+std::unique_ptr<hal::InputSource> open_gpio_source(const SourceConfig& s, const SourceSetup& setup,
+                                                   std::string* error) {
+  return gpio(s, setup.rig, setup.start_ns, error);
 }
 
 }  // namespace sinew::firmware

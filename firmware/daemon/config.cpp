@@ -7,6 +7,11 @@
 #include <span>
 #include <sstream>
 
+#include "config_keys.hpp"
+#include "sim_core/pipeline/stage_table.hpp"
+#include "sinks.hpp"
+#include "sources.hpp"
+
 namespace sinew::firmware {
 namespace {
 
@@ -55,122 +60,55 @@ bool known_keys_only(const toml::table& t, const char* table, std::initializer_l
   return true;
 }
 
-// The keys of each [[source]] / [[sink]] type and of their sub-tables, with
-// their types and ranges: checked here, where the file and line are known,
-// so that the factories convert only values that fit.
-enum class Kind { kString, kFlag, kInteger, kNumber, kInput, kTables, kTable };
-
-struct Key {
-  std::string_view name;
-  Kind kind;
-  double lo = 0, hi = 0;
-  std::span<const Key> sub = {};
-};
-
-constexpr double kMaxPort = 65535, kMaxMs = 60000;
-
-constexpr Key kFaultKeys[] = {{"kind", Kind::kString},
-                              {"from_s", Kind::kNumber, 0, 1e6},
-                              {"to_s", Kind::kNumber, 0, 1e6},
-                              {"input", Kind::kString},
-                              {"delay_ms", Kind::kNumber, 0, kMaxMs}};
-constexpr Key kChannelKeys[] = {{"input", Kind::kString},
-                                {"table", Kind::kString},
-                                {"address", Kind::kInteger, 0, 65535},
-                                {"width", Kind::kInteger, 16, 32},
-                                {"word_order", Kind::kString},
-                                {"signed", Kind::kFlag},
-                                {"scale", Kind::kNumber, -1e12, 1e12},
-                                {"offset", Kind::kNumber, -1e12, 1e12},
-                                {"quantity", Kind::kString},
-                                {"min", Kind::kNumber, -1e12, 1e12},
-                                {"max", Kind::kNumber, -1e12, 1e12}};
-constexpr Key kEncoderKeys[] = {{"input", Kind::kInput},
-                                {"line_a", Kind::kInteger, 0, 65535},
-                                {"line_b", Kind::kInteger, 0, 65535},
-                                {"line_index", Kind::kInteger, -1, 65535},
-                                {"active_low", Kind::kFlag},
-                                {"counts_per_turn", Kind::kInteger, 1, 1 << 30},
-                                {"offset_deg", Kind::kNumber, -360, 360},
-                                {"invert", Kind::kFlag},
-                                {"window_us", Kind::kNumber, 0, 1000},
-                                {"index_count", Kind::kInteger, -2147483648.0, 2147483647.0},
-                                {"home_every_index", Kind::kFlag}};
-constexpr Key kLimitKeys[] = {{"input", Kind::kInput},
-                              {"line", Kind::kInteger, 0, 65535},
-                              {"active_low", Kind::kFlag},
-                              {"side", Kind::kString},
-                              {"debounce_ms", Kind::kNumber, 0, 1000}};
-constexpr Key kLineKeys[] = {{"line", Kind::kInteger, -1, 65535}, {"active_low", Kind::kFlag}};
-
-// Keys every CAN-fed source reads (can_source in bus_sources.cpp).
-#define SINEW_CAN_KEYS                                                                                               \
-  {"type", Kind::kString}, {"name", Kind::kString}, {"period_ms", Kind::kNumber, 0.01, kMaxMs}, {"fd", Kind::kFlag}, \
-      {"record", Kind::kString}, {"interface", Kind::kString}, {                                                     \
-    "sync_id", Kind::kInteger, 0, 0x1FFFFFFF                                                                         \
+// [layers]: the layers are compiled into the rig (rigc, docs/rig-format.md);
+// here a compiled layer is only switched on or off and given its run-time
+// options. The keys and their ranges are the stage table's.
+bool read_layers(const toml::table& t, const std::string& origin, pipeline::PipelineOptions* o, std::string* error) {
+  std::vector<std::string_view> keys;
+  for (const pipeline::StageInfo& s : pipeline::kStages)
+    if (s.stage != pipeline::Stage::kSkinning) keys.emplace_back(s.name);
+  for (const pipeline::StageOption& option : pipeline::kStageOptions) keys.emplace_back(option.key);
+  for (const auto& [key, node] : t) {
+    if (std::find(keys.begin(), keys.end(), key.str()) != keys.end()) continue;
+    std::string known;
+    for (std::string_view k : keys) known += (known.empty() ? "" : ", ") + std::string(k);
+    return *error = at(origin, &node, "[layers] " + std::string(key.str())) + ": unknown key (" + known +
+                    "); a layer's parameters are compiled into the rig: set them in the rig's spec (rigc) and "
+                    "switch the layer on here",
+           false;
   }
-constexpr Key kCanKeys[] = {SINEW_CAN_KEYS};
-constexpr Key kCandumpKeys[] = {SINEW_CAN_KEYS, {"path", Kind::kString}, {"origin_s", Kind::kNumber, 0, 1e9}};
-constexpr Key kSimulatedRigKeys[] = {SINEW_CAN_KEYS,
-                                     {"offset_ms", Kind::kNumber, 0, kMaxMs},
-                                     {"modbus_port", Kind::kInteger, 0, kMaxPort},
-                                     {"fault", Kind::kTables, 0, 0, kFaultKeys}};
-#undef SINEW_CAN_KEYS
-constexpr Key kTrajectoryKeys[] = {
-    {"type", Kind::kString}, {"name", Kind::kString}, {"period_ms", Kind::kNumber, 0.01, kMaxMs}};
-constexpr Key kModbusKeys[] = {{"type", Kind::kString},
-                               {"name", Kind::kString},
-                               {"host", Kind::kString},
-                               {"port", Kind::kInteger, 1, kMaxPort},
-                               {"device", Kind::kString},
-                               {"baud", Kind::kInteger, 50, 4000000},
-                               {"unit_id", Kind::kInteger, 0, 255},
-                               {"period_ms", Kind::kNumber, 0, kMaxMs},
-                               {"timeout_ms", Kind::kNumber, 1, 10000},
-                               {"backoff_ms", Kind::kNumber, 1, kMaxMs},
-                               {"backoff_max_ms", Kind::kNumber, 1, 600000},
-                               {"layout", Kind::kString},
-                               {"channel", Kind::kTables, 0, 0, kChannelKeys}};
-constexpr Key kGpioKeys[] = {{"type", Kind::kString},
-                             {"name", Kind::kString},
-                             {"chip", Kind::kString},
-                             {"consumer", Kind::kString},
-                             {"event_capacity", Kind::kInteger, 16, 65536},
-                             {"lines", Kind::kInteger, 1, 65536},
-                             {"update_ms", Kind::kNumber, 0.01, 1000},
-                             {"encoder", Kind::kTables, 0, 0, kEncoderKeys},
-                             {"limit", Kind::kTables, 0, 0, kLimitKeys},
-                             {"sync", Kind::kTable, 0, 0, kLineKeys},
-                             {"fault_line", Kind::kTable, 0, 0, kLineKeys},
-                             {"fault", Kind::kTables, 0, 0, kFaultKeys}};
-constexpr Key kLogSinkKeys[] = {{"type", Kind::kString},
-                                {"name", Kind::kString},
-                                {"normals", Kind::kFlag},
-                                {"path", Kind::kString},
-                                {"sync_every_frames", Kind::kInteger, 0, 1e9},
-                                {"every_n_frames", Kind::kInteger, 1, 1e6},
-                                {"compression", Kind::kString},
-                                {"compression_level", Kind::kInteger, 1, 19},
-                                {"key_every_frames", Kind::kInteger, 1, 1e9}};
-constexpr Key kRecordSinkKeys[] = {{"type", Kind::kString},
-                                   {"name", Kind::kString},
-                                   {"path", Kind::kString},
-                                   {"sync_every_frames", Kind::kInteger, 0, 1e9}};
-constexpr Key kUdpSinkKeys[] = {{"type", Kind::kString},
-                                {"name", Kind::kString},
-                                {"normals", Kind::kFlag},
-                                {"host", Kind::kString},
-                                {"port", Kind::kInteger, 1, kMaxPort},
-                                {"max_datagram_bytes", Kind::kInteger, 41, 65507}};
+  for (const pipeline::StageInfo& s : pipeline::kStages) {
+    if (s.stage == pipeline::Stage::kSkinning) continue;
+    bool on = o->stages.has(s.stage);
+    if (!read_flag(t, s.name, &on, origin, error)) return false;
+    o->stages.set(s.stage, on);
+  }
+  for (const pipeline::StageOption& option : pipeline::kStageOptions) {
+    switch (option.kind) {
+      case pipeline::OptionKind::kFlag:
+        if (!read_flag(t, option.key, &(o->*option.flag), origin, error)) return false;
+        break;
+      case pipeline::OptionKind::kNumber:
+        if (!read_number<uint32_t>(t, option.key, option.min, option.max, &(o->*option.number), origin, error))
+          return false;
+        break;
+      case pipeline::OptionKind::kChoice:
+        if (const toml::node* n = t.get(option.key)) {
+          const std::optional<std::string> v = n->value_exact<std::string>();
+          if (!v || (*v != option.choice[0] && *v != option.choice[1]))
+            return *error = at(origin, n, std::string("[layers] ") + option.key) + ": must be \"" + option.choice[0] +
+                            "\" or \"" + option.choice[1] + "\"",
+                   false;
+          o->*option.flag = *v == option.choice[1];
+        }
+        break;
+    }
+  }
+  return true;
+}
 
-struct Type {
-  std::string_view name;
-  std::span<const Key> keys;
-};
-constexpr Type kSourceTypes[] = {{"trajectory", kTrajectoryKeys}, {"can", kCanKeys},
-                                 {"candump", kCandumpKeys},       {"simulated-rig", kSimulatedRigKeys},
-                                 {"modbus", kModbusKeys},         {"gpio", kGpioKeys}};
-constexpr Type kSinkTypes[] = {{"log", kLogSinkKeys}, {"record", kRecordSinkKeys}, {"udp", kUdpSinkKeys}};
+using Kind = KeyKind;
+using Key = ConfigKey;
 
 std::string range_text(double lo, double hi) {
   std::ostringstream s;
@@ -208,6 +146,17 @@ bool check_keys(const toml::table& t, const std::string& table, std::span<const 
       case Kind::kFlag:
         if (!node.is_boolean()) return fail("must be true or false");
         break;
+      case Kind::kChoice: {
+        const std::optional<std::string> v = node.value_exact<std::string>();
+        if (!v || std::find(key->choices.begin(), key->choices.end(), *v) == key->choices.end()) {
+          std::string names;
+          for (size_t i = 0; i < key->choices.size(); ++i)
+            names += (i == 0 ? "" : (i + 1 == key->choices.size() ? " or " : ", ")) +
+                     ("\"" + std::string(key->choices[i]) + "\"");
+          return fail("must be " + names);
+        }
+        break;
+      }
       case Kind::kInput:
         if (!node.is_string() && !node.is_integer()) return fail("must be an input name or index");
         break;
@@ -303,36 +252,8 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     }
     if (!read_number(*loop, "trigger_poll_us", 1.0, 1000.0, &c.trigger_poll_us, origin, error)) return false;
   }
-  if (const toml::table* layers = t["layers"].as_table()) {
-    // The layers are compiled into the rig (rigc, docs/rig-format.md); here
-    // they are only switched on or off and given run-time options.
-    for (const char* old : {"anatomy_iterations", "sph_particles", "sph_force_max_n"})
-      if (layers->contains(old))
-        return *error = at(origin, (*layers)[old].node(), std::string("[layers] ") + old) +
-                        ": layers are compiled into the rig now: set their parameters in the rig spec "
-                        "([[sph]] particles, [skin] iterations, [[external_input]] min/max) and switch them "
-                        "on here with sph, metaballs, barnet, anatomy = true",
-               false;
-    if (!known_keys_only(*layers, "layers",
-                         {"sph", "metaballs", "barnet", "anatomy", "skin_iterations", "tresca", "sph_joint",
-                          "skin_max_anchor_acceleration"},
-                         origin, error) ||
-        !read_flag(*layers, "sph", &c.layer_sph, origin, error) ||
-        !read_flag(*layers, "metaballs", &c.layer_metaballs, origin, error) ||
-        !read_flag(*layers, "barnet", &c.layer_barnet, origin, error) ||
-        !read_flag(*layers, "anatomy", &c.layer_anatomy, origin, error) ||
-        !read_flag(*layers, "tresca", &c.layer_tresca, origin, error) ||
-        !read_number(*layers, "skin_iterations", 0, 256, &c.layer_skin_iterations, origin, error) ||
-        !read_number(*layers, "skin_max_anchor_acceleration", 0, 32767, &c.layer_skin_max_anchor_acceleration, origin,
-                     error))
-      return false;
-    if (const toml::node* joint = layers->get("sph_joint")) {
-      const std::optional<std::string> v = joint->value_exact<std::string>();
-      if (!v || (*v != "simulated" && *v != "measured"))
-        return *error = at(origin, joint, "[layers] sph_joint") + ": must be \"simulated\" or \"measured\"", false;
-      c.layer_sph_joint_measured = *v == "measured";
-    }
-  }
+  if (const toml::table* layers = t["layers"].as_table())
+    if (!read_layers(*layers, origin, &c.layers, error)) return false;
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!known_keys_only(
             *rt, "realtime",
@@ -363,7 +284,7 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*in, "default_period_ms", 0.01, 10000.0, &c.default_period_ms, origin, error)) return false;
     if (!read_number(*in, "range_margin_deg", 0.0, 180.0, &c.range_margin_deg, origin, error)) return false;
   }
-  const auto read_list = [&](const char* key, std::span<const Type> types, auto* list) {
+  const auto read_list = [&](const char* key, auto types, auto* list) {
     const toml::node* node = t.get(key);
     if (node == nullptr) return true;
     const toml::array* a = node->as_array();
@@ -374,20 +295,15 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       const toml::table* e = n.as_table();
       const auto type = (*e)["type"].value_exact<std::string>();
       if (!type) return *error = at(origin, &n, table + " type") + " is required (a string)", false;
-      const auto it = std::find_if(types.begin(), types.end(), [&](const Type& k) { return k.name == *type; });
+      const auto it = std::find_if(types.begin(), types.end(), [&](const auto& k) { return k.type == *type; });
       if (it == types.end()) {
         std::string known;
-        for (const Type& k : types) known += (known.empty() ? "" : ", ") + std::string(k.name);
+        for (const auto& k : types) known += (known.empty() ? "" : ", ") + std::string(k.type);
         return *error =
                    at(origin, (*e)["type"].node(), table + " type") + ": unknown type '" + *type + "' (" + known + ")",
                false;
       }
       if (!check_keys(*e, table, it->keys, origin, error)) return false;
-      if (const toml::node* packing = e->get("compression")) {
-        const std::optional<std::string> v = packing->value_exact<std::string>();
-        if (!v || (*v != "none" && *v != "zstd"))
-          return *error = at(origin, packing, table + " compression") + ": must be \"none\" or \"zstd\"", false;
-      }
       const std::string name = (*e)["name"].value_or<std::string>(std::string(*type));
       // Sources and sinks are reported, and their errors given, by name.
       for (const auto& other : *list)
@@ -397,7 +313,7 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     }
     return true;
   };
-  if (!read_list("source", kSourceTypes, &c.sources) || !read_list("sink", kSinkTypes, &c.sinks)) return false;
+  if (!read_list("source", source_types(), &c.sources) || !read_list("sink", sink_types(), &c.sinks)) return false;
   *out = std::move(c);
   return true;
 }

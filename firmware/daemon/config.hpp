@@ -10,19 +10,20 @@
 
 #include "firmware/runtime/realtime.hpp"
 #include "firmware/runtime/tick_trigger.hpp"
+#include "sim_core/pipeline/pipeline.hpp"
 
 namespace sinew::firmware {
 
 enum class RunMode { kLive, kReplay, kOffline };
 
 struct SourceConfig {
-  std::string type;  // "trajectory", "can", "modbus", "gpio", "replay"
+  std::string type;  // a type of the source registry (sources.cpp): "trajectory", "can", "candump", ...
   std::string name;
   toml::table table;  // the whole [[source]] table, read by the backend's factory
 };
 
 struct SinkConfig {
-  std::string type;  // "log", "udp", "can"
+  std::string type;  // a type of the sink registry (sinks.cpp): "log", "record", "udp"
   std::string name;
   toml::table table;
 };
@@ -44,17 +45,15 @@ struct DaemonConfig {
   double range_margin_deg = 10.0;   // accepted beyond a DOF limit (then clamped); further is a fault
   std::vector<SourceConfig> sources;
   std::vector<SinkConfig> sinks;
-  // [layers]: which of the rig's compiled layers run (all off by default).
-  bool layer_sph = false;                 // SPH elastic joints with the Tresca yield (docs/sph.md)
-  bool layer_metaballs = false;           // volume-preserving metaballs skin (docs/metaballs.md)
-  bool layer_barnet = false;              // force-density bar-nets (docs/barnet.md)
-  bool layer_anatomy = false;             // muscles + elastic skin (docs/anatomy.md)
-  bool layer_tresca = true;               // the SPH yield condition, eqs. (3)-(4)
-  bool layer_sph_joint_measured = false;  // [layers] sph_joint = "measured": the sensors' angles are the truth
-  int layer_skin_iterations = 0;          // elastic-skin relaxations per tick; 0: the rig's
-  // The dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none
-  // (pipeline::PipelineOptions::skin_max_anchor_acceleration).
-  int layer_skin_max_anchor_acceleration = 500;
+  // [layers]: which of the rig's compiled layers run (none by default: plain
+  // skinning) and their run-time options. The keys are the stage table's
+  // (sim_core/pipeline/stage_table.hpp); tick_hz is set from [loop] rate_hz
+  // when the pipeline is built.
+  pipeline::PipelineOptions layers = [] {
+    pipeline::PipelineOptions o;
+    o.stages = pipeline::StageSet::none();
+    return o;
+  }();
 };
 
 // Reads and validates a config file; errors name the file, line and key.

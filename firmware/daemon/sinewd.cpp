@@ -13,11 +13,15 @@
 #include <exception>
 
 #include "config.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_clock.hpp"
 #include "firmware/runtime/tick_trigger.hpp"
-#include "loaded_rig.hpp"
-#include "source_factory.hpp"
+#include "run_setup.hpp"
+#include "sim_core/pipeline/stage_table.hpp"
+#include "sinks.hpp"
+#include "sources.hpp"
+#include "stats_report.hpp"
 
 namespace {
 
@@ -82,7 +86,7 @@ int run(int argc, char** argv) {
   }
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
   if (!runtime.init(rig.rig, rig.layers, options, limits, start, &error) ||
-      !add_sources(config, rig, period, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
+      !add_sources(config, rig, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }
@@ -113,13 +117,10 @@ int run(int argc, char** argv) {
     const std::string rt = apply_realtime(config.realtime);
     if (!rt.empty()) std::printf("%s", rt.c_str());
   }
-  const auto running = [&](bool on, bool compiled, const char* name) {
-    return on && compiled ? std::string(" ") + name : std::string();
-  };
-  std::string layers = running(options.sph, rig.layers.sph_count > 0, "sph") +
-                       running(options.metaballs, rig.layers.has_metaballs, "metaballs") +
-                       running(options.barnet, rig.layers.barnet_count > 0, "barnet") +
-                       running(options.anatomy, rig.layers.has_muscles, "anatomy");
+  std::string layers;
+  for (const sinew::pipeline::StageInfo& s : sinew::pipeline::kStages)
+    if (s.stage != sinew::pipeline::Stage::kSkinning && options.stages.has(s.stage) && s.compiled(rig.layers) > 0)
+      layers += std::string(" ") + s.name;
   std::printf("sinewd: layers in the rig: %s; running: %s\n", describe_layers(rig).c_str(),
               layers.empty() ? "skinning only" : layers.c_str() + 1);
   std::signal(SIGINT, on_signal);

@@ -4,6 +4,7 @@
 
 #include "hal/common/input_health.hpp"
 #include "hal/common/input_source.hpp"
+#include "hal/common/output_sink.hpp"
 
 namespace sinew::firmware {
 

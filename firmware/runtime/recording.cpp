@@ -6,6 +6,8 @@
 #include <cinttypes>
 #include <cstdio>
 
+#include "sim_core/pipeline/stage_table.hpp"
+
 namespace sinew::firmware {
 
 namespace {
@@ -34,28 +36,47 @@ bool parse_bool(std::string_view v, bool* out) {
 
 uint64_t rig_blob_hash(const uint8_t* blob, size_t size) { return XXH64(blob, size, 0); }
 
+// The description's keys after the rig's and the rate: one flag per layer,
+// then the layers' options, both from the stage table, in its order.
 std::string encode_run_description(const RunDescription& run) {
-  char buf[512];
   const pipeline::PipelineOptions& o = run.options;
-  std::snprintf(buf, sizeof buf,
-                "%.*s\nrig_xxh64 = %016" PRIx64 "\nrig_bytes = %" PRIu64
-                "\ntick_hz = %u\nsph = %s\nmetaballs = %s\nbarnet = %s\nanatomy = %s\ntresca = %s\n"
-                "skin_iterations = %u\n",
-                static_cast<int>(kFirstLine.size()), kFirstLine.data(), run.rig_xxh64, run.rig_bytes, o.tick_hz,
-                o.sph ? "true" : "false", o.metaballs ? "true" : "false", o.barnet ? "true" : "false",
-                o.anatomy ? "true" : "false", o.tresca ? "true" : "false", o.skin_iterations);
-  // Written only when set, so that the description of a simulated-joint run
-  // (and every recording made before the key existed) stays as it was.
-  std::string out = std::string(buf) + (o.sph_joint_measured ? "sph_joint_measured = true\n" : "");
-  // Likewise the dynamic skin's anchor-acceleration cap, when not the default.
-  if (o.skin_max_anchor_acceleration != pipeline::PipelineOptions{}.skin_max_anchor_acceleration)
-    out += "skin_max_anchor_acceleration = " + std::to_string(o.skin_max_anchor_acceleration) + "\n";
+  const pipeline::PipelineOptions defaults;
+  char head[160];
+  std::snprintf(head, sizeof head, "%.*s\nrig_xxh64 = %016" PRIx64 "\nrig_bytes = %" PRIu64 "\ntick_hz = %u\n",
+                static_cast<int>(kFirstLine.size()), kFirstLine.data(), run.rig_xxh64, run.rig_bytes, o.tick_hz);
+  std::string out = head;
+  for (const pipeline::StageInfo& s : pipeline::kStages)
+    if (s.stage != pipeline::Stage::kSkinning)
+      out += std::string(s.name) + " = " + (o.stages.has(s.stage) ? "true" : "false") + "\n";
+  // An option added after the format was fixed is written only when it is
+  // not the default, so the description of a run that leaves it (and every
+  // recording made before it existed) stays as it was.
+  for (const pipeline::StageOption& option : pipeline::kStageOptions) {
+    std::string value;
+    bool is_default = false;
+    if (option.kind == pipeline::OptionKind::kNumber) {
+      value = std::to_string(o.*option.number);
+      is_default = o.*option.number == defaults.*option.number;
+    } else {
+      value = o.*option.flag ? "true" : "false";
+      is_default = o.*option.flag == defaults.*option.flag;
+    }
+    if (option.recorded_always || !is_default) out += std::string(option.recording_key) + " = " + value + "\n";
+  }
   return out;
 }
 
 bool parse_run_description(std::string_view text, RunDescription* out, std::string* error) {
   RunDescription run;
-  unsigned seen = 0;  // one bit per key
+  pipeline::PipelineOptions& o = run.options;
+  // Keys by index: the rig's and the rate, the stages but skinning, the options.
+  constexpr size_t kFixed = 3, kLayers = pipeline::kStageCount - 1;
+  constexpr size_t kKeys = kFixed + kLayers + std::size(pipeline::kStageOptions);
+  static_assert(kKeys <= 32);
+  uint32_t required = (1u << (kFixed + kLayers)) - 1;
+  for (size_t i = 0; i < std::size(pipeline::kStageOptions); ++i)
+    if (pipeline::kStageOptions[i].recorded_always) required |= 1u << (kFixed + kLayers + i);
+  uint32_t seen = 0;
   size_t line_no = 0;
   while (!text.empty()) {
     const size_t end = text.find('\n');
@@ -72,32 +93,31 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
     if (eq == std::string_view::npos)
       return *error = "recording description line " + std::to_string(line_no) + ": no '='", false;
     const std::string_view key = trim(line.substr(0, eq)), value = trim(line.substr(eq + 1));
-    pipeline::PipelineOptions& o = run.options;
-    struct Flag {
-      std::string_view key;
-      bool* field;
-    };
-    const Flag flags[] = {
-        {"sph", &o.sph},       {"metaballs", &o.metaballs},
-        {"barnet", &o.barnet}, {"anatomy", &o.anatomy},
-        {"tresca", &o.tresca}, {"sph_joint_measured", &o.sph_joint_measured}};  // optional: bit 9 is not required
     bool ok = false;
-    unsigned bit = 0;
+    size_t index = kKeys;
     if (key == "rig_xxh64") {
-      ok = value.size() == 16 && parse_uint(value, 16, &run.rig_xxh64), bit = 1u << 0;
+      ok = value.size() == 16 && parse_uint(value, 16, &run.rig_xxh64), index = 0;
     } else if (key == "rig_bytes") {
-      ok = parse_uint(value, 10, &run.rig_bytes), bit = 1u << 1;
+      ok = parse_uint(value, 10, &run.rig_bytes), index = 1;
     } else if (key == "tick_hz") {
-      ok = parse_uint(value, 10, &o.tick_hz) && o.tick_hz > 0, bit = 1u << 2;
-    } else if (key == "skin_iterations") {
-      ok = parse_uint(value, 10, &o.skin_iterations), bit = 1u << 3;
-    } else if (key == "skin_max_anchor_acceleration") {  // optional, as sph_joint_measured
-      ok = parse_uint(value, 10, &o.skin_max_anchor_acceleration) && o.skin_max_anchor_acceleration <= 32767,
-      bit = 1u << 10;
+      ok = parse_uint(value, 10, &o.tick_hz) && o.tick_hz > 0, index = 2;
+    } else if (const pipeline::StageInfo* s = pipeline::find_stage(key.data(), key.size());
+               s != nullptr && s->stage != pipeline::Stage::kSkinning) {
+      bool on = false;
+      ok = parse_bool(value, &on), index = kFixed + static_cast<size_t>(s->stage) - 1;
+      o.stages.set(s->stage, on);
     } else {
-      for (size_t i = 0; i < std::size(flags); ++i)
-        if (key == flags[i].key) ok = parse_bool(value, flags[i].field), bit = 1u << (4 + i);
-      if (bit == 0)
+      for (size_t i = 0; i < std::size(pipeline::kStageOptions); ++i) {
+        const pipeline::StageOption& option = pipeline::kStageOptions[i];
+        if (key != option.recording_key) continue;
+        index = kFixed + kLayers + i;
+        if (option.kind == pipeline::OptionKind::kNumber)
+          ok = parse_uint(value, 10, &(o.*option.number)) && o.*option.number >= option.min &&
+               o.*option.number <= option.max;
+        else
+          ok = parse_bool(value, &(o.*option.flag));
+      }
+      if (index == kKeys)
         return *error =
                    "recording description line " + std::to_string(line_no) + ": unknown key '" + std::string(key) + "'",
                false;
@@ -105,11 +125,10 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
     if (!ok)
       return *error = "recording description line " + std::to_string(line_no) + ": bad value for " + std::string(key),
              false;
-    seen |= bit;
+    seen |= 1u << index;
   }
   if (line_no == 0) return *error = "empty recording description", false;
-  constexpr unsigned kRequired = (1u << 9) - 1;  // every key but sph_joint_measured
-  if ((seen & kRequired) != kRequired)
+  if ((seen & required) != required)
     return *error = "recording description lacks a key (rig, tick rate and layers)", false;
   *out = run;
   return true;

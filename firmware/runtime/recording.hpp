@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "hal/common/input_source.hpp"
+#include "hal/common/output_sink.hpp"
 #include "hal/common/pose_frame.hpp"
 #include "sim_core/pipeline/pipeline.hpp"
 

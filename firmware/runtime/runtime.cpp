@@ -1,30 +1,17 @@
 #include "runtime.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "hal/common/monotonic_clock.hpp"
 
 namespace sinew::firmware {
 
-pipeline::PipelineStatus step_pipeline(pipeline::Pipeline* p, std::span<const int32_t> inputs, StageTimes* times) {
-  // Stage by stage, each timed: the statistics show every layer's share of
-  // the tick. A failing layer keeps the pose it was given.
-  pipeline::PipelineStatus failure;
-  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
-    const auto stage = static_cast<pipeline::Stage>(s);
-    if (!pipeline::pipeline_stage_on(*p, stage)) continue;
-    const uint64_t t0 = times ? hal::monotonic_ns() : 0;
-    const pipeline::PipelineStatus st = pipeline::pipeline_run_stage(p, stage, inputs);
-    if (times) {
-      const uint64_t dt = hal::monotonic_ns() - t0;
-      times->total_ns[s] += dt;
-      if (dt > times->max_ns[s]) times->max_ns[s] = dt;
-    }
-    if (!st.ok()) failure = st;
-  }
-  if (times) ++times->ticks;
-  return failure;
-}
+namespace {
+
+uint64_t monotonic_now(void*) { return hal::monotonic_ns(); }
+
+}  // namespace
 
 bool Runtime::init(const rig::Rig& rig, const pipeline::LayerSet& layers, const pipeline::PipelineOptions& options,
                    std::span<const InputLimits> limits, uint64_t start_ns, std::string* error) {
@@ -43,6 +30,7 @@ bool Runtime::init(const rig::Rig& rig, const pipeline::LayerSet& layers, const 
   health_.init(limits, rest, start_ns);
   samples_.assign(kMaxSamplesPerTick, hal::JointSample{});
   input_status_.assign(limits.size(), 0);
+  pipeline_flags_.assign(limits.size(), 0);
   frame_ = {};
   frame_.length_exponent = rig.length_exponent;
   frame_.vertex_count = rig.vertex_count();
@@ -63,23 +51,31 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
     health_.apply(std::span<const hal::JointSample>(samples_.data(), n));
   }
   health_.end_tick(tick_ns);
-  const pipeline::PipelineStatus st = step_pipeline(&pipeline_, health_.values(), &stage_times_);
+  // The pipeline times its stages on the monotonic clock: the statistics
+  // show every layer's share of the tick.
+  const pipeline::StepProbe probe{monotonic_now, nullptr, nullptr};
+  pipeline::StepReport report;
+  report.input_flags = pipeline_flags_;
+  const pipeline::PipelineStatus st = pipeline::pipeline_step(&pipeline_, health_.values(), &probe, &report);
+  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
+    if (!report.ran.has(static_cast<pipeline::Stage>(s))) continue;
+    stage_times_.total_ns[s] += report.stage_ns[s];
+    stage_times_.max_ns[s] = std::max(stage_times_.max_ns[s], report.stage_ns[s]);
+  }
+  ++stage_times_.ticks;
   if (!st.ok()) {
     ++layer_errors_;
     static_assert(sizeof(last_layer_error_) == sizeof(st.message));
     std::memcpy(last_layer_error_, st.message, sizeof(last_layer_error_));
   }
-  const engine::Engine& engine = pipeline_.engine;
-  // Per-input status: health bits plus "clamped" from the joint that owns the input.
+  // Per-input status: the health bits plus what the pipeline reported.
   const std::span<const uint8_t> hs = health_.status();
-  for (size_t i = 0; i < input_status_.size(); ++i) input_status_[i] = hs[i];
-  for (uint32_t j = 0; j < rig_->joint_count(); ++j) {
-    if ((engine.joint_flags[j] & skeleton::kJointClamped) == 0) continue;
-    const rig::JointRecord& r = rig_->joints[j];
-    for (uint32_t d = 0; d < r.dof_count; ++d) input_status_[r.first_input + d] |= hal::kJointClampedStatus;
+  for (size_t i = 0; i < input_status_.size(); ++i) {
+    uint8_t status = hs[i];
+    if ((pipeline_flags_[i] & pipeline::kInputClamped) != 0) status |= hal::kJointClampedStatus;
+    if ((pipeline_flags_[i] & pipeline::kInputYielded) != 0) status |= hal::kJointYielded;
+    input_status_[i] = status;
   }
-  for (uint32_t i = 0; i < rig_->input_count; ++i)
-    if (pipeline::pipeline_input_yielded(pipeline_, i)) input_status_[i] |= hal::kJointYielded;
   frame_.tick = tick_index;
   ++tick_;
   frame_.timestamp_ns = tick_ns;

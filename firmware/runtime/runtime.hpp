@@ -1,5 +1,5 @@
 // One tick of the daemon: latch every source up to the tick time, update
-// input health (hold / stale / reject), step the engine, hand the pose frame
+// input health (hold / stale / reject), step the pipeline, hand the pose frame
 // to every sink. Sized once at init; a tick never allocates.
 #pragma once
 
@@ -21,12 +21,6 @@ struct StageTimes {
   uint64_t max_ns[pipeline::kStageCount] = {};
   uint64_t ticks = 0;
 };
-
-// Runs every stage of `p` that is on, in order, timing each into `times`
-// (null: untimed). A failing stage keeps the pose it was given; returns the
-// last failure (ok when none). The daemon's tick and `sinew-log render` step
-// the pipeline through this one function, so a render reproduces the run.
-pipeline::PipelineStatus step_pipeline(pipeline::Pipeline* p, std::span<const int32_t> inputs, StageTimes* times);
 
 class Runtime {
  public:
@@ -72,6 +66,7 @@ class Runtime {
   pipeline::LayerSet no_layers_;
   StageTimes stage_times_;
   char last_layer_error_[192] = {};
+  std::vector<uint8_t> pipeline_flags_;  // pipeline::InputFlag bits per input, last tick
   InputHealth health_;
   std::vector<hal::JointSample> samples_;
   std::vector<uint8_t> input_status_;

@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "hal/common/input_source.hpp"
+#include "hal/common/output_sink.hpp"
 
 namespace sinew::firmware {
 

@@ -15,9 +15,9 @@
 namespace sinew::hal {
 
 struct InputLimits {
-  int32_t min = INT32_MIN;       // accepted range in engine units (binary angle / Len)
+  int32_t min = INT32_MIN;  // accepted range in engine units (binary angle / Len)
   int32_t max = INT32_MAX;
-  uint64_t timeout_ns = 0;       // 0 = never stale
+  uint64_t timeout_ns = 0;  // 0 = never stale
 };
 
 struct InputCounters {

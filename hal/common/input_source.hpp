@@ -1,6 +1,7 @@
-// The runtime's view of inputs and outputs: every backend (SocketCAN,
-// Modbus, GPIO, replay, simulation) is an InputSource; every output (frame
-// log, UDP, CAN) is an OutputSink. Per-tick calls must not allocate or block.
+// The runtime's view of an input: every backend (SocketCAN, Modbus, GPIO,
+// candump replay, the simulated rig, the trajectory) is an InputSource; the
+// outputs are OutputSinks (output_sink.hpp). Per-tick calls must not allocate
+// or block.
 #pragma once
 
 #include <cstdint>
@@ -52,22 +53,6 @@ class InputSource {
     (void)now_ns;
     return {};
   }
-};
-
-class OutputSink {
- public:
-  virtual ~OutputSink() = default;
-  virtual const char* name() const = 0;
-  // Returns false if the frame was dropped (counted by the sink); never blocks the tick.
-  virtual bool write(const PoseFrame& frame) = 0;
-  virtual void flush() = 0;
-  virtual std::string status_line() const = 0;
-  // Ends the sink at shutdown: writes what it still holds (a queue), then
-  // flushes. Called once, from the thread that calls write().
-  virtual void close() { flush(); }
-  // Frames lost after write() had accepted them (a queued sink whose
-  // underlying write later failed); counted besides write()'s false returns.
-  virtual uint64_t frames_lost_after_write() const { return 0; }
 };
 
 }  // namespace sinew::hal

@@ -15,8 +15,13 @@ enum JointStatus : uint8_t {
 };
 
 struct PoseFrame {
-  uint64_t tick = 0;            // step index since start
-  uint64_t timestamp_ns = 0;    // CLOCK_MONOTONIC at the start of the tick
+  // The tick's slot on the schedule (a skipped live tick leaves a gap; the
+  // same slot carries the same number live, in replay and offline).
+  uint64_t tick = 0;
+  // The tick's time, ns: its nominal time on the schedule (CLOCK_MONOTONIC
+  // live; counted from 0 in offline and replay runs), or, for a tick a
+  // trigger started early, the time it started.
+  uint64_t timestamp_ns = 0;
   int32_t length_exponent = 0;  // one rig unit = 2^e metres; positions are Q12.20 rig units
   uint32_t vertex_count = 0;
   const int32_t* position[3] = {nullptr, nullptr, nullptr};  // SoA, vertex_count each

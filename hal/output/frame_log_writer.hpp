@@ -15,6 +15,7 @@
 
 #include "frame_compression.hpp"
 #include "frame_shape.hpp"
+#include "hal/common/output_sink.hpp"
 #include "hal/common/pose_frame.hpp"
 
 namespace sinew::hal::output {
@@ -47,10 +48,10 @@ struct FrameLogStats {
   uint64_t tail_bytes_cut = 0;  // torn tail removed from an existing log at open
 };
 
-class FrameLogWriter {
+class FrameLogWriter final : public OutputSink {
  public:
   FrameLogWriter() = default;
-  ~FrameLogWriter() { close(); }
+  ~FrameLogWriter() override { close(); }
   FrameLogWriter(const FrameLogWriter&) = delete;
   FrameLogWriter& operator=(const FrameLogWriter&) = delete;
 
@@ -68,16 +69,18 @@ class FrameLogWriter {
   // Appends one record. False if the frame was rejected or dropped (counted).
   // No allocation; one pwrite(), plus fdatasync() when the policy says so;
   // compressing first when the options say so.
-  bool write(const PoseFrame& frame);
+  bool write(const PoseFrame& frame) override;
 
-  void flush();  // fdatasync now
-  void close();  // syncs what is unsynced, then closes
+  void flush() override;  // fdatasync now
+  void close() override;  // syncs what is unsynced, then closes
 
   bool is_open() const { return fd_ >= 0; }
   uint64_t file_bytes() const { return end_; }
   const FrameLogStats& stats() const { return stats_; }
-  static const char* name() { return "frame-log"; }
-  std::string status_line() const;  // allocates: for periodic reports only
+  // The name in reports ("frame-log" unless set: the daemon gives the sink's).
+  const char* name() const override { return name_.c_str(); }
+  void set_name(std::string name) { name_ = std::move(name); }
+  std::string status_line() const override;  // allocates: for periodic reports only
 
  private:
   bool open_existing(const std::string& path, std::string* error);
@@ -91,6 +94,7 @@ class FrameLogWriter {
   uint64_t end_ = 0;  // end of the last complete record
   uint32_t unsynced_ = 0;
   FrameLogStats stats_;
+  std::string name_ = "frame-log";
 };
 
 }  // namespace sinew::hal::output

@@ -15,8 +15,8 @@ inline constexpr size_t kUdpHeaderBytes = 40;
 inline constexpr size_t kUdpDefaultMaxDatagram = 1400;  // fits a 1500-byte MTU with IP/UDP headers to spare
 
 struct UdpFragment {
-  uint32_t stream_id = 0;       // random per sender run: a restart is visible to the receiver
-  uint64_t sequence = 0;        // frame number within the stream, +1 per frame offered (sent or dropped)
+  uint32_t stream_id = 0;  // random per sender run: a restart is visible to the receiver
+  uint64_t sequence = 0;   // frame number within the stream, +1 per frame offered (sent or dropped)
   uint16_t fragment_index = 0;
   uint16_t fragment_count = 0;
   uint32_t total_bytes = 0;     // the whole frame's payload
@@ -32,7 +32,6 @@ const char* datagram_check_name(DatagramCheck c);
 
 // Parses and verifies one received datagram; on kOk fills *f and *payload
 // (a view into `datagram`).
-DatagramCheck parse_udp_datagram(std::span<const uint8_t> datagram, UdpFragment* f,
-                                 std::span<const uint8_t>* payload);
+DatagramCheck parse_udp_datagram(std::span<const uint8_t> datagram, UdpFragment* f, std::span<const uint8_t>* payload);
 
 }  // namespace sinew::hal::output

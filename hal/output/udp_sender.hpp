@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "frame_shape.hpp"
+#include "hal/common/output_sink.hpp"
 #include "hal/common/pose_frame.hpp"
 #include "udp_datagram.hpp"
 
@@ -31,10 +32,10 @@ struct UdpSenderStats {
   int last_errno = 0;
 };
 
-class UdpSender {
+class UdpSender final : public OutputSink {
  public:
   UdpSender() = default;
-  ~UdpSender() { close(); }
+  ~UdpSender() override { close(); }
   UdpSender(const UdpSender&) = delete;
   UdpSender& operator=(const UdpSender&) = delete;
 
@@ -42,21 +43,23 @@ class UdpSender {
   // non-blocking UDP socket to it.
   bool open(const std::string& host, uint16_t port, const FrameShape& shape, const UdpSenderOptions& options,
             std::string* error);
-  void close();
+  void close() override;
 
   // Sends one frame; false if rejected or dropped (counted). Every call uses
   // the next sequence number, so a dropped frame is a gap at the receiver.
   // No allocation.
-  bool write(const PoseFrame& frame);
-  void flush() {}  // nothing is held back: datagrams leave in write()
+  bool write(const PoseFrame& frame) override;
+  void flush() override {}  // nothing is held back: datagrams leave in write()
 
   bool is_open() const { return fd_ >= 0; }
   uint32_t stream_id() const { return stream_id_; }
   uint64_t next_sequence() const { return sequence_; }
   size_t fragment_payload_bytes() const { return fragment_bytes_; }
   const UdpSenderStats& stats() const { return stats_; }
-  static const char* name() { return "udp"; }
-  std::string status_line() const;  // allocates: for periodic reports only
+  // The name in reports ("udp" unless set: the daemon gives the sink's).
+  const char* name() const override { return name_.c_str(); }
+  void set_name(std::string name) { name_ = std::move(name); }
+  std::string status_line() const override;  // allocates: for periodic reports only
 
   // Test hook: fragment `index` of every frame is prepared but not sent (-1: off).
   void skip_fragment_for_test(int index) { skip_fragment_ = index; }
@@ -73,6 +76,7 @@ class UdpSender {
   std::vector<mmsghdr> messages_;
   int skip_fragment_ = -1;
   UdpSenderStats stats_;
+  std::string name_ = "udp";
 };
 
 }  // namespace sinew::hal::output

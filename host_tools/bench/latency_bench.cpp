@@ -47,12 +47,11 @@
 #include <thread>
 #include <vector>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/async_sink.hpp"
 #include "firmware/runtime/realtime.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_trigger.hpp"
-#include "firmware/sinks/hal_sink.hpp"
 #include "hal/can/can_input_source.hpp"
 #include "hal/can/joint_stream_decoder.hpp"
 #include "hal/can/sim/simulated_rig_bus.hpp"
@@ -330,8 +329,10 @@ std::vector<uint64_t> paced_steps(const firmware::LoadedRig& rig, SinkSetup setu
       std::fprintf(stderr, "sinew-bench-latency: %s\n", error.c_str());
       std::exit(1);
     }
-    sinks[0] = std::make_unique<firmware::HalSink<hal::output::FrameLogWriter>>(std::move(log), "log");
-    sinks[1] = std::make_unique<firmware::HalSink<hal::output::UdpSender>>(std::move(udp), "udp");
+    log->set_name("log");
+    udp->set_name("udp");
+    sinks[0] = std::move(log);
+    sinks[1] = std::move(udp);
   }
   for (auto& sink : sinks) {
     if (!sink) continue;

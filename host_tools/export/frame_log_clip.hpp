@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "surface_clip.hpp"
 
 namespace sinew::gltf_export {

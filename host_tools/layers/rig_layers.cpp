@@ -16,6 +16,7 @@
 #include "host_tools/layers/sph/sph_builder.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "sim_core/rig/rig.hpp"
+#include "sim_core/sph/sph_model.hpp"
 
 namespace sinew::layers {
 namespace {
@@ -31,10 +32,6 @@ bool fail(const std::string& where, const std::string& problem, std::string* err
   *error = where.empty() ? problem : where + ": " + problem;
   return false;
 }
-
-// The substeps of the SPH integration at a tick rate: dt <= 5 ms (k_e dt^2
-// <= 0.075 with the default gains), at least 2 (docs/sph.md).
-uint32_t sph_substeps(uint32_t rate_hz) { return std::max<uint32_t>(2, (200 + rate_hz - 1) / rate_hz); }
 
 bool quantity_of(const std::string& name, pipeline::InputQuantity* out) {
   if (name == "force") return *out = pipeline::InputQuantity::kForce, true;
@@ -200,7 +197,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     o.yield_angle_deg = t.yield_angle_deg;
     o.surface_tension = t.surface_tension;
     o.tick_hz = layers.rate_hz;
-    o.substeps = sph_substeps(layers.rate_hz);
+    o.substeps = sph::substeps_for_rate(layers.rate_hz);
     SphBuilt built;
     if (!build_sph(spec, o, &built, error)) return fail(t.joint.where, *error, error);
     uint32_t force = pipeline::kNoExternalInput;

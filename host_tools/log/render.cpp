@@ -5,9 +5,8 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/recording.hpp"
-#include "firmware/runtime/runtime.hpp"
 #include "hal/output/frame_log_reader.hpp"
 #include "hal/output/frame_log_writer.hpp"
 
@@ -74,7 +73,7 @@ bool render_recording(const RenderOptions& o, RenderResult* result, std::string*
   while (reader.next(&recorded)) {
     ++r.frames_read;
     // The inputs as the tick applied them: the run's pipeline input.
-    (void)firmware::step_pipeline(&pipeline, recorded.input_value, nullptr);
+    (void)pipeline::pipeline_step(&pipeline, recorded.input_value);
     if (recorded.tick % (o.every_n_frames < 1 ? 1 : o.every_n_frames) != 0) continue;
     frame.tick = recorded.tick;
     frame.timestamp_ns = recorded.timestamp_ns;

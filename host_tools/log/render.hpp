@@ -1,8 +1,8 @@
 // Regenerates a run's full frames from its recording (firmware/runtime/
 // recording.hpp): loads the rig the recording names (checking its hash),
 // builds the pipeline with the recorded options, and steps it once per
-// recorded tick with the recorded inputs, through the daemon's own
-// step_pipeline. The frames are written as a frame log, byte for byte the
+// recorded tick with the recorded inputs, through pipeline_step as the
+// daemon's tick does. The frames are written as a frame log, byte for byte the
 // one a `log` sink of the same run and shape writes.
 #pragma once
 

@@ -21,7 +21,7 @@
 #include <cstring>
 #include <ctime>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "hal/can/candump_writer.hpp"
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/common/monotonic_clock.hpp"

@@ -8,24 +8,23 @@
 #include "hal/sim/sweep.hpp"
 #include "host_tools/determinism/output_hash.hpp"
 #include "host_tools/layers/builtin_layers.hpp"
+#include "sim_core/pipeline/stage_table.hpp"
 
 namespace sinew::run {
 
 bool parse_layer_list(const std::string& text, pipeline::PipelineOptions* o, std::string* error) {
-  o->sph = o->metaballs = o->barnet = o->anatomy = text == "all";
+  o->stages = text == "all" ? pipeline::StageSet::all() : pipeline::StageSet::none();
   if (text == "all" || text == "none") return true;
   std::stringstream list(text);
   for (std::string name; std::getline(list, name, ',');) {
-    if (name == "sph")
-      o->sph = true;
-    else if (name == "metaballs")
-      o->metaballs = true;
-    else if (name == "barnet")
-      o->barnet = true;
-    else if (name == "anatomy")
-      o->anatomy = true;
-    else
-      return *error = "--layers: unknown layer '" + name + "' (sph, metaballs, barnet, anatomy)", false;
+    const pipeline::StageInfo* stage = pipeline::find_stage(name.data(), name.size());
+    if (stage == nullptr || stage->stage == pipeline::Stage::kSkinning) {
+      std::string known;
+      for (const pipeline::StageInfo& s : pipeline::kStages)
+        if (s.stage != pipeline::Stage::kSkinning) known += (known.empty() ? "" : ", ") + std::string(s.name);
+      return *error = "--layers: unknown layer '" + name + "' (" + known + ")", false;
+    }
+    o->stages.set(stage->stage, true);
   }
   return true;
 }
@@ -61,24 +60,31 @@ double RunFigures::percentile(double q) const {
   return step_us[static_cast<size_t>(q * (static_cast<double>(step_us.size()) - 1))];
 }
 
+namespace {
+
+uint64_t steady_now(void*) {
+  return static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+          .count());
+}
+
+}  // namespace
+
 RunFigures pipeline_run_steps(PipelineRun* run, int steps, uint32_t first) {
-  using clock = std::chrono::steady_clock;
   pipeline::Pipeline& p = run->pipeline;
   RunFigures f;
   f.step_us.resize(static_cast<size_t>(steps));
   determinism::OutputHash hash;
+  const pipeline::StepProbe probe{steady_now, nullptr, nullptr};
   for (int s = 0; s < steps; ++s) {
     const uint32_t tick = first + static_cast<uint32_t>(s);
     for (uint32_t i = 0; i < run->rig.input_count; ++i) run->inputs[i] = hal::sim::sweep_input(i, tick);
-    const auto t0 = clock::now();
-    for (uint32_t k = 0; k < pipeline::kStageCount; ++k) {
-      const auto stage = static_cast<pipeline::Stage>(k);
-      if (!pipeline::pipeline_stage_on(p, stage)) continue;
-      const auto a = clock::now();
-      f.layer_errors += pipeline::pipeline_run_stage(&p, stage, run->inputs).ok() ? 0u : 1u;
-      f.stage_mean_us[k] += std::chrono::duration<double, std::micro>(clock::now() - a).count();
-    }
-    f.step_us[static_cast<size_t>(s)] = std::chrono::duration<double, std::micro>(clock::now() - t0).count();
+    pipeline::StepReport report;
+    const uint64_t t0 = steady_now(nullptr);
+    f.layer_errors += pipeline::pipeline_step(&p, run->inputs, &probe, &report).ok() ? 0u : 1u;
+    f.step_us[static_cast<size_t>(s)] = static_cast<double>(steady_now(nullptr) - t0) / 1000.0;
+    for (uint32_t k = 0; k < pipeline::kStageCount; ++k)
+      f.stage_mean_us[k] += static_cast<double>(report.stage_ns[k]) / 1000.0;
     f.clamped_dofs += p.engine.stats.clamped_dofs;
     for (int c = 0; c < 3; ++c)
       for (uint32_t v = 0; v < run->rig.vertex_count(); ++v) hash.add_i32(p.engine.vertices.position[c][v]);

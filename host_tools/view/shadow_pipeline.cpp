@@ -51,25 +51,32 @@ ShadowStep ShadowPipeline::step_frame(const hal::output::DecodedPose& pose) {
   return step(pose.tick, pose.input_value);
 }
 
+namespace {
+
+uint64_t monotonic_now(void*) { return hal::monotonic_ns(); }
+
+// After the skinning stage the surface is plain skinning: kept for the
+// displacement colouring.
+void keep_plain_skin(void* context, pipeline::Stage stage, const pipeline::Pipeline& p) {
+  if (stage != pipeline::Stage::kSkinning) return;
+  auto* plain = static_cast<std::vector<int32_t>*>(context);
+  for (int c = 0; c < 3; ++c) {
+    const auto& v = p.engine.vertices.position[c];
+    std::copy(v.begin(), v.end(), plain[c].begin());
+  }
+}
+
+}  // namespace
+
 ShadowStep ShadowPipeline::step(uint64_t tick, std::span<const int32_t> inputs) {
-  // As firmware::step_pipeline does, stage by stage, each timed; after the
-  // skinning stage the output is plain skinning, kept for the displacement.
+  // The daemon's step (pipeline_step), timed on this host's clock.
   ShadowStep out;
   out.tick = tick;
-  if (inputs.size() < pipeline_.input_count) return out.layer_error = true, out;
-  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
-    const auto stage = static_cast<pipeline::Stage>(s);
-    if (!pipeline::pipeline_stage_on(pipeline_, stage)) continue;
-    const uint64_t t0 = hal::monotonic_ns();
-    const pipeline::PipelineStatus st = pipeline::pipeline_run_stage(&pipeline_, stage, inputs);
-    out.stage_ns[s] = std::max<uint64_t>(1, hal::monotonic_ns() - t0);
-    if (!st.ok()) out.layer_error = true;
-    if (stage == pipeline::Stage::kSkinning)
-      for (int c = 0; c < 3; ++c) {
-        const auto& v = pipeline_.engine.vertices.position[c];
-        std::copy(v.begin(), v.end(), plain_[c].begin());
-      }
-  }
+  const pipeline::StepProbe probe{monotonic_now, keep_plain_skin, plain_};
+  pipeline::StepReport report;
+  out.layer_error = !pipeline::pipeline_step(&pipeline_, inputs, &probe, &report).ok();
+  for (uint32_t s = 0; s < pipeline::kStageCount; ++s)
+    if (report.ran.has(static_cast<pipeline::Stage>(s))) out.stage_ns[s] = std::max<uint64_t>(1, report.stage_ns[s]);
   ++steps_;
   return out;
 }

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 
 namespace sinew::view {
 

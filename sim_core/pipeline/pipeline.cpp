@@ -11,6 +11,7 @@
 #include "sim_core/muscle/muscle_step.hpp"
 #include "sim_core/rig/message.hpp"
 #include "sim_core/sph/sph_step.hpp"
+#include "stage_table.hpp"
 
 namespace sinew::pipeline {
 namespace {
@@ -55,22 +56,23 @@ fx::ArenaCarver layout(const rig::Rig& rig, const LayerSet& layers, const Pipeli
   fx::ArenaCarver c(base, size);
   const size_t n = rig.vertex_count();
   b->engine = c.raw(engine::engine_arena_bytes(rig));
-  const uint32_t sph_count = o.sph ? layers.sph_count : 0;
+  const uint32_t sph_count = o.stages.has(Stage::kSph) ? layers.sph_count : 0;
   // The state size does not depend on the gains (nor on the rate).
   for (uint32_t i = 0; i < sph_count; ++i) b->sph[i] = c.raw(sph::sph_state_bytes(layers.sph[i].model));
-  if (o.metaballs && layers.has_metaballs) b->metaballs = c.raw(metaballs::state_bytes(layers.metaballs));
-  if (o.anatomy && layers.has_muscles) {
+  if (o.stages.has(Stage::kMetaballs) && layers.has_metaballs)
+    b->metaballs = c.raw(metaballs::state_bytes(layers.metaballs));
+  if (o.stages.has(Stage::kAnatomy) && layers.has_muscles) {
     b->muscles = c.raw(muscle::muscle_state_bytes(layers.muscles));
     if (layers.has_skin) b->skin = c.raw(elastic_skin::skin_state_bytes(layers.skin));
   }
-  const uint32_t barnet_count = o.barnet ? layers.barnet_count : 0;
+  const uint32_t barnet_count = o.stages.has(Stage::kBarnet) ? layers.barnet_count : 0;
   for (uint32_t i = 0; i < barnet_count; ++i) b->barnet[i] = c.raw(barnet::barnet_state_bytes(layers.barnet[i]));
   p->flexed = c.take<int32_t>(sph_count > 0 ? rig.input_count : 0);
   p->bent = c.take<skeleton::LocalPose>(sph_count > 0 ? rig.joint_count() : 0);
   p->measured = c.take<int32_t>(rig.input_count + layers.external_count());
   // Sizes from the options, never from the blocks (null when only counting).
-  const bool metaballs_on = o.metaballs && layers.has_metaballs;
-  const bool skin_on = o.anatomy && layers.has_muscles && layers.has_skin;
+  const bool metaballs_on = o.stages.has(Stage::kMetaballs) && layers.has_metaballs;
+  const bool skin_on = o.stages.has(Stage::kAnatomy) && layers.has_muscles && layers.has_skin;
   const bool displaced = sph_count > 0 || metaballs_on || skin_on || barnet_count > 0;
   const size_t wrap = barnet_count > 0 ? largest_barnet_wrap(layers) : 0;
   for (int a = 0; a < 3; ++a) {
@@ -233,19 +235,8 @@ PipelineStatus run_anatomy(Pipeline* p, std::span<const int32_t> inputs) {
 }  // namespace
 
 const char* stage_name(Stage s) {
-  switch (s) {
-    case Stage::kSkinning:
-      return "skinning";
-    case Stage::kSph:
-      return "sph";
-    case Stage::kMetaballs:
-      return "metaballs";
-    case Stage::kBarnet:
-      return "barnet";
-    case Stage::kAnatomy:
-      return "anatomy";
-  }
-  return "unknown";
+  const uint32_t i = static_cast<uint32_t>(s);
+  return i < kStageCount ? kStages[i].name : "unknown";
 }
 
 size_t pipeline_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options) {
@@ -258,7 +249,7 @@ PipelineStatus sph_gains_for_rate(const sph::SphParams& c, uint32_t compiled_hz,
                                   sph::SphParams* out) {
   *out = c;
   if (tick_hz == 0 || tick_hz == compiled_hz) return {};
-  const uint32_t substeps = std::max<uint32_t>(2, (200 + tick_hz - 1) / tick_hz);
+  const uint32_t substeps = sph::substeps_for_rate(tick_hz);
   if (substeps > sph::kMaxSubsteps)
     return fail(PipelineError::kBadModel, "sph", "the loop rate needs more than 16 substeps (at least 13 Hz)");
   const int64_t num = int64_t{compiled_hz} * c.substeps, den = int64_t{tick_hz} * substeps;
@@ -317,7 +308,7 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
   if (!engine::engine_init(rig, b.engine, engine::engine_arena_bytes(rig), &p.engine))
     return fail(PipelineError::kArena, "skinning", "engine arena");
   p.input_count = rig.input_count + layers.external_count();
-  p.sph_count = options.sph ? layers.sph_count : 0;
+  p.sph_count = options.stages.has(Stage::kSph) ? layers.sph_count : 0;
   for (uint32_t i = 0; i < p.sph_count; ++i) {
     p.sph_model[i] = layers.sph[i].model;
     PipelineStatus rate =
@@ -345,7 +336,7 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
       st = elastic_skin::skin_state_init(layers.skin, b.skin, elastic_skin::skin_state_bytes(layers.skin), &p.skin);
     if (!st.ok()) return fail(PipelineError::kBadModel, "anatomy", st.message);
   }
-  p.barnet_count = options.barnet ? layers.barnet_count : 0;
+  p.barnet_count = options.stages.has(Stage::kBarnet) ? layers.barnet_count : 0;
   for (uint32_t i = 0; i < p.barnet_count; ++i) {
     const barnet::Status st =
         barnet::barnet_init(layers.barnet[i], b.barnet[i], barnet::barnet_state_bytes(layers.barnet[i]), &p.barnet[i]);
@@ -368,40 +359,6 @@ bool pipeline_stage_on(const Pipeline& p, Stage s) {
       return p.anatomy_on;
   }
   return false;
-}
-
-PipelineStatus pipeline_run_stage(Pipeline* p, Stage s, std::span<const int32_t> inputs) {
-  if (p == nullptr || p->rig == nullptr) return fail(PipelineError::kArena, "pipeline", "not initialised");
-  if (inputs.size() < p->input_count)
-    return fail(PipelineError::kBadInput, "pipeline", "fewer inputs than the rig's and its external inputs");
-  if (s == Stage::kSkinning) {
-    p->saturated = 0;
-    p->pose_driven = false;
-  }
-  if (!pipeline_stage_on(*p, s)) return {};
-  switch (s) {
-    case Stage::kSkinning:
-      return run_skinning(p, inputs);
-    case Stage::kSph:
-      return run_sph(p, inputs);
-    case Stage::kMetaballs:
-      return run_metaballs(p);
-    case Stage::kBarnet:
-      return run_barnet(p, inputs);
-    case Stage::kAnatomy:
-      return run_anatomy(p, inputs);
-  }
-  return {};
-}
-
-PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs) {
-  PipelineStatus first = pipeline_run_stage(p, Stage::kSkinning, inputs);
-  if (!first.ok()) return first;
-  for (uint32_t s = 1; s < kStageCount; ++s) {
-    const PipelineStatus st = pipeline_run_stage(p, static_cast<Stage>(s), inputs);
-    if (!st.ok() && first.ok()) first = st;
-  }
-  return first;
 }
 
 namespace {
@@ -437,9 +394,96 @@ void measure_dofs(Pipeline* p) {
 
 }  // namespace
 
-PipelineStatus pipeline_step_locals(Pipeline* p, std::span<const skeleton::LocalPose> locals,
-                                    std::span<const int32_t> external) {
+namespace {
+
+PipelineStatus run_stage(Pipeline* p, Stage s, std::span<const int32_t> inputs) {
+  switch (s) {
+    case Stage::kSkinning:
+      return run_skinning(p, inputs);
+    case Stage::kSph:
+      return run_sph(p, inputs);
+    case Stage::kMetaballs:
+      return run_metaballs(p);
+    case Stage::kBarnet:
+      return run_barnet(p, inputs);
+    case Stage::kAnatomy:
+      return run_anatomy(p, inputs);
+  }
+  return {};
+}
+
+uint64_t probe_now(const StepProbe* probe) {
+  return probe != nullptr && probe->now_ns != nullptr ? probe->now_ns(probe->context) : 0;
+}
+
+void stage_done(const StepProbe* probe, StepReport* report, Stage s, uint64_t started, const Pipeline& p) {
+  if (report != nullptr) {
+    report->ran.set(s, true);
+    if (probe != nullptr && probe->now_ns != nullptr)
+      report->stage_ns[static_cast<uint32_t>(s)] = probe->now_ns(probe->context) - started;
+  }
+  if (probe != nullptr && probe->after_stage != nullptr) probe->after_stage(probe->context, s, p);
+}
+
+// Stages first..last that are on, in order; the first failure ends the tick.
+PipelineStatus run_stages(Pipeline* p, std::span<const int32_t> inputs, Stage first, const StepProbe* probe,
+                          StepReport* report) {
+  for (uint32_t i = static_cast<uint32_t>(first); i < kStageCount; ++i) {
+    const auto s = static_cast<Stage>(i);
+    if (!pipeline_stage_on(*p, s)) continue;
+    const uint64_t started = probe_now(probe);
+    const PipelineStatus st = run_stage(p, s, inputs);
+    stage_done(probe, report, s, started, *p);
+    if (!st.ok()) return st;
+  }
+  return {};
+}
+
+void begin_report(StepReport* report) {
+  if (report == nullptr) return;
+  for (uint64_t& ns : report->stage_ns) ns = 0;
+  report->ran = StageSet::none();
+  std::fill(report->input_flags.begin(), report->input_flags.end(), uint8_t{0});
+}
+
+// The engine's clamp flags per joint and the SPH joints' yield, per input.
+void report_input_flags(const Pipeline& p, StepReport* report) {
+  if (report == nullptr || report->input_flags.empty()) return;
+  const std::span<uint8_t> flags = report->input_flags;
+  const rig::Rig& rig = *p.rig;
+  for (uint32_t j = 0; j < rig.joint_count(); ++j) {
+    if ((p.engine.joint_flags[j] & skeleton::kJointClamped) == 0) continue;
+    const rig::JointRecord& r = rig.joints[j];
+    for (uint32_t d = 0; d < r.dof_count; ++d)
+      if (r.first_input + d < flags.size()) flags[r.first_input + d] |= kInputClamped;
+  }
+  for (uint32_t i = 0; i < p.sph_count; ++i) {
+    if (!p.sph[i].joint_yielded) continue;
+    const uint32_t input = rig.joints[p.layers->sph[i].model.joint.distal_joint].first_input;
+    if (input < flags.size()) flags[input] |= kInputYielded;
+  }
+}
+
+}  // namespace
+
+PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs, const StepProbe* probe, StepReport* report) {
+  begin_report(report);
   if (p == nullptr || p->rig == nullptr) return fail(PipelineError::kArena, "pipeline", "not initialised");
+  if (inputs.size() < p->input_count)
+    return fail(PipelineError::kBadInput, "pipeline", "fewer inputs than the rig's and its external inputs");
+  p->saturated = 0;
+  p->pose_driven = false;
+  const PipelineStatus st = run_stages(p, inputs, Stage::kSkinning, probe, report);
+  report_input_flags(*p, report);
+  return st;
+}
+
+PipelineStatus pipeline_step_locals(Pipeline* p, std::span<const skeleton::LocalPose> locals,
+                                    std::span<const int32_t> external, const StepProbe* probe, StepReport* report) {
+  begin_report(report);
+  if (p == nullptr || p->rig == nullptr) return fail(PipelineError::kArena, "pipeline", "not initialised");
+  // The skinning stage: the pose from the locals, the DOFs measured from it.
+  const uint64_t started = probe_now(probe);
   if (!engine::engine_step_locals(&p->engine, locals))
     return fail(PipelineError::kBadInput, "skinning", "one local pose per joint is needed");
   p->pose_driven = true;
@@ -448,24 +492,14 @@ PipelineStatus pipeline_step_locals(Pipeline* p, std::span<const skeleton::Local
   const uint32_t rig_inputs = p->rig->input_count;
   for (uint32_t i = rig_inputs; i < p->input_count; ++i)
     p->measured[i] = i - rig_inputs < external.size() ? external[i - rig_inputs] : 0;
-  const std::span<const int32_t> inputs = p->measured;
   if (!p->reference[0].empty())
     for (int a = 0; a < 3; ++a)
       std::copy_n(p->engine.vertices.position[a].begin(), p->reference[a].size(), p->reference[a].begin());
-  PipelineStatus first;
-  for (uint32_t s = 1; s < kStageCount; ++s) {
-    const PipelineStatus st = pipeline_run_stage(p, static_cast<Stage>(s), inputs);
-    if (!st.ok() && first.ok()) first = st;
-  }
+  stage_done(probe, report, Stage::kSkinning, started, *p);
+  const PipelineStatus st = run_stages(p, p->measured, Stage::kSph, probe, report);
   p->pose_driven = false;
-  return first;
-}
-
-bool pipeline_input_yielded(const Pipeline& p, uint32_t input) {
-  for (uint32_t i = 0; i < p.sph_count; ++i)
-    if (p.sph[i].joint_yielded && p.rig->joints[p.layers->sph[i].model.joint.distal_joint].first_input == input)
-      return true;
-  return false;
+  report_input_flags(*p, report);
+  return st;
 }
 
 }  // namespace sinew::pipeline

@@ -1,6 +1,10 @@
 // The runtime pipeline: one tick of a compiled rig with any subset of its
-// physical layers. Every consumer (the daemon, sinew-run, sinew-pose --spec,
-// the benches, the determinism workloads) drives this same code.
+// physical layers. pipeline_step (or pipeline_step_locals, from sampled
+// poses) is the only stage loop: the daemon, `sinew-log render`, sinew-run,
+// the viewer's shadow pipeline, sinew-pose --spec, the benches and the
+// determinism workloads call it and keep none of their own. The stage table
+// (stage_table.hpp) names the stages and their options for everything that
+// lists them.
 //
 // Stages, in this order (docs/pipeline.md):
 //   1. kSkinning   commanded inputs -> skeleton -> skinned vertices (engine).
@@ -33,16 +37,17 @@
 #include "sim_core/metaballs/state.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "sim_core/sph/sph_state.hpp"
+#include "stage.hpp"
 
 namespace sinew::pipeline {
 
-enum class Stage : uint8_t { kSkinning = 0, kSph, kMetaballs, kBarnet, kAnatomy };
-inline constexpr uint32_t kStageCount = 5;
+// The stage's name in the stage table ("skinning", "sph", ...).
 const char* stage_name(Stage s);
 
 struct PipelineOptions {
-  // Switch compiled layers off at run time (a layer the rig lacks is off).
-  bool sph = true, metaballs = true, barnet = true, anatomy = true;
+  // The layers that run: a compiled layer can be switched off at run time
+  // (a layer the rig lacks is off whatever this says; skinning always runs).
+  StageSet stages = StageSet::all();
   bool tresca = true;  // the SPH yield condition, eqs. (3)-(4)
   // The SPH joints' angles are measured (a wearable's sensors), hence already
   // the truth under the load: the particles move the soft tissue only and do
@@ -68,7 +73,7 @@ enum class PipelineError : uint8_t {
   kArena,     // memory missing, misaligned or too small
   kBadModel,  // a layer refused its model at init (message names it)
   kBadInput,  // fewer inputs than the rig's plus its external inputs
-  kLayer,     // a layer step failed (message names it); the skinned pose is kept
+  kLayer,     // a layer step failed (message names it); see pipeline_step
 };
 
 using PipelineStatus = fx::Status<PipelineError>;
@@ -127,13 +132,41 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
 // Whether a stage does anything for this rig and these options.
 bool pipeline_stage_on(const Pipeline& p, Stage s);
 
-// One stage; stages must run in order, kSkinning first, each once per tick.
-// inputs: the rig's inputs, then its external inputs (input_count in all).
-PipelineStatus pipeline_run_stage(Pipeline* p, Stage s, std::span<const int32_t> inputs);
+// Per-input flags a step reports (StepReport::input_flags).
+enum InputFlag : uint8_t {
+  kInputClamped = 1u << 0,  // the joint that owns the input was clamped at a limit this tick
+  kInputYielded = 1u << 1,  // a physical layer's joint driven by the input yielded (SPH Tresca yield)
+};
 
-// The whole tick: every stage that is on, in order. On a layer error the
-// later stages still run; the first error is returned.
-PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs);
+// What a step may be asked to do beside stepping; every field optional.
+// sim_core reads no clock of its own: the caller passes one.
+struct StepProbe {
+  uint64_t (*now_ns)(void* context) = nullptr;  // a monotonic clock, ns; null: stages are not timed
+  // Called after each stage that ran, with the pipeline as that stage left
+  // it (e.g. the viewer keeps the plain skinning).
+  void (*after_stage)(void* context, Stage stage, const Pipeline& p) = nullptr;
+  void* context = nullptr;
+};
+
+// What a step did. Every field is written by each step that is given one.
+struct StepReport {
+  uint64_t stage_ns[kStageCount] = {};  // time in each stage, by the probe's clock (0: did not run or untimed)
+  StageSet ran;                         // the stages that ran this tick
+  // Caller-owned, one byte per input (rig inputs then external inputs) or
+  // empty: set to the InputFlag bits of each input after the step.
+  std::span<uint8_t> input_flags;
+};
+
+// The whole tick: every stage that is on, in order. The error rule: the
+// first stage that fails ends the tick there: the pose is what the stages
+// before it made plus what the failing stage added for the instances that
+// did step (SPH joints, bar-nets: each adds its displacement only after a
+// step that succeeded), the later stages do not run, and the status names
+// the failing stage. A skinning failure (inputs refused) leaves the previous
+// pose.
+// inputs: the rig's inputs, then its external inputs (input_count in all).
+PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs, const StepProbe* probe = nullptr,
+                             StepReport* report = nullptr);
 
 // The whole tick from sampled local poses (one per joint, e.g. a glTF
 // animation) instead of commanded DOFs. Layers that read DOF values (bar-net
@@ -141,11 +174,10 @@ PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs);
 // of (rest rotation^-1 x local rotation) about its axis, for a translational
 // one the offset from the rest translation along its axis; SPH bends turn
 // the driven joint's local rotation about the SPH axis. external: the rig's
-// external inputs (may be shorter: missing ones read 0).
+// external inputs (may be shorter: missing ones read 0). The skinning stage
+// is the posing from the locals; the error rule is pipeline_step's.
 PipelineStatus pipeline_step_locals(Pipeline* p, std::span<const skeleton::LocalPose> locals,
-                                    std::span<const int32_t> external);
-
-// True when an SPH joint driven by rig input `input` has yielded.
-bool pipeline_input_yielded(const Pipeline& p, uint32_t input);
+                                    std::span<const int32_t> external, const StepProbe* probe = nullptr,
+                                    StepReport* report = nullptr);
 
 }  // namespace sinew::pipeline

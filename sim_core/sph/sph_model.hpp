@@ -18,6 +18,16 @@ namespace sinew::sph {
 inline constexpr uint32_t kMaxParticles = 8192;  // particle indices fit in uint16
 inline constexpr uint32_t kMaxNeighbours = 96;   // per particle, per substep
 inline constexpr uint32_t kMaxSubsteps = 16;
+
+// The substep rule, the one place it is written: the substeps of the SPH
+// integration at a tick rate (rate_hz > 0) keep dt <= 5 ms (k_e dt^2 <= 0.075
+// with the default gains), and are at least 2 (docs/sph.md). rigc builds a
+// joint's gains with it and the pipeline converts them with it for another
+// loop rate; a rate below 13 Hz needs more than kMaxSubsteps (refused).
+constexpr uint32_t substeps_for_rate(uint32_t rate_hz) {
+  const uint32_t s = (200 + rate_hz - 1) / rate_hz;
+  return s < 2 ? 2 : s;
+}
 inline constexpr uint32_t kMaxGridDim = 64;  // cells per axis of the neighbour grid
 inline constexpr uint32_t kMaxSkinVertices = 1u << 16;
 inline constexpr uint32_t kMaxVertexNeighbours = 64;  // particles interpolated per skin vertex

@@ -70,7 +70,7 @@ const Case kCases[] = {{"builtin arm", kArmSpec, nullptr},
 // Compiles the case twice: with its nets, and with the pipeline's bar-nets
 // switched off (the skin they displace).
 bool compile(const Case& c, tb::SpecRig* on, tb::SpecRig* off) {
-  off->options.barnet = false;
+  off->options.stages.set(sinew::pipeline::Stage::kBarnet, false);
   for (tb::SpecRig* r : {on, off}) {
     const bool ok = c.text != nullptr ? r->compile_and_load(c.text) : r->compile_file(kData + c.file);
     if (!ok) return false;

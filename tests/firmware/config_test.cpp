@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "firmware/daemon/bus_sources.hpp"
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/daemon/sources.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 
 using sinew::firmware::DaemonConfig;
 using sinew::firmware::parse_config;
@@ -75,7 +75,7 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
                          source,
                      "t.toml", &c, &e))
         << e;
-    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << source;
+    EXPECT_EQ(sinew::firmware::open_source(c.sources[0], {c, rig, 0}, &e), nullptr) << source;
     return e;
   };
   const std::string encoder = "[[source.encoder]]\ninput = \"elbow.0\"\nline_a = 0\nline_b = 1\n";
@@ -100,7 +100,7 @@ TEST(DaemonConfig, SimulatedGpioChipRejectsWhatItCannotSimulate) {
                        encoder,
                    "t.toml", &c, &error))
       << error;
-  EXPECT_NE(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << error;
+  EXPECT_NE(sinew::firmware::open_source(c.sources[0], {c, rig, 0}, &error), nullptr) << error;
 }
 #else
 // A production image carries no simulated devices: their source and chip are
@@ -113,7 +113,7 @@ TEST(DaemonConfig, SimulatedRigRefusedWithoutSimulatedDevices) {
        {"type = \"simulated-rig\"\nname = \"rig\"\n", "type = \"gpio\"\nname = \"rig\"\nchip = \"simulated-rig\"\n"}) {
     DaemonConfig c;
     ASSERT_TRUE(parse_config("[rig]\nbuiltin = \"arm\"\n[[source]]\n" + source, "t.toml", &c, &error)) << error;
-    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &error), nullptr) << source;
+    EXPECT_EQ(sinew::firmware::open_source(c.sources[0], {c, rig, 0}, &error), nullptr) << source;
     EXPECT_NE(error.find("built without simulated devices"), std::string::npos) << error;
   }
 }
@@ -129,17 +129,19 @@ TEST(DaemonConfig, LayerSwitches) {
                    "tresca = false\n",
                    "t.toml", &c, &error))
       << error;
-  EXPECT_TRUE(c.layer_sph);
-  EXPECT_TRUE(c.layer_anatomy);
-  EXPECT_FALSE(c.layer_metaballs);
-  EXPECT_FALSE(c.layer_tresca);
-  EXPECT_EQ(c.layer_skin_iterations, 8);
-  EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\n")
-                .find("test.toml:4: [layers] sph_particles: layers are compiled into the rig"),
-            std::string::npos);
+  using sinew::pipeline::Stage;
+  EXPECT_TRUE(c.layers.stages.has(Stage::kSph));
+  EXPECT_TRUE(c.layers.stages.has(Stage::kAnatomy));
+  EXPECT_FALSE(c.layers.stages.has(Stage::kMetaballs));
+  EXPECT_FALSE(c.layers.stages.has(Stage::kBarnet));
+  EXPECT_FALSE(c.layers.tresca);
+  EXPECT_EQ(c.layers.skin_iterations, 8u);
+  const std::string old_key = error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\n");
+  EXPECT_NE(old_key.find("test.toml:4: [layers] sph_particles: unknown key"), std::string::npos) << old_key;
+  EXPECT_NE(old_key.find("compiled into the rig"), std::string::npos) << old_key;
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_iterations = 300\n").find("skin_iterations"),
             std::string::npos);
-  EXPECT_EQ(c.layer_skin_max_anchor_acceleration, 500);
+  EXPECT_EQ(c.layers.skin_max_anchor_acceleration, 500u);
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_max_anchor_acceleration = 40000\n")
                 .find("skin_max_anchor_acceleration"),
             std::string::npos);
@@ -163,7 +165,7 @@ TEST(DaemonConfig, ModbusChannelRejectsUnknownEnumValues) {
                          key,
                      "t.toml", &c, &e))
         << e;
-    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << key;
+    EXPECT_EQ(sinew::firmware::open_source(c.sources[0], {c, rig, 0}, &e), nullptr) << key;
     return e;
   };
   EXPECT_NE(channel_error("quantity = \"torque\"\n").find("channel.quantity 'torque' unknown"), std::string::npos);
@@ -341,7 +343,7 @@ TEST(DaemonConfig, CandumpPathMustBeARegularFile) {
         "[rig]\nbuiltin = \"arm\"\n[[source]]\ntype = \"candump\"\nname = \"log\"\npath = \"" + path + "\"\n", "t.toml",
         &c, &e))
         << e;
-    EXPECT_EQ(sinew::firmware::make_bus_source(c.sources[0], rig, c, 0, &e), nullptr) << path;
+    EXPECT_EQ(sinew::firmware::open_source(c.sources[0], {c, rig, 0}, &e), nullptr) << path;
     EXPECT_NE(e.find("is not a regular file"), std::string::npos) << e;
   }
   std::remove(fifo.c_str());

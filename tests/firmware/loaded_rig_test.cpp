@@ -1,6 +1,6 @@
 // The daemon's rig loading: every rig input gets a name and limits (even one
 // no joint uses), and a file is judged by its header before it is read whole.
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "firmware/builtin/builtin_rigs.hpp"
 #include "firmware/daemon/config.hpp"
-#include "firmware/daemon/source_factory.hpp"
+#include "firmware/daemon/run_setup.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "sim_core/rig/crc32c.hpp"

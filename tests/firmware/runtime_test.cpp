@@ -5,7 +5,7 @@
 #include <array>
 #include <cstring>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "tests/engine/rig_fixture.hpp"
 #include "tests/support/alloc_guard.hpp"
@@ -146,7 +146,8 @@ TEST(Runtime, SphLayerOnAnExternalForceInputNeverAllocates) {
     samples.push_back({force, static_cast<int32_t>(std::min(t, ramp) * 40 * 65536 / ramp), t * kMs, 0});
   fw::Runtime rt;
   sinew::pipeline::PipelineOptions options;
-  options.metaballs = options.barnet = options.anatomy = false;
+  options.stages = sinew::pipeline::StageSet::none();
+  options.stages.set(sinew::pipeline::Stage::kSph, true);
   const std::vector<fw::InputLimits> limits(rig.input_count(), fw::InputLimits{INT32_MIN, INT32_MAX, 0});
   ASSERT_TRUE(rt.init(rig.rig, rig.layers, options, limits, 0, &error)) << error;
   rt.add_source(std::make_unique<ScriptedSource>(std::move(samples)));

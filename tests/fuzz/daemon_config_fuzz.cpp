@@ -33,8 +33,10 @@
 #include <vector>
 
 #include "firmware/daemon/config.hpp"
-#include "firmware/daemon/loaded_rig.hpp"
-#include "firmware/daemon/source_factory.hpp"
+#include "firmware/daemon/run_setup.hpp"
+#include "firmware/daemon/sinks.hpp"
+#include "firmware/daemon/sources.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/runtime.hpp"
 
 extern "C" {
@@ -134,7 +136,7 @@ void run(const sinew::firmware::DaemonConfig& config) {
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
   Runtime runtime;
   if (!runtime.init(rig.rig, rig.layers, options, limits, 0, &error)) return;
-  if (!add_sources(config, rig, period, 0, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
+  if (!add_sources(config, rig, 0, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
     if (error.empty()) __builtin_trap();
     return;
   }

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "firmware/daemon/loaded_rig.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "hal/common/pose_frame.hpp"
 #include "hal/output/frame_log_reader.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"

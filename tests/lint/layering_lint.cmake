@@ -8,11 +8,15 @@
 #   firmware/    includes host_tools/;
 #   host_tools/  includes firmware/ other than the daemon's public headers
 #                firmware/runtime/{runtime,tick_trigger,async_sink,recording,realtime}.hpp,
-#                firmware/sinks/hal_sink.hpp and firmware/daemon/loaded_rig.hpp;
-#   sinewd       links a library built from host_tools/ (NINJA_FILE's link line).
+#                and firmware/rig/loaded_rig.hpp;
+#   sinewd       links a library built from host_tools/ (NINJA_FILE's link line);
+#   layer names  a firmware/ source or CMake file names a physical layer (in
+#                code or comments): the stage table in sim_core/pipeline is
+#                the only list of layers the daemon reads, so adding a layer
+#                adds no line to firmware.
 # With EXPECT_EVERY_RULE it fails unless every rule fired: the planted tree
 # (tests/lint/planted_layering) proves each rule can fail.
-set(rules sim_core hal firmware host_tools link)
+set(rules sim_core hal firmware host_tools link layer_names)
 foreach(r IN LISTS rules)
   set(fired_${r} 0)
 endforeach()
@@ -41,7 +45,7 @@ function(scan dir rule)
           set(bad "firmware includes host_tools")
         endif()
       elseif(rule STREQUAL "host_tools")
-        if(path MATCHES "^firmware/" AND NOT path MATCHES "^firmware/(runtime/(runtime|tick_trigger|async_sink|recording|realtime)|sinks/hal_sink|daemon/loaded_rig)\\.hpp$")
+        if(path MATCHES "^firmware/" AND NOT path MATCHES "^firmware/(runtime/(runtime|tick_trigger|async_sink|recording|realtime)|rig/loaded_rig)\\.hpp$")
           set(bad "host_tools includes firmware beyond its public headers")
         endif()
       endif()
@@ -55,10 +59,33 @@ function(scan dir rule)
   endforeach()
 endfunction()
 
+# A word that names a physical layer: letters around it end the match, so
+# "sphere" is not "sph" but "sph_joint" is.
+set(layer_word "(^|[^a-z])(sph|metaballs?|barnet|bar-net|anatomy|muscles?|tresca|elastic[ _-]skin|leman)([^a-z]|$)")
+function(scan_layer_names dir)
+  file(GLOB_RECURSE sources "${ROOT}/${dir}/*.hpp" "${ROOT}/${dir}/*.cpp" "${ROOT}/${dir}/*.h" "${ROOT}/${dir}/*.cc"
+       "${ROOT}/${dir}/CMakeLists.txt")
+  foreach(src IN LISTS sources)
+    file(STRINGS "${src}" lines)
+    set(line_no 0)
+    foreach(line IN LISTS lines)
+      math(EXPR line_no "${line_no} + 1")
+      string(TOLOWER "${line}" lower)
+      if(lower MATCHES "${layer_word}")
+        message("${src}:${line_no}: firmware names the physical layer '${CMAKE_MATCH_2}' (use the stage table)")
+        math(EXPR n "${fired_layer_names} + 1")
+        set(fired_layer_names ${n})
+        set(fired_layer_names ${n} PARENT_SCOPE)
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
 scan(sim_core sim_core)
 scan(hal hal)
 scan(firmware firmware)
 scan(host_tools host_tools)
+scan_layer_names(firmware)
 
 if(DEFINED NINJA_FILE)
   if(NOT EXISTS "${NINJA_FILE}")

@@ -34,7 +34,7 @@ void put(std::vector<uint8_t>* b, size_t at, int32_t v) { std::memcpy(b->data() 
 std::vector<int32_t> run_extremes(sinew::test::LoadedLayers* arm) {
   std::string error;
   pl::PipelineOptions engine_only;
-  engine_only.sph = engine_only.metaballs = engine_only.barnet = engine_only.anatomy = false;
+  engine_only.stages = pl::StageSet::none();
   EXPECT_TRUE(arm->start(engine_only, &error)) << error;
   std::vector<int32_t> inputs(arm->pipeline.input_count, 0), out;
   for (int32_t v : {INT32_MAX, INT32_MIN, 0, 0x40000000, -0x40000000}) {

@@ -30,10 +30,10 @@ constexpr uint32_t kElbowInput = 3;  // shoulder 0..2, elbow 3, twist 4, wrist 5
 
 pl::PipelineOptions only(bool sph, bool metaballs, bool barnet, bool anatomy) {
   pl::PipelineOptions o;
-  o.sph = sph;
-  o.metaballs = metaballs;
-  o.barnet = barnet;
-  o.anatomy = anatomy;
+  o.stages.set(pl::Stage::kSph, sph);
+  o.stages.set(pl::Stage::kMetaballs, metaballs);
+  o.stages.set(pl::Stage::kBarnet, barnet);
+  o.stages.set(pl::Stage::kAnatomy, anatomy);
   return o;
 }
 

@@ -194,15 +194,15 @@ void check_overlays_follow_the_skin(const char* rig_name, uint32_t tick_hz, bool
   // The anatomy layer is off in both: its elastic skin lags the bones by
   // centimetres within a tick of a shoulder move (a sim_core matter, not the
   // viewer's), so the daemon's skin would be off its own skeleton.
-  daemon_options.anatomy = false;
-  daemon_options.metaballs = metaballs;
+  daemon_options.stages.set(pipeline::Stage::kAnatomy, false);
+  daemon_options.stages.set(pipeline::Stage::kMetaballs, metaballs);
   OverlayRun daemon;
   ASSERT_TRUE(daemon.init(rig, daemon_options));
   const RigBounds bounds = overlay_rig_bounds(daemon.p_);
   sinew::view::ShadowPipeline shadow;
   pipeline::PipelineOptions view_options;  // as sinew-view --layers sph,metaballs,barnet, no --tick-hz
-  view_options.anatomy = false;
-  view_options.metaballs = metaballs;
+  view_options.stages.set(pipeline::Stage::kAnatomy, false);
+  view_options.stages.set(pipeline::Stage::kMetaballs, metaballs);
   ASSERT_TRUE(shadow.init(rig, view_options, &error)) << error;
 
   const int32_t e = rig.loaded.rig.length_exponent;

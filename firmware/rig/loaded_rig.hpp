@@ -13,7 +13,7 @@
 namespace sinew::firmware {
 
 // An input the daemon reads besides the rig's joint DOFs, declared by the
-// rig (its EXTI section): e.g. the force on an SPH elbow ("elbow.force",
+// rig (its EXTI section): e.g. a force measured at a joint ("elbow.force",
 // newtons in Q16.16). It is fed, health-checked, held and logged like a
 // joint input; the skeleton does not see it, the layer that names it does.
 struct ExternalInput {
@@ -47,7 +47,7 @@ bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRi
 // The same from bytes already in memory (tests, tools).
 bool load_rig_bytes(hal::BlobBytes bytes, const std::string& origin, LoadedRig* out, std::string* error);
 
-// One line naming the layers the rig carries, e.g. "sph(elbow) metaballs".
+// One line naming the layers the rig carries (pipeline::describe_layers).
 std::string describe_layers(const LoadedRig& rig);
 
 }  // namespace sinew::firmware

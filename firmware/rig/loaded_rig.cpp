@@ -1,6 +1,7 @@
 #include "loaded_rig.hpp"
 
 #include "firmware/builtin/builtin_rigs.hpp"
+#include "sim_core/pipeline/stage_table.hpp"
 
 namespace sinew::firmware {
 
@@ -73,13 +74,9 @@ bool load_rig(const std::string& builtin, const std::string& blob_path, LoadedRi
 }
 
 std::string describe_layers(const LoadedRig& r) {
-  std::string s;
-  for (uint32_t i = 0; i < r.layers.sph_count; ++i)
-    s += " sph(" + joint_name(r.rig, r.layers.sph[i].model.joint.distal_joint) + ")";
-  if (r.layers.has_metaballs) s += " metaballs";
-  if (r.layers.has_muscles) s += r.layers.has_skin ? " anatomy(muscles, skin)" : " anatomy(muscles)";
-  for (uint32_t i = 0; i < r.layers.barnet_count; ++i) s += " barnet";
-  return s.empty() ? "none" : s.substr(1);
+  char text[1024];
+  pipeline::describe_layers(r.rig, r.layers, text, sizeof text);
+  return text;
 }
 
 }  // namespace sinew::firmware

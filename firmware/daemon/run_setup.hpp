@@ -1,13 +1,14 @@
-// Builds the runtime's sources and sinks from the config, and the input
-// limits from the rig; prints the periodic report.
+// What the daemon derives from the rig and the config before its loop: the
+// accepted range and timeout of every input, and the pipeline options.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "config.hpp"
+#include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/runtime.hpp"
-#include "loaded_rig.hpp"
 
 namespace sinew::firmware {
 
@@ -17,15 +18,10 @@ namespace sinew::firmware {
 // Timeout: timeout_factor x default period.
 std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& config, uint64_t tick_period_ns);
 
-bool add_sources(const DaemonConfig& config, const LoadedRig& rig, uint64_t tick_period_ns, uint64_t start_ns,
-                 Runtime* runtime, std::string* error);
 // The pipeline options from [layers] and [loop]: which of the rig's compiled
-// layers run. A layer switched on that the rig does not carry is refused
-// with the layers it does carry.
+// layers run (the stage table names them). A layer switched on that the rig
+// does not carry is refused with the layers it does carry.
 bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::PipelineOptions* out,
                    std::string* error);
-bool add_sinks(const DaemonConfig& config, const LoadedRig& rig, Runtime* runtime, std::string* error);
-
-void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report);
 
 }  // namespace sinew::firmware

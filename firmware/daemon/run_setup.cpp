@@ -1,0 +1,48 @@
+#include "run_setup.hpp"
+
+#include <algorithm>
+
+#include "sim_core/pipeline/stage_table.hpp"
+
+namespace sinew::firmware {
+
+std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& config, uint64_t) {
+  std::vector<InputLimits> limits(rig.input_count());
+  const auto timeout = static_cast<uint64_t>(config.timeout_factor * config.default_period_ms * 1e6);
+  const int64_t margin_angle = static_cast<int64_t>(config.range_margin_deg / 360.0 * 4294967296.0);
+  for (const rig::JointRecord& j : rig.rig.joints) {
+    for (uint32_t d = 0; d < j.dof_count; ++d) {
+      InputLimits& l = limits[j.first_input + d];
+      const int64_t span = int64_t{j.dof_max[d]} - j.dof_min[d];
+      const int64_t margin = j.dof_kind == static_cast<uint8_t>(rig::DofKind::kRotation) ? margin_angle : span / 10;
+      l.min = static_cast<int32_t>(std::max<int64_t>(INT32_MIN, j.dof_min[d] - margin));
+      l.max = static_cast<int32_t>(std::min<int64_t>(INT32_MAX, j.dof_max[d] + margin));
+      l.timeout_ns = timeout;
+    }
+  }
+  for (size_t k = 0; k < rig.external.size(); ++k) {
+    const ExternalInput& e = rig.external[k];
+    InputLimits& l = limits[rig.rig.input_count + k];
+    const int64_t margin = (int64_t{e.max} - e.min) / 10;
+    l.min = static_cast<int32_t>(std::max<int64_t>(INT32_MIN, e.min - margin));
+    l.max = static_cast<int32_t>(std::min<int64_t>(INT32_MAX, e.max + margin));
+    l.timeout_ns = timeout;
+  }
+  return limits;
+}
+
+bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::PipelineOptions* out,
+                   std::string* error) {
+  for (const pipeline::StageInfo& s : pipeline::kStages)
+    if (s.stage != pipeline::Stage::kSkinning && config.layers.stages.has(s.stage) && s.compiled(rig.layers) == 0)
+      return *error = std::string("[layers] ") + s.name +
+                      " = true, but the rig carries no such layer (compile it with " + s.rig_sections +
+                      " in the rig's spec; this rig has: " + describe_layers(rig) + ")",
+             false;
+  pipeline::PipelineOptions o = config.layers;
+  o.tick_hz = config.rate_hz;
+  *out = o;
+  return true;
+}
+
+}  // namespace sinew::firmware

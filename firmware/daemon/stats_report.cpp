@@ -1,0 +1,73 @@
+#include "stats_report.hpp"
+
+#include <cstdio>
+
+#include "sim_core/pipeline/stage_table.hpp"
+
+namespace sinew::firmware {
+namespace {
+
+void print_layer_costs(const Runtime& runtime) {
+  const StageTimes& t = runtime.stage_times();
+  if (t.ticks == 0) return;
+  uint64_t total = 0;
+  for (uint64_t ns : t.total_ns) total += ns;
+  std::printf("  tick by stage (mean, share, max):");
+  for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
+    if (!pipeline::pipeline_stage_on(runtime.pipeline(), static_cast<pipeline::Stage>(s))) continue;
+    std::printf(" %s %.1f us %.0f%% %.1f us;", pipeline::stage_name(static_cast<pipeline::Stage>(s)),
+                static_cast<double>(t.total_ns[s]) / static_cast<double>(t.ticks) / 1000.0,
+                total > 0 ? 100.0 * static_cast<double>(t.total_ns[s]) / static_cast<double>(total) : 0.0,
+                static_cast<double>(t.max_ns[s]) / 1000.0);
+  }
+  std::printf("\n");
+}
+
+}  // namespace
+
+void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
+  StepTiming& t = runtime.timing();
+  const InputHealth& h = runtime.health();
+  uint64_t rejected = 0, accepted = 0;
+  for (size_t i = 0; i < rig.input_count(); ++i) {
+    accepted += h.counters(i).accepted;
+    for (uint64_t r : h.counters(i).rejected) rejected += r;
+  }
+  for (uint64_t r : h.unassigned().rejected) rejected += r;
+  std::printf(
+      "%s tick %llu: step p50 %.1f us p99 %.1f us max %.1f us, deadline misses %llu, inputs stale %zu/%u, "
+      "samples accepted %llu rejected %llu, frames dropped %llu\n",
+      final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
+      static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
+      static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()), h.stale_count(),
+      rig.input_count(), static_cast<unsigned long long>(accepted), static_cast<unsigned long long>(rejected),
+      static_cast<unsigned long long>(runtime.dropped_frames()));
+  for (const auto& s : runtime.sources())
+    std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
+  print_layer_costs(runtime);
+  if (runtime.layer_errors() > 0)
+    std::printf("  layer errors %llu (the last: %s)\n", static_cast<unsigned long long>(runtime.layer_errors()),
+                runtime.last_layer_error());
+  for (const auto& s : runtime.sinks()) std::printf("  sink   %-10s %s\n", s->name(), s->status_line().c_str());
+  if (final_report) {
+    // Per-reason totals, one line the tests (and log scrapers) can parse.
+    uint64_t by_reason[static_cast<int>(hal::RejectReason::kCount)] = {};
+    uint64_t stale_events = 0;
+    for (size_t i = 0; i < rig.input_count(); ++i) {
+      for (int r = 0; r < static_cast<int>(hal::RejectReason::kCount); ++r) by_reason[r] += h.counters(i).rejected[r];
+      stale_events += h.counters(i).stale_events;
+    }
+    std::printf("  rejected by reason:");
+    for (int r = 0; r < static_cast<int>(hal::RejectReason::kCount); ++r)
+      std::printf(" %s %llu", hal::reject_reason_name(static_cast<hal::RejectReason>(r)),
+                  static_cast<unsigned long long>(by_reason[r] + h.unassigned().rejected[r]));
+    std::printf("; stale events %llu\n", static_cast<unsigned long long>(stale_events));
+  }
+  if (final_report && h.stale_count() > 0) {
+    for (size_t i = 0; i < rig.input_count(); ++i)
+      if (h.status()[i] & hal::kJointStale) std::printf("  stale input %s\n", rig.input_names[i].c_str());
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace sinew::firmware

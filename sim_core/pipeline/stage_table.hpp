@@ -1,0 +1,134 @@
+// The stage table: the pipeline's only list of its layers. Everything that
+// names layers or their run-time options (sinewd's [layers] keys, its
+// start-up description and statistics, the recording header, sinew-run's
+// layer list, the viewer) iterates these two tables, so adding a layer adds
+// a row here and no line to firmware or the tools' plumbing.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "pipeline.hpp"
+#include "sim_core/rig/message.hpp"
+
+namespace sinew::pipeline {
+
+struct StageInfo {
+  Stage stage;
+  // The stage's name: its key in sinewd's [layers] (a flag), in a
+  // recording's description and in the statistics.
+  const char* name;
+  // The rig spec's sections that compile the layer (rigc), for messages
+  // about a layer the rig lacks.
+  const char* rig_sections;
+  const char* doc;  // the document that describes it
+  // The instances of the layer the rig carries (0: the rig lacks it);
+  // skinning: 1.
+  uint32_t (*compiled)(const LayerSet& layers);
+  // Appends the layer as a rig carries it, e.g. "sph(elbow)", once per
+  // instance and space-separated; nothing when the rig lacks it.
+  void (*describe)(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+};
+
+namespace stage_table_detail {
+void describe_sph(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+void describe_metaballs(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+void describe_barnet(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+void describe_anatomy(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+void describe_nothing(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+}  // namespace stage_table_detail
+
+// In Stage order (a static_assert in stage_table.cpp checks it).
+inline constexpr StageInfo kStages[kStageCount] = {
+    {Stage::kSkinning, "skinning", "", "docs/numerics.md", [](const LayerSet&) { return 1u; },
+     stage_table_detail::describe_nothing},
+    {Stage::kSph, "sph", "[[sph]]", "docs/sph.md", [](const LayerSet& l) { return l.sph_count; },
+     stage_table_detail::describe_sph},
+    {Stage::kMetaballs, "metaballs", "[metaballs]", "docs/metaballs.md",
+     [](const LayerSet& l) { return l.has_metaballs ? 1u : 0u; }, stage_table_detail::describe_metaballs},
+    {Stage::kBarnet, "barnet", "[[barnet]]", "docs/barnet.md", [](const LayerSet& l) { return l.barnet_count; },
+     stage_table_detail::describe_barnet},
+    {Stage::kAnatomy, "anatomy", "[[muscle]] and [skin]", "docs/anatomy.md",
+     [](const LayerSet& l) { return l.has_muscles ? 1u : 0u; }, stage_table_detail::describe_anatomy},
+};
+
+// A run-time option of one layer: its key in sinewd's [layers], its field
+// in PipelineOptions, its range, and how a recording's description spells it.
+enum class OptionKind : uint8_t {
+  kFlag,    // true / false
+  kChoice,  // one of two names, for false and for true
+  kNumber,  // an unsigned integer in [min, max]
+};
+
+struct StageOption {
+  const char* key;  // in [layers]
+  Stage stage;      // the layer it tunes
+  OptionKind kind;
+  bool PipelineOptions::*flag;        // kFlag, kChoice
+  const char* choice[2];              // kChoice: the names of false and of true
+  uint32_t PipelineOptions::*number;  // kNumber
+  uint32_t min, max;                  // kNumber
+  // Its key in a recording's description, a flag or a number.
+  const char* recording_key;
+  // Written into every recording (a reader requires it), or only when it
+  // differs from the default (options added after the format was fixed, so
+  // that the recordings made before read as they did).
+  bool recorded_always;
+  const char* meaning;  // one line, for messages and help
+};
+
+inline constexpr StageOption kStageOptions[] = {
+    {"tresca",
+     Stage::kSph,
+     OptionKind::kFlag,
+     &PipelineOptions::tresca,
+     {nullptr, nullptr},
+     nullptr,
+     0,
+     0,
+     "tresca",
+     true,
+     "the SPH joints' Tresca yield condition, eqs. (3)-(4) (docs/sph.md)"},
+    {"skin_iterations",
+     Stage::kAnatomy,
+     OptionKind::kNumber,
+     nullptr,
+     {nullptr, nullptr},
+     &PipelineOptions::skin_iterations,
+     0,
+     256,
+     "skin_iterations",
+     true,
+     "elastic-skin relaxations per tick; 0 keeps the rig's (docs/anatomy.md)"},
+    {"sph_joint",
+     Stage::kSph,
+     OptionKind::kChoice,
+     &PipelineOptions::sph_joint_measured,
+     {"simulated", "measured"},
+     nullptr,
+     0,
+     0,
+     "sph_joint_measured",
+     false,
+     "\"measured\": the sensors' angles are the truth under load, the particles only move the tissue (docs/sph.md)"},
+    {"skin_max_anchor_acceleration",
+     Stage::kAnatomy,
+     OptionKind::kNumber,
+     nullptr,
+     {nullptr, nullptr},
+     &PipelineOptions::skin_max_anchor_acceleration,
+     0,
+     32767,
+     "skin_max_anchor_acceleration",
+     false,
+     "the dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none (docs/anatomy.md)"},
+};
+
+// The table row of a stage name, or null.
+const StageInfo* find_stage(const char* name, size_t name_length);
+
+// The layers a rig carries, e.g. "sph(elbow) metaballs anatomy(muscles,
+// skin)", or "none"; truncated to the buffer.
+void describe_layers(const rig::Rig& rig, const LayerSet& layers, char* out, size_t capacity);
+
+}  // namespace sinew::pipeline

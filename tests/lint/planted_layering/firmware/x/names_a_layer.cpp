@@ -1,0 +1,2 @@
+// Planted: a firmware file that names a physical layer.
+bool metaballs_on = true;
