@@ -18,7 +18,7 @@
 #include <span>
 
 #include "sim_core/fixed/mat34.hpp"
-#include "sim_core/fixed/status.hpp"
+#include "sim_core/layer/layer_status.hpp"
 
 namespace sinew::barnet {
 
@@ -137,18 +137,9 @@ struct BarnetModel {
   std::span<const ForceDensityInput> q_inputs = {};  // empty: D is factorised once, at init
 };
 
-enum class Error : uint8_t {
-  kNone = 0,
-  kLimit,     // a count beyond the maxima above
-  kBadIndex,  // an index out of range
-  kBadValue,  // a value out of its documented range
-  kSingular,  // D is singular: a free node has no path to a fixed node
-  kArenaTooSmall,
-  kBadSpan,  // a step input or output of the wrong size
-};
-
-using Status = fx::Status<Error>;  // the message names the offending record and field
-
-const char* error_name(Error e);
+// The layer status (sim_core/layer/layer_status.hpp); messages name the
+// offending record and field.
+using layer::LayerError;
+using layer::LayerStatus;
 
 }  // namespace sinew::barnet

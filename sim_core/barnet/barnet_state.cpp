@@ -70,7 +70,7 @@ uint32_t find(std::span<uint32_t> parent, uint32_t v) {
   return v;
 }
 
-Status check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t> scratch) {
+LayerStatus check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t> scratch) {
   const uint32_t nodes = static_cast<uint32_t>(m.nodes.size());
   for (uint32_t i = 0; i < nodes; ++i) scratch[i] = 0;
   for (const BarRecord& b : m.bars) {
@@ -78,7 +78,8 @@ Status check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t> scra
     ++scratch[b.b];
   }
   for (uint32_t i = 0; i < nodes; ++i)
-    if (scratch[i] > kMaxBarsPerNode) return fail(Error::kLimit, "nodes", i, "bars", "more than 16 bars on one node");
+    if (scratch[i] > kMaxBarsPerNode)
+      return fail(LayerError::kBadCount, "nodes", i, "bars", "more than 16 bars on one node");
   const uint32_t ground = free;  // validate() guarantees a fixed node exists
   for (uint32_t i = 0; i < nodes; ++i) scratch[i] = i < free ? i : ground;
   for (const BarRecord& b : m.bars) {
@@ -89,7 +90,7 @@ Status check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t> scra
   const uint32_t g = find(scratch, ground);
   for (uint32_t i = 0; i < free; ++i)
     if (find(scratch, i) != g)
-      return fail(Error::kSingular, "nodes", i, "kind",
+      return fail(LayerError::kSingular, "nodes", i, "kind",
                   "singular bar-net: this free node has no path of bars to a fixed node");
   return {};
 }
@@ -104,16 +105,17 @@ size_t barnet_state_bytes(const BarnetModel& model) {
   return layout(model, free, profile).total;
 }
 
-Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out) {
-  Status s = barnet_validate(model);
+LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out) {
+  LayerStatus s = barnet_validate(model);
   if (!s.ok()) return s;
   const uint32_t free = free_count(model);
   const uint64_t profile = profile_size(model, free);
   if (profile > kMaxProfile)
-    return fail(Error::kLimit, "bars: the factor's profile exceeds 2^18 entries (order free nodes along the net)");
+    return fail(LayerError::kBadCount,
+                "bars: the factor's profile exceeds 2^18 entries (order free nodes along the net)");
   const Layout l = layout(model, free, profile);
   if (arena == nullptr || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0 || arena_bytes < l.total)
-    return fail(Error::kArenaTooSmall, "arena: null, not 8-byte aligned or smaller than barnet_state_bytes()");
+    return fail(LayerError::kArena, "arena: null, not 8-byte aligned or smaller than barnet_state_bytes()");
   auto* base = static_cast<unsigned char*>(arena);
 
   BarnetState st;
@@ -156,7 +158,8 @@ Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, Ba
   st.refactor_products = refactor_products(st.factor);
   const uint32_t bad = ldlt_factor(st.factor, st.work);
   if (bad < free)
-    return fail(Error::kSingular, "nodes", bad, "kind", "singular bar-net: LDL^T pivot below 2^-24 at this free node");
+    return fail(LayerError::kSingular, "nodes", bad, "kind",
+                "singular bar-net: LDL^T pivot below 2^-24 at this free node");
   for (uint32_t i = 0; i < free; ++i) st.work[i] = 0;
   *out = st;
   return {};

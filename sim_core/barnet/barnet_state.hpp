@@ -45,6 +45,6 @@ size_t barnet_state_bytes(const BarnetModel& model);
 // a node, a path of bars from every free node to a fixed node, the profile
 // limit, positive pivots), carves the arena and factorises D. The model's
 // spans must outlive the state.
-Status barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out);
+LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out);
 
 }  // namespace sinew::barnet

@@ -49,24 +49,27 @@ fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
   return unit;
 }
 
-Status check_spans(const BarnetModel& m, const StepInputs& in, const StepOutputs& out) {
-  if (in.bones.size() < m.joint_count) return fail(Error::kBadSpan, "inputs.bones: fewer than joint_count transforms");
+LayerStatus check_spans(const BarnetModel& m, const StepInputs& in, const StepOutputs& out) {
+  if (in.bones.size() < m.joint_count)
+    return fail(LayerError::kBadInput, "inputs.bones: fewer than joint_count transforms");
   if (in.joint_angles.size() < m.input_count)
-    return fail(Error::kBadSpan, "inputs.joint_angles: fewer than input_count angles");
+    return fail(LayerError::kBadInput, "inputs.joint_angles: fewer than input_count angles");
   if (in.external.size() < m.external_count)
-    return fail(Error::kBadSpan, "inputs.external: fewer than external_count values");
+    return fail(LayerError::kBadInput, "inputs.external: fewer than external_count values");
   for (size_t c = 0; c < 3; ++c) {
-    if (out.node[c].size() < m.nodes.size()) return fail(Error::kBadSpan, "outputs.node: shorter than the node count");
-    if (out.skin[c].size() < m.wrap.size()) return fail(Error::kBadSpan, "outputs.skin: shorter than the wrap count");
+    if (out.node[c].size() < m.nodes.size())
+      return fail(LayerError::kBadInput, "outputs.node: shorter than the node count");
+    if (out.skin[c].size() < m.wrap.size())
+      return fail(LayerError::kBadInput, "outputs.skin: shorter than the wrap count");
   }
   return {};
 }
 
 }  // namespace
 
-Status barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out) {
+LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs& out) {
   const BarnetModel& m = *st->model;
-  Status s = check_spans(m, in, out);
+  LayerStatus s = check_spans(m, in, out);
   if (!s.ok()) return s;
   fx::Saturation sat;
   const uint32_t free = st->free_count;

@@ -31,7 +31,7 @@ struct StepOutputs {
   std::span<fx::Len> skin[3];  // >= wrap count each; entry w is vertex model.wrap[w].vertex
 };
 
-// Returns kBadSpan (changing nothing) if a span is too short.
-Status barnet_step(BarnetState* state, const StepInputs& in, const StepOutputs& out);
+// Returns kBadInput (changing nothing) if a span is too short.
+LayerStatus barnet_step(BarnetState* state, const StepInputs& in, const StepOutputs& out);
 
 }  // namespace sinew::barnet

@@ -12,6 +12,6 @@ namespace sinew::barnet {
 // Number of free nodes: nodes [0, free_count) are free, the rest fixed.
 uint32_t free_count(const BarnetModel& model);
 
-Status barnet_validate(const BarnetModel& model);
+LayerStatus barnet_validate(const BarnetModel& model);
 
 }  // namespace sinew::barnet

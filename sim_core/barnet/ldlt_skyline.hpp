@@ -18,7 +18,7 @@
 //   b (solve)  Q.36 force (q Q16.16 x Len Q12.20, exact products)
 //   x (solve)  Q.40 length (rig units)
 //
-// Error: the factor entries carry a relative error of about 2^-30 each and
+// LayerError: the factor entries carry a relative error of about 2^-30 each and
 // every product in the solve is rounded once at 2^-36 (force) or 2^-40
 // (length); with |L| <= 1 the solution's error is a relative one of the
 // order of kappa(D) * 2^-29 in norm (far less per component for these

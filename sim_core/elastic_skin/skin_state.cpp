@@ -35,16 +35,16 @@ size_t skin_state_bytes(const SkinModel& model) {
   return layout(model, nullptr, 0, &probe).needed();
 }
 
-LayerStatus skin_state_init(const SkinModel& model, void* memory, size_t bytes, SkinState* out) {
-  if (out == nullptr) return muscle::layer_fail(LayerError::kMemory, "skin state", -1, "", "null output");
+LayerStatus skin_init(const SkinModel& model, void* memory, size_t bytes, SkinState* out) {
+  if (out == nullptr) return muscle::layer_fail(LayerError::kArena, "skin state", -1, "", "null output");
   if (model.vertex_count > kMaxVertices)
-    return muscle::layer_fail(LayerError::kBadModel, "skin model", -1, "vertex_count", "above 2^20", model.vertex_count,
+    return muscle::layer_fail(LayerError::kBadValue, "skin model", -1, "vertex_count", "above 2^20", model.vertex_count,
                               true);
   if (!fx::aligned8(memory))
-    return muscle::layer_fail(LayerError::kMemory, "skin state", -1, "memory", "null or not 8-byte aligned");
+    return muscle::layer_fail(LayerError::kArena, "skin state", -1, "memory", "null or not 8-byte aligned");
   SkinState s;
   if (layout(model, memory, bytes, &s).failed())
-    return muscle::layer_fail(LayerError::kMemory, "skin state", -1, "bytes", "smaller than skin_state_bytes",
+    return muscle::layer_fail(LayerError::kArena, "skin state", -1, "bytes", "smaller than skin_state_bytes",
                               static_cast<int64_t>(bytes), true);
   s.vertex_count = model.vertex_count;
   *out = s;

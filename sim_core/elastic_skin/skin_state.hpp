@@ -60,7 +60,7 @@ struct SkinState {
 
 size_t skin_state_bytes(const SkinModel& model);
 
-// Carves `memory` (8-byte aligned, >= skin_state_bytes). kMemory on failure.
-LayerStatus skin_state_init(const SkinModel& model, void* memory, size_t bytes, SkinState* out);
+// Carves `memory` (8-byte aligned, >= skin_state_bytes). kArena on failure.
+LayerStatus skin_init(const SkinModel& model, void* memory, size_t bytes, SkinState* out);
 
 }  // namespace sinew::elastic_skin

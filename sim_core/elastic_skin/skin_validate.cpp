@@ -5,7 +5,7 @@ namespace {
 
 LayerStatus bad(const char* what, int64_t index, const char* field, const char* problem, int64_t value = 0,
                 bool show = false) {
-  return muscle::layer_fail(LayerError::kBadModel, what, index, field, problem, value, show);
+  return muscle::layer_fail(LayerError::kBadValue, what, index, field, problem, value, show);
 }
 
 LayerStatus check_anchor(const Anchor& a, uint32_t v, const muscle::MuscleModel& muscles, uint32_t joints) {

@@ -19,7 +19,7 @@
 
 namespace sinew::metaballs {
 
-// Documented maxima; validate() rejects larger models, which bounds a step's
+// Documented maxima; metaballs_validate() rejects larger models, which bounds a step's
 // work.
 inline constexpr uint32_t kMaxJoints = 1024;
 inline constexpr uint32_t kMaxBalls = 4096;

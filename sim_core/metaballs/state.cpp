@@ -34,16 +34,16 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
 
 }  // namespace
 
-size_t state_bytes(const MetaballModel& model) {
+size_t metaballs_state_bytes(const MetaballModel& model) {
   MetaballState probe;
   return layout(model, nullptr, 0, &probe).needed();
 }
 
-Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out) {
-  Status s = validate(model);
+LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out) {
+  LayerStatus s = metaballs_validate(model);
   if (!s.ok()) return s;
   const auto arena_error = [&](const char* problem) {
-    s.error = Error::kArena;
+    s.error = LayerError::kArena;
     rig::MessageBuilder(s.message, sizeof(s.message)).text("state memory: ").text(problem);
     return s;
   };
@@ -53,7 +53,7 @@ Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballStat
   MetaballState st;
   st.model = &model;
   if (layout(model, static_cast<uint8_t*>(memory), bytes, &st).failed())
-    return arena_error("smaller than state_bytes(model)");
+    return arena_error("smaller than metaballs_state_bytes(model)");
   for (uint32_t b = 0; b < model.ball_count(); ++b) {
     st.ball_center[b] = st.ball_previous[b] = st.ball_target[b] = st.ball_last_target[b] = model.ball_rest[b];
     st.ball_last_step[b] = {0, 0, 0};
@@ -69,16 +69,16 @@ Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballStat
   return s;
 }
 
-Status set_tick_rate(MetaballState* s, uint32_t tick_hz) {
-  Status st;
+LayerStatus set_tick_rate(MetaballState* s, uint32_t tick_hz) {
+  LayerStatus st;
   if (s == nullptr || s->model == nullptr) {
-    st.error = Error::kNotReady;
+    st.error = LayerError::kNotReady;
     rig::MessageBuilder(st.message, sizeof(st.message)).text("state: not initialised (call metaballs::init)");
     return st;
   }
   const MetaballModel& m = *s->model;
   const auto refuse = [&](const char* problem) {
-    st.error = Error::kValue;
+    st.error = LayerError::kBadValue;
     rig::MessageBuilder(st.message, sizeof(st.message))
         .text("tick_hz ")
         .unsigned_number(tick_hz)

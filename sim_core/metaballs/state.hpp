@@ -64,19 +64,19 @@ struct MetaballState {
 };
 
 // Bytes of state memory init needs for a (validated) model.
-size_t state_bytes(const MetaballModel& model);
+size_t metaballs_state_bytes(const MetaballModel& model);
 
 // Validates the model, carves `memory` (8-byte aligned, >= state_bytes) and
 // sets the rest state. The model must outlive the state.
-Status init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out);
+LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out);
 
 // Runs a model with physical jiggle (jiggle_rate_hz > 0) at tick_hz: every
 // jiggle ball's gains are converted from the model's rate
 // (jiggle_gains_for_rate), so the swing keeps its frequency and window.
 // A model without physical jiggle, or tick_hz equal to the model's rate,
-// keeps the model's gains. kValue (state unchanged) if tick_hz is 0 or
+// keeps the model's gains. kBadValue (state unchanged) if tick_hz is 0 or
 // cannot carry the swing. Also forgets the jiggle history.
-Status set_tick_rate(MetaballState* s, uint32_t tick_hz);
+LayerStatus set_tick_rate(MetaballState* s, uint32_t tick_hz);
 
 // Forgets the jiggle history: the next step starts from the kinematic pose.
 inline void reset(MetaballState* s) { s->primed = false; }

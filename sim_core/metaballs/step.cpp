@@ -6,8 +6,8 @@
 namespace sinew::metaballs {
 namespace {
 
-Status fail(Error e, const char* field, size_t got, size_t want) {
-  Status s;
+LayerStatus fail(LayerError e, const char* field, size_t got, size_t want) {
+  LayerStatus s;
   s.error = e;
   rig::MessageBuilder(s.message, sizeof(s.message))
       .text(field)
@@ -20,19 +20,21 @@ Status fail(Error e, const char* field, size_t got, size_t want) {
 
 }  // namespace
 
-Status step(MetaballState* state, std::span<const fx::Mat34> joint_model, const skin::SkinnedVertices& out) {
+LayerStatus metaballs_step(MetaballState* state, std::span<const fx::Mat34> joint_model,
+                           const skin::SkinnedVertices& out) {
   if (state == nullptr || state->model == nullptr || state->bone.size() != state->model->joint_count) {
-    Status s;
-    s.error = Error::kNotReady;
+    LayerStatus s;
+    s.error = LayerError::kNotReady;
     rig::MessageBuilder(s.message, sizeof(s.message)).text("state: not initialised (call metaballs::init)");
     return s;
   }
   const MetaballModel& m = *state->model;
-  if (joint_model.size() != m.joint_count) return fail(Error::kSize, "joint_model", joint_model.size(), m.joint_count);
+  if (joint_model.size() != m.joint_count)
+    return fail(LayerError::kBadSize, "joint_model", joint_model.size(), m.joint_count);
   static const char* const kAxis[3] = {"out.position[0]", "out.position[1]", "out.position[2]"};
   for (int a = 0; a < 3; ++a)
     if (out.position[a].size() != m.vertex_count)
-      return fail(Error::kSize, kAxis[a], out.position[a].size(), m.vertex_count);
+      return fail(LayerError::kBadSize, kAxis[a], out.position[a].size(), m.vertex_count);
 
   detail::compute_bones(m, joint_model, state);
   detail::compute_balls(m, state);

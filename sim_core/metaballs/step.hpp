@@ -31,6 +31,7 @@ namespace sinew::metaballs {
 
 // Returns an error (and changes nothing) if the state is not initialised or a
 // span's size disagrees with the model.
-Status step(MetaballState* state, std::span<const fx::Mat34> joint_model, const skin::SkinnedVertices& out);
+LayerStatus metaballs_step(MetaballState* state, std::span<const fx::Mat34> joint_model,
+                           const skin::SkinnedVertices& out);
 
 }  // namespace sinew::metaballs

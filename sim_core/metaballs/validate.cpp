@@ -12,10 +12,10 @@ constexpr int64_t kCoordLimit = int64_t{1} << 30;
 
 class Checker {
  public:
-  explicit Checker(Status* s) : s_(s) {}
+  explicit Checker(LayerStatus* s) : s_(s) {}
   bool failed() const { return !s_->ok(); }
   // Records the first failure: "<field>[<index>]: <problem>".
-  bool fail(Error e, const char* field, int64_t index, const char* problem, int64_t value = INT64_MIN) {
+  bool fail(LayerError e, const char* field, int64_t index, const char* problem, int64_t value = INT64_MIN) {
     if (failed()) return false;
     s_->error = e;
     rig::MessageBuilder m(s_->message, sizeof(s_->message));
@@ -27,24 +27,24 @@ class Checker {
   }
   bool size(const char* field, size_t got, size_t want) {
     if (got == want) return true;
-    return fail(Error::kSize, field, -1, "length disagrees with the counts", static_cast<int64_t>(got));
+    return fail(LayerError::kBadSize, field, -1, "length disagrees with the counts", static_cast<int64_t>(got));
   }
   bool limit(const char* field, size_t got, size_t max, size_t min = 0) {
     if (got >= min && got <= max) return true;
-    return fail(Error::kLimit, field, -1, got < min ? "count below the minimum" : "count beyond the maximum",
+    return fail(LayerError::kBadCount, field, -1, got < min ? "count below the minimum" : "count beyond the maximum",
                 static_cast<int64_t>(got));
   }
   bool index(const char* field, size_t i, int64_t v, int64_t end) {
     if (v >= 0 && v < end) return true;
-    return fail(Error::kIndex, field, static_cast<int64_t>(i), "index out of range", v);
+    return fail(LayerError::kBadIndex, field, static_cast<int64_t>(i), "index out of range", v);
   }
   bool range(const char* field, size_t i, int64_t v, int64_t lo, int64_t hi) {
     if (v >= lo && v <= hi) return true;
-    return fail(Error::kValue, field, static_cast<int64_t>(i), "value out of range", v);
+    return fail(LayerError::kBadValue, field, static_cast<int64_t>(i), "value out of range", v);
   }
   bool scalar(const char* field, int64_t v, int64_t lo, int64_t hi) {
     if (v >= lo && v <= hi) return true;
-    return fail(Error::kValue, field, -1, "value out of range", v);
+    return fail(LayerError::kBadValue, field, -1, "value out of range", v);
   }
   bool coords(const char* field, size_t i, fx::Vec3 v) {
     return range(field, i, v.x, -kCoordLimit, kCoordLimit) && range(field, i, v.y, -kCoordLimit, kCoordLimit) &&
@@ -53,11 +53,11 @@ class Checker {
   bool unit_dir(const char* field, size_t i, fx::Vec3 v) {
     const int64_t n2 = fx::dot_wide(v, v);  // Q60; unit within ~2^-18
     if (n2 > (kOne * kOne) - (int64_t{1} << 43) && n2 < (kOne * kOne) + (int64_t{1} << 43)) return true;
-    return fail(Error::kValue, field, static_cast<int64_t>(i), "not a unit direction");
+    return fail(LayerError::kBadValue, field, static_cast<int64_t>(i), "not a unit direction");
   }
 
  private:
-  Status* s_;
+  LayerStatus* s_;
 };
 
 void check_balls(const MetaballModel& m, Checker& c) {
@@ -79,19 +79,20 @@ void check_balls(const MetaballModel& m, Checker& c) {
       c.range("ball_weight", i, m.ball_weight[i], 0, kOne);
       sum += m.ball_weight[i];
     }
-    if (sum != kOne) c.fail(Error::kValue, "ball_weight", static_cast<int64_t>(b), "weights do not sum to 2^30", sum);
+    if (sum != kOne)
+      c.fail(LayerError::kBadValue, "ball_weight", static_cast<int64_t>(b), "weights do not sum to 2^30", sum);
   }
   if (!c.limit("pairs", m.pairs.size(), kMaxPairs)) return;
   for (size_t p = 0; p < m.pairs.size() && !c.failed(); ++p) {
     const BallPair& q = m.pairs[p];
     c.index("pairs.a", p, q.a, static_cast<int64_t>(nb));
     c.index("pairs.b", p, q.b, static_cast<int64_t>(nb));
-    if (q.a == q.b) c.fail(Error::kIndex, "pairs.b", static_cast<int64_t>(p), "a ball paired with itself", q.b);
+    if (q.a == q.b) c.fail(LayerError::kBadIndex, "pairs.b", static_cast<int64_t>(p), "a ball paired with itself", q.b);
     c.range("pairs.rest", p, q.rest, 1, kCoordLimit);
     c.range("pairs.share_a", p, q.share_a, 0, kOne);
     c.range("pairs.share_b", p, q.share_b, 0, kOne);
     if (int64_t{q.share_a} + q.share_b != kOne)
-      c.fail(Error::kValue, "pairs.share_b", static_cast<int64_t>(p), "shares do not sum to 2^30");
+      c.fail(LayerError::kBadValue, "pairs.share_b", static_cast<int64_t>(p), "shares do not sum to 2^30");
     c.range("pairs.stiffness", p, q.stiffness, 0, kOne);
   }
   if (!c.limit("action_lines", m.action_lines.size(), kMaxActionLines)) return;
@@ -139,7 +140,8 @@ void check_vertices(const MetaballModel& m, Checker& c) {
       c.coords("vertex_disp", i, m.vertex_disp[i]);
       sum += w;
     }
-    if (sum != kOne) c.fail(Error::kValue, "vertex_weight", static_cast<int64_t>(v), "weights do not sum to 2^30", sum);
+    if (sum != kOne)
+      c.fail(LayerError::kBadValue, "vertex_weight", static_cast<int64_t>(v), "weights do not sum to 2^30", sum);
   }
 }
 
@@ -160,11 +162,11 @@ void check_joint_region(const MetaballModel& m, Checker& c) {
       !c.size("jv_neighbour_begin", m.jv_neighbour_begin.size(), n + 1))
     return;
   if (m.jv_neighbour_begin[0] != 0 || m.jv_neighbour_begin[n] != m.jv_neighbours.size())
-    return void(c.fail(Error::kIndex, "jv_neighbour_begin", 0, "does not span jv_neighbours"));
+    return void(c.fail(LayerError::kBadIndex, "jv_neighbour_begin", 0, "does not span jv_neighbours"));
   for (size_t i = 0; i < n && !c.failed(); ++i) {
     c.index("jv_vertex", i, m.jv_vertex[i], static_cast<int64_t>(nv));
     if (i > 0 && m.jv_vertex[i] <= m.jv_vertex[i - 1])
-      c.fail(Error::kIndex, "jv_vertex", static_cast<int64_t>(i), "not strictly ascending", m.jv_vertex[i]);
+      c.fail(LayerError::kBadIndex, "jv_vertex", static_cast<int64_t>(i), "not strictly ascending", m.jv_vertex[i]);
     c.index("jv_ball", i, m.jv_ball[i], static_cast<int64_t>(m.joint_balls.size()));
     c.range("jv_alpha", i, m.jv_alpha[i], 1, kOne);
     c.range("jv_blend", i, m.jv_blend[i], 0, kOne);
@@ -172,12 +174,12 @@ void check_joint_region(const MetaballModel& m, Checker& c) {
     c.coords("jv_laplacian", i, m.jv_laplacian[i]);
     const uint32_t b = m.jv_neighbour_begin[i], e = m.jv_neighbour_begin[i + 1];
     if (e < b || e - b > kMaxNeighbours)
-      return void(c.fail(Error::kLimit, "jv_neighbour_begin", static_cast<int64_t>(i),
+      return void(c.fail(LayerError::kBadCount, "jv_neighbour_begin", static_cast<int64_t>(i),
                          "neighbour count negative or beyond the maximum"));
     const int64_t cnt = e - b;  // round half up of 2^30 / cnt
     const int64_t want = cnt == 0 ? 0 : (2 * kOne + cnt) / (2 * cnt);
     if (m.jv_inv_count[i] != want)
-      c.fail(Error::kValue, "jv_inv_count", static_cast<int64_t>(i), "is not 2^30 / neighbour count",
+      c.fail(LayerError::kBadValue, "jv_inv_count", static_cast<int64_t>(i), "is not 2^30 / neighbour count",
              m.jv_inv_count[i]);
     for (uint32_t k = b; k < e && !c.failed(); ++k)
       c.index("jv_neighbours", k, m.jv_neighbours[k], static_cast<int64_t>(nv));
@@ -204,41 +206,22 @@ void check_overlaps(const MetaballModel& m, Checker& c) {
     c.unit_dir("overlaps.dir_b", i, r.dir_b);
     if (r.vertices_a_begin > r.vertices_a_end || r.vertices_a_end > ov || r.vertices_b_begin > r.vertices_b_end ||
         r.vertices_b_end > ov)
-      c.fail(Error::kIndex, "overlaps.vertices", static_cast<int64_t>(i), "range outside overlap_vertices");
+      c.fail(LayerError::kBadIndex, "overlaps.vertices", static_cast<int64_t>(i), "range outside overlap_vertices");
     if (r.balls_a_begin > r.balls_a_end || r.balls_a_end > ob || r.balls_b_begin > r.balls_b_end || r.balls_b_end > ob)
-      c.fail(Error::kIndex, "overlaps.balls", static_cast<int64_t>(i), "range outside overlap_balls");
+      c.fail(LayerError::kBadIndex, "overlaps.balls", static_cast<int64_t>(i), "range outside overlap_balls");
     if (c.failed()) return;
     work += uint64_t{r.vertices_a_end - r.vertices_a_begin} * (r.balls_b_end - r.balls_b_begin) +
             uint64_t{r.vertices_b_end - r.vertices_b_begin} * (r.balls_a_end - r.balls_a_begin);
   }
   if (!c.failed() && work > kMaxOverlapWork)
-    c.fail(Error::kLimit, "overlaps", -1, "vertex-ball tests per step beyond the maximum", static_cast<int64_t>(work));
+    c.fail(LayerError::kBadCount, "overlaps", -1, "vertex-ball tests per step beyond the maximum",
+           static_cast<int64_t>(work));
 }
 
 }  // namespace
 
-const char* error_name(Error e) {
-  switch (e) {
-    case Error::kNone:
-      return "none";
-    case Error::kSize:
-      return "size";
-    case Error::kLimit:
-      return "limit";
-    case Error::kIndex:
-      return "index";
-    case Error::kValue:
-      return "value";
-    case Error::kArena:
-      return "arena";
-    case Error::kNotReady:
-      return "not-ready";
-  }
-  return "unknown";
-}
-
-Status validate(const MetaballModel& m) {
-  Status s;
+LayerStatus metaballs_validate(const MetaballModel& m) {
+  LayerStatus s;
   Checker c(&s);
   if (!c.limit("joint_count", m.joint_count, kMaxJoints, 1) ||
       !c.limit("vertex_count", m.vertex_count, kMaxVertices, 1) ||

@@ -8,6 +8,6 @@
 
 namespace sinew::metaballs {
 
-Status validate(const MetaballModel& model);
+LayerStatus metaballs_validate(const MetaballModel& model);
 
 }  // namespace sinew::metaballs

@@ -28,20 +28,20 @@ size_t muscle_state_bytes(const MuscleModel& model) {
   return layout(model, nullptr, 0, &probe).needed();
 }
 
-LayerStatus muscle_state_init(const MuscleModel& model, void* memory, size_t bytes, MuscleState* out) {
-  if (out == nullptr) return layer_fail(LayerError::kMemory, "muscle state", -1, "", "null output");
+LayerStatus muscle_init(const MuscleModel& model, void* memory, size_t bytes, MuscleState* out) {
+  if (out == nullptr) return layer_fail(LayerError::kArena, "muscle state", -1, "", "null output");
   const uint32_t ring = model.ring_vertices;
   if (ring < 4 || ring > kMaxRingVertices || ring % 4 != 0)
-    return layer_fail(LayerError::kBadModel, "muscle model", -1, "ring_vertices", "must be a multiple of 4 in [4, 64]",
+    return layer_fail(LayerError::kBadValue, "muscle model", -1, "ring_vertices", "must be a multiple of 4 in [4, 64]",
                       ring, true);
   if (model.muscles.size() > kMaxMuscles || model.primitives.size() > kMaxPrimitives)
-    return layer_fail(LayerError::kBadModel, "muscle model", -1, "muscles", "more records than the documented maxima");
+    return layer_fail(LayerError::kBadValue, "muscle model", -1, "muscles", "more records than the documented maxima");
   if (!fx::aligned8(memory))
-    return layer_fail(LayerError::kMemory, "muscle state", -1, "memory", "null or not 8-byte aligned");
+    return layer_fail(LayerError::kArena, "muscle state", -1, "memory", "null or not 8-byte aligned");
   MuscleState s;
   const fx::ArenaCarver c = layout(model, memory, bytes, &s);
   if (c.failed())
-    return layer_fail(LayerError::kMemory, "muscle state", -1, "bytes", "smaller than muscle_state_bytes",
+    return layer_fail(LayerError::kArena, "muscle state", -1, "bytes", "smaller than muscle_state_bytes",
                       static_cast<int64_t>(bytes), true);
   s.ring_vertices = ring;
   for (uint32_t j = 0; j < ring; ++j) {

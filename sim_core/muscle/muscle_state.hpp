@@ -72,7 +72,7 @@ inline uint32_t muscle_vertex_index(uint32_t ring, uint32_t muscle, uint32_t sli
 size_t muscle_state_bytes(const MuscleModel& model);
 
 // Carves `memory` (8-byte aligned, >= muscle_state_bytes) and fills the ring
-// tables. Fails with kMemory or kBadModel (ring_vertices out of range).
-LayerStatus muscle_state_init(const MuscleModel& model, void* memory, size_t bytes, MuscleState* out);
+// tables. Fails with kArena or kBadValue (ring_vertices out of range).
+LayerStatus muscle_init(const MuscleModel& model, void* memory, size_t bytes, MuscleState* out);
 
 }  // namespace sinew::muscle

@@ -172,23 +172,23 @@ LayerStatus check_indices(const MuscleModel& model, size_t bones) {
     const MuscleRecord& r = model.muscles[i];
     for (int k = 0; k < 2; ++k)
       if (r.origin[k].bone >= bones || r.insertion[k].bone >= bones)
-        return layer_fail(LayerError::kBadModel, "muscle", i, "origin/insertion bone", "not a joint of the rig");
+        return layer_fail(LayerError::kBadValue, "muscle", i, "origin/insertion bone", "not a joint of the rig");
     if (r.pivot_bone >= 0 && (static_cast<size_t>(r.pivot_bone) >= bones || r.pivot_slice < 1 || r.pivot_slice > 6))
-      return layer_fail(LayerError::kBadModel, "muscle", i, "pivot", "bone not a joint or pivot_slice outside 1..6");
+      return layer_fail(LayerError::kBadValue, "muscle", i, "pivot", "bone not a joint or pivot_slice outside 1..6");
   }
   if (!model.deformations.empty() && model.deformations.size() != model.primitives.size())
-    return layer_fail(LayerError::kBadModel, "muscle model", -1, "deformations", "must be empty or one per primitive");
+    return layer_fail(LayerError::kBadValue, "muscle model", -1, "deformations", "must be empty or one per primitive");
   if (!model.shapes.empty() && model.shapes.size() != model.muscles.size())
-    return layer_fail(LayerError::kBadModel, "muscle model", -1, "shapes", "must be empty or one per muscle");
+    return layer_fail(LayerError::kBadValue, "muscle model", -1, "shapes", "must be empty or one per muscle");
   if (!model.exponents.empty() && model.exponents.size() != model.primitives.size())
-    return layer_fail(LayerError::kBadModel, "muscle model", -1, "exponents", "must be empty or one per primitive");
+    return layer_fail(LayerError::kBadValue, "muscle model", -1, "exponents", "must be empty or one per primitive");
   for (uint32_t p = 0; p < model.primitives.size(); ++p) {
     const PrimitiveRecord& r = model.primitives[p];
     const bool bone = r.attach == static_cast<uint8_t>(PrimitiveAttach::kBone);
     if (bone ? r.index >= bones : (r.index >= model.muscles.size() || r.segment + 1 >= kSlices))
-      return layer_fail(LayerError::kBadModel, "primitive", p, "index", "no such bone or muscle segment");
+      return layer_fail(LayerError::kBadValue, "primitive", p, "index", "no such bone or muscle segment");
     if (!bone && model.muscles[r.index].rest_length <= 0)
-      return layer_fail(LayerError::kBadModel, "muscle", r.index, "rest_length", "must be > 0");
+      return layer_fail(LayerError::kBadValue, "muscle", r.index, "rest_length", "must be > 0");
   }
   return {};
 }

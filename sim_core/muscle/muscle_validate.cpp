@@ -9,7 +9,7 @@ namespace {
 
 LayerStatus bad(const char* what, int64_t index, const char* field, const char* problem, int64_t value = 0,
                 bool show = false) {
-  return layer_fail(LayerError::kBadModel, what, index, field, problem, value, show);
+  return layer_fail(LayerError::kBadValue, what, index, field, problem, value, show);
 }
 
 // True if `ancestor` is `joint` or one of its parents (parents precede children).

@@ -368,7 +368,7 @@ LoadStatus load_sph(const SectionView& v, const rig::Rig& rig, uint32_t external
   m.skin_vertex = array_of<uint32_t>(v, 7);
   if (v.header.rate_hz == 0)
     return fail(LoadError::kBadValue, v.id, v.instance, "rate_hz", -1, "an SPH joint's gains need its tick rate");
-  const sph::SphStatus st = sph::sph_validate(m, rig.joint_count(), rig.vertex_count());
+  const sph::LayerStatus st = sph::sph_validate(m, rig.joint_count(), rig.vertex_count());
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   if (rig.joints[m.joint.distal_joint].dof_count == 0 ||
       rig.joints[m.joint.distal_joint].dof_kind != static_cast<uint8_t>(rig::DofKind::kRotation))
@@ -426,7 +426,7 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
   if (m.vertex_count != rig.vertex_count())
     return fail(LoadError::kBadValue, v.id, v.instance, "vertex_count", -1, "differs from the rig's", m.vertex_count,
                 true);
-  const metaballs::Status st = metaballs::validate(m);
+  const metaballs::LayerStatus st = metaballs::metaballs_validate(m);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
 }
@@ -539,7 +539,7 @@ LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, uint32_t exter
     out->external_count = p.external_count;
     out->q_inputs = array_of<barnet::ForceDensityInput>(v, 6);
   }
-  const barnet::Status st = barnet::barnet_validate(*out);
+  const barnet::LayerStatus st = barnet::barnet_validate(*out);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
 }

@@ -98,6 +98,7 @@ struct Pipeline {
   const rig::Rig* rig = nullptr;
   const LayerSet* layers = nullptr;
   PipelineOptions options;
+  StageSet on;                             // the stages that run (pipeline_stage_on)
   engine::Engine engine;                   // skeleton, palette and the output vertices
   sph::SphModel sph_model[kMaxSphJoints];  // the layers' SPH models, gains for the loop's rate
   sph::SphState sph[kMaxSphJoints];

@@ -1,8 +1,11 @@
-// The stage table: the pipeline's only list of its layers. Everything that
-// names layers or their run-time options (sinewd's [layers] keys, its
-// start-up description and statistics, the recording header, sinew-run's
-// layer list, the viewer) iterates these two tables, so adding a layer adds
-// a row here and no line to firmware or the tools' plumbing.
+// The stage table: the pipeline's only list of its layers. Each row holds
+// the stage's functions (stage_fns.hpp, one shape for every layer):
+// pipeline_state_bytes, pipeline_init and pipeline_step are loops over it.
+// Everything that names layers or their run-time options (sinewd's [layers]
+// keys, its start-up description and statistics, the recording header,
+// sinew-run's layer list, the viewer) iterates these two tables, so adding a
+// layer adds a stage file and a row here, and no line to the pipeline's
+// loops, firmware or the tools' plumbing.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +13,7 @@
 
 #include "pipeline.hpp"
 #include "sim_core/rig/message.hpp"
+#include "stage_fns.hpp"
 
 namespace sinew::pipeline {
 
@@ -28,28 +32,35 @@ struct StageInfo {
   // Appends the layer as a rig carries it, e.g. "sph(elbow)", once per
   // instance and space-separated; nothing when the rig lacks it.
   void (*describe)(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
+  // Every compiled instance's model against the rig, by the layer's own
+  // validator (the loader ran it too; a LayerSet built by hand meets it at
+  // pipeline_init). kBadModel naming the layer, the instance and the field.
+  PipelineStatus (*validate)(const rig::Rig& rig, const LayerSet& layers);
+  // Bytes of the stage's state in the pipeline's arena when it is on.
+  size_t (*state_bytes)(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& options);
+  // Sets the stage's state in the pipeline at the rest pose, carving its
+  // block (8-byte aligned, state_bytes long). Runs in Stage order: a later
+  // stage may read what an earlier one set (the skinning's rest pose).
+  PipelineStatus (*init)(Pipeline* p, uint8_t* block, size_t bytes);
+  // One tick of the stage (inputs: the rig's, then the external inputs);
+  // adds the layer's displacement from the reference to the skin.
+  PipelineStatus (*step)(Pipeline* p, std::span<const int32_t> inputs);
 };
-
-namespace stage_table_detail {
-void describe_sph(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
-void describe_metaballs(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
-void describe_barnet(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
-void describe_anatomy(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
-void describe_nothing(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
-}  // namespace stage_table_detail
 
 // In Stage order (a static_assert in stage_table.cpp checks it).
 inline constexpr StageInfo kStages[kStageCount] = {
-    {Stage::kSkinning, "skinning", "", "docs/numerics.md", [](const LayerSet&) { return 1u; },
-     stage_table_detail::describe_nothing},
-    {Stage::kSph, "sph", "[[sph]]", "docs/sph.md", [](const LayerSet& l) { return l.sph_count; },
-     stage_table_detail::describe_sph},
-    {Stage::kMetaballs, "metaballs", "[metaballs]", "docs/metaballs.md",
-     [](const LayerSet& l) { return l.has_metaballs ? 1u : 0u; }, stage_table_detail::describe_metaballs},
-    {Stage::kBarnet, "barnet", "[[barnet]]", "docs/barnet.md", [](const LayerSet& l) { return l.barnet_count; },
-     stage_table_detail::describe_barnet},
-    {Stage::kAnatomy, "anatomy", "[[muscle]] and [skin]", "docs/anatomy.md",
-     [](const LayerSet& l) { return l.has_muscles ? 1u : 0u; }, stage_table_detail::describe_anatomy},
+    {Stage::kSkinning, "skinning", "", "docs/numerics.md", stages::skinning_compiled, stages::skinning_describe,
+     stages::skinning_validate, stages::skinning_state_bytes, stages::skinning_init, stages::skinning_step},
+    {Stage::kSph, "sph", "[[sph]]", "docs/sph.md", stages::sph_compiled, stages::sph_describe, stages::sph_validate,
+     stages::sph_state_bytes, stages::sph_init, stages::sph_step},
+    {Stage::kMetaballs, "metaballs", "[metaballs]", "docs/metaballs.md", stages::metaballs_compiled,
+     stages::metaballs_describe, stages::metaballs_validate, stages::metaballs_state_bytes, stages::metaballs_init,
+     stages::metaballs_step},
+    {Stage::kBarnet, "barnet", "[[barnet]]", "docs/barnet.md", stages::barnet_compiled, stages::barnet_describe,
+     stages::barnet_validate, stages::barnet_state_bytes, stages::barnet_init, stages::barnet_step},
+    {Stage::kAnatomy, "anatomy", "[[muscle]] and [skin]", "docs/anatomy.md", stages::anatomy_compiled,
+     stages::anatomy_describe, stages::anatomy_validate, stages::anatomy_state_bytes, stages::anatomy_init,
+     stages::anatomy_step},
 };
 
 // A run-time option of one layer: its key in sinewd's [layers], its field

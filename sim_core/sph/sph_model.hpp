@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <span>
 
-#include "sim_core/fixed/status.hpp"
 #include "sim_core/fixed/vec3.hpp"
+#include "sim_core/layer/layer_status.hpp"
 
 namespace sinew::sph {
 
@@ -98,21 +98,13 @@ struct SphModel {
   uint32_t skin_count() const { return static_cast<uint32_t>(skin_vertex.size()); }
 };
 
-enum class SphError : uint8_t {
-  kNone = 0,
-  kBadParameter,  // a parameter outside its documented range
-  kBadCounts,     // zero or too many particles / vertices, inconsistent span sizes
-  kBadIndex,      // a joint or vertex index outside the rig
-  kArena,         // state memory too small or misaligned
-  kBadInput,      // step inputs: transform span too short, force out of range
-};
-
-using SphStatus = fx::Status<SphError>;  // the message names the offending field
+// The layer status (sim_core/layer/layer_status.hpp); messages name the
+// offending field.
+using layer::LayerError;
+using layer::LayerStatus;
 
 // Checks every count, index and parameter against the ranges above.
 // joint_count / vertex_count: the rig the model was built for (0 skips that check).
-SphStatus sph_validate(const SphModel& model, uint32_t joint_count, uint32_t vertex_count);
-
-const char* sph_error_name(SphError e);
+LayerStatus sph_validate(const SphModel& model, uint32_t joint_count, uint32_t vertex_count);
 
 }  // namespace sinew::sph

@@ -55,8 +55,8 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   return c;
 }
 
-SphStatus fail(SphError e, const char* what) {
-  SphStatus s;
+LayerStatus fail(LayerError e, const char* what) {
+  LayerStatus s;
   s.error = e;
   rig::MessageBuilder(s.message, sizeof s.message).text("sph init: ").text(what);
   return s;
@@ -103,19 +103,19 @@ size_t sph_state_bytes(const SphModel& model) {
   return layout(model, nullptr, 0, &probe).needed();
 }
 
-SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
-                   SphState* out) {
-  SphStatus status = sph_validate(model, 0, 0);
+LayerStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
+                     SphState* out) {
+  LayerStatus status = sph_validate(model, 0, 0);
   if (!status.ok()) return status;
   if (arena == nullptr || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0)
-    return fail(SphError::kArena, "arena is null or not 8-byte aligned");
+    return fail(LayerError::kArena, "arena is null or not 8-byte aligned");
   SphState s;
   s.model = &model;
   if (layout(model, static_cast<uint8_t*>(arena), arena_bytes, &s).failed())
-    return fail(SphError::kArena, "arena smaller than sph_state_bytes(model)");
+    return fail(LayerError::kArena, "arena smaller than sph_state_bytes(model)");
   JointFrame f;
   if (!joint_frame(model, rest_transforms, &f))
-    return fail(SphError::kBadInput, "rest_transforms shorter than the joints");
+    return fail(LayerError::kBadInput, "rest_transforms shorter than the joints");
   // Rest density of every particle, from its rest neighbourhood: the state of
   // minimum principal stress (§4.2) and the reference of the equation of state.
   for (int a = 0; a < 3; ++a)
@@ -132,7 +132,7 @@ SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transf
     const fx::Vec3 rp = fx::cross(f.axis, r, 30);          // |axis x r| = |r_perp|
     inertia += fx::round_shift(fx::dot_wide(rp, rp), 28);  // Q40 -> Q12
   }
-  if (inertia <= 0) return fail(SphError::kBadParameter, "distal particles have no lever arm about the joint axis");
+  if (inertia <= 0) return fail(LayerError::kBadValue, "distal particles have no lever arm about the joint axis");
   s.inertia_q12 = inertia;
   *out = s;
   status = sph_reset(out, rest_transforms);
@@ -140,10 +140,11 @@ SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transf
   return status;
 }
 
-SphStatus sph_reset(SphState* st, std::span<const fx::Mat34> transforms) {
+LayerStatus sph_reset(SphState* st, std::span<const fx::Mat34> transforms) {
   JointFrame f;
-  if (st == nullptr || st->model == nullptr) return fail(SphError::kBadInput, "state is not initialised");
-  if (!joint_frame(*st->model, transforms, &f)) return fail(SphError::kBadInput, "transforms shorter than the joints");
+  if (st == nullptr || st->model == nullptr) return fail(LayerError::kBadInput, "state is not initialised");
+  if (!joint_frame(*st->model, transforms, &f))
+    return fail(LayerError::kBadInput, "transforms shorter than the joints");
   compute_ideal(st, f);
   const uint32_t n = st->model->particle_count();
   for (int a = 0; a < 3; ++a)

@@ -89,11 +89,11 @@ size_t sph_state_bytes(const SphModel& model);
 // places the particles at their rest positions and computes each one's rest
 // density. rest_transforms: model-space joint transforms of the rig's rest
 // pose (engine.model right after engine_init).
-SphStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
-                   SphState* out);
+LayerStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
+                     SphState* out);
 
 // Places every particle on its skinned rest position for the given pose, at
 // rest, and clears the yield memory (density extremes, flags, joint yield).
-SphStatus sph_reset(SphState* state, std::span<const fx::Mat34> transforms);
+LayerStatus sph_reset(SphState* state, std::span<const fx::Mat34> transforms);
 
 }  // namespace sinew::sph

@@ -11,9 +11,9 @@ namespace {
 
 constexpr int32_t kMaxForce = int32_t{1} << 30;  // newtons Q16.16: 16384 N
 
-SphStatus bad_input(const char* what) {
-  SphStatus s;
-  s.error = SphError::kBadInput;
+LayerStatus bad_input(const char* what) {
+  LayerStatus s;
+  s.error = LayerError::kBadInput;
   rig::MessageBuilder(s.message, sizeof s.message).text("sph step: ").text(what);
   return s;
 }
@@ -283,7 +283,7 @@ void skin_displacement(SphState* st, fx::Saturation& sat) {
 
 }  // namespace
 
-SphStatus sph_step(SphState* st, const SphInputs& in) {
+LayerStatus sph_step(SphState* st, const SphInputs& in) {
   if (st == nullptr || st->model == nullptr) return bad_input("state is not initialised");
   const SphModel& m = *st->model;
   JointFrame f;

@@ -29,7 +29,7 @@ struct SphInputs {
 
 // Returns kBadInput, changing nothing, if a transform is missing or the
 // force is out of range.
-SphStatus sph_step(SphState* state, const SphInputs& inputs);
+LayerStatus sph_step(SphState* state, const SphInputs& inputs);
 
 // The external force of SphInputs for a force sensor that measures one
 // scalar: `newtons` (Q16.16, clamped to +-16384 N, as is each component of

@@ -46,8 +46,8 @@ class ArmAnatomy {
     muscle_memory_.assign(muscle::muscle_state_bytes(muscle_model_) / 8 + 1, 0);
     skin_memory_.assign(elastic_skin::skin_state_bytes(skin_model_) / 8 + 1, 0);
     muscle::LayerStatus st =
-        muscle::muscle_state_init(muscle_model_, muscle_memory_.data(), muscle_memory_.size() * 8, &muscles_);
-    if (st.ok()) st = elastic_skin::skin_state_init(skin_model_, skin_memory_.data(), skin_memory_.size() * 8, &skin_);
+        muscle::muscle_init(muscle_model_, muscle_memory_.data(), muscle_memory_.size() * 8, &muscles_);
+    if (st.ok()) st = elastic_skin::skin_init(skin_model_, skin_memory_.data(), skin_memory_.size() * 8, &skin_);
     if (!st.ok()) error_ = st.message;
     ok_ = st.ok();
   }

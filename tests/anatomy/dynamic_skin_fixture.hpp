@@ -107,7 +107,7 @@ class DynamicSkin {
     for (int c = 0; c < 3; ++c) mstate.vertex[c] = ring[c];
     mstate.primitives = frames;
     memory.assign(elastic_skin::skin_state_bytes(model) / 8 + 1, 0);
-    return elastic_skin::skin_state_init(model, memory.data(), memory.size() * 8, &state).ok();
+    return elastic_skin::skin_init(model, memory.data(), memory.size() * 8, &state).ok();
   }
 
   void move_bone(double x, double y, double z) {

@@ -200,7 +200,7 @@ TEST(SkinFatSurfaceNormal, BentArmSkinLiesItsFatOutsideAlongTheCurrentMeshNormal
     m.solver.fat_thickness =
         static_cast<sinew::fx::Len>(std::llround(std::ldexp(fat_metres, 20 - arm.length_exponent())));
     memory->assign(es::skin_state_bytes(m) / 8 + 1, 0);
-    EXPECT_TRUE(es::skin_state_init(m, memory->data(), memory->size() * 8, state).ok());
+    EXPECT_TRUE(es::skin_init(m, memory->data(), memory->size() * 8, state).ok());
     EXPECT_TRUE(es::skin_step(m, arm.muscle_model(), arm.muscles(), arm.engine().model, state).ok());
     EXPECT_EQ(state->stats.inside_after, 0u);
     pos->resize(m.vertex_count);

@@ -178,12 +178,12 @@ TEST_F(AnatomyValidation, BadStepInputsAndMemory) {
   // State memory: too small, misaligned, or missing.
   std::vector<uint64_t> small(4);
   muscle::MuscleState ms;
-  expect_message(muscle::muscle_state_init(arm.muscle_model(), small.data(), 32, &ms), "smaller than");
-  expect_message(muscle::muscle_state_init(arm.muscle_model(), reinterpret_cast<uint8_t*>(small.data()) + 1, 31, &ms),
+  expect_message(muscle::muscle_init(arm.muscle_model(), small.data(), 32, &ms), "smaller than");
+  expect_message(muscle::muscle_init(arm.muscle_model(), reinterpret_cast<uint8_t*>(small.data()) + 1, 31, &ms),
                  "aligned");
   es::SkinState ss;
-  expect_message(es::skin_state_init(arm.skin_model(), nullptr, 0, &ss), "aligned");
-  expect_message(es::skin_state_init(arm.skin_model(), small.data(), 32, &ss), "smaller than");
+  expect_message(es::skin_init(arm.skin_model(), nullptr, 0, &ss), "aligned");
+  expect_message(es::skin_init(arm.skin_model(), small.data(), 32, &ss), "smaller than");
   // A skin state built for another model.
   es::SkinModel other = arm.skin_model();
   other.vertex_count = 3;

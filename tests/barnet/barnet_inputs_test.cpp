@@ -60,7 +60,7 @@ using Positions = std::vector<std::vector<int32_t>>;
 
 // One step with the two joint angles and the two external inputs (Q16.16).
 Positions step_with_inputs(SyntheticNet& net, int32_t angle0, int32_t angle1, int32_t ext0, int32_t ext1,
-                           bn::Status* status = nullptr) {
+                           bn::LayerStatus* status = nullptr) {
   const bn::BarnetModel& m = net.model();
   Positions out(3, std::vector<int32_t>(m.nodes.size(), 0));
   bn::StepOutputs o;
@@ -68,7 +68,7 @@ Positions step_with_inputs(SyntheticNet& net, int32_t angle0, int32_t angle1, in
   const int32_t angles[2] = {angle0, angle1};
   const int32_t external[2] = {ext0, ext1};
   const sinew::fx::Mat34 bones[1] = {sinew::fx::mat34_identity()};
-  const bn::Status s = bn::barnet_step(&net.state(), {bones, angles, external}, o);
+  const bn::LayerStatus s = bn::barnet_step(&net.state(), {bones, angles, external}, o);
   EXPECT_TRUE(s.ok()) << s.message;
   if (status != nullptr) *status = s;
   return out;
@@ -188,23 +188,23 @@ TEST(BarnetInputs, ValidationNamesTheInputRecords) {
   ASSERT_TRUE(net.ok()) << net.error();
   bn::BarnetModel m = net.model();
   m.external_count = 1;  // the loads read external input 1
-  bn::Status s = bn::barnet_validate(m);
-  EXPECT_EQ(s.error, bn::Error::kBadIndex);
+  bn::LayerStatus s = bn::barnet_validate(m);
+  EXPECT_EQ(s.error, bn::LayerError::kBadIndex);
   EXPECT_NE(std::string(s.message).find("loads[0].input"), std::string::npos) << s.message;
 
   m = net.model();
   std::vector<bn::ForceDensityInput> runs = {{2, 0, 1, 0}};
   m.q_inputs = runs;
   s = bn::barnet_validate(m);
-  EXPECT_EQ(s.error, bn::Error::kBadIndex);
+  EXPECT_EQ(s.error, bn::LayerError::kBadIndex);
   EXPECT_NE(std::string(s.message).find("q_inputs[0].input"), std::string::npos) << s.message;
   const uint32_t last = static_cast<uint32_t>(m.bars.size()) - 1;
   const bn::ForceDensityInput empty_run[1] = {{0, 0, 0, 0}}, past_end[1] = {{0, last, 2, 0}},
                               last_bar[1] = {{0, last, 1, 0}};
   m.q_inputs = empty_run;
-  EXPECT_EQ(bn::barnet_validate(m).error, bn::Error::kBadValue);
+  EXPECT_EQ(bn::barnet_validate(m).error, bn::LayerError::kBadValue);
   m.q_inputs = past_end;
-  EXPECT_EQ(bn::barnet_validate(m).error, bn::Error::kBadIndex);
+  EXPECT_EQ(bn::barnet_validate(m).error, bn::LayerError::kBadIndex);
   m.q_inputs = last_bar;
   EXPECT_TRUE(bn::barnet_validate(m).ok());
 
@@ -218,6 +218,6 @@ TEST(BarnetInputs, ValidationNamesTheInputRecords) {
   const int32_t angles[2] = {0, 0};
   const int32_t one_value[1] = {0};
   const sinew::fx::Mat34 bones[1] = {sinew::fx::mat34_identity()};
-  EXPECT_EQ(bn::barnet_step(&net.state(), {bones, angles, one_value}, o).error, bn::Error::kBadSpan);
+  EXPECT_EQ(bn::barnet_step(&net.state(), {bones, angles, one_value}, o).error, bn::LayerError::kBadInput);
   EXPECT_EQ(out[0][0], 7);
 }

@@ -17,9 +17,9 @@ namespace {
 struct Mutable {
   explicit Mutable(const lb::BarnetBuild& b) : build(b) {}
   lb::BarnetBuild build;
-  bn::Status init() {
+  bn::LayerStatus init() {
     const bn::BarnetModel m = build.model();
-    const bn::Status v = bn::barnet_validate(m);
+    const bn::LayerStatus v = bn::barnet_validate(m);
     if (!v.ok()) return v;
     std::vector<uint64_t> arena(bn::barnet_state_bytes(m) / 8 + 1, 0);
     bn::BarnetState st;
@@ -27,8 +27,8 @@ struct Mutable {
   }
 };
 
-void expect_rejected(const bn::Status& s, bn::Error error, const char* fragment) {
-  std::printf("barnet rejects: [%s] %s\n", bn::error_name(s.error), s.message);
+void expect_rejected(const bn::LayerStatus& s, bn::LayerError error, const char* fragment) {
+  std::printf("barnet rejects: [%s] %s\n", sinew::layer::layer_error_name(s.error), s.message);
   EXPECT_EQ(s.error, error);
   EXPECT_NE(std::strstr(s.message, fragment), nullptr) << "message: " << s.message;
 }
@@ -43,82 +43,82 @@ TEST(BarnetValidate, RejectsBadNetsWithAMessage) {
   {
     Mutable m(arm.build());  // every node free: no fixed node
     for (auto& n : m.build.nodes) n.kind = 0;
-    expect_rejected(m.init(), bn::Error::kSingular, "no fixed node");
+    expect_rejected(m.init(), bn::LayerError::kSingular, "no fixed node");
   }
   {
     Mutable m(arm.build());
     m.build.bars[4].b = 9999;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "bars[4].b");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "bars[4].b");
   }
   {
     Mutable m(arm.build());
     m.build.bars[2].q = 0;
-    expect_rejected(m.init(), bn::Error::kBadValue, "bars[2].q: force density must be positive");
+    expect_rejected(m.init(), bn::LayerError::kBadValue, "bars[2].q: force density must be positive");
   }
   {
     Mutable m(arm.build());
     m.build.bars[3].q = -bn::kForceDensityOne;
-    expect_rejected(m.init(), bn::Error::kBadValue, "bars[3].q");
+    expect_rejected(m.init(), bn::LayerError::kBadValue, "bars[3].q");
   }
   {
     Mutable m(arm.build());
     m.build.bars[5].a = m.build.bars[5].b;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "two distinct nodes");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "two distinct nodes");
   }
   {
     Mutable m(arm.build());
     m.build.loads[1].node = free;  // the first fixed node
-    expect_rejected(m.init(), bn::Error::kBadIndex, "loads[1].node");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "loads[1].node");
   }
   {
     Mutable m(arm.build());
     m.build.loads[0].input = 200;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "loads[0].input");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "loads[0].input");
   }
   {
     Mutable m(arm.build());
     m.build.loads[0].angle_hi = m.build.loads[0].angle_lo;
-    expect_rejected(m.init(), bn::Error::kBadValue, "loads[0].angle_hi");
+    expect_rejected(m.init(), bn::LayerError::kBadValue, "loads[0].angle_hi");
   }
   {
     Mutable m(arm.build());
     m.build.nodes[7].weight[0] += 1;
-    expect_rejected(m.init(), bn::Error::kBadValue, "nodes[7].weight");
+    expect_rejected(m.init(), bn::LayerError::kBadValue, "nodes[7].weight");
   }
   {
     Mutable m(arm.build());
     m.build.nodes[3].joint[0] = 77;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "nodes[3].joint");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "nodes[3].joint");
   }
   {
     Mutable m(arm.build());
     m.build.nodes[free + 1].kind = 0;  // a free node after the first fixed one
-    expect_rejected(m.init(), bn::Error::kBadValue, "free nodes must precede");
+    expect_rejected(m.init(), bn::LayerError::kBadValue, "free nodes must precede");
   }
   {
     Mutable m(arm.build());
     m.build.triangles[0].node[2] = 1000;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "triangles[0].node");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "triangles[0].node");
   }
   {
     Mutable m(arm.build());
     m.build.wrap[10].triangle = 5000;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "wrap[10].triangle");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "wrap[10].triangle");
   }
   {
     Mutable m(arm.build());
     m.build.wrap[11].bary[1] += 5;
-    expect_rejected(m.init(), bn::Error::kBadValue, "wrap[11].bary");
+    expect_rejected(m.init(), bn::LayerError::kBadValue, "wrap[11].bary");
   }
   {
     Mutable m(arm.build());
     m.build.wrap[12].vertex = 1u << 30;
-    expect_rejected(m.init(), bn::Error::kBadIndex, "wrap[12].vertex");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "wrap[12].vertex");
   }
   {
     Mutable m(arm.build());
     m.build.inverse_bind.pop_back();
-    expect_rejected(m.init(), bn::Error::kBadIndex, "inverse_bind");
+    expect_rejected(m.init(), bn::LayerError::kBadIndex, "inverse_bind");
   }
 }
 
@@ -154,14 +154,13 @@ TEST(BarnetValidate, StepRejectsShortSpansAndArenaTooSmall) {
   const uint64_t steps = arm.state().stats.steps;
   bn::StepOutputs short_out = arm.outputs();
   short_out.skin[1] = short_out.skin[1].first(10);
-  const bn::Status s = bn::barnet_step(&arm.state(), {arm.engine().model, arm.inputs()}, short_out);
-  expect_rejected(s, bn::Error::kBadSpan, "outputs.skin");
+  const bn::LayerStatus s = bn::barnet_step(&arm.state(), {arm.engine().model, arm.inputs()}, short_out);
+  expect_rejected(s, bn::LayerError::kBadInput, "outputs.skin");
   const std::vector<int32_t> few(1, 0);
-  expect_rejected(bn::barnet_step(&arm.state(), {arm.engine().model, few}, arm.outputs()), bn::Error::kBadSpan,
+  expect_rejected(bn::barnet_step(&arm.state(), {arm.engine().model, few}, arm.outputs()), bn::LayerError::kBadInput,
                   "joint_angles");
   EXPECT_EQ(arm.state().stats.steps, steps);
   std::vector<uint64_t> small(4, 0);
   bn::BarnetState st;
-  expect_rejected(bn::barnet_init(arm.model(), small.data(), small.size() * 8, &st), bn::Error::kArenaTooSmall,
-                  "arena");
+  expect_rejected(bn::barnet_init(arm.model(), small.data(), small.size() * 8, &st), bn::LayerError::kArena, "arena");
 }

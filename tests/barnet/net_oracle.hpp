@@ -52,7 +52,7 @@ class NetProbe {
   NetProbe(const bn::BarnetModel& model, bool loads) : model_(model) {
     if (!loads) model_.loads = {};
     arena_.assign(bn::barnet_state_bytes(model_) / 8 + 1, 0);
-    const bn::Status s = bn::barnet_init(model_, arena_.data(), arena_.size() * 8, &state_);
+    const bn::LayerStatus s = bn::barnet_init(model_, arena_.data(), arena_.size() * 8, &state_);
     if (!s.ok()) error_ = s.message;
     for (size_t c = 0; c < 3; ++c) {
       node_[c].assign(model_.nodes.size(), 0);
@@ -66,7 +66,7 @@ class NetProbe {
   bool ok() const { return error_.empty(); }
   const std::string& error() const { return error_; }
   bool step(std::span<const fx::Mat34> bones, std::span<const int32_t> angles, std::span<const int32_t> external) {
-    const bn::Status s = bn::barnet_step(&state_, {bones, angles, external}, out_);
+    const bn::LayerStatus s = bn::barnet_step(&state_, {bones, angles, external}, out_);
     if (!s.ok()) error_ = s.message;
     return s.ok();
   }

@@ -40,7 +40,7 @@ class SyntheticNet {
     if (!lb::build_barnet(spec, rig_, &build_, &error_)) return;
     model_ = build_.model();
     arena_.assign(bn::barnet_state_bytes(model_) / 8 + 1, 0);
-    const bn::Status s = bn::barnet_init(model_, arena_.data(), arena_.size() * 8, &state_);
+    const bn::LayerStatus s = bn::barnet_init(model_, arena_.data(), arena_.size() * 8, &state_);
     if (!s.ok()) {
       error_ = s.message;
       return;
@@ -66,7 +66,7 @@ class SyntheticNet {
     last_ = bn::barnet_step(&state_, {bones, angles}, outputs_);
     return {out_[0], out_[1], out_[2]};
   }
-  const bn::Status& last_status() const { return last_; }
+  const bn::LayerStatus& last_status() const { return last_; }
 
   // Eq. (4) in double from the quantised model: D x = p - D_f x_f with
   // p = D s + D_f s_f + loads and x_f = s_f = rest; returns free-node
@@ -120,7 +120,7 @@ class SyntheticNet {
   bn::BarnetState state_;
   std::vector<int32_t> out_[3];
   bn::StepOutputs outputs_;
-  bn::Status last_;
+  bn::LayerStatus last_;
 };
 
 }  // namespace sinew::test::barnet

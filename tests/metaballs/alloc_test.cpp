@@ -37,7 +37,7 @@ void expect_no_allocations(const sinew::metaballs_build::Options& o, uint32_t ti
   sinew::test::AllocationCounter allocations;
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < steps; ++i)
-    ASSERT_TRUE(sinew::metaballs::step(&s.state(), poses[static_cast<size_t>(i % kPeriod)], out).ok());
+    ASSERT_TRUE(sinew::metaballs::metaballs_step(&s.state(), poses[static_cast<size_t>(i % kPeriod)], out).ok());
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
       "metaballs, %s: %d steps (%u vertices, %u balls, %zu action balls, jiggle at %u Hz): %llu heap "

@@ -52,8 +52,9 @@ class ArmScene {
     }
     if (!metaballs_build::build(spec_, options, &build_, &error_)) return;
     model_ = build_.model();
-    state_memory_.assign(metaballs::state_bytes(model_) / 8 + 1, 0);
-    const metaballs::Status s = metaballs::init(model_, state_memory_.data(), state_memory_.size() * 8, &state_);
+    state_memory_.assign(metaballs::metaballs_state_bytes(model_) / 8 + 1, 0);
+    const metaballs::LayerStatus s =
+        metaballs::metaballs_init(model_, state_memory_.data(), state_memory_.size() * 8, &state_);
     if (!s.ok()) {
       error_ = s.message;
       return;
@@ -73,7 +74,7 @@ class ArmScene {
     rotate("elbow", elbow);
     rotate("forearm_twist", twist);
     if (!engine::engine_step_locals(&engine_, locals_)) return false;
-    return metaballs::step(&state_, engine_.model, output()).ok();
+    return metaballs::metaballs_step(&state_, engine_.model, output()).ok();
   }
 
   // Any DOF of any joint (degrees about the DOF's axis), others at rest.
@@ -86,7 +87,7 @@ class ArmScene {
     skeleton::rest_locals(rig_, locals_);
     for (const DofAngle& a : angles) rotate(a.joint.c_str(), a.degrees, a.dof);
     if (!engine::engine_step_locals(&engine_, locals_)) return false;
-    return metaballs::step(&state_, engine_.model, output()).ok();
+    return metaballs::metaballs_step(&state_, engine_.model, output()).ok();
   }
   // A DOF's limits in degrees.
   double dof_limit_deg(int joint, int dof, bool upper) const {

@@ -119,9 +119,9 @@ Hashes run_workload(const mbb::Options& o, bool newer, uint32_t tick_hz) {
   EXPECT_TRUE(sinew::engine::engine_init(rig, engine_arena.data(), engine_arena.size() * 8, &engine));
 
   const mb::MetaballModel model = build.model();
-  state_memory.resize(mb::state_bytes(model) / 8 + 1);
+  state_memory.resize(mb::metaballs_state_bytes(model) / 8 + 1);
   mb::MetaballState state;
-  const mb::Status init = mb::init(model, state_memory.data(), state_memory.size() * 8, &state);
+  const mb::LayerStatus init = mb::metaballs_init(model, state_memory.data(), state_memory.size() * 8, &state);
   EXPECT_TRUE(init.ok()) << init.message;
   if (!init.ok()) return out;
   if (tick_hz > 0) {
@@ -138,7 +138,7 @@ Hashes run_workload(const mbb::Options& o, bool newer, uint32_t tick_hz) {
   for (uint32_t s = 0; s < kSteps; ++s) {
     for (uint32_t i = 0; i < inputs.size(); ++i) inputs[i] = trajectory(i, s);
     EXPECT_TRUE(sinew::engine::engine_step(&engine, inputs));
-    const mb::Status st = mb::step(&state, engine.model, vertices);
+    const mb::LayerStatus st = mb::metaballs_step(&state, engine.model, vertices);
     EXPECT_TRUE(st.ok()) << st.message;
     if (!st.ok()) return out;
     out.projected += state.stats.projected_vertices;

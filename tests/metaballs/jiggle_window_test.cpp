@@ -72,7 +72,7 @@ Swing run_swing(uint32_t rate_hz, bool jiggle_on, uint32_t built_hz = 0) {
   for (int64_t n = 1; n <= move_steps + watch_steps; ++n) {
     const int64_t offset = per_step * std::min(n, move_steps);
     for (size_t j = 0; j < moved.size(); ++j) moved[j].t[1] = static_cast<int32_t>(rest[j].t[1] + offset);
-    EXPECT_TRUE(sinew::metaballs::step(&s.state(), moved, s.output()).ok());
+    EXPECT_TRUE(sinew::metaballs::metaballs_step(&s.state(), moved, s.output()).ok());
     if (n >= move_steps)
       out.after.push_back(s.len(s.state().ball_center[ball].y) - s.len(s.state().ball_target[ball].y));
   }

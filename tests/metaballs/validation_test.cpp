@@ -28,12 +28,12 @@ const mbb::Build& arm_build() {
   return b;
 }
 
-void expect_rejected(const char* what, const std::function<void(mbb::Build&)>& corrupt, mb::Error error,
+void expect_rejected(const char* what, const std::function<void(mbb::Build&)>& corrupt, mb::LayerError error,
                      const char* field) {
   mbb::Build b = arm_build();
   corrupt(b);
-  const mb::Status s = mb::validate(b.model());
-  std::printf("validate, %s: %s: %s\n", what, mb::error_name(s.error), s.message);
+  const mb::LayerStatus s = mb::metaballs_validate(b.model());
+  std::printf("validate, %s: %s: %s\n", what, sinew::layer::layer_error_name(s.error), s.message);
   EXPECT_EQ(s.error, error) << what;
   EXPECT_NE(std::string(s.message).find(field), std::string::npos) << what << ": " << s.message;
 }
@@ -41,82 +41,82 @@ void expect_rejected(const char* what, const std::function<void(mbb::Build&)>& c
 }  // namespace
 
 TEST(MetaballsValidate, AcceptsTheBuiltModel) {
-  const mb::Status s = mb::validate(arm_build().model());
+  const mb::LayerStatus s = mb::metaballs_validate(arm_build().model());
   EXPECT_TRUE(s.ok()) << s.message;
 }
 
 TEST(MetaballsValidate, RejectsEachKindOfBadData) {
-  using E = mb::Error;
+  using E = mb::LayerError;
   expect_rejected(
-      "no joints", [](mbb::Build& b) { b.joint_count = 0; }, E::kLimit, "joint_count");
+      "no joints", [](mbb::Build& b) { b.joint_count = 0; }, E::kBadCount, "joint_count");
   expect_rejected(
-      "inverse binds short", [](mbb::Build& b) { b.inverse_bind.pop_back(); }, E::kSize, "inverse_bind");
+      "inverse binds short", [](mbb::Build& b) { b.inverse_bind.pop_back(); }, E::kBadSize, "inverse_bind");
   expect_rejected(
-      "radius array short", [](mbb::Build& b) { b.ball_radius.pop_back(); }, E::kSize, "ball_radius");
+      "radius array short", [](mbb::Build& b) { b.ball_radius.pop_back(); }, E::kBadSize, "ball_radius");
   expect_rejected(
-      "zero radius", [](mbb::Build& b) { b.ball_radius[3] = 0; }, E::kValue, "ball_radius[3]");
+      "zero radius", [](mbb::Build& b) { b.ball_radius[3] = 0; }, E::kBadValue, "ball_radius[3]");
   expect_rejected(
-      "ball bone index", [](mbb::Build& b) { b.ball_bone[2] = 99; }, E::kIndex, "ball_bone[2]");
+      "ball bone index", [](mbb::Build& b) { b.ball_bone[2] = 99; }, E::kBadIndex, "ball_bone[2]");
   expect_rejected(
-      "ball weights sum", [](mbb::Build& b) { b.ball_weight[0] -= 1; }, E::kValue, "ball_weight");
+      "ball weights sum", [](mbb::Build& b) { b.ball_weight[0] -= 1; }, E::kBadValue, "ball_weight");
   expect_rejected(
-      "ball joint index", [](mbb::Build& b) { b.ball_joint[1] = 7; }, E::kIndex, "ball_joint[1]");
+      "ball joint index", [](mbb::Build& b) { b.ball_joint[1] = 7; }, E::kBadIndex, "ball_joint[1]");
   expect_rejected(
-      "jiggle stiffness", [](mbb::Build& b) { b.ball_jiggle[0] = -5; }, E::kValue, "ball_jiggle[0]");
+      "jiggle stiffness", [](mbb::Build& b) { b.ball_jiggle[0] = -5; }, E::kBadValue, "ball_jiggle[0]");
   expect_rejected(
-      "self pair", [](mbb::Build& b) { b.pairs[0].b = b.pairs[0].a; }, E::kIndex, "pairs.b[0]");
+      "self pair", [](mbb::Build& b) { b.pairs[0].b = b.pairs[0].a; }, E::kBadIndex, "pairs.b[0]");
   expect_rejected(
-      "pair shares", [](mbb::Build& b) { b.pairs[1].share_a += 1; }, E::kValue, "pairs.share");
+      "pair shares", [](mbb::Build& b) { b.pairs[1].share_a += 1; }, E::kBadValue, "pairs.share");
   expect_rejected(
-      "pair rest", [](mbb::Build& b) { b.pairs[2].rest = 0; }, E::kValue, "pairs.rest[2]");
+      "pair rest", [](mbb::Build& b) { b.pairs[2].rest = 0; }, E::kBadValue, "pairs.rest[2]");
   expect_rejected(
-      "bulge gain", [](mbb::Build& b) { b.bulges[0].gain = 1 << 30; }, E::kValue, "bulges.gain[0]");
+      "bulge gain", [](mbb::Build& b) { b.bulges[0].gain = 1 << 30; }, E::kBadValue, "bulges.gain[0]");
   expect_rejected(
-      "iterations", [](mbb::Build& b) { b.pbd_iterations = 17; }, E::kValue, "pbd_iterations");
+      "iterations", [](mbb::Build& b) { b.pbd_iterations = 17; }, E::kBadValue, "pbd_iterations");
   expect_rejected(
-      "damping", [](mbb::Build& b) { b.jiggle_damping = 1 << 30; }, E::kValue, "jiggle_damping");
+      "damping", [](mbb::Build& b) { b.jiggle_damping = 1 << 30; }, E::kBadValue, "jiggle_damping");
   expect_rejected(
-      "vertex weights sum", [](mbb::Build& b) { b.vertex_weight[8] += 3; }, E::kValue, "vertex_weight");
+      "vertex weights sum", [](mbb::Build& b) { b.vertex_weight[8] += 3; }, E::kBadValue, "vertex_weight");
   expect_rejected(
-      "vertex ball index", [](mbb::Build& b) { b.vertex_ball[0] = 4000; }, E::kIndex, "vertex_ball[0]");
+      "vertex ball index", [](mbb::Build& b) { b.vertex_ball[0] = 4000; }, E::kBadIndex, "vertex_ball[0]");
   expect_rejected(
-      "displacement range", [](mbb::Build& b) { b.vertex_disp[5].y = INT32_MAX; }, E::kValue, "vertex_disp[5]");
+      "displacement range", [](mbb::Build& b) { b.vertex_disp[5].y = INT32_MAX; }, E::kBadValue, "vertex_disp[5]");
   expect_rejected(
-      "joint-region order", [](mbb::Build& b) { b.jv_vertex[1] = b.jv_vertex[0]; }, E::kIndex, "jv_vertex[1]");
+      "joint-region order", [](mbb::Build& b) { b.jv_vertex[1] = b.jv_vertex[0]; }, E::kBadIndex, "jv_vertex[1]");
   expect_rejected(
-      "joint-region alpha", [](mbb::Build& b) { b.jv_alpha[0] = 0; }, E::kValue, "jv_alpha[0]");
+      "joint-region alpha", [](mbb::Build& b) { b.jv_alpha[0] = 0; }, E::kBadValue, "jv_alpha[0]");
   expect_rejected(
-      "neighbour index", [](mbb::Build& b) { b.jv_neighbours[4] = 1u << 30; }, E::kIndex, "jv_neighbours[4]");
+      "neighbour index", [](mbb::Build& b) { b.jv_neighbours[4] = 1u << 30; }, E::kBadIndex, "jv_neighbours[4]");
   expect_rejected(
-      "neighbour reciprocal", [](mbb::Build& b) { b.jv_inv_count[0] += 1; }, E::kValue, "jv_inv_count[0]");
+      "neighbour reciprocal", [](mbb::Build& b) { b.jv_inv_count[0] += 1; }, E::kBadValue, "jv_inv_count[0]");
   expect_rejected(
-      "smoothing passes", [](mbb::Build& b) { b.smoothing_passes = 9; }, E::kValue, "smoothing_passes");
+      "smoothing passes", [](mbb::Build& b) { b.smoothing_passes = 9; }, E::kBadValue, "smoothing_passes");
   expect_rejected(
       "overlap direction",
       [](mbb::Build& b) {
         b.overlaps[0].dir_a = {1 << 29, 0, 0};
       },
-      E::kValue, "overlaps.dir_a[0]");
+      E::kBadValue, "overlaps.dir_a[0]");
   expect_rejected(
-      "overlap range", [](mbb::Build& b) { b.overlaps[0].balls_b_end = 1u << 20; }, E::kIndex, "overlaps.balls[0]");
+      "overlap range", [](mbb::Build& b) { b.overlaps[0].balls_b_end = 1u << 20; }, E::kBadIndex, "overlaps.balls[0]");
 }
 
 TEST(MetaballsValidate, InitRejectsBadMemory) {
   const mbb::Build& b = arm_build();
   const mb::MetaballModel m = b.model();
-  std::vector<uint64_t> memory(mb::state_bytes(m) / 8 + 2, 0);
+  std::vector<uint64_t> memory(mb::metaballs_state_bytes(m) / 8 + 2, 0);
   mb::MetaballState st;
-  mb::Status s = mb::init(m, memory.data(), mb::state_bytes(m) - 8, &st);
+  mb::LayerStatus s = mb::metaballs_init(m, memory.data(), mb::metaballs_state_bytes(m) - 8, &st);
   std::printf("init, short memory: %s\n", s.message);
-  EXPECT_EQ(s.error, mb::Error::kArena);
-  s = mb::init(m, reinterpret_cast<uint8_t*>(memory.data()) + 4, memory.size() * 8 - 4, &st);
+  EXPECT_EQ(s.error, mb::LayerError::kArena);
+  s = mb::metaballs_init(m, reinterpret_cast<uint8_t*>(memory.data()) + 4, memory.size() * 8 - 4, &st);
   std::printf("init, misaligned memory: %s\n", s.message);
-  EXPECT_EQ(s.error, mb::Error::kArena);
+  EXPECT_EQ(s.error, mb::LayerError::kArena);
   mbb::Build bad = b;
   bad.ball_radius[0] = -1;
   const mb::MetaballModel bad_model = bad.model();
-  s = mb::init(bad_model, memory.data(), memory.size() * 8, &st);
-  EXPECT_EQ(s.error, mb::Error::kValue) << "init validates the model";
+  s = mb::metaballs_init(bad_model, memory.data(), memory.size() * 8, &st);
+  EXPECT_EQ(s.error, mb::LayerError::kBadValue) << "init validates the model";
 }
 
 TEST(MetaballsValidate, StepRejectsBadSpansAndChangesNothing) {
@@ -124,20 +124,20 @@ TEST(MetaballsValidate, StepRejectsBadSpansAndChangesNothing) {
   ASSERT_TRUE(s.ok()) << s.error();
   ASSERT_TRUE(s.pose(0, 30, 0));
   const uint64_t steps = s.state().stats.steps;
-  mb::Status st = mb::step(&s.state(), s.engine().model.first(2), s.output());
+  mb::LayerStatus st = mb::metaballs_step(&s.state(), s.engine().model.first(2), s.output());
   std::printf("step, two joint transforms for a 4-joint model: %s\n", st.message);
-  EXPECT_EQ(st.error, mb::Error::kSize);
+  EXPECT_EQ(st.error, mb::LayerError::kBadSize);
   EXPECT_NE(std::string(st.message).find("joint_model"), std::string::npos);
   sinew::skin::SkinnedVertices out = s.output();
   out.position[2] = out.position[2].first(10);
-  st = mb::step(&s.state(), s.engine().model, out);
+  st = mb::metaballs_step(&s.state(), s.engine().model, out);
   std::printf("step, short output: %s\n", st.message);
-  EXPECT_EQ(st.error, mb::Error::kSize);
+  EXPECT_EQ(st.error, mb::LayerError::kBadSize);
   EXPECT_NE(std::string(st.message).find("out.position[2]"), std::string::npos);
   mb::MetaballState fresh;
-  st = mb::step(&fresh, s.engine().model, s.output());
+  st = mb::metaballs_step(&fresh, s.engine().model, s.output());
   std::printf("step, uninitialised state: %s\n", st.message);
-  EXPECT_EQ(st.error, mb::Error::kNotReady);
+  EXPECT_EQ(st.error, mb::LayerError::kNotReady);
   EXPECT_EQ(s.state().stats.steps, steps);
 }
 
@@ -213,7 +213,7 @@ TEST(MetaballsValidate, StepIsTotalOnArbitraryTransforms) {
         for (auto& e : row) e = step % 2 == 0 ? next() : next() >> (step % 31);
       for (auto& e : t.t) e = next();
     }
-    const mb::Status st = mb::step(&s.state(), garbage, s.output());
+    const mb::LayerStatus st = mb::metaballs_step(&s.state(), garbage, s.output());
     ASSERT_TRUE(st.ok()) << st.message;
     projected += s.state().stats.projected_vertices;
   }

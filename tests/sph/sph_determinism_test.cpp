@@ -86,7 +86,7 @@ SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool
     in.transforms = arm.engine().model;
     in.force = {fx, static_cast<int32_t>(fy), 0};
     in.tresca = true;
-    const sinew::sph::SphStatus st = sinew::sph::sph_step(&arm.state(), in);
+    const sinew::sph::LayerStatus st = sinew::sph::sph_step(&arm.state(), in);
     EXPECT_TRUE(st.ok()) << st.message;
     if (!st.ok()) return w;
     sinew::sph::sph_apply_skin(arm.state(), arm.engine().vertices.position);

@@ -152,8 +152,8 @@ void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, in
     const int32_t f = rng.range(-(1 << 30), 1 << 30);
     in.force = {f, fx::neg_sat(f) / 2, rng.range(-(1 << 24), 1 << 24)};
     in.tresca = (t % 7) != 3;
-    const sph::SphStatus a = sph::sph_step(&p.state, in);
-    const sph::SphStatus b = ref::ref_step(&p.reference, in);
+    const sph::LayerStatus a = sph::sph_step(&p.state, in);
+    const sph::LayerStatus b = ref::ref_step(&p.reference, in);
     ASSERT_EQ(a.ok(), b.ok());
     ASSERT_TRUE(equivalent_states(p.state, p.reference)) << "after step " << t;
     if (p.state.stats.neighbour_overflow != 0) ++*overflow_steps;

@@ -69,7 +69,7 @@ std::vector<int32_t> run(fx::Len h) {
   std::vector<uint64_t> arena(sph::sph_state_bytes(j.model) / 8 + 1);
   const std::vector<fx::Mat34> rest = {transform(fx::kLinOne, 0), transform(fx::kLinOne, 0)};
   sph::SphState st;
-  const sph::SphStatus init = sph::sph_init(j.model, rest, arena.data(), arena.size() * 8, &st);
+  const sph::LayerStatus init = sph::sph_init(j.model, rest, arena.data(), arena.size() * 8, &st);
   EXPECT_TRUE(init.ok()) << init.message;
   if (!init.ok()) return {};
   std::vector<int32_t> out;
@@ -83,7 +83,7 @@ std::vector<int32_t> run(fx::Len h) {
         sph::SphInputs in;
         in.transforms = pose;
         in.force = {f, fx::neg_sat(f), f};
-        const sph::SphStatus s = sph::sph_step(&st, in);
+        const sph::LayerStatus s = sph::sph_step(&st, in);
         EXPECT_TRUE(s.ok()) << s.message;
         out.push_back(static_cast<int32_t>(st.bend));
         for (int a = 0; a < 3; ++a) out.insert(out.end(), st.skin_offset[a].begin(), st.skin_offset[a].end());

@@ -44,13 +44,13 @@ class SphArm {
     inputs_.assign(rig_.input_count, 0);
     if (!layers::build_sph(spec_, options, &built_, &error_)) return;
     model_ = built_.model();
-    const sph::SphStatus v = sph::sph_validate(model_, rig_.joint_count(), rig_.vertex_count());
+    const sph::LayerStatus v = sph::sph_validate(model_, rig_.joint_count(), rig_.vertex_count());
     if (!v.ok()) {
       error_ = v.message;
       return;
     }
     sph_arena_.assign(sph::sph_state_bytes(model_) / 8 + 1, 0);
-    const sph::SphStatus s = sph::sph_init(model_, engine_.model, sph_arena_.data(), sph_arena_.size() * 8, &state_);
+    const sph::LayerStatus s = sph::sph_init(model_, engine_.model, sph_arena_.data(), sph_arena_.size() * 8, &state_);
     if (!s.ok()) {
       error_ = s.message;
       return;
@@ -75,7 +75,7 @@ class SphArm {
 
   // One tick: the engine's commanded pose, then the SPH joint under `force_n`
   // (newtons, model space, at the wrist).
-  sph::SphStatus tick(double fx_n, double fy_n, double fz_n, bool tresca = true) {
+  sph::LayerStatus tick(double fx_n, double fy_n, double fz_n, bool tresca = true) {
     engine::engine_step(&engine_, inputs_);
     sph::SphInputs in;
     in.transforms = engine_.model;

@@ -267,8 +267,8 @@ void layout(const SphModel& m, RefState* s) {
   s->grid_dim = static_cast<uint32_t>(d);
 }
 
-SphStatus fail(SphError e, const char* what) {
-  SphStatus s;
+LayerStatus fail(LayerError e, const char* what) {
+  LayerStatus s;
   s.error = e;
   rig::MessageBuilder(s.message, sizeof s.message).text("sph init: ").text(what);
   return s;
@@ -309,15 +309,15 @@ void skin_weights(SphState* st, fx::Vec3 centre) {
 
 }  // namespace
 
-SphStatus ref_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, RefState* out) {
-  SphStatus status = sph_validate(model, 0, 0);
+LayerStatus ref_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, RefState* out) {
+  LayerStatus status = sph_validate(model, 0, 0);
   if (!status.ok()) return status;
   RefState s;
   s.model = &model;
   layout(model, &s);
   JointFrame f;
   if (!joint_frame(model, rest_transforms, &f))
-    return fail(SphError::kBadInput, "rest_transforms shorter than the joints");
+    return fail(LayerError::kBadInput, "rest_transforms shorter than the joints");
   // Rest density of every particle, from its rest neighbourhood: the state of
   // minimum principal stress (§4.2) and the reference of the equation of state.
   for (int a = 0; a < 3; ++a)
@@ -334,7 +334,7 @@ SphStatus ref_init(const SphModel& model, std::span<const fx::Mat34> rest_transf
     const fx::Vec3 rp = fx::cross(f.axis, r, 30);          // |axis x r| = |r_perp|
     inertia += fx::round_shift(fx::dot_wide(rp, rp), 28);  // Q40 -> Q12
   }
-  if (inertia <= 0) return fail(SphError::kBadParameter, "distal particles have no lever arm about the joint axis");
+  if (inertia <= 0) return fail(LayerError::kBadValue, "distal particles have no lever arm about the joint axis");
   s.inertia_q12 = inertia;
   *out = s;
   status = ref_reset(out, rest_transforms);
@@ -342,10 +342,11 @@ SphStatus ref_init(const SphModel& model, std::span<const fx::Mat34> rest_transf
   return status;
 }
 
-SphStatus ref_reset(RefState* st, std::span<const fx::Mat34> transforms) {
+LayerStatus ref_reset(RefState* st, std::span<const fx::Mat34> transforms) {
   JointFrame f;
-  if (st == nullptr || st->model == nullptr) return fail(SphError::kBadInput, "state is not initialised");
-  if (!joint_frame(*st->model, transforms, &f)) return fail(SphError::kBadInput, "transforms shorter than the joints");
+  if (st == nullptr || st->model == nullptr) return fail(LayerError::kBadInput, "state is not initialised");
+  if (!joint_frame(*st->model, transforms, &f))
+    return fail(LayerError::kBadInput, "transforms shorter than the joints");
   compute_ideal(st, f);
   const uint32_t n = st->model->particle_count();
   for (int a = 0; a < 3; ++a)
@@ -373,9 +374,9 @@ namespace {
 
 constexpr int32_t kMaxForce = int32_t{1} << 30;  // newtons Q16.16: 16384 N
 
-SphStatus bad_input(const char* what) {
-  SphStatus s;
-  s.error = SphError::kBadInput;
+LayerStatus bad_input(const char* what) {
+  LayerStatus s;
+  s.error = LayerError::kBadInput;
   rig::MessageBuilder(s.message, sizeof s.message).text("sph step: ").text(what);
   return s;
 }
@@ -542,7 +543,7 @@ void skin_displacement(SphState* st, fx::Saturation& sat) {
 
 }  // namespace
 
-SphStatus ref_step(RefState* st, const SphInputs& in) {
+LayerStatus ref_step(RefState* st, const SphInputs& in) {
   if (st == nullptr || st->model == nullptr) return bad_input("state is not initialised");
   const SphModel& m = *st->model;
   JointFrame f;

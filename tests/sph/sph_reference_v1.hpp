@@ -54,9 +54,9 @@ struct RefState {
   sph::SphStats stats;
 };
 
-sph::SphStatus ref_init(const sph::SphModel& model, std::span<const fx::Mat34> rest_transforms, RefState* out);
-sph::SphStatus ref_reset(RefState* state, std::span<const fx::Mat34> transforms);
-sph::SphStatus ref_step(RefState* state, const sph::SphInputs& inputs);
+sph::LayerStatus ref_init(const sph::SphModel& model, std::span<const fx::Mat34> rest_transforms, RefState* out);
+sph::LayerStatus ref_reset(RefState* state, std::span<const fx::Mat34> transforms);
+sph::LayerStatus ref_step(RefState* state, const sph::SphInputs& inputs);
 void ref_apply_skin(const RefState& state, std::span<fx::Len> position[3]);
 
 }  // namespace sinew::sph_reference_v1

@@ -30,7 +30,7 @@ layers::SphBuilt small_model() {
 }
 
 std::string validate_error(const sph::SphModel& m) {
-  const sph::SphStatus s = sph::sph_validate(m, 4, 4192);
+  const sph::LayerStatus s = sph::sph_validate(m, 4, 4192);
   EXPECT_FALSE(s.ok());
   std::printf("rejected: %s\n", s.message);
   return s.message;
@@ -97,19 +97,19 @@ TEST(SphValidation, StepRejectsBadInputsAndChangesNothing) {
   const int32_t before = arm.state().position[0][0];
   sph::SphInputs in;
   in.transforms = arm.engine().model.first(1);
-  sph::SphStatus s = sph::sph_step(&arm.state(), in);
-  EXPECT_EQ(s.error, sph::SphError::kBadInput);
+  sph::LayerStatus s = sph::sph_step(&arm.state(), in);
+  EXPECT_EQ(s.error, sph::LayerError::kBadInput);
   std::printf("rejected: %s\n", s.message);
   in.transforms = arm.engine().model;
   in.force = {INT32_MAX, 0, 0};
   s = sph::sph_step(&arm.state(), in);
-  EXPECT_EQ(s.error, sph::SphError::kBadInput);
+  EXPECT_EQ(s.error, sph::LayerError::kBadInput);
   std::printf("rejected: %s\n", s.message);
   EXPECT_EQ(arm.state().position[0][0], before);
   EXPECT_EQ(arm.state().stats.steps, 0u);
   std::vector<uint64_t> tiny(4);
   sph::SphState st;
   s = sph::sph_init(arm.model(), arm.engine().model, tiny.data(), tiny.size() * 8, &st);
-  EXPECT_EQ(s.error, sph::SphError::kArena);
+  EXPECT_EQ(s.error, sph::LayerError::kArena);
   std::printf("rejected: %s\n", s.message);
 }

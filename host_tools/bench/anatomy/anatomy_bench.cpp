@@ -85,8 +85,8 @@ struct Scene {
     sm = model.skin_model();
     muscle_memory.assign(muscle::muscle_state_bytes(mm) / 8 + 1, 0);
     skin_memory.assign(es::skin_state_bytes(sm) / 8 + 1, 0);
-    muscle::LayerStatus st = muscle::muscle_state_init(mm, muscle_memory.data(), muscle_memory.size() * 8, &ms);
-    if (st.ok()) st = es::skin_state_init(sm, skin_memory.data(), skin_memory.size() * 8, &ss);
+    muscle::LayerStatus st = muscle::muscle_init(mm, muscle_memory.data(), muscle_memory.size() * 8, &ms);
+    if (st.ok()) st = es::skin_init(sm, skin_memory.data(), skin_memory.size() * 8, &ss);
     if (!st.ok()) return error = st.message, false;
     return true;
   }

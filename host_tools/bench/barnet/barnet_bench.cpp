@@ -101,7 +101,7 @@ class BarnetStepLoop {
   lb::ArmSession& session() { return session_; }
 
   // Step i of the loop; returns the step's error code.
-  bn::Error step(int64_t i) {
+  bn::LayerError step(int64_t i) {
     const int32_t external[1] = {q_scale(i)};
     angles_[elbow_] = lb::degrees_to_angle(static_cast<double>(i % 150));
     const std::span<const int32_t> ext = q_input_ ? std::span<const int32_t>(external) : std::span<const int32_t>();

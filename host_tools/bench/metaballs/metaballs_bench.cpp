@@ -164,8 +164,9 @@ Scene* make_scene(int which, int variant) {
     }
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     sc->model = sc->build.model();
-    sc->state_memory.assign(mb::state_bytes(sc->model) / 8 + 1, 0);
-    const mb::Status st = mb::init(sc->model, sc->state_memory.data(), sc->state_memory.size() * 8, &sc->state);
+    sc->state_memory.assign(mb::metaballs_state_bytes(sc->model) / 8 + 1, 0);
+    const mb::LayerStatus st =
+        mb::metaballs_init(sc->model, sc->state_memory.data(), sc->state_memory.size() * 8, &sc->state);
     if (!st.ok()) {
       std::fprintf(stderr, "metaballs init: %s\n", st.message);
       std::abort();
@@ -248,7 +249,7 @@ void metaballs_frame(Scene& s, uint64_t f) {
   sinew::skeleton::locals_to_model(s.lbs.rig, s.locals, s.joint_model);
   sinew::skin::SkinnedVertices out;
   for (int a = 0; a < 3; ++a) out.position[a] = s.out[a];
-  if (!mb::step(&s.state, s.joint_model, out).ok()) std::abort();
+  if (!mb::metaballs_step(&s.state, s.joint_model, out).ok()) std::abort();
   benchmark::DoNotOptimize(s.out[0].data());
 }
 

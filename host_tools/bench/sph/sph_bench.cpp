@@ -100,7 +100,7 @@ std::unique_ptr<Rig> make_rig(uint32_t particles, bool tension) {
   if (!sinew::layers::build_sph(r->spec, options, &r->built, &error)) die(error);
   r->model = r->built.model();
   r->sph_arena.assign(sph::sph_state_bytes(r->model) / 8 + 1, 0);
-  const sph::SphStatus s =
+  const sph::LayerStatus s =
       sph::sph_init(r->model, r->engine.model, r->sph_arena.data(), r->sph_arena.size() * 8, &r->state);
   if (!s.ok()) die(s.message);
   if (!ref::ref_init(r->model, r->engine.model, &r->reference).ok()) die("reference init");
@@ -139,7 +139,7 @@ double tick(Rig& r, bool reference) {
   engine::engine_step(&r.engine, r.inputs);
   const sph::SphInputs in = inputs_of(r);
   const double start = thread_seconds();
-  const sph::SphStatus s = reference ? ref::ref_step(&r.reference, in) : sph::sph_step(&r.state, in);
+  const sph::LayerStatus s = reference ? ref::ref_step(&r.reference, in) : sph::sph_step(&r.state, in);
   const double sph_s = thread_seconds() - start;
   if (!s.ok()) die(s.message);
   if (reference)

@@ -302,7 +302,7 @@ class Builder {
   bool step_rest() {
     const muscle::MuscleModel mm = out_.muscle_model();
     muscle_memory_.assign(muscle::muscle_state_bytes(mm) / 8 + 1, 0);
-    muscle::LayerStatus st = muscle::muscle_state_init(mm, muscle_memory_.data(), muscle_memory_.size() * 8, &mstate_);
+    muscle::LayerStatus st = muscle::muscle_init(mm, muscle_memory_.data(), muscle_memory_.size() * 8, &mstate_);
     if (st.ok()) st = muscle::muscle_step(mm, rest_model_, &mstate_);
     if (!st.ok()) return fail(std::string("anatomy: ") + st.message);
     return true;

@@ -52,7 +52,7 @@ ArmSession::ArmSession(rigc::RigSpec rig, const NetBuilder& build_net) : spec_(s
   external_.assign(model_.external_count, 0);
   const size_t bytes_needed = bn::barnet_state_bytes(model_);
   barnet_arena_.assign(bytes_needed / 8 + 1, 0);
-  const bn::Status s = bn::barnet_init(model_, barnet_arena_.data(), barnet_arena_.size() * 8, &state_);
+  const bn::LayerStatus s = bn::barnet_init(model_, barnet_arena_.data(), barnet_arena_.size() * 8, &state_);
   if (!s.ok()) {
     error_ = std::string("barnet: ") + s.message;
     return;
@@ -69,7 +69,7 @@ bool ArmSession::engine_step() { return engine::engine_step(&engine_, inputs_); 
 
 bool ArmSession::step() {
   if (!engine::engine_step(&engine_, inputs_)) return false;
-  const bn::Status s = bn::barnet_step(&state_, {engine_.model, inputs_, external_}, outputs_);
+  const bn::LayerStatus s = bn::barnet_step(&state_, {engine_.model, inputs_, external_}, outputs_);
   return s.ok();
 }
 

@@ -290,12 +290,12 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   }
   {
     const sph::SphModel m = b.model();
-    const sph::SphStatus st =
+    const sph::LayerStatus st =
         sph::sph_validate(m, static_cast<uint32_t>(spec.joints.size()), static_cast<uint32_t>(spec.vertices.size()));
     if (!st.ok()) return *error = st.message, false;
     std::vector<uint64_t> arena(sph::sph_state_bytes(m) / 8 + 1);
     sph::SphState state;
-    sph::SphStatus is = sph::sph_init(m, rest, arena.data(), arena.size() * 8, &state);
+    sph::LayerStatus is = sph::sph_init(m, rest, arena.data(), arena.size() * 8, &state);
     if (!is.ok()) return *error = is.message, false;
     std::vector<fx::Mat34> posed = rest;
     const fx::Angle a = static_cast<fx::Angle>(rigc::to_angle(o.yield_angle_deg));
@@ -314,8 +314,8 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
         std::clamp<double>(std::floor(static_cast<double>(spread) / 2.0 * o.yield_scale + 0.5), 0, INT32_MAX));
   }
   if (o.override_tau_f >= 0) p.tau_f = static_cast<sph::Dens>(o.override_tau_f);
-  const sph::SphStatus st = sph::sph_validate(b.model(), static_cast<uint32_t>(spec.joints.size()),
-                                              static_cast<uint32_t>(spec.vertices.size()));
+  const sph::LayerStatus st = sph::sph_validate(b.model(), static_cast<uint32_t>(spec.joints.size()),
+                                                static_cast<uint32_t>(spec.vertices.size()));
   if (!st.ok()) return *error = st.message, false;
   *out = std::move(b);
   return true;

@@ -1,0 +1,48 @@
+// The functions of every stage, with one shape for all of them (the stage
+// table, stage_table.hpp, documents each), so the pipeline's init and step
+// are loops over the table and a new layer is one stage file
+// (stage_<name>.cpp) plus one table row. Each
+// stage file adapts its layer's own jobs (<layer>_validate, _state_bytes,
+// _init, _step, all returning layer::LayerStatus) to the pipeline: which
+// instances the rig carries, where their state lives in the pipeline's arena,
+// and how their displacement is added to the skin.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "pipeline.hpp"
+#include "sim_core/rig/message.hpp"
+
+namespace sinew::pipeline {
+
+namespace stages {
+
+#define SINEW_DECLARE_STAGE(name)                                                                   \
+  uint32_t name##_compiled(const LayerSet& layers);                                                 \
+  void name##_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);      \
+  PipelineStatus name##_validate(const rig::Rig& rig, const LayerSet& layers);                      \
+  size_t name##_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& o); \
+  PipelineStatus name##_init(Pipeline* p, uint8_t* block, size_t bytes);                            \
+  PipelineStatus name##_step(Pipeline* p, std::span<const int32_t> inputs);
+
+SINEW_DECLARE_STAGE(skinning)
+SINEW_DECLARE_STAGE(sph)
+SINEW_DECLARE_STAGE(metaballs)
+SINEW_DECLARE_STAGE(barnet)
+SINEW_DECLARE_STAGE(anatomy)
+#undef SINEW_DECLARE_STAGE
+
+// A failed stage's status: "<what>[index]: <detail>" (index when >= 0).
+PipelineStatus stage_fail(PipelineError e, const char* what, const char* detail = nullptr, int64_t index = -1);
+
+// out = out + (layer - reference), saturated: the superposition rule
+// (docs/pipeline.md); counts the saturations in p->saturated.
+void add_displacement(Pipeline* p, int axis, uint32_t v, fx::Len layer);
+
+// The skin as it is now becomes the reference R the layers displace from.
+void take_reference(Pipeline* p);
+
+}  // namespace stages
+}  // namespace sinew::pipeline

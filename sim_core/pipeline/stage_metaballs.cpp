@@ -1,0 +1,46 @@
+// The metaballs stage (metaballs-pbd-skinning; docs/metaballs.md): adds
+// (metaballs skin - R) over every vertex.
+#include "sim_core/metaballs/step.hpp"
+#include "sim_core/metaballs/validate.hpp"
+#include "stage_fns.hpp"
+
+namespace sinew::pipeline::stages {
+
+uint32_t metaballs_compiled(const LayerSet& layers) { return layers.has_metaballs ? 1u : 0u; }
+
+void metaballs_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
+  if (layers.has_metaballs) out->text("metaballs");
+}
+
+PipelineStatus metaballs_validate(const rig::Rig&, const LayerSet& layers) {
+  if (!layers.has_metaballs) return {};
+  const layer::LayerStatus st = metaballs::metaballs_validate(layers.metaballs);
+  if (!st.ok()) return stage_fail(PipelineError::kBadModel, "metaballs", st.message);
+  return {};
+}
+
+size_t metaballs_state_bytes(const rig::Rig&, const LayerSet& layers, const PipelineOptions&) {
+  return layers.has_metaballs ? metaballs::metaballs_state_bytes(layers.metaballs) : 0;
+}
+
+PipelineStatus metaballs_init(Pipeline* p, uint8_t* block, size_t bytes) {
+  layer::LayerStatus st = metaballs::metaballs_init(p->layers->metaballs, block, bytes, &p->metaballs);
+  // Physical jiggle gains are converted from the section's rate to the
+  // loop's (as SPH's gains are).
+  if (st.ok() && p->options.tick_hz != 0) st = metaballs::set_tick_rate(&p->metaballs, p->options.tick_hz);
+  if (!st.ok()) return stage_fail(PipelineError::kBadModel, "metaballs", st.message);
+  p->metaballs_on = true;
+  return {};
+}
+
+PipelineStatus metaballs_step(Pipeline* p, std::span<const int32_t>) {
+  skin::SkinnedVertices out;
+  for (int a = 0; a < 3; ++a) out.position[a] = p->scratch[a].first(p->rig->vertex_count());
+  const layer::LayerStatus st = metaballs::metaballs_step(&p->metaballs, p->engine.model, out);
+  if (!st.ok()) return stage_fail(PipelineError::kLayer, "metaballs", st.message);
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t v = 0; v < p->rig->vertex_count(); ++v) add_displacement(p, a, v, p->scratch[a][v]);
+  return {};
+}
+
+}  // namespace sinew::pipeline::stages

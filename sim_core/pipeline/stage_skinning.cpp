@@ -1,0 +1,32 @@
+// The skinning stage: commanded inputs -> skeleton -> skinned vertices (the
+// engine; docs/numerics.md). Always on; its skin is the first reference.
+#include "sim_core/engine/engine.hpp"
+#include "stage_fns.hpp"
+
+namespace sinew::pipeline::stages {
+
+uint32_t skinning_compiled(const LayerSet&) { return 1; }
+
+void skinning_describe(const rig::Rig&, const LayerSet&, rig::MessageBuilder*) {}
+
+// rig_init validated the skeleton and the skin.
+PipelineStatus skinning_validate(const rig::Rig&, const LayerSet&) { return {}; }
+
+size_t skinning_state_bytes(const rig::Rig& rig, const LayerSet&, const PipelineOptions&) {
+  return engine::engine_arena_bytes(rig);
+}
+
+PipelineStatus skinning_init(Pipeline* p, uint8_t* block, size_t bytes) {
+  if (!engine::engine_init(*p->rig, block, bytes, &p->engine))
+    return stage_fail(PipelineError::kArena, "skinning", "engine arena");
+  return {};
+}
+
+PipelineStatus skinning_step(Pipeline* p, std::span<const int32_t> inputs) {
+  if (!engine::engine_step(&p->engine, inputs.first(p->rig->input_count)))
+    return stage_fail(PipelineError::kBadInput, "skinning", "engine step refused its inputs");
+  take_reference(p);
+  return {};
+}
+
+}  // namespace sinew::pipeline::stages
