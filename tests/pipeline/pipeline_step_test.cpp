@@ -145,3 +145,32 @@ TEST(StageTable, DescribesTheLayersARigCarries) {
 }
 
 }  // namespace
+
+namespace {
+
+// pipeline_init runs each enabled stage's validate (its layers' own
+// validators) before any init: a LayerSet assembled by hand, not by the
+// loader, meets the same checks. The muscles' init does not validate, so
+// without the stage's validate this model would be initialised.
+TEST(PipelineInit, RunsTheStagesValidatorsOnAHandBuiltLayerSet) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  ASSERT_TRUE(arm->layers.has_muscles);
+  std::vector<sinew::muscle::MuscleRecord> muscles(arm->layers.muscles.muscles.begin(),
+                                                   arm->layers.muscles.muscles.end());
+  muscles[0].pivot_bone = static_cast<int32_t>(arm->rig.joint_count()) + 3;  // no such joint
+  pl::LayerSet edited = arm->layers;
+  edited.muscles.muscles = muscles;
+  const pl::PipelineOptions options = step_test_options({pl::Stage::kAnatomy});
+  std::vector<uint64_t> memory(pl::pipeline_state_bytes(arm->rig, edited, options) / 8 + 1, 0);
+  pl::Pipeline p;
+  const pl::PipelineStatus st = pl::pipeline_init(arm->rig, edited, options, memory.data(), memory.size() * 8, &p);
+  EXPECT_EQ(st.error, pl::PipelineError::kBadModel);
+  EXPECT_EQ(std::string(st.message).rfind("anatomy: muscle[0].pivot_bone", 0), 0u) << st.message;
+  // The same model with the layer off is not checked: it does not run.
+  const pl::PipelineOptions off = step_test_options({});
+  std::vector<uint64_t> memory_off(pl::pipeline_state_bytes(arm->rig, edited, off) / 8 + 1, 0);
+  EXPECT_TRUE(pl::pipeline_init(arm->rig, edited, off, memory_off.data(), memory_off.size() * 8, &p).ok());
+}
+
+}  // namespace
