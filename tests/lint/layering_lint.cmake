@@ -10,13 +10,17 @@
 #                firmware/runtime/{runtime,tick_trigger,async_sink,recording,realtime}.hpp,
 #                and firmware/rig/loaded_rig.hpp;
 #   sinewd       links a library built from host_tools/ (NINJA_FILE's link line);
+#   tests tree   a sim_core/, hal/, firmware/ or host_tools/ file includes a
+#                file of tests/, or a CMakeLists.txt there compiles one: the
+#                product never builds from its tests (a baseline a tool and a
+#                test share lives in the product's tree);
 #   layer names  a firmware/ source or CMake file names a physical layer (in
 #                code or comments): the stage table in sim_core/pipeline is
 #                the only list of layers the daemon reads, so adding a layer
 #                adds no line to firmware.
 # With EXPECT_EVERY_RULE it fails unless every rule fired: the planted tree
 # (tests/lint/planted_layering) proves each rule can fail.
-set(rules sim_core hal firmware host_tools link layer_names)
+set(rules sim_core hal firmware host_tools link layer_names tests_tree)
 foreach(r IN LISTS rules)
   set(fired_${r} 0)
 endforeach()
@@ -48,6 +52,12 @@ function(scan dir rule)
         if(path MATCHES "^firmware/" AND NOT path MATCHES "^firmware/(runtime/(runtime|tick_trigger|async_sink|recording|realtime)|rig/loaded_rig)\\.hpp$")
           set(bad "host_tools includes firmware beyond its public headers")
         endif()
+      endif()
+      if(path MATCHES "^tests/")
+        message("${src}: includes a file of tests/: ${path}")
+        math(EXPR n "${fired_tests_tree} + 1")
+        set(fired_tests_tree ${n})
+        set(fired_tests_tree ${n} PARENT_SCOPE)
       endif()
       if(NOT bad STREQUAL "")
         message("${src}: ${bad}: ${path}")
@@ -86,6 +96,18 @@ scan(hal hal)
 scan(firmware firmware)
 scan(host_tools host_tools)
 scan_layer_names(firmware)
+
+# A product CMakeLists.txt that compiles a source of tests/.
+foreach(dir sim_core hal firmware host_tools)
+  file(GLOB_RECURSE lists "${ROOT}/${dir}/CMakeLists.txt")
+  foreach(list_file IN LISTS lists)
+    file(STRINGS "${list_file}" lines REGEX "tests/[^ )\"]*\\.(cpp|cc|c)")
+    foreach(line IN LISTS lines)
+      message("${list_file}: compiles a file of tests/: ${line}")
+      math(EXPR fired_tests_tree "${fired_tests_tree} + 1")
+    endforeach()
+  endforeach()
+endforeach()
 
 if(DEFINED NINJA_FILE)
   if(NOT EXISTS "${NINJA_FILE}")

@@ -20,7 +20,7 @@
 #include "host_tools/determinism/split_mix.hpp"
 #include "sim_core/fixed/quat.hpp"
 #include "sph_fixture.hpp"
-#include "tests/sph/sph_reference_v1.hpp"
+#include "host_tools/layers/sph/sph_reference_v1.hpp"
 
 namespace sph = sinew::sph;
 namespace fx = sinew::fx;

@@ -31,7 +31,7 @@
 #include "host_tools/rigc/rig_spec.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/sph/sph_step.hpp"
-#include "tests/sph/sph_reference_v1.hpp"
+#include "host_tools/layers/sph/sph_reference_v1.hpp"
 
 namespace {
 

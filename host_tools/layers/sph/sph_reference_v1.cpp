@@ -1,7 +1,7 @@
 // The first sph implementation, verbatim but for the state type (RefState,
 // vectors instead of a carved arena) and the public names (ref_*): see
 // sph_reference_v1.hpp. Do not optimise or reformat: it is the reference.
-#include "tests/sph/sph_reference_v1.hpp"
+#include "host_tools/layers/sph/sph_reference_v1.hpp"
 
 #include <array>
 #include <cstddef>

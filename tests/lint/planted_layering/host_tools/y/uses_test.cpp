@@ -1,0 +1,1 @@
+#include "tests/x/helper.hpp"  // planted: a tool includes a test file
