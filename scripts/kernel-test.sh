@@ -169,7 +169,7 @@ gtest() {
   if [ $rc -eq 0 ] && ! grep -q '^\[  SKIPPED \]' /tmp/out; then r=PASS; else r=FAIL; fi
   result "$name" $r "($(grep -c '^\[       OK \]' /tmp/out) ok, $(grep -c '^\[  FAILED  \] [A-Za-z]' /tmp/out) failed, $(grep -c '^\[  SKIPPED \]' /tmp/out) skipped; ${t0}s -> ${t1}s)"
 }
-gtest socketcan-source can_tests --gtest_filter='SocketCanSource.*'
+gtest socketcan can_tests --gtest_filter='SocketCanSource.*:SocketCanWriter.*'
 gtest can-kernel can_kernel_tests
 gtest gpio-kernel gpio_kernel_tests
 if [ $failed -eq 0 ]; then echo "SINEW-KERNEL-TESTS: PASS"; else echo "SINEW-KERNEL-TESTS: FAIL"; fi

@@ -5,6 +5,10 @@
 #include "firmware/runtime/async_sink.hpp"
 #include "firmware/runtime/recording.hpp"
 #include "firmware/sinks/decimating_sink.hpp"
+#include "firmware/sinks/inputs_only_sink.hpp"
+#include "hal/can/candump_frame_writer.hpp"
+#include "hal/can/socketcan_writer.hpp"
+#include "hal/output/can_pose_sink.hpp"
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/udp_sender.hpp"
 
@@ -124,10 +128,50 @@ std::unique_ptr<OutputSink> open_udp(const SinkConfig& s, const SinkSetup& setup
   return queued(setup.config, std::move(udp), frame_dims(setup.rig));
 }
 
+constexpr ConfigKey kCanKeys[] = {{"type", KeyKind::kString},
+                                  {"name", KeyKind::kString},
+                                  {"interface", KeyKind::kString},
+                                  {"candump", KeyKind::kString},
+                                  {"can_id", KeyKind::kInteger, 0, 0x1FFFFFFF},
+                                  {"extended_id", KeyKind::kFlag}};
+
+// The applied inputs on a CAN bus, one frame per input and tick
+// (hal/output/can_pose_sink.hpp, docs/frame-formats.md): on a SocketCAN
+// `interface`, or, with `candump` (a path), into a candump log as the
+// simulated twin; `interface` then names the bus in its lines.
+std::unique_ptr<OutputSink> open_can(const SinkConfig& s, const SinkSetup& setup, std::string* error) {
+  const auto interface = s.table["interface"].value<std::string>();
+  const auto candump = s.table["candump"].value<std::string>();
+  std::unique_ptr<hal::can::FrameWriter> writer;
+  if (candump) {
+    auto log = std::make_unique<hal::can::CandumpFrameWriter>();
+    if (!log->open(*candump, interface.value_or("can0"), error)) return failed(s, error);
+    writer = std::move(log);
+  } else if (interface) {
+    hal::can::SocketCanWriterOptions options;
+    options.interface = *interface;
+    auto bus = std::make_unique<hal::can::SocketCanWriter>(options);
+    if (!bus->open(error)) return failed(s, error);
+    writer = std::move(bus);
+  } else {
+    return *error = "interface (a SocketCAN interface) or candump (a log path) is required", failed(s, error);
+  }
+  hal::output::CanOutputOptions options;
+  options.can_id = s.table["can_id"].value_or(options.can_id);
+  options.extended_id = s.table["extended_id"].value_or(false);
+  auto can = std::make_unique<hal::output::CanPoseSink>();
+  if (!can->open(options, setup.rig.input_count(), std::move(writer), error)) return failed(s, error);
+  can->set_name(s.name);
+  // Inputs only in the ring: the CAN frames carry no vertices.
+  const FrameDims inputs_dims{0, setup.rig.input_count(), false};
+  return std::make_unique<InputsOnlySink>(queued(setup.config, std::move(can), inputs_dims), "");
+}
+
 constexpr SinkType kSinkTypes[] = {
     {"log", kLogKeys, open_log},
     {"record", kRecordKeys, open_record},
     {"udp", kUdpKeys, open_udp},
+    {"can", kCanKeys, open_can},
 };
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "firmware/sinks/inputs_only_sink.hpp"
 #include "hal/common/output_sink.hpp"
 #include "hal/common/pose_frame.hpp"
 #include "sim_core/pipeline/pipeline.hpp"
@@ -31,26 +32,11 @@ std::string encode_run_description(const RunDescription& run);
 // False with a message naming the line or the key that is wrong or missing.
 bool parse_run_description(std::string_view text, RunDescription* out, std::string* error);
 
-// The recording sink: hands the frame, without its vertices, to the sink it
-// wraps (a frame log of no vertices, behind its I/O thread's ring, whose
-// slots then hold inputs only). Per tick no allocation: a copy of pointers.
-class RecordingSink final : public hal::OutputSink {
+// The recording sink: the frame without its vertices to the sink it wraps
+// (a frame log of no vertices, behind its I/O thread's ring).
+class RecordingSink final : public InputsOnlySink {
  public:
-  explicit RecordingSink(std::unique_ptr<hal::OutputSink> inner) : inner_(std::move(inner)) {}
-  const char* name() const override { return inner_->name(); }
-  bool write(const hal::PoseFrame& frame) override {
-    hal::PoseFrame inputs_only = frame;
-    inputs_only.vertex_count = 0;
-    for (int c = 0; c < 3; ++c) inputs_only.position[c] = inputs_only.normal[c] = nullptr;
-    return inner_->write(inputs_only);
-  }
-  void flush() override { inner_->flush(); }
-  void close() override { inner_->close(); }
-  uint64_t frames_lost_after_write() const override { return inner_->frames_lost_after_write(); }
-  std::string status_line() const override { return "recording: " + inner_->status_line(); }
-
- private:
-  std::unique_ptr<hal::OutputSink> inner_;
+  explicit RecordingSink(std::unique_ptr<hal::OutputSink> inner) : InputsOnlySink(std::move(inner), "recording") {}
 };
 
 }  // namespace sinew::firmware

@@ -6,11 +6,16 @@ namespace sinew::hal::can {
 
 const char* bus_state_name(BusState s) {
   switch (s) {
-    case BusState::kErrorActive: return "error-active";
-    case BusState::kErrorWarning: return "error-warning";
-    case BusState::kErrorPassive: return "error-passive";
-    case BusState::kBusOff: return "bus-off";
-    case BusState::kInterfaceDown: return "interface-down";
+    case BusState::kErrorActive:
+      return "error-active";
+    case BusState::kErrorWarning:
+      return "error-warning";
+    case BusState::kErrorPassive:
+      return "error-passive";
+    case BusState::kBusOff:
+      return "bus-off";
+    case BusState::kInterfaceDown:
+      return "interface-down";
   }
   return "unknown";
 }
@@ -25,7 +30,8 @@ void BusStateTracker::on_error_frame(const CanFrame& frame) {
   ++counters_.error_frames;
   const uint32_t cls = frame.id;
   const uint8_t* d = frame.data.data();
-  if ((cls & (CAN_ERR_PROT | CAN_ERR_ACK | CAN_ERR_BUSERROR | CAN_ERR_LOSTARB | CAN_ERR_TRX | CAN_ERR_TX_TIMEOUT)) != 0) {
+  if ((cls & (CAN_ERR_PROT | CAN_ERR_ACK | CAN_ERR_BUSERROR | CAN_ERR_LOSTARB | CAN_ERR_TRX | CAN_ERR_TX_TIMEOUT)) !=
+      0) {
     ++counters_.bus_errors;
   }
 #ifdef CAN_ERR_CNT
@@ -82,9 +88,15 @@ CanFrame make_restarted_error_frame(uint64_t timestamp_ns) { return error_frame(
 CanFrame make_controller_state_error_frame(BusState state, uint64_t timestamp_ns) {
   CanFrame f = error_frame(CAN_ERR_CRTL, timestamp_ns);
   switch (state) {
-    case BusState::kErrorWarning: f.data[1] = CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING; break;
-    case BusState::kErrorPassive: f.data[1] = CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE; break;
-    default: f.data[1] = CAN_ERR_CRTL_ACTIVE; break;
+    case BusState::kErrorWarning:
+      f.data[1] = CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING;
+      break;
+    case BusState::kErrorPassive:
+      f.data[1] = CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE;
+      break;
+    default:
+      f.data[1] = CAN_ERR_CRTL_ACTIVE;
+      break;
   }
   return f;
 }

@@ -29,9 +29,9 @@ namespace sinew::hal::can {
 enum class LineStatus : uint8_t { kFrame, kSkipped, kError };
 
 struct CandumpLine {
-  CanFrame frame;                // timestamp_ns: the log's timestamp (seconds as written, usually Unix time)
-  std::string_view interface;    // points into the parsed line
-  char direction = 0;            // 'R' or 'T' if present, else 0
+  CanFrame frame;              // timestamp_ns: the log's timestamp (seconds as written, usually Unix time)
+  std::string_view interface;  // points into the parsed line
+  char direction = 0;          // 'R' or 'T' if present, else 0
 };
 
 // Parses one line (without or with its '\r'/'\n'). On kError, `error` (if
@@ -42,11 +42,11 @@ struct LoggedFrame {
   CanFrame frame;
   std::string interface;
   char direction = 0;
-  size_t line = 0;               // 1-based line number in the log
+  size_t line = 0;  // 1-based line number in the log
 };
 
 struct CandumpError {
-  size_t line = 0;               // 1-based
+  size_t line = 0;  // 1-based
   std::string message;
 };
 

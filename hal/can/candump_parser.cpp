@@ -44,7 +44,8 @@ bool parse_timestamp(std::string_view t, uint64_t& ns) {
   if (t.size() < 4 || t.front() != '(' || t.back() != ')') return false;
   t = t.substr(1, t.size() - 2);
   const size_t dot = t.find('.');
-  if (dot == std::string_view::npos || dot == 0 || dot > 10 || t.size() - dot - 1 < 1 || t.size() - dot - 1 > 9) return false;
+  if (dot == std::string_view::npos || dot == 0 || dot > 10 || t.size() - dot - 1 < 1 || t.size() - dot - 1 > 9)
+    return false;
   uint64_t sec = 0;
   for (char c : t.substr(0, dot)) {
     if (c < '0' || c > '9') return false;
@@ -75,7 +76,8 @@ bool parse_data(std::string_view& s, CanFrame& f, size_t max_len, const char** e
       return false;
     }
     if (len == max_len) {
-      fail(error, max_len == kClassicMaxLen ? "more than 8 data bytes in a classic CAN frame" : "more than 64 data bytes");
+      fail(error,
+           max_len == kClassicMaxLen ? "more than 8 data bytes in a classic CAN frame" : "more than 64 data bytes");
       return false;
     }
     f.data[len++] = static_cast<uint8_t>(hex_value(s[0]) * 16 + hex_value(s[1]));
@@ -132,7 +134,8 @@ LineStatus parse_frame(std::string_view s, CanFrame& f, const char** error) {
     s.remove_prefix(2);
     if (!parse_data(s, f, kFdMaxLen, error)) return LineStatus::kError;
     if (!s.empty()) return fail(error, "unexpected characters after CAN FD data");
-    if (!is_valid_fd_len(f.len)) return fail(error, "CAN FD length is not one a DLC can express (0..8,12,16,20,24,32,48,64)");
+    if (!is_valid_fd_len(f.len))
+      return fail(error, "CAN FD length is not one a DLC can express (0..8,12,16,20,24,32,48,64)");
     return LineStatus::kFrame;
   }
   if (!s.empty() && (s.front() == 'R' || s.front() == 'r')) {
@@ -193,8 +196,11 @@ CandumpLog parse_candump_log(std::string_view text) {
       case LineStatus::kFrame:
         log.frames.push_back({parsed.frame, std::string(parsed.interface), parsed.direction, line_no});
         break;
-      case LineStatus::kSkipped: break;
-      case LineStatus::kError: log.errors.push_back({line_no, message != nullptr ? message : "malformed line"}); break;
+      case LineStatus::kSkipped:
+        break;
+      case LineStatus::kError:
+        log.errors.push_back({line_no, message != nullptr ? message : "malformed line"});
+        break;
     }
   }
   log.lines = line_no;

@@ -31,9 +31,12 @@ bool to_engine_value(double physical, PhysicalUnit unit, int32_t& out) {
 
 double from_engine_value(int32_t value, PhysicalUnit unit) {
   switch (unit) {
-    case PhysicalUnit::kRigUnits: return value / kTwo20;
-    case PhysicalUnit::kDegrees: return value * (360.0 / kTwo32);
-    case PhysicalUnit::kRadians: return value * (2.0 * std::numbers::pi / kTwo32);
+    case PhysicalUnit::kRigUnits:
+      return value / kTwo20;
+    case PhysicalUnit::kDegrees:
+      return value * (360.0 / kTwo32);
+    case PhysicalUnit::kRadians:
+      return value * (2.0 * std::numbers::pi / kTwo32);
   }
   return 0.0;
 }

@@ -15,7 +15,7 @@
 namespace sinew::hal::can {
 
 inline constexpr size_t kJointRecordSize = 8;
-inline constexpr uint8_t kAliveCounterMax = 14;     // counts 0..14; 15 is invalid
+inline constexpr uint8_t kAliveCounterMax = 14;  // counts 0..14; 15 is invalid
 inline constexpr uint8_t kAliveCounterModulo = 15;
 
 struct JointRecord {

@@ -39,10 +39,12 @@ bool validate(const JointStreamConfig& config, std::string* error) {
     frame_keys.push_back((static_cast<uint64_t>(f.extended) << 32) | f.can_id);
     const size_t max_joints = f.fd ? kJointsPerFdFrame : 1;
     if (f.joints.empty() || f.joints.size() > max_joints) {
-      return fail(error, frame_name(f) + (f.fd ? ": a CAN FD frame carries 1..8 joints" : ": a classic frame carries exactly 1 joint"));
+      return fail(error, frame_name(f) + (f.fd ? ": a CAN FD frame carries 1..8 joints"
+                                               : ": a classic frame carries exactly 1 joint"));
     }
     for (const JointChannel& j : f.joints) {
-      if (j.min > j.max) return fail(error, frame_name(f) + ": joint for input " + std::to_string(j.input) + " has min > max");
+      if (j.min > j.max)
+        return fail(error, frame_name(f) + ": joint for input " + std::to_string(j.input) + " has min > max");
       if (j.max_counter_delta < 1 || j.max_counter_delta > kAliveCounterMax) {
         return fail(error, frame_name(f) + ": max_counter_delta must be 1..14");
       }

@@ -18,19 +18,19 @@ inline constexpr uint16_t kDefaultDataIdBase = 0x5300;    // joint i has data ID
 inline constexpr size_t kDefaultMaxJoints = 128;
 
 struct JointChannel {
-  uint16_t input = 0;              // rig input index the samples feed
-  uint16_t data_id = 0;            // E2E data ID of this joint's record
-  int32_t min = INT32_MIN;         // accepted value range, engine units, inclusive
+  uint16_t input = 0;       // rig input index the samples feed
+  uint16_t data_id = 0;     // E2E data ID of this joint's record
+  int32_t min = INT32_MIN;  // accepted value range, engine units, inclusive
   int32_t max = INT32_MAX;
-  uint8_t max_counter_delta = 1;   // 1..14: largest accepted alive-counter step
-  uint64_t period_ns = 0;          // expected send period
-  uint64_t timeout_ns = 0;         // 0: 1.5 x period_ns (and never stale if that is 0 too)
+  uint8_t max_counter_delta = 1;  // 1..14: largest accepted alive-counter step
+  uint64_t period_ns = 0;         // expected send period
+  uint64_t timeout_ns = 0;        // 0: 1.5 x period_ns (and never stale if that is 0 too)
 };
 
 struct JointFrame {
   uint32_t can_id = 0;
   bool extended = false;
-  bool fd = false;                 // false: classic CAN, exactly one joint; true: CAN FD, 1..8 joints by slot
+  bool fd = false;  // false: classic CAN, exactly one joint; true: CAN FD, 1..8 joints by slot
   std::vector<JointChannel> joints;
 };
 

@@ -43,8 +43,8 @@ bool JointStreamDecoder::configure(const JointStreamConfig& config, std::string*
 
 const JointStreamDecoder::FrameEntry* JointStreamDecoder::find(const CanFrame& frame) const {
   const uint64_t key = key_of(frame.id, frame.extended);
-  auto it = std::lower_bound(frames_.begin(), frames_.end(), key,
-                             [](const FrameEntry& e, uint64_t k) { return e.key < k; });
+  auto it =
+      std::lower_bound(frames_.begin(), frames_.end(), key, [](const FrameEntry& e, uint64_t k) { return e.key < k; });
   return it != frames_.end() && it->key == key ? &*it : nullptr;
 }
 
@@ -65,7 +65,8 @@ void JointStreamDecoder::decode_frame(const CanFrame& frame, FrameDecode& out) {
       out.add_rejection(input_of(joint.config), RejectReason::kMalformed);
       continue;
     }
-    check_record(joint, std::span<const uint8_t, 8>(frame.data.data() + k * kJointRecordSize, 8), frame.timestamp_ns, out);
+    check_record(joint, std::span<const uint8_t, 8>(frame.data.data() + k * kJointRecordSize, 8), frame.timestamp_ns,
+                 out);
   }
 }
 
@@ -74,10 +75,15 @@ void JointStreamDecoder::check_record(JointState& joint, std::span<const uint8_t
   const int32_t input = input_of(joint.config);
   JointRecord record;
   switch (decode_joint_record(joint.config.data_id, bytes, record)) {
-    case RecordCheck::kOk: break;
-    case RecordCheck::kBadCrc: out.add_rejection(input, RejectReason::kBadCrc); return;
+    case RecordCheck::kOk:
+      break;
+    case RecordCheck::kBadCrc:
+      out.add_rejection(input, RejectReason::kBadCrc);
+      return;
     case RecordCheck::kInvalidCounter:
-    case RecordCheck::kReservedNotZero: out.add_rejection(input, RejectReason::kMalformed); return;
+    case RecordCheck::kReservedNotZero:
+      out.add_rejection(input, RejectReason::kMalformed);
+      return;
   }
   // A joint silent for longer than its timeout restarts its counter check:
   // after 15 or more lost frames the counter distance means nothing. Silence

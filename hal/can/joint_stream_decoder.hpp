@@ -27,14 +27,14 @@ class JointStreamDecoder final : public FrameDecoder {
   struct JointState {
     JointChannel config;
     uint64_t timeout_ns = 0;
-    bool synced = false;         // a counter reference exists
-    uint8_t last_counter = 0;    // alive counter of the last authentic record
-    uint64_t last_seen_ns = 0;   // when the last intact record (CRC good, counter set) arrived
+    bool synced = false;        // a counter reference exists
+    uint8_t last_counter = 0;   // alive counter of the last authentic record
+    uint64_t last_seen_ns = 0;  // when the last intact record (CRC good, counter set) arrived
   };
   struct FrameEntry {
-    uint64_t key = 0;            // extended flag << 32 | identifier, sorted
+    uint64_t key = 0;  // extended flag << 32 | identifier, sorted
     bool fd = false;
-    uint16_t first_joint = 0;    // index into joints_
+    uint16_t first_joint = 0;  // index into joints_
     uint8_t joint_count = 0;
   };
 

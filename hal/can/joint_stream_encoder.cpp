@@ -47,8 +47,9 @@ CanFrame JointStreamSender::next(size_t frame_index, std::span<const int32_t> va
     slots[k].record.status = k < status.size() ? status[k] : uint8_t{0};
     counters[k] = static_cast<uint8_t>((counters[k] + 1) % kAliveCounterModulo);
   }
-  CanFrame f = jf.fd ? encode_fd_joint_frame(jf.can_id, jf.extended, std::span<const SlotRecord>(slots, jf.joints.size()))
-                     : encode_classic_joint_frame(jf.can_id, jf.extended, slots[0].data_id, slots[0].record);
+  CanFrame f = jf.fd
+                   ? encode_fd_joint_frame(jf.can_id, jf.extended, std::span<const SlotRecord>(slots, jf.joints.size()))
+                   : encode_classic_joint_frame(jf.can_id, jf.extended, slots[0].data_id, slots[0].record);
   f.timestamp_ns = timestamp_ns;
   return f;
 }

@@ -43,9 +43,14 @@ size_t to_kernel(const CanFrame& frame, canfd_frame& out) {
   if (!is_well_formed(frame)) return 0;
   canid_t id = frame.id;
   switch (frame.kind) {
-    case FrameKind::kError: id |= CAN_ERR_FLAG; break;
-    case FrameKind::kRemote: id |= CAN_RTR_FLAG; break;
-    case FrameKind::kData: break;
+    case FrameKind::kError:
+      id |= CAN_ERR_FLAG;
+      break;
+    case FrameKind::kRemote:
+      id |= CAN_RTR_FLAG;
+      break;
+    case FrameKind::kData:
+      break;
   }
   if (frame.extended && frame.kind != FrameKind::kError) id |= CAN_EFF_FLAG;
   out.can_id = id;

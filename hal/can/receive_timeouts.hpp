@@ -31,9 +31,9 @@ class ReceiveTimeouts {
     uint64_t last_valid_ns = 0;
     bool stale = false;
   };
-  std::vector<Entry> entries_;      // sorted by input
-  std::vector<int32_t> slot_of_;    // input → index into entries_, -1 if none
-  std::vector<uint16_t> stale_;     // capacity = entries_.size()
+  std::vector<Entry> entries_;    // sorted by input
+  std::vector<int32_t> slot_of_;  // input → index into entries_, -1 if none
+  std::vector<uint16_t> stale_;   // capacity = entries_.size()
   uint64_t stale_events_ = 0;
 };
 

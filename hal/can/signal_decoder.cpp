@@ -38,8 +38,10 @@ bool validate(const SignalSpec& s, std::string* error) {
   if (!std::isfinite(std::fabs(s.scale) * raw_magnitude_limit(s) + std::fabs(s.offset))) {
     return fail(error, s, "scale x raw range overflows a double");
   }
-  if (!std::isfinite(s.min) || !std::isfinite(s.max) || s.min > s.max) return fail(error, s, "range must be finite with min <= max");
-  if (s.min == 0.0 && s.max == 0.0) return fail(error, s, "range [0|0] (DBC's 'unbounded') is refused: give the joint's limits");
+  if (!std::isfinite(s.min) || !std::isfinite(s.max) || s.min > s.max)
+    return fail(error, s, "range must be finite with min <= max");
+  if (s.min == 0.0 && s.max == 0.0)
+    return fail(error, s, "range [0|0] (DBC's 'unbounded') is refused: give the joint's limits");
   if (s.unit == PhysicalUnit::kRigUnits) {
     int32_t probe = 0;
     if (!to_engine_value(s.min, s.unit, probe) || !to_engine_value(s.max, s.unit, probe)) {
@@ -96,7 +98,8 @@ bool SignalDecoder::configure(const std::vector<SignalSpec>& signals, std::strin
 
 void SignalDecoder::decode_frame(const CanFrame& frame, FrameDecode& out) {
   const uint64_t key = key_of(frame.id, frame.extended);
-  auto it = std::lower_bound(entries_.begin(), entries_.end(), key, [](const Entry& e, uint64_t k) { return e.key < k; });
+  auto it =
+      std::lower_bound(entries_.begin(), entries_.end(), key, [](const Entry& e, uint64_t k) { return e.key < k; });
   if (it == entries_.end() || it->key != key) {
     out.add_rejection(kNoInput, RejectReason::kUnknownId);
     return;

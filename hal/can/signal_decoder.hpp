@@ -16,17 +16,17 @@ namespace sinew::hal::can {
 struct SignalSpec {
   uint32_t can_id = 0;
   bool extended = false;
-  uint16_t start_bit = 0;          // DBC start bit (see signal_bits.hpp for the two conventions)
-  uint8_t length = 1;              // 1..64
+  uint16_t start_bit = 0;  // DBC start bit (see signal_bits.hpp for the two conventions)
+  uint8_t length = 1;      // 1..64
   ByteOrder byte_order = ByteOrder::kIntel;
   bool is_signed = false;
-  double scale = 1.0;              // physical = raw x scale + offset
+  double scale = 1.0;  // physical = raw x scale + offset
   double offset = 0.0;
-  double min = 0.0;                // accepted physical range, inclusive; required
-  double max = 0.0;                //   (DBC's [0|0] "unbounded" is refused)
+  double min = 0.0;  // accepted physical range, inclusive; required
+  double max = 0.0;  //   (DBC's [0|0] "unbounded" is refused)
   PhysicalUnit unit = PhysicalUnit::kDegrees;
-  uint16_t input = 0;              // rig input the value feeds
-  uint64_t period_ns = 0;          // expected period; timeout 1.5 x period unless timeout_ns
+  uint16_t input = 0;      // rig input the value feeds
+  uint64_t period_ns = 0;  // expected period; timeout 1.5 x period unless timeout_ns
   uint64_t timeout_ns = 0;
 };
 

@@ -96,8 +96,8 @@ bool SocketCanSource::try_open(std::string* error) {
     return fail("SO_TIMESTAMP");
   }
   if (::setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one) < 0) return fail("SO_RXQ_OVFL");
-  if (options_.receive_buffer_bytes > 0 &&
-      ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &options_.receive_buffer_bytes, sizeof options_.receive_buffer_bytes) < 0) {
+  if (options_.receive_buffer_bytes > 0 && ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &options_.receive_buffer_bytes,
+                                                        sizeof options_.receive_buffer_bytes) < 0) {
     return fail("SO_RCVBUF");
   }
 
@@ -122,7 +122,7 @@ bool SocketCanSource::set_filters(std::span<const FrameId> ids, std::string* err
 }
 
 bool SocketCanSource::apply_filters(std::string* error) {
-  if (!filters_set_ || filters_.empty()) return true;  // default: receive everything
+  if (!filters_set_ || filters_.empty()) return true;     // default: receive everything
   if (filters_.size() > CAN_RAW_FILTER_MAX) return true;  // too many for the kernel: the decoder rejects strays
   const auto bytes = static_cast<socklen_t>(filters_.size() * sizeof(can_filter));
   if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, filters_.data(), bytes) < 0) {
@@ -157,8 +157,8 @@ size_t SocketCanSource::drain(std::span<CanFrame> out, uint64_t now_ns) {
   while (n < out.size()) {
     canfd_frame raw;
     iovec iov{&raw, sizeof raw};
-    alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(timeval)) +
-                                           CMSG_SPACE(sizeof(uint32_t))];
+    alignas(cmsghdr) unsigned char
+        control[CMSG_SPACE(sizeof(timespec)) + CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(uint32_t))];
     msghdr msg{};
     msg.msg_iov = &iov;
     msg.msg_iovlen = 1;
@@ -187,7 +187,8 @@ size_t SocketCanSource::drain(std::span<CanFrame> out, uint64_t now_ns) {
       } else if (c->cmsg_type == SO_RXQ_OVFL) {
         uint32_t drops = 0;
         std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
-        tracker_.counters().dropped += static_cast<uint32_t>(drops - last_drop_count_);  // wraps like the kernel's counter
+        tracker_.counters().dropped +=
+            static_cast<uint32_t>(drops - last_drop_count_);  // wraps like the kernel's counter
         last_drop_count_ = drops;
       }
     }

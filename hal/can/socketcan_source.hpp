@@ -19,9 +19,9 @@ namespace sinew::hal::can {
 
 struct SocketCanOptions {
   std::string interface = "can0";
-  bool fd = false;                // receive CAN FD frames too
-  bool error_frames = true;       // subscribe to all error classes
-  int receive_buffer_bytes = 0;   // SO_RCVBUF; 0 keeps the kernel default
+  bool fd = false;               // receive CAN FD frames too
+  bool error_frames = true;      // subscribe to all error classes
+  int receive_buffer_bytes = 0;  // SO_RCVBUF; 0 keeps the kernel default
   BackoffPolicy backoff;
 };
 
@@ -42,7 +42,7 @@ class SocketCanSource final : public FrameSource {
   BusState bus_state() const override { return tracker_.state(); }
   const BusCounters& counters() const override { return tracker_.counters(); }
 
-  int fd() const { return fd_; }              // for poll()/epoll; -1 while down
+  int fd() const { return fd_; }  // for poll()/epoll; -1 while down
   int last_errno() const { return last_errno_; }
 
  private:
