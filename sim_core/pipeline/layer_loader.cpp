@@ -22,22 +22,8 @@ using rig::LoadStatus;
 constexpr uint64_t align8(uint64_t v) { return (v + 7u) & ~uint64_t{7}; }
 
 const char* section_name(uint32_t id) {
-  switch (id) {
-    case kSectionSphJoint:
-      return "SPHJ";
-    case kSectionMetaballs:
-      return "MBAL";
-    case kSectionMuscles:
-      return "MUSC";
-    case kSectionElasticSkin:
-      return "SKIN";
-    case kSectionBarnet:
-      return "BNET";
-    case kSectionExternalInputs:
-      return "EXTI";
-    default:
-      return nullptr;
-  }
+  const layer::SectionDescriptor* d = find_layer_section(id);
+  return d != nullptr ? d->name : nullptr;
 }
 
 // "rig blob: <SECT>#<instance>.<field>[<index>]: <problem> (<value>)"
@@ -62,162 +48,16 @@ LoadStatus from_layer(LoadError e, uint32_t id, uint32_t instance, const char* m
   return s;
 }
 
-struct ArraySpec {
-  uint32_t element_size;
-  uint32_t max_count;
-  const char* name;
-};
-
-// The arrays of each layer, in section order (layer_format.hpp), with the
-// maxima of the layer's model header.
-constexpr uint32_t kLen = sizeof(fx::Len), kVec = sizeof(fx::Vec3), kMat = sizeof(fx::Mat34);
-constexpr ArraySpec kSphSpec[kSphArrays] = {
-    {kLen, sph::kMaxParticles, "rest_local_x"},
-    {kLen, sph::kMaxParticles, "rest_local_y"},
-    {kLen, sph::kMaxParticles, "rest_local_z"},
-    {kLen, sph::kMaxParticles, "rest_model_x"},
-    {kLen, sph::kMaxParticles, "rest_model_y"},
-    {kLen, sph::kMaxParticles, "rest_model_z"},
-    {1, sph::kMaxParticles, "bone"},
-    {4, sph::kMaxSkinVertices, "skin_vertex"},
-    {kLen, sph::kMaxSkinVertices, "skin_rest_x"},
-    {kLen, sph::kMaxSkinVertices, "skin_rest_y"},
-    {kLen, sph::kMaxSkinVertices, "skin_rest_z"},
-};
-constexpr uint32_t kMbVerts = metaballs::kMaxVertices;
-constexpr ArraySpec kMetaballsSpec[kMetaballsArraysV2] = {
-    {kMat, metaballs::kMaxJoints, "inverse_bind"},
-    {kVec, metaballs::kMaxBalls, "ball_rest"},
-    {kLen, metaballs::kMaxBalls, "ball_radius"},
-    {2, metaballs::kMaxBalls, "ball_bone"},
-    {2, metaballs::kMaxBalls* metaballs::kBallInfluences, "ball_joint"},
-    {4, metaballs::kMaxBalls* metaballs::kBallInfluences, "ball_weight"},
-    {4, metaballs::kMaxBalls, "ball_jiggle"},
-    {sizeof(metaballs::BallPair), metaballs::kMaxPairs, "pairs"},
-    {sizeof(metaballs::BulgeRecord), metaballs::kMaxBalls, "bulges"},
-    {2, kMbVerts* metaballs::kVertexBalls, "vertex_ball"},
-    {4, kMbVerts* metaballs::kVertexBalls, "vertex_weight"},
-    {kVec, kMbVerts* metaballs::kVertexBalls, "vertex_disp"},
-    {sizeof(metaballs::JointBall), metaballs::kMaxJointBalls, "joint_balls"},
-    {4, kMbVerts, "jv_vertex"},
-    {2, kMbVerts, "jv_ball"},
-    {4, kMbVerts, "jv_alpha"},
-    {4, kMbVerts, "jv_blend"},
-    {kVec, kMbVerts, "jv_disp"},
-    {kVec, kMbVerts, "jv_laplacian"},
-    {4, kMbVerts + 1, "jv_neighbour_begin"},
-    {4, kMbVerts* metaballs::kMaxNeighbours, "jv_neighbours"},
-    {4, kMbVerts, "jv_inv_count"},
-    {sizeof(metaballs::OverlapRecord), metaballs::kMaxJointBalls, "overlaps"},
-    {4, kMbVerts, "overlap_vertices"},
-    {2, metaballs::kMaxBalls, "overlap_balls"},
-    // Layer version 2 only: version 1 reads the first kMetaballsArrays.
-    {sizeof(metaballs::ActionLine), metaballs::kMaxActionLines, "action_lines"},
-    {sizeof(metaballs::ActionBall), metaballs::kMaxActionBalls, "action_balls"},
-};
-constexpr ArraySpec kMusclesSpec[kMusclesArraysV4] = {
-    {sizeof(muscle::MuscleRecord), muscle::kMaxMuscles, "muscles"},
-    {sizeof(muscle::PrimitiveRecord), muscle::kMaxPrimitives, "primitives"},
-    {sizeof(muscle::PrimitiveDeformation), muscle::kMaxPrimitives, "deformations"},  // version 2 on
-    {sizeof(muscle::MuscleShape), muscle::kMaxMuscles, "shapes"},                    // version 3 on
-    {sizeof(muscle::PrimitiveExponents), muscle::kMaxPrimitives, "exponents"},       // version 4 only
-};
-constexpr ArraySpec kSkinSpec[kSkinArrays] = {
-    {sizeof(elastic_skin::Anchor), elastic_skin::kMaxVertices, "anchors"},
-    {4, elastic_skin::kMaxVertices, "anchor_stiffness"},
-    {kLen, elastic_skin::kMaxVertices, "fat"},
-    {sizeof(elastic_skin::Edge), 4 * elastic_skin::kMaxVertices, "edges"},
-    {sizeof(elastic_skin::RubberBand), elastic_skin::kMaxVertices, "bands"},
-    {4, elastic_skin::kMaxVertices, "region_vertex"},
-    {4, elastic_skin::kMaxVertices, "region_weight"},
-};
-constexpr ArraySpec kBarnetSpec[kBarnetArrays] = {
-    {kMat, barnet::kMaxJoints, "inverse_bind"},
-    {sizeof(barnet::NodeRecord), barnet::kMaxNodes, "nodes"},
-    {sizeof(barnet::BarRecord), barnet::kMaxBars, "bars"},
-    {sizeof(barnet::LoadRecord), barnet::kMaxLoads, "loads"},
-    {sizeof(barnet::ControlTriangle), barnet::kMaxTriangles, "triangles"},
-    {sizeof(barnet::WrapRecord), barnet::kMaxWrapVertices, "wrap"},
-};
-constexpr ArraySpec kBarnetSpecV2[kBarnetArraysV2] = {
-    {kMat, barnet::kMaxJoints, "inverse_bind"},
-    {sizeof(barnet::NodeRecord), barnet::kMaxNodes, "nodes"},
-    {sizeof(barnet::BarRecord), barnet::kMaxBars, "bars"},
-    {sizeof(barnet::LoadRecord), barnet::kMaxLoads, "loads"},
-    {sizeof(barnet::ControlTriangle), barnet::kMaxTriangles, "triangles"},
-    {sizeof(barnet::WrapRecord), barnet::kMaxWrapVertices, "wrap"},
-    {sizeof(barnet::ForceDensityInput), barnet::kMaxForceDensityInputs, "q_inputs"},
-};
-constexpr ArraySpec kExternalSpec[kExternalInputArrays] = {
-    {sizeof(ExternalInputRecord), kMaxExternalInputs, "inputs"},
-};
-
-struct Layout {
-  uint32_t params_size;
-  uint32_t array_count;
-  const ArraySpec* arrays;
-};
-
-bool layout_of(uint32_t id, uint32_t version, Layout* out) {
-  if (id == kSectionMetaballs && version == kMetaballsSectionVersion2) {
-    *out = {sizeof(MetaballsSectionParams), kMetaballsArraysV2, kMetaballsSpec};
-    return true;
+// Every descriptor fits the loader's array table, and every version's arrays
+// are a prefix of its section's list.
+static_assert([] {
+  for (const layer::SectionDescriptor* d : kLayerSections) {
+    if (d->arrays.size() > kMaxLayerArrays) return false;
+    for (const layer::SectionVersion& v : d->versions)
+      if (v.array_count > d->arrays.size()) return false;
   }
-  if (id == kSectionElasticSkin && version == kSkinSectionVersion2) {
-    *out = {sizeof(SkinSectionParamsV2), kSkinArrays, kSkinSpec};
-    return true;
-  }
-  if (id == kSectionBarnet && version == kBarnetSectionVersion2) {
-    *out = {sizeof(BarnetSectionParams), kBarnetArraysV2, kBarnetSpecV2};
-    return true;
-  }
-  if (id == kSectionElasticSkin && (version == kSkinSectionVersion3 || version == kSkinSectionVersion4)) {
-    *out = {sizeof(SkinSectionParamsV3), kSkinArrays, kSkinSpec};
-    return true;
-  }
-  if (id == kSectionElasticSkin && version == kSkinSectionVersion5) {
-    *out = {sizeof(SkinSectionParamsV5), kSkinArrays, kSkinSpec};
-    return true;
-  }
-  if (id == kSectionSphJoint && version == kSphSectionVersion2) {
-    *out = {sizeof(SphSectionParams), kSphArrays, kSphSpec};
-    return true;
-  }
-  if (id == kSectionMuscles && version == kMusclesSectionVersion2) {
-    *out = {sizeof(MusclesSectionParams), kMusclesArraysV2, kMusclesSpec};
-    return true;
-  }
-  if (id == kSectionMuscles && version == kMusclesSectionVersion3) {
-    *out = {sizeof(MusclesSectionParams), kMusclesArraysV3, kMusclesSpec};
-    return true;
-  }
-  if (id == kSectionMuscles && version == kMusclesSectionVersion4) {
-    *out = {sizeof(MusclesSectionParams), kMusclesArraysV4, kMusclesSpec};
-    return true;
-  }
-  switch (id) {
-    case kSectionSphJoint:
-      *out = {sizeof(SphSectionParamsV1), kSphArrays, kSphSpec};
-      return true;
-    case kSectionMetaballs:
-      *out = {sizeof(MetaballsSectionParams), kMetaballsArrays, kMetaballsSpec};
-      return true;
-    case kSectionMuscles:
-      *out = {sizeof(MusclesSectionParams), kMusclesArrays, kMusclesSpec};
-      return true;
-    case kSectionElasticSkin:
-      *out = {sizeof(SkinSectionParams), kSkinArrays, kSkinSpec};
-      return true;
-    case kSectionBarnet:
-      *out = {sizeof(BarnetSectionParams), kBarnetArrays, kBarnetSpec};
-      return true;
-    case kSectionExternalInputs:
-      *out = {0, kExternalInputArrays, kExternalSpec};
-      return true;
-    default:
-      return false;
-  }
-}
+  return true;
+}());
 
 // A structurally checked layer section: where its params and arrays are.
 struct SectionView {
@@ -228,8 +68,10 @@ struct SectionView {
   LayerArrayEntry arrays[kMaxLayerArrays] = {};
 };
 
+// The section's header, array table and array bounds against its descriptor
+// (sim_core/<layer>/<layer>_section.hpp): a version the descriptor lists,
+// its params size and array count, each array's element size and maximum.
 LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, uint32_t size, SectionView* out) {
-  Layout layout{};
   out->id = id;
   out->instance = instance;
   out->base = base;
@@ -238,23 +80,15 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
     return fail(LoadError::kSectionSize, id, instance, "size", -1, "shorter than the 32-byte layer header", size, true);
   std::memcpy(&out->header, base, sizeof(LayerSectionHeader));
   const LayerSectionHeader& h = out->header;
-  const bool skin_v2 = id == kSectionElasticSkin &&
-                       (h.layer_version == kSkinSectionVersion2 || h.layer_version == kSkinSectionVersion3 ||
-                        h.layer_version == kSkinSectionVersion4 || h.layer_version == kSkinSectionVersion5);
-  const bool barnet_v2 = id == kSectionBarnet && h.layer_version == kBarnetSectionVersion2;
-  const bool muscles_v2 = id == kSectionMuscles &&
-                          (h.layer_version == kMusclesSectionVersion2 || h.layer_version == kMusclesSectionVersion3 ||
-                           h.layer_version == kMusclesSectionVersion4);
-  const bool metaballs_v2 = id == kSectionMetaballs && h.layer_version == kMetaballsSectionVersion2;
-  const bool sph_v2 = id == kSectionSphJoint && h.layer_version == kSphSectionVersion2;
-  if (h.layer_version != kLayerSectionVersion && !skin_v2 && !barnet_v2 && !muscles_v2 && !metaballs_v2 && !sph_v2)
+  const layer::SectionDescriptor* descriptor = find_layer_section(id);
+  const layer::SectionVersion* version = descriptor != nullptr ? descriptor->find(h.layer_version) : nullptr;
+  if (version == nullptr)
     return fail(LoadError::kBadVersion, id, instance, "layer_version", -1, "unsupported layer section version",
                 h.layer_version, true);
-  layout_of(id, h.layer_version, &layout);
-  if (h.params_size != layout.params_size)
+  if (h.params_size != version->params_size)
     return fail(LoadError::kSectionSize, id, instance, "params_size", -1, "does not match this layer's record",
                 h.params_size, true);
-  if (h.array_count != layout.array_count)
+  if (h.array_count != version->array_count)
     return fail(LoadError::kSectionSize, id, instance, "array_count", -1, "does not match this layer's arrays",
                 h.array_count, true);
   const uint64_t table = sizeof(LayerSectionHeader) + align8(h.params_size);
@@ -265,7 +99,7 @@ LoadStatus check_section(uint32_t id, uint32_t instance, const uint8_t* base, ui
   for (uint32_t i = 0; i < h.array_count; ++i) {
     LayerArrayEntry e;
     std::memcpy(&e, base + table + uint64_t{i} * sizeof(LayerArrayEntry), sizeof(e));
-    const ArraySpec& spec = layout.arrays[i];
+    const layer::SectionArray& spec = descriptor->arrays[i];
     if (e.element_size != spec.element_size)
       return fail(LoadError::kSectionSize, id, instance, spec.name, -1, "element size differs from this loader's",
                   e.element_size, true);

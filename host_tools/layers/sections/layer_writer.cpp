@@ -13,25 +13,44 @@ namespace {
 
 constexpr size_t align8(size_t v) { return (v + 7u) & ~size_t{7}; }
 
-// Header, params, array table, then each array at a multiple of 8.
+// Header, params, array table, then each array at a multiple of 8, as the
+// section's descriptor (sim_core/<layer>/<layer>_section.hpp) lists them for
+// that version: the params size, the number of arrays and each array's
+// element size come from the descriptor the runtime loader also reads, and
+// a writer whose record or arrays differ from it is refused, named.
 class SectionBuilder {
  public:
-  SectionBuilder(uint32_t id, uint32_t rate_hz, const void* params, uint32_t params_size, uint32_t array_count)
-      : id_(id), array_count_(array_count) {
+  SectionBuilder(const layer::SectionDescriptor& section, uint32_t version, uint32_t rate_hz, const void* params,
+                 uint32_t params_size)
+      : section_(section), version_(section.find(version)) {
+    if (version_ == nullptr) {
+      fault("version " + std::to_string(version) + " is not in the descriptor");
+    } else if (params_size != version_->params_size) {
+      fault("version " + std::to_string(version) + " params record is " + std::to_string(params_size) +
+            " bytes, the descriptor's " + std::to_string(version_->params_size));
+    }
+    const uint32_t arrays = version_ != nullptr ? version_->array_count : 0;
     pipeline::LayerSectionHeader h{};
-    h.layer_version = pipeline::kLayerSectionVersion;
+    h.layer_version = version;
     h.params_size = params_size;
-    h.array_count = array_count;
+    h.array_count = arrays;
     h.rate_hz = rate_hz;
     put(&h, sizeof(h));
     put(params, params_size);
     table_ = bytes_.size();
-    bytes_.resize(table_ + size_t{array_count} * sizeof(pipeline::LayerArrayEntry), 0);
+    bytes_.resize(table_ + size_t{arrays} * sizeof(pipeline::LayerArrayEntry), 0);
   }
-  // Overrides the header's layer version (sections with several versions).
-  void version(uint32_t v) { std::memcpy(bytes_.data(), &v, sizeof(v)); }
   template <typename T>
   SectionBuilder& array(std::span<const T> values) {
+    if (version_ == nullptr) return *this;
+    if (next_ >= version_->array_count) {
+      fault("more arrays than the descriptor's " + std::to_string(version_->array_count));
+      return *this;
+    }
+    const layer::SectionArray& spec = section_.arrays[next_];
+    if (sizeof(T) != spec.element_size)
+      fault(std::string(spec.name) + " elements are " + std::to_string(sizeof(T)) + " bytes, the descriptor's " +
+            std::to_string(spec.element_size));
     bytes_.resize(align8(bytes_.size()), 0);
     pipeline::LayerArrayEntry e{static_cast<uint32_t>(bytes_.size()), static_cast<uint32_t>(values.size()),
                                 static_cast<uint32_t>(sizeof(T)), 0};
@@ -40,29 +59,33 @@ class SectionBuilder {
     return *this;
   }
   LayerSection finish() {
-    // A writer that filled fewer or more arrays than its table declares is a
-    // bug here: an empty section makes the round-trip load refuse it, named.
-    if (next_ != array_count_) bytes_.clear();
+    if (version_ != nullptr && next_ != version_->array_count)
+      fault(std::to_string(next_) + " arrays written, the descriptor's " + std::to_string(version_->array_count));
     bytes_.resize(align8(bytes_.size()), 0);
-    return {id_, std::move(bytes_)};
+    if (!problem_.empty()) bytes_.clear();
+    return {section_.id, std::move(bytes_), problem_};
   }
 
  private:
+  void fault(const std::string& what) {
+    if (problem_.empty()) problem_ = std::string("internal: the ") + section_.name + " writer: " + what;
+  }
   void put(const void* data, size_t size) {
     const size_t at = align8(bytes_.size());
     bytes_.resize(at + align8(size), 0);
     if (size > 0) std::memcpy(bytes_.data() + at, data, size);
   }
-  uint32_t id_;
-  uint32_t array_count_;
+  const layer::SectionDescriptor& section_;
+  const layer::SectionVersion* version_;
   std::vector<uint8_t> bytes_;
+  std::string problem_;
   size_t table_ = 0;
   size_t next_ = 0;
 };
 
 template <typename P>
-SectionBuilder builder(uint32_t id, uint32_t rate_hz, const P& params, uint32_t arrays) {
-  return SectionBuilder(id, rate_hz, &params, sizeof(P), arrays);
+SectionBuilder builder(const layer::SectionDescriptor& section, uint32_t version, uint32_t rate_hz, const P& params) {
+  return SectionBuilder(section, version, rate_hz, &params, sizeof(P));
 }
 
 }  // namespace
@@ -77,9 +100,8 @@ LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t forc
   p2.joint = p1.joint = m.joint;
   p2.force_input = p1.force_input = force_input;
   std::memcpy(p1.params, &m.params, sizeof p1.params);
-  SectionBuilder b = v2 ? builder(pipeline::kSectionSphJoint, rate_hz, p2, pipeline::kSphArrays)
-                        : builder(pipeline::kSectionSphJoint, rate_hz, p1, pipeline::kSphArrays);
-  if (v2) b.version(pipeline::kSphSectionVersion2);
+  SectionBuilder b = v2 ? builder(sph::kSphSection, pipeline::kSphSectionVersion2, rate_hz, p2)
+                        : builder(sph::kSphSection, pipeline::kLayerSectionVersion, rate_hz, p1);
   for (int a = 0; a < 3; ++a) b.array(m.rest_local[a]);
   for (int a = 0; a < 3; ++a) b.array(m.rest_model[a]);
   b.array(m.bone).array(m.skin_vertex);
@@ -93,9 +115,9 @@ LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
   // Version 1 without action lines (the bytes of rigs without them do not
   // change); version 2 appends them.
   const bool v2 = !m.action_lines.empty();
-  SectionBuilder b = builder(pipeline::kSectionMetaballs, m.jiggle_rate_hz, p,
-                             v2 ? pipeline::kMetaballsArraysV2 : pipeline::kMetaballsArrays);
-  if (v2) b.version(pipeline::kMetaballsSectionVersion2);
+  SectionBuilder b =
+      builder(metaballs::kMetaballsSection, v2 ? pipeline::kMetaballsSectionVersion2 : pipeline::kLayerSectionVersion,
+              m.jiggle_rate_hz, p);
   b.array(m.inverse_bind).array(m.ball_rest).array(m.ball_radius).array(m.ball_bone).array(m.ball_joint);
   b.array(m.ball_weight).array(m.ball_jiggle).array(m.pairs).array(m.bulges);
   b.array(m.vertex_ball).array(m.vertex_weight).array(m.vertex_disp);
@@ -117,18 +139,11 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
   bool general = false;
   for (const auto& r : m.primitives) general = general || (!m.exponents.empty() && r.exponent == 0);
   const pipeline::MusclesSectionParams p{m.joint_count, m.ring_vertices};
-  const uint32_t arrays = general    ? pipeline::kMusclesArraysV4
-                          : shaped   ? pipeline::kMusclesArraysV3
-                          : deformed ? pipeline::kMusclesArraysV2
-                                     : pipeline::kMusclesArrays;
-  SectionBuilder b = builder(pipeline::kSectionMuscles, 0, p, arrays);
-  if (general) {
-    b.version(pipeline::kMusclesSectionVersion4);
-  } else if (shaped) {
-    b.version(pipeline::kMusclesSectionVersion3);
-  } else if (deformed) {
-    b.version(pipeline::kMusclesSectionVersion2);
-  }
+  const uint32_t version = general    ? pipeline::kMusclesSectionVersion4
+                           : shaped   ? pipeline::kMusclesSectionVersion3
+                           : deformed ? pipeline::kMusclesSectionVersion2
+                                      : pipeline::kLayerSectionVersion;
+  SectionBuilder b = builder(muscle::kMusclesSection, version, 0, p);
   b.array(m.muscles).array(m.primitives);
   if (general || shaped || deformed)
     b.array(deformed ? m.deformations : std::span<const ::sinew::muscle::PrimitiveDeformation>{});
@@ -151,8 +166,7 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
     pipeline::SkinSectionParamsV5 p5{};
     p5.v3 = {m.joint_count, m.vertex_count, m.params, m.solver};
     for (int c = 0; c < 3; ++c) p5.base_acceleration_input[c] = base_acceleration[c];
-    SectionBuilder b(pipeline::kSectionElasticSkin, 0, &p5, sizeof(p5), pipeline::kSkinArrays);
-    b.version(pipeline::kSkinSectionVersion5);
+    SectionBuilder b = builder(elastic_skin::kSkinSection, pipeline::kSkinSectionVersion5, 0, p5);
     b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
     b.array(region).array(region_weight);
     return b.finish();
@@ -169,10 +183,11 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
   const uint32_t size = v4 || v3 ? uint32_t{sizeof(pipeline::SkinSectionParamsV3)}
                         : v2     ? uint32_t{sizeof(pipeline::SkinSectionParamsV2)}
                                  : uint32_t{sizeof(pipeline::SkinSectionParams)};
-  SectionBuilder b(pipeline::kSectionElasticSkin, 0, &p, size, pipeline::kSkinArrays);
-  if (v4) b.version(pipeline::kSkinSectionVersion4);
-  if (v3) b.version(pipeline::kSkinSectionVersion3);
-  if (v2) b.version(pipeline::kSkinSectionVersion2);
+  const uint32_t version = v4   ? pipeline::kSkinSectionVersion4
+                           : v3 ? pipeline::kSkinSectionVersion3
+                           : v2 ? pipeline::kSkinSectionVersion2
+                                : pipeline::kLayerSectionVersion;
+  SectionBuilder b(elastic_skin::kSkinSection, version, 0, &p, size);
   b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
   b.array(region).array(region_weight);
   return b.finish();
@@ -184,15 +199,15 @@ LayerSection barnet_section(const ::sinew::barnet::BarnetModel& m) {
   bool v2 = !m.q_inputs.empty();
   for (const ::sinew::barnet::LoadRecord& l : m.loads) v2 = v2 || l.input >= m.input_count;
   const pipeline::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, v2 ? m.external_count : 0};
-  SectionBuilder b = builder(pipeline::kSectionBarnet, 0, p, v2 ? pipeline::kBarnetArraysV2 : pipeline::kBarnetArrays);
-  if (v2) b.version(pipeline::kBarnetSectionVersion2);
+  SectionBuilder b =
+      builder(barnet::kBarnetSection, v2 ? pipeline::kBarnetSectionVersion2 : pipeline::kLayerSectionVersion, 0, p);
   b.array(m.inverse_bind).array(m.nodes).array(m.bars).array(m.loads).array(m.triangles).array(m.wrap);
   if (v2) b.array(m.q_inputs);
   return b.finish();
 }
 
 LayerSection external_inputs_section(std::span<const pipeline::ExternalInputRecord> inputs) {
-  SectionBuilder b(pipeline::kSectionExternalInputs, 0, nullptr, 0, pipeline::kExternalInputArrays);
+  SectionBuilder b(pipeline::kExternalInputSection, pipeline::kLayerSectionVersion, 0, nullptr, 0);
   b.array(inputs);
   return b.finish();
 }
@@ -200,6 +215,8 @@ LayerSection external_inputs_section(std::span<const pipeline::ExternalInputReco
 bool append_layer_sections(std::vector<uint8_t>* blob, const std::vector<LayerSection>& sections, std::string* error) {
   namespace fmt = sinew::rig;
   if (sections.empty()) return true;
+  for (const LayerSection& s : sections)
+    if (!s.problem.empty()) return *error = s.problem, false;
   fmt::FileHeader h;
   if (blob->size() < sizeof(h)) return *error = "internal: core blob too short", false;
   std::memcpy(&h, blob->data(), sizeof(h));

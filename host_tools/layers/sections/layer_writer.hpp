@@ -19,6 +19,10 @@ inline constexpr uint32_t kNoBaseAcceleration[3] = {pipeline::kNoExternalInput, 
 struct LayerSection {
   uint32_t id = 0;
   std::vector<uint8_t> payload;  // a multiple of 8 bytes
+  // Not empty when the writer's arrays disagree with the section's
+  // descriptor (a bug here, never the model's): names the section, version
+  // and array; append_layer_sections refuses the section with it.
+  std::string problem;
 };
 
 LayerSection sph_section(const ::sinew::sph::SphModel& model, uint32_t rate_hz, uint32_t force_input);
