@@ -128,17 +128,24 @@ std::unique_ptr<OutputSink> open_udp(const SinkConfig& s, const SinkSetup& setup
   return queued(setup.config, std::move(udp), frame_dims(setup.rig));
 }
 
+constexpr std::string_view kCanProtocols[] = {"joint-stream", "joint-frames"};
+
 constexpr ConfigKey kCanKeys[] = {{"type", KeyKind::kString},
                                   {"name", KeyKind::kString},
                                   {"interface", KeyKind::kString},
                                   {"candump", KeyKind::kString},
+                                  {"protocol", KeyKind::kChoice, 0, 0, {}, kCanProtocols},
+                                  {"fd", KeyKind::kFlag},
                                   {"can_id", KeyKind::kInteger, 0, 0x1FFFFFFF},
                                   {"extended_id", KeyKind::kFlag}};
 
-// The applied inputs on a CAN bus, one frame per input and tick
-// (hal/output/can_pose_sink.hpp, docs/frame-formats.md): on a SocketCAN
-// `interface`, or, with `candump` (a path), into a candump log as the
-// simulated twin; `interface` then names the bus in its lines.
+// The applied inputs on a CAN bus every tick (hal/output/can_pose_sink.hpp):
+// in the joint-stream protocol sinew's CAN sources read
+// (docs/can-protocol.md; `fd` packs eight inputs a frame), or as compact
+// joint frames on one identifier (`protocol = "joint-frames"`, `can_id`,
+// `extended_id`; docs/frame-formats.md). On a SocketCAN `interface`, or,
+// with `candump` (a path), into a candump log as the simulated twin;
+// `interface` then names the bus in its lines.
 std::unique_ptr<OutputSink> open_can(const SinkConfig& s, const SinkSetup& setup, std::string* error) {
   const auto interface = s.table["interface"].value<std::string>();
   const auto candump = s.table["candump"].value<std::string>();
@@ -156,9 +163,13 @@ std::unique_ptr<OutputSink> open_can(const SinkConfig& s, const SinkSetup& setup
   } else {
     return *error = "interface (a SocketCAN interface) or candump (a log path) is required", failed(s, error);
   }
-  hal::output::CanOutputOptions options;
-  options.can_id = s.table["can_id"].value_or(options.can_id);
-  options.extended_id = s.table["extended_id"].value_or(false);
+  hal::output::CanPoseSinkOptions options;
+  if (s.table["protocol"].value_or<std::string>("joint-stream") == "joint-frames")
+    options.protocol = hal::output::CanOutputProtocol::kJointFrames;
+  options.fd = s.table["fd"].value_or(false);
+  options.period_ns = setup.config.rate_hz > 0 ? 1'000'000'000u / setup.config.rate_hz : 0;
+  options.frames.can_id = s.table["can_id"].value_or(options.frames.can_id);
+  options.frames.extended_id = s.table["extended_id"].value_or(false);
   auto can = std::make_unique<hal::output::CanPoseSink>();
   if (!can->open(options, setup.rig.input_count(), std::move(writer), error)) return failed(s, error);
   can->set_name(s.name);

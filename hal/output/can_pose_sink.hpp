@@ -1,7 +1,16 @@
-// The pose on a CAN bus as an output sink: each frame's inputs, as applied,
-// encoded one classic CAN frame per input (can_frames.hpp; layout in
-// docs/frame-formats.md) and handed to a CAN transport: SocketCanWriter on
-// a board, CandumpFrameWriter (its simulated twin) in tests and replays.
+// The pose on a CAN bus as an output sink: each tick's inputs, as applied,
+// handed to a CAN transport (SocketCanWriter on a board, CandumpFrameWriter,
+// its simulated twin, in tests and replays) in one of two encodings:
+//  - kJointStream: the joint-stream protocol sinew's CAN sources read
+//    (docs/can-protocol.md; hal/can/joint_stream_encoder.hpp): per input a
+//    record with its CRC and alive counter in the default layout (classic:
+//    input i on 0x100 + i; CAN FD: eight per frame on 0x180 + i / 8), so
+//    another node, or another sinewd's CAN source, follows the rig. An input
+//    that is stale (no valid sample within its timeout, its value held) is
+//    sent with the sender-fault status bit.
+//  - kJointFrames: one compact frame per input on one identifier, with its
+//    status bits and the tick's counter (can_frames.hpp;
+//    docs/frame-formats.md).
 // write() neither blocks nor allocates: its buffers are sized at open().
 #pragma once
 
@@ -11,15 +20,27 @@
 
 #include "can_frames.hpp"
 #include "hal/can/frame_writer.hpp"
+#include "hal/can/joint_stream_config.hpp"
+#include "hal/can/joint_stream_encoder.hpp"
 #include "hal/common/output_sink.hpp"
 
 namespace sinew::hal::output {
 
+enum class CanOutputProtocol : uint8_t { kJointStream, kJointFrames };
+
+struct CanPoseSinkOptions {
+  CanOutputProtocol protocol = CanOutputProtocol::kJointStream;
+  bool fd = false;          // kJointStream: packed CAN FD frames, eight inputs each
+  uint64_t period_ns = 0;   // kJointStream: the tick period, for the layout's record
+  CanOutputOptions frames;  // kJointFrames: the identifier
+};
+
 class CanPoseSink final : public OutputSink {
  public:
-  // Configuration time: checks the identifier and that every input index
-  // fits the frame's 16 bits, and sizes the buffers for input_count inputs.
-  bool open(const CanOutputOptions& options, uint32_t input_count, std::unique_ptr<can::FrameWriter> writer,
+  // Configuration time: checks the identifier or the joint-stream layout
+  // (at most 128 inputs, the default layout's), and sizes the buffers for
+  // input_count inputs.
+  bool open(const CanPoseSinkOptions& options, uint32_t input_count, std::unique_ptr<can::FrameWriter> writer,
             std::string* error);
   void set_name(std::string name) { name_ = std::move(name); }
 
@@ -34,7 +55,14 @@ class CanPoseSink final : public OutputSink {
   uint64_t ticks_incomplete() const { return ticks_incomplete_; }
 
  private:
+  bool encode_joint_stream(const PoseFrame& frame);
+
+  CanOutputProtocol protocol_ = CanOutputProtocol::kJointStream;
   CanFrameEncoder encoder_;
+  can::JointStreamConfig layout_;
+  can::JointStreamSender sender_;
+  std::vector<int32_t> values_;  // one joint-stream frame's values and statuses
+  std::vector<uint8_t> status_;
   std::unique_ptr<can::FrameWriter> writer_;
   std::vector<can_frame> encoded_;
   std::vector<can::CanFrame> frames_;
