@@ -202,14 +202,14 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     return false;
   }
   DaemonConfig c;
-  for (const char* table : {"rig", "loop", "layers", "realtime", "inputs"})
+  for (const char* table : {"rig", "loop", "layers", "realtime", "inputs", "status"})
     if (t.contains(table) && !t[table].is_table())
       return *error = at(origin, t[table].node(), std::string("[") + table + "]") + ": must be a table", false;
   for (const auto& [key, node] : t)
-    if (std::string_view k = key.str();
-        k != "rig" && k != "loop" && k != "layers" && k != "realtime" && k != "inputs" && k != "source" && k != "sink")
+    if (std::string_view k = key.str(); k != "rig" && k != "loop" && k != "layers" && k != "realtime" &&
+                                        k != "inputs" && k != "status" && k != "source" && k != "sink")
       return *error = at(origin, &node, std::string(k)) +
-                      ": unknown table or key (rig, loop, layers, realtime, inputs, source, sink)",
+                      ": unknown table or key (rig, loop, layers, realtime, inputs, status, source, sink)",
              false;
   if (const toml::table* rig = t["rig"].as_table()) {
     if (!known_keys_only(*rig, "rig", {"builtin", "blob"}, origin, error)) return false;
@@ -254,6 +254,16 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
   }
   if (const toml::table* layers = t["layers"].as_table())
     if (!read_layers(*layers, origin, &c.layers, error)) return false;
+  if (const toml::table* st = t["status"].as_table()) {
+    if (!known_keys_only(*st, "status", {"modbus_port", "modbus_bind", "modbus_max_clients"}, origin, error))
+      return false;
+    if (!read_number(*st, "modbus_port", 0, 65535, &c.status.modbus_port, origin, error)) return false;
+    if (!read_number(*st, "modbus_max_clients", 1, 64, &c.status.modbus_max_clients, origin, error)) return false;
+    if (const toml::node* bind = st->get("modbus_bind")) {
+      if (!bind->is_string()) return *error = at(origin, bind, "[status] modbus_bind") + ": must be a string", false;
+      c.status.modbus_bind = bind->value_or<std::string>("");
+    }
+  }
   if (const toml::table* rt = t["realtime"].as_table()) {
     if (!known_keys_only(
             *rt, "realtime",

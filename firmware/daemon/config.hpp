@@ -40,6 +40,13 @@ struct DaemonConfig {
   TickTrigger trigger = TickTrigger::kPeriodic;
   double trigger_poll_us = 20.0;  // how often the sources are asked while a triggered tick waits
   RealtimeOptions realtime;
+  // [status]: the daemon's health as Modbus TCP registers for a PLC or HMI
+  // (hal/modbus/status_server.hpp, docs/modbus.md "Status registers").
+  struct Status {
+    int32_t modbus_port = -1;               // -1: no server; 0: any free port (printed at start)
+    std::string modbus_bind = "127.0.0.1";  // IPv4 address; "0.0.0.0": every interface
+    int32_t modbus_max_clients = 4;
+  } status;
   double timeout_factor = 1.5;      // stale after factor x expected period (CANopen style)
   double default_period_ms = 10.0;  // expected sample period when a source does not say
   double range_margin_deg = 10.0;   // accepted beyond a DOF limit (then clamped); further is a fault

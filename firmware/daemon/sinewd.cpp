@@ -22,6 +22,7 @@
 #include "sinks.hpp"
 #include "sources.hpp"
 #include "stats_report.hpp"
+#include "status_publisher.hpp"
 
 namespace {
 
@@ -89,6 +90,16 @@ int run(int argc, char** argv) {
       !add_sources(config, rig, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
+  }
+  const std::unique_ptr<StatusPublisher> status = StatusPublisher::create(config, runtime, &error);
+  if (!status && !error.empty()) {
+    std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+    return 2;
+  }
+  if (status) {
+    std::printf("sinewd: status registers on Modbus TCP %s:%u\n", config.status.modbus_bind.c_str(),
+                static_cast<unsigned>(status->port()));
+    std::fflush(stdout);
   }
   if (config.mode == RunMode::kLive && config.trigger != TickTrigger::kPeriodic) {
     // A trigger no source can pull would leave every tick to its deadline.
@@ -158,13 +169,15 @@ int run(int argc, char** argv) {
     if (slot >= total_ticks) break;
     ++(arrived ? on_arrival : at_deadline);
     const uint64_t t0 = monotonic_ns();
-    runtime.step(tick_ns, slot);
+    const sinew::hal::PoseFrame& frame = runtime.step(tick_ns, slot);
     const uint64_t t1 = monotonic_ns();
+    if (status) status->publish(runtime, frame, t1 - t0);
     runtime.timing().record(t1 - t0, live && (triggered ? trigger_clock.finished_late(t1) : clock.finished_late(t1)));
     if ((tick + 1) % stats_every == 0) print_stats(runtime, rig, false);
   }
   const uint64_t lost_frames = runtime.close_sinks();  // writes what the sinks' queues hold
   print_stats(runtime, rig, true);
+  if (status) std::printf("  %s\n", status->status_line().c_str());
   const uint64_t skipped = clock.skipped_ticks() + trigger_clock.skipped_ticks();
   if (skipped > 0)
     std::printf("skipped ticks (more than a period late): %llu\n", static_cast<unsigned long long>(skipped));
