@@ -12,7 +12,9 @@
 //   chip" path (chip = "simulated-rig" runs for real).
 // - Files: a config whose strings contain '/' (or are "..") is skipped, and
 //   the file names it gives (a candump source's path, a CAN source's record,
-//   a Modbus RTU device, a log sink's path) are taken inside a fresh
+//   a Modbus RTU device, a log sink's path, a CAN sink's candump log; a CAN
+//   sink without one gets one, so it runs on its simulated twin) are taken
+//   inside a fresh
 //   temporary directory, emptied after every input: logs, recordings and
 //   replays are created and read there only. It holds one candump log,
 //   "replay.candump", for candump sources to read. (The process keeps its
@@ -110,8 +112,14 @@ bool local_strings(const toml::node& node) {
 
 // Takes the file names a table gives inside the directory.
 void localize(toml::table* table) {
-  for (const char* key : {"path", "record", "device"})
+  for (const char* key : {"path", "record", "device", "candump"})
     if (const auto name = (*table)[key].value<std::string>()) table->insert_or_assign(key, g_dir + "/" + *name);
+}
+
+// A CAN sink always writes its candump twin inside the directory: a fuzzed
+// configuration never puts frames on a machine's CAN interface.
+void keep_off_the_bus(sinew::firmware::SinkConfig* sink) {
+  if (sink->type == "can" && !sink->table.contains("candump")) sink->table.insert_or_assign("candump", "sink.candump");
 }
 
 const sinew::firmware::LoadedRig& builtin_rig(const std::string& name) {
@@ -177,6 +185,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   for (auto& s : config.sinks) {
     if (!local_strings(s.table)) return 0;
+    keep_off_the_bus(&s);
     localize(&s.table);
   }
   run(config);
