@@ -98,7 +98,7 @@ LayerStatus check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t>
 }  // namespace
 
 size_t barnet_state_bytes(const BarnetModel& model) {
-  if (!barnet_validate(model).ok()) return 0;
+  if (!barnet_validate_model(model).ok()) return 0;
   const uint32_t free = free_count(model);
   const uint64_t profile = profile_size(model, free);
   if (profile > kMaxProfile) return 0;
@@ -106,7 +106,7 @@ size_t barnet_state_bytes(const BarnetModel& model) {
 }
 
 LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out) {
-  LayerStatus s = barnet_validate(model);
+  LayerStatus s = barnet_validate_model(model);
   if (!s.ok()) return s;
   const uint32_t free = free_count(model);
   const uint64_t profile = profile_size(model, free);

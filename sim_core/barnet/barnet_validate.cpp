@@ -96,7 +96,7 @@ uint32_t free_count(const BarnetModel& model) {
   return n;
 }
 
-LayerStatus barnet_validate(const BarnetModel& m) {
+LayerStatus barnet_validate_model(const BarnetModel& m) {
   if (m.nodes.empty()) return fail(LayerError::kBadCount, "nodes: a bar-net needs at least one node");
   if (m.nodes.size() > kMaxNodes) return fail(LayerError::kBadCount, "nodes: more than 4096");
   if (m.bars.size() > kMaxBars) return fail(LayerError::kBadCount, "bars: more than 16384");
@@ -123,6 +123,13 @@ LayerStatus barnet_validate(const BarnetModel& m) {
   s = check_q_inputs(m);
   if (!s.ok()) return s;
   return check_mesh(m);
+}
+
+LayerStatus barnet_validate(const BarnetModel& m, const rig::Rig& rig) {
+  if (m.joint_count != rig.joint_count()) return fail(LayerError::kBadCount, "joint_count: differs from the rig's");
+  if (m.input_count != rig.input_count) return fail(LayerError::kBadCount, "input_count: differs from the rig's");
+  if (m.vertex_count != rig.vertex_count()) return fail(LayerError::kBadCount, "vertex_count: differs from the rig's");
+  return barnet_validate_model(m);
 }
 
 }  // namespace sinew::barnet

@@ -108,7 +108,7 @@ LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel
   return params.ok() ? check_solver(model.solver) : params;
 }
 
-LayerStatus skin_validate(const rig::Rig& rig, const muscle::MuscleModel& muscles, const SkinModel& model) {
+LayerStatus skin_validate(const SkinModel& model, const rig::Rig& rig, const muscle::MuscleModel& muscles) {
   if (model.joint_count != rig.joint_count())
     return bad("skin model", -1, "joint_count", "differs from the rig's joint count", model.joint_count, true);
   return skin_check_indices(model, muscles, rig.joint_count());

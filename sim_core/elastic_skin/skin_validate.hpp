@@ -19,7 +19,9 @@ namespace sinew::elastic_skin {
 //  - parameters out of range (iterations 1..256, push_back [0, 1],
 //    compression_band (0, 1], reaction_gain (0, 1], newton_steps 1..8,
 //    collision_radius >= 0).
-LayerStatus skin_validate(const rig::Rig& rig, const muscle::MuscleModel& muscles, const SkinModel& model);
+// The muscle model is the skin's one dependency: its anchors and bands
+// name muscles (the skin runs after the muscle layer, in the anatomy stage).
+LayerStatus skin_validate(const SkinModel& model, const rig::Rig& rig, const muscle::MuscleModel& muscles);
 
 // The index and parameter checks alone (no rig needed); the step runs these every time.
 LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel& muscles, uint32_t joints);

@@ -40,7 +40,7 @@ size_t metaballs_state_bytes(const MetaballModel& model) {
 }
 
 LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t bytes, MetaballState* out) {
-  LayerStatus s = metaballs_validate(model);
+  LayerStatus s = metaballs_validate_model(model);
   if (!s.ok()) return s;
   const auto arena_error = [&](const char* problem) {
     s.error = LayerError::kArena;

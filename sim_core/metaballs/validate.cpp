@@ -220,7 +220,7 @@ void check_overlaps(const MetaballModel& m, Checker& c) {
 
 }  // namespace
 
-LayerStatus metaballs_validate(const MetaballModel& m) {
+LayerStatus metaballs_validate_model(const MetaballModel& m) {
   LayerStatus s;
   Checker c(&s);
   if (!c.limit("joint_count", m.joint_count, kMaxJoints, 1) ||
@@ -231,6 +231,18 @@ LayerStatus metaballs_validate(const MetaballModel& m) {
   if (!c.failed()) check_vertices(m, c);
   if (!c.failed()) check_joint_region(m, c);
   if (!c.failed()) check_overlaps(m, c);
+  return s;
+}
+
+LayerStatus metaballs_validate(const MetaballModel& m, const rig::Rig& rig) {
+  LayerStatus s;
+  Checker c(&s);
+  if (m.joint_count != rig.joint_count())
+    c.fail(LayerError::kBadCount, "joint_count", -1, "differs from the rig's", m.joint_count);
+  else if (m.vertex_count != rig.vertex_count())
+    c.fail(LayerError::kBadCount, "vertex_count", -1, "differs from the rig's", m.vertex_count);
+  else
+    s = metaballs_validate_model(m);
   return s;
 }
 

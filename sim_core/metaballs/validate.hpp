@@ -4,10 +4,17 @@
 #pragma once
 
 #include "model.hpp"
+#include "sim_core/rig/rig.hpp"
 #include "status.hpp"
 
 namespace sinew::metaballs {
 
-LayerStatus metaballs_validate(const MetaballModel& model);
+// The layer's safety contract: the checks above, and the joint and vertex
+// counts against the rig the model runs on.
+LayerStatus metaballs_validate(const MetaballModel& model, const rig::Rig& rig);
+
+// The same checks without a rig: what metaballs_state_bytes and
+// metaballs_init can verify of a model on its own.
+LayerStatus metaballs_validate_model(const MetaballModel& model);
 
 }  // namespace sinew::metaballs

@@ -159,7 +159,7 @@ LayerStatus check_shape(const MuscleRecord& r, const MuscleShape& s, uint32_t i)
 
 }  // namespace
 
-LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model) {
+LayerStatus muscle_validate(const MuscleModel& model, const rig::Rig& rig) {
   if (model.joint_count != rig.joint_count())
     return bad("muscle model", -1, "joint_count", "differs from the rig's joint count", model.joint_count, true);
   const uint32_t ring = model.ring_vertices;

@@ -17,6 +17,6 @@ namespace sinew::muscle {
 //  - primitives of unknown kind/attach, exponent not in {2, 4, 8},
 //    non-positive extents, an aspect ratio above kMaxPrimitiveAspect,
 //    a sphere with unequal extents, a muscle segment outside 0..6.
-LayerStatus muscle_validate(const rig::Rig& rig, const MuscleModel& model);
+LayerStatus muscle_validate(const MuscleModel& model, const rig::Rig& rig);
 
 }  // namespace sinew::muscle

@@ -202,7 +202,7 @@ LoadStatus load_sph(const SectionView& v, const rig::Rig& rig, uint32_t external
   m.skin_vertex = array_of<uint32_t>(v, 7);
   if (v.header.rate_hz == 0)
     return fail(LoadError::kBadValue, v.id, v.instance, "rate_hz", -1, "an SPH joint's gains need its tick rate");
-  const sph::LayerStatus st = sph::sph_validate(m, rig.joint_count(), rig.vertex_count());
+  const sph::LayerStatus st = sph::sph_validate(m, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   if (rig.joints[m.joint.distal_joint].dof_count == 0 ||
       rig.joints[m.joint.distal_joint].dof_kind != static_cast<uint8_t>(rig::DofKind::kRotation))
@@ -254,13 +254,7 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
     m.action_lines = array_of<metaballs::ActionLine>(v, 25);
     m.action_balls = array_of<metaballs::ActionBall>(v, 26);
   }
-  if (m.joint_count != rig.joint_count())
-    return fail(LoadError::kBadValue, v.id, v.instance, "joint_count", -1, "differs from the rig's", m.joint_count,
-                true);
-  if (m.vertex_count != rig.vertex_count())
-    return fail(LoadError::kBadValue, v.id, v.instance, "vertex_count", -1, "differs from the rig's", m.vertex_count,
-                true);
-  const metaballs::LayerStatus st = metaballs::metaballs_validate(m);
+  const metaballs::LayerStatus st = metaballs::metaballs_validate(m, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
 }
@@ -277,7 +271,7 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
           v2 ? array_of<muscle::PrimitiveDeformation>(v, 2) : std::span<const muscle::PrimitiveDeformation>{},
           v3 ? array_of<muscle::MuscleShape>(v, 3) : std::span<const muscle::MuscleShape>{},
           v4 ? array_of<muscle::PrimitiveExponents>(v, 4) : std::span<const muscle::PrimitiveExponents>{}};
-  const muscle::LayerStatus st = muscle::muscle_validate(rig, *out);
+  const muscle::LayerStatus st = muscle::muscle_validate(*out, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
 }
@@ -344,7 +338,7 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
       return fail(LoadError::kBadValue, v.id, v.instance, "region_weight", i, "outside (0, 1]", (*region_weight)[i],
                   true);
   }
-  const muscle::LayerStatus st = elastic_skin::skin_validate(rig, muscles, *out);
+  const muscle::LayerStatus st = elastic_skin::skin_validate(*out, rig, muscles);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
 }
@@ -363,9 +357,6 @@ LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, uint32_t exter
           array_of<barnet::WrapRecord>(v, 5),
           0,
           {}};
-  if (p.joint_count != rig.joint_count() || p.input_count != rig.input_count || p.vertex_count != rig.vertex_count())
-    return fail(LoadError::kBadValue, v.id, v.instance, "joint_count", -1,
-                "joint, input or vertex count differs from the rig's", p.joint_count, true);
   if (v2) {
     if (p.external_count != external_count)
       return fail(LoadError::kBadValue, v.id, v.instance, "external_count", -1,
@@ -373,7 +364,7 @@ LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, uint32_t exter
     out->external_count = p.external_count;
     out->q_inputs = array_of<barnet::ForceDensityInput>(v, 6);
   }
-  const barnet::LayerStatus st = barnet::barnet_validate(*out);
+  const barnet::LayerStatus st = barnet::barnet_validate(*out, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
 }

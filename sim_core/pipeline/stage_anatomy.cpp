@@ -32,8 +32,8 @@ void anatomy_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuild
 
 PipelineStatus anatomy_validate(const rig::Rig& rig, const LayerSet& layers) {
   if (!layers.has_muscles) return {};
-  layer::LayerStatus st = muscle::muscle_validate(rig, layers.muscles);
-  if (st.ok() && layers.has_skin) st = elastic_skin::skin_validate(rig, layers.muscles, layers.skin);
+  layer::LayerStatus st = muscle::muscle_validate(layers.muscles, rig);
+  if (st.ok() && layers.has_skin) st = elastic_skin::skin_validate(layers.skin, rig, layers.muscles);
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "anatomy", st.message);
   return {};
 }

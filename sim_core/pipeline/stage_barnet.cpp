@@ -13,10 +13,14 @@ void barnet_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilde
   for (uint32_t i = 0; i < layers.barnet_count; ++i) out->text(i > 0 ? " barnet" : "barnet");
 }
 
-PipelineStatus barnet_validate(const rig::Rig&, const LayerSet& layers) {
+PipelineStatus barnet_validate(const rig::Rig& rig, const LayerSet& layers) {
   for (uint32_t i = 0; i < layers.barnet_count; ++i) {
-    const layer::LayerStatus st = barnet::barnet_validate(layers.barnet[i]);
+    const layer::LayerStatus st = barnet::barnet_validate(layers.barnet[i], rig);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "barnet", st.message, i);
+    // The net's loads read external inputs below its external_count.
+    if (layers.barnet[i].external_count > layers.external_count())
+      return stage_fail(PipelineError::kBadModel, "barnet", "external_count: exceeds the layer set's external inputs",
+                        i);
   }
   return {};
 }

@@ -12,9 +12,9 @@ void metaballs_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBui
   if (layers.has_metaballs) out->text("metaballs");
 }
 
-PipelineStatus metaballs_validate(const rig::Rig&, const LayerSet& layers) {
+PipelineStatus metaballs_validate(const rig::Rig& rig, const LayerSet& layers) {
   if (!layers.has_metaballs) return {};
-  const layer::LayerStatus st = metaballs::metaballs_validate(layers.metaballs);
+  const layer::LayerStatus st = metaballs::metaballs_validate(layers.metaballs, rig);
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "metaballs", st.message);
   return {};
 }

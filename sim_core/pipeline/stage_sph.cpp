@@ -86,7 +86,7 @@ void sph_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuild
 
 PipelineStatus sph_validate(const rig::Rig& rig, const LayerSet& layers) {
   for (uint32_t i = 0; i < layers.sph_count; ++i) {
-    const layer::LayerStatus st = sph::sph_validate(layers.sph[i].model, rig.joint_count(), rig.vertex_count());
+    const layer::LayerStatus st = sph::sph_validate(layers.sph[i].model, rig);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "sph", st.message, i);
   }
   return {};
@@ -111,7 +111,7 @@ PipelineStatus sph_init(Pipeline* p, uint8_t* block, size_t bytes) {
     if (!rate.ok()) return rate;
     const sph::SphModel& m = p->sph_model[i];
     const size_t need = sph::sph_state_bytes(m);
-    layer::LayerStatus st = sph::sph_validate(m, p->rig->joint_count(), p->rig->vertex_count());
+    layer::LayerStatus st = sph::sph_validate(m, *p->rig);
     if (st.ok()) st = sph::sph_init(m, p->engine.model, c.raw(need), need, &p->sph[i]);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "sph", st.message, i);
   }

@@ -11,6 +11,7 @@
 
 #include "sim_core/fixed/vec3.hpp"
 #include "sim_core/layer/layer_status.hpp"
+#include "sim_core/rig/rig.hpp"
 
 namespace sinew::sph {
 
@@ -103,8 +104,12 @@ struct SphModel {
 using layer::LayerError;
 using layer::LayerStatus;
 
-// Checks every count, index and parameter against the ranges above.
-// joint_count / vertex_count: the rig the model was built for (0 skips that check).
-LayerStatus sph_validate(const SphModel& model, uint32_t joint_count, uint32_t vertex_count);
+// The layer's safety contract: every count, index and parameter against the
+// ranges above, and the joints and skin vertices against the rig it runs on.
+LayerStatus sph_validate(const SphModel& model, const rig::Rig& rig);
+
+// The same checks without a rig (joint and vertex indices unchecked): what
+// sph_state_bytes and sph_init can verify of a model on its own.
+LayerStatus sph_validate_model(const SphModel& model);
 
 }  // namespace sinew::sph

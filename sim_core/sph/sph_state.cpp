@@ -105,7 +105,7 @@ size_t sph_state_bytes(const SphModel& model) {
 
 LayerStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, void* arena, size_t arena_bytes,
                      SphState* out) {
-  LayerStatus status = sph_validate(model, 0, 0);
+  LayerStatus status = sph_validate_model(model);
   if (!status.ok()) return status;
   if (arena == nullptr || (reinterpret_cast<uintptr_t>(arena) & 7u) != 0)
     return fail(LayerError::kArena, "arena is null or not 8-byte aligned");

@@ -22,7 +22,8 @@ bool in(int64_t v, int64_t lo, int64_t hi) { return v >= lo && v <= hi; }
 
 }  // namespace
 
-LayerStatus sph_validate(const SphModel& m, uint32_t joint_count, uint32_t vertex_count) {
+// joint_count / vertex_count 0: no rig to check the indices against.
+static LayerStatus check_model(const SphModel& m, uint32_t joint_count, uint32_t vertex_count) {
   const SphParams& p = m.params;
   const uint32_t n = m.particle_count();
   if (n == 0) return fail(LayerError::kBadCount, "particle count", "must be at least 1", 0);
@@ -84,5 +85,11 @@ LayerStatus sph_validate(const SphModel& m, uint32_t joint_count, uint32_t verte
         return fail(LayerError::kBadIndex, "skin_vertex", "is not a rig vertex", m.skin_vertex[v]);
   return {};
 }
+
+LayerStatus sph_validate(const SphModel& model, const rig::Rig& rig) {
+  return check_model(model, rig.joint_count(), rig.vertex_count());
+}
+
+LayerStatus sph_validate_model(const SphModel& model) { return check_model(model, 0, 0); }
 
 }  // namespace sinew::sph

@@ -274,7 +274,7 @@ TEST(MuscleShape, ValidatorRefusesBadShapes) {
     muscle::MuscleModel m = arm.muscle_model();
     m.shapes = shapes;
     m.muscles = muscles;
-    const muscle::LayerStatus st = muscle::muscle_validate(arm.rig(), m);
+    const muscle::LayerStatus st = muscle::muscle_validate(m, arm.rig());
     EXPECT_FALSE(st.ok()) << expected;
     EXPECT_NE(std::string(st.message).find(expected), std::string::npos) << st.message;
   };

@@ -47,7 +47,7 @@ TEST_F(AnatomyValidation, MuscleWithOriginAfterInsertionInTheHierarchy) {
   std::swap(bad[1].origin[0].bone, bad[1].insertion[0].bone);
   muscle::MuscleModel m = arm.muscle_model();
   m.muscles = bad;
-  expect_message(muscle::muscle_validate(arm.rig(), m), "muscle[1].origin.bone: origin is after the insertion");
+  expect_message(muscle::muscle_validate(m, arm.rig()), "muscle[1].origin.bone: origin is after the insertion");
 }
 
 TEST_F(AnatomyValidation, AnchorOutsideEveryComponent) {
@@ -65,11 +65,11 @@ TEST_F(AnatomyValidation, AnchorOutsideEveryComponent) {
   anchors[v].param[2] = 5 << 24;
   es::SkinModel skin = arm.skin_model();
   skin.anchors = anchors;
-  expect_message(es::skin_validate(arm.rig(), arm.muscle_model(), skin), "anchor outside every component");
+  expect_message(es::skin_validate(skin, arm.rig(), arm.muscle_model()), "anchor outside every component");
   anchors[v] = arm.model().anchors[v];
   anchors[0].kind = static_cast<uint8_t>(es::AnchorKind::kBone);
   anchors[0].component = 99;
-  expect_message(es::skin_validate(arm.rig(), arm.muscle_model(), skin), "skin anchor[0].component");
+  expect_message(es::skin_validate(skin, arm.rig(), arm.muscle_model()), "skin anchor[0].component");
   // The step re-checks and refuses too (no out-of-bounds read).
   ASSERT_TRUE(arm.step().ok());
   expect_message(es::skin_step(skin, arm.muscle_model(), arm.muscles(), arm.engine().model, &arm.skin()),
@@ -84,7 +84,7 @@ TEST_F(AnatomyValidation, BadMuscleAndPrimitiveRecords) {
     edit(m, ms, ps);
     m.muscles = ms;
     m.primitives = ps;
-    expect_message(muscle::muscle_validate(arm.rig(), m), fragment);
+    expect_message(muscle::muscle_validate(m, arm.rig()), fragment);
   };
   using MM = muscle::MuscleModel;
   using MV = std::vector<muscle::MuscleRecord>;
@@ -116,7 +116,7 @@ TEST_F(AnatomyValidation, BadPrimitiveDeformations) {
     edit(ds);
     muscle::MuscleModel m = arm.muscle_model();
     m.deformations = ds;
-    return muscle::muscle_validate(arm.rig(), m);
+    return muscle::muscle_validate(m, arm.rig());
   };
   using DV = std::vector<muscle::PrimitiveDeformation>;
   constexpr int32_t kDegree = 11930465;  // 2^32 / 360
@@ -139,7 +139,7 @@ TEST_F(AnatomyValidation, BadPrimitiveDeformations) {
     ps[0].exponent = static_cast<uint8_t>(exponent);
     muscle::MuscleModel m = arm.muscle_model();
     m.primitives = ps;
-    expect_message(muscle::muscle_validate(arm.rig(), m), "primitive[0].exponent");
+    expect_message(muscle::muscle_validate(m, arm.rig()), "primitive[0].exponent");
   }
 }
 
@@ -151,7 +151,7 @@ TEST_F(AnatomyValidation, BadSkinParametersAndRecords) {
     edit(s, edges, fat);
     s.edges = edges;
     s.fat = fat;
-    expect_message(es::skin_validate(arm.rig(), arm.muscle_model(), s), fragment);
+    expect_message(es::skin_validate(s, arm.rig(), arm.muscle_model()), fragment);
   };
   using SM = es::SkinModel;
   using EV = std::vector<es::Edge>;

@@ -188,25 +188,25 @@ TEST(BarnetInputs, ValidationNamesTheInputRecords) {
   ASSERT_TRUE(net.ok()) << net.error();
   bn::BarnetModel m = net.model();
   m.external_count = 1;  // the loads read external input 1
-  bn::LayerStatus s = bn::barnet_validate(m);
+  bn::LayerStatus s = bn::barnet_validate_model(m);
   EXPECT_EQ(s.error, bn::LayerError::kBadIndex);
   EXPECT_NE(std::string(s.message).find("loads[0].input"), std::string::npos) << s.message;
 
   m = net.model();
   std::vector<bn::ForceDensityInput> runs = {{2, 0, 1, 0}};
   m.q_inputs = runs;
-  s = bn::barnet_validate(m);
+  s = bn::barnet_validate_model(m);
   EXPECT_EQ(s.error, bn::LayerError::kBadIndex);
   EXPECT_NE(std::string(s.message).find("q_inputs[0].input"), std::string::npos) << s.message;
   const uint32_t last = static_cast<uint32_t>(m.bars.size()) - 1;
   const bn::ForceDensityInput empty_run[1] = {{0, 0, 0, 0}}, past_end[1] = {{0, last, 2, 0}},
                               last_bar[1] = {{0, last, 1, 0}};
   m.q_inputs = empty_run;
-  EXPECT_EQ(bn::barnet_validate(m).error, bn::LayerError::kBadValue);
+  EXPECT_EQ(bn::barnet_validate_model(m).error, bn::LayerError::kBadValue);
   m.q_inputs = past_end;
-  EXPECT_EQ(bn::barnet_validate(m).error, bn::LayerError::kBadIndex);
+  EXPECT_EQ(bn::barnet_validate_model(m).error, bn::LayerError::kBadIndex);
   m.q_inputs = last_bar;
-  EXPECT_TRUE(bn::barnet_validate(m).ok());
+  EXPECT_TRUE(bn::barnet_validate_model(m).ok());
 
   // A step without the external values the model reads changes nothing.
   std::vector<int32_t> out[3];

@@ -19,7 +19,7 @@ struct Mutable {
   lb::BarnetBuild build;
   bn::LayerStatus init() {
     const bn::BarnetModel m = build.model();
-    const bn::LayerStatus v = bn::barnet_validate(m);
+    const bn::LayerStatus v = bn::barnet_validate_model(m);
     if (!v.ok()) return v;
     std::vector<uint64_t> arena(bn::barnet_state_bytes(m) / 8 + 1, 0);
     bn::BarnetState st;

@@ -32,7 +32,7 @@ void expect_rejected(const char* what, const std::function<void(mbb::Build&)>& c
                      const char* field) {
   mbb::Build b = arm_build();
   corrupt(b);
-  const mb::LayerStatus s = mb::metaballs_validate(b.model());
+  const mb::LayerStatus s = mb::metaballs_validate_model(b.model());
   std::printf("validate, %s: %s: %s\n", what, sinew::layer::layer_error_name(s.error), s.message);
   EXPECT_EQ(s.error, error) << what;
   EXPECT_NE(std::string(s.message).find(field), std::string::npos) << what << ": " << s.message;
@@ -41,7 +41,7 @@ void expect_rejected(const char* what, const std::function<void(mbb::Build&)>& c
 }  // namespace
 
 TEST(MetaballsValidate, AcceptsTheBuiltModel) {
-  const mb::LayerStatus s = mb::metaballs_validate(arm_build().model());
+  const mb::LayerStatus s = mb::metaballs_validate_model(arm_build().model());
   EXPECT_TRUE(s.ok()) << s.message;
 }
 

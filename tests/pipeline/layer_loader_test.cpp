@@ -118,7 +118,7 @@ TEST(LayerLoader, CorruptionsAreRefusedNamingSectionAndField) {
       {"input quantity", pl::kSectionExternalInputs,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 0)) + 48, 9); },
        "EXTI#0.quantity[0]: unknown quantity"},
-      {"metaballs vertices", pl::kSectionMetaballs, at(36, 7), "MBAL#0.vertex_count: differs from the rig's"},
+      {"metaballs vertices", pl::kSectionMetaballs, at(36, 7), "MBAL#0: vertex_count: differs from the rig's"},
       {"metaballs model", pl::kSectionMetaballs, at(40, 99), "MBAL#0: "},
       {"ring vertices", pl::kSectionMuscles, at(36, 6), "MUSC#0: "},
       {"skin vertices", pl::kSectionElasticSkin, at(36, 9), "SKIN#0.vertex_count: differs from the rig's"},
@@ -129,7 +129,7 @@ TEST(LayerLoader, CorruptionsAreRefusedNamingSectionAndField) {
       {"skin region weight", pl::kSectionElasticSkin,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 6)), 0); },
        "SKIN#0.region_weight[0]: outside (0, 1]"},
-      {"bar-net joints", pl::kSectionBarnet, at(32, 3), "BNET#0.joint_count: joint, input or vertex count differs"},
+      {"bar-net joints", pl::kSectionBarnet, at(32, 3), "BNET#0: joint_count: differs from the rig's"},
       {"bar-net model", pl::kSectionBarnet,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 2)), 9999); }, "BNET#0: "},
   };

@@ -173,4 +173,38 @@ TEST(PipelineInit, RunsTheStagesValidatorsOnAHandBuiltLayerSet) {
   EXPECT_TRUE(pl::pipeline_init(arm->rig, edited, off, memory_off.data(), memory_off.size() * 8, &p).ok());
 }
 
+// A layer built for another rig must not reach the step: the stage validators
+// compare the model's joint, input and vertex counts with the rig's (the
+// loader did this once in its own code, so a hand-built set skipped it).
+TEST(PipelineInit, RefusesALayerBuiltForAnotherRig) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  ASSERT_TRUE(arm->layers.has_metaballs);
+  ASSERT_GT(arm->layers.barnet_count, 0u);
+  struct Case {
+    pl::Stage stage;
+    void (*edit)(pl::LayerSet*);
+    const char* message;
+  };
+  const Case cases[] = {
+      {pl::Stage::kMetaballs, [](pl::LayerSet* l) { l->metaballs.joint_count += 1; }, "metaballs: joint_count"},
+      {pl::Stage::kMetaballs, [](pl::LayerSet* l) { l->metaballs.vertex_count -= 1; }, "metaballs: vertex_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].joint_count += 1; }, "barnet[0]: joint_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].input_count += 1; }, "barnet[0]: input_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].vertex_count += 1; }, "barnet[0]: vertex_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].external_count = l->external_count() + 1; },
+       "barnet[0]: external_count"},
+  };
+  for (const Case& c : cases) {
+    pl::LayerSet edited = arm->layers;
+    c.edit(&edited);
+    const pl::PipelineOptions options = step_test_options({c.stage});
+    std::vector<uint64_t> memory(pl::pipeline_state_bytes(arm->rig, edited, options) / 8 + 1, 0);
+    pl::Pipeline p;
+    const pl::PipelineStatus st = pl::pipeline_init(arm->rig, edited, options, memory.data(), memory.size() * 8, &p);
+    EXPECT_EQ(st.error, pl::PipelineError::kBadModel) << c.message;
+    EXPECT_NE(std::string(st.message).find(c.message), std::string::npos) << st.message;
+  }
+}
+
 }  // namespace

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "host_tools/determinism/split_mix.hpp"
+#include "host_tools/layers/sph/sph_reference_v1.hpp"
 #include "sim_core/fixed/quat.hpp"
 #include "sph_fixture.hpp"
-#include "host_tools/layers/sph/sph_reference_v1.hpp"
 
 namespace sph = sinew::sph;
 namespace fx = sinew::fx;
@@ -126,7 +126,7 @@ fx::Mat34 scaled(int32_t lin, int32_t t) {
 // the two-sided search with an axis rounded on an exact half.
 void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, int steps, uint64_t seed,
               bool extreme_poses, uint32_t* overflow_steps, uint32_t* yielded, uint32_t* half_pairs = nullptr) {
-  ASSERT_TRUE(sph::sph_validate(model, 0, 0).ok()) << sph::sph_validate(model, 0, 0).message;
+  ASSERT_TRUE(sph::sph_validate_model(model).ok()) << sph::sph_validate_model(model).message;
   Pair p;
   p.arena.assign(sph::sph_state_bytes(model) / 8 + 1, 0);
   ASSERT_TRUE(sph::sph_init(model, rest, p.arena.data(), p.arena.size() * 8, &p.state).ok());

@@ -65,7 +65,7 @@ fx::Mat34 transform(int32_t lin, int32_t t) {
 
 std::vector<int32_t> run(fx::Len h) {
   ExtremeJoint j(h);
-  EXPECT_TRUE(sph::sph_validate(j.model, 2, ExtremeJoint::kSkin).ok()) << sph::sph_validate(j.model, 2, 8).message;
+  EXPECT_TRUE(sph::sph_validate_model(j.model).ok()) << sph::sph_validate_model(j.model).message;
   std::vector<uint64_t> arena(sph::sph_state_bytes(j.model) / 8 + 1);
   const std::vector<fx::Mat34> rest = {transform(fx::kLinOne, 0), transform(fx::kLinOne, 0)};
   sph::SphState st;

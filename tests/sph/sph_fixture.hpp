@@ -44,7 +44,7 @@ class SphArm {
     inputs_.assign(rig_.input_count, 0);
     if (!layers::build_sph(spec_, options, &built_, &error_)) return;
     model_ = built_.model();
-    const sph::LayerStatus v = sph::sph_validate(model_, rig_.joint_count(), rig_.vertex_count());
+    const sph::LayerStatus v = sph::sph_validate(model_, rig_);
     if (!v.ok()) {
       error_ = v.message;
       return;

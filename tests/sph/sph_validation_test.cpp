@@ -30,7 +30,7 @@ layers::SphBuilt small_model() {
 }
 
 std::string validate_error(const sph::SphModel& m) {
-  const sph::LayerStatus s = sph::sph_validate(m, 4, 4192);
+  const sph::LayerStatus s = sph::sph_validate_model(m);
   EXPECT_FALSE(s.ok());
   std::printf("rejected: %s\n", s.message);
   return s.message;
@@ -59,7 +59,7 @@ TEST(SphValidation, BuilderRejectsBadOptions) {
 
 TEST(SphValidation, ValidatorRejectsBadModels) {
   const layers::SphBuilt b = small_model();
-  ASSERT_TRUE(sph::sph_validate(b.model(), 4, 4192).ok());
+  ASSERT_TRUE(sph::sph_validate_model(b.model()).ok());
   sph::SphModel m = b.model();
   m.params.h = 0;
   EXPECT_NE(validate_error(m).find("h "), std::string::npos);
@@ -77,9 +77,15 @@ TEST(SphValidation, ValidatorRejectsBadModels) {
   m = b.model();
   m.params.damping = 0;
   EXPECT_NE(validate_error(m).find("damping"), std::string::npos);
+  // A joint the rig does not have: only the check against the rig sees it.
   m = b.model();
   m.joint.distal_joint = 7;
-  EXPECT_NE(validate_error(m).find("distal_joint"), std::string::npos);
+  EXPECT_TRUE(sph::sph_validate_model(m).ok());
+  const sinew::test::SphArm arm(layers::SphBuildOptions{});
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  const sph::LayerStatus against_rig = sph::sph_validate(m, arm.rig());
+  EXPECT_FALSE(against_rig.ok());
+  EXPECT_NE(std::string(against_rig.message).find("distal_joint"), std::string::npos) << against_rig.message;
   // A particle count beyond the documented maximum.
   std::vector<uint8_t> bones(sph::kMaxParticles + 1, 1);
   std::vector<sinew::fx::Len> zeros(bones.size(), 0);

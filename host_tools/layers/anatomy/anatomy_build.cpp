@@ -309,7 +309,7 @@ class Builder {
   }
 
   bool rest_muscle_state() {
-    const muscle::LayerStatus v = muscle::muscle_validate(rig_, out_.muscle_model());
+    const muscle::LayerStatus v = muscle::muscle_validate(out_.muscle_model(), rig_);
     if (!v.ok()) return fail(std::string("anatomy: ") + v.message);
     if (!step_rest()) return false;
     for (size_t i = 0; i < out_.muscles.size(); ++i) {
@@ -719,7 +719,7 @@ class Builder {
   }
 
   bool validate_skin() {
-    const es::LayerStatus st = es::skin_validate(rig_, out_.muscle_model(), out_.skin_model());
+    const es::LayerStatus st = es::skin_validate(out_.skin_model(), rig_, out_.muscle_model());
     if (!st.ok()) return fail(std::string("anatomy: ") + st.message);
     return true;
   }

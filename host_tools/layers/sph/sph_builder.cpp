@@ -290,8 +290,9 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   }
   {
     const sph::SphModel m = b.model();
-    const sph::LayerStatus st =
-        sph::sph_validate(m, static_cast<uint32_t>(spec.joints.size()), static_cast<uint32_t>(spec.vertices.size()));
+    // Indices come from the spec's own joint and vertex lists; the loader
+    // checks them against the compiled rig (sph_validate).
+    const sph::LayerStatus st = sph::sph_validate_model(m);
     if (!st.ok()) return *error = st.message, false;
     std::vector<uint64_t> arena(sph::sph_state_bytes(m) / 8 + 1);
     sph::SphState state;
@@ -314,8 +315,7 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
         std::clamp<double>(std::floor(static_cast<double>(spread) / 2.0 * o.yield_scale + 0.5), 0, INT32_MAX));
   }
   if (o.override_tau_f >= 0) p.tau_f = static_cast<sph::Dens>(o.override_tau_f);
-  const sph::LayerStatus st = sph::sph_validate(b.model(), static_cast<uint32_t>(spec.joints.size()),
-                                                static_cast<uint32_t>(spec.vertices.size()));
+  const sph::LayerStatus st = sph::sph_validate_model(b.model());
   if (!st.ok()) return *error = st.message, false;
   *out = std::move(b);
   return true;

@@ -310,7 +310,7 @@ void skin_weights(SphState* st, fx::Vec3 centre) {
 }  // namespace
 
 LayerStatus ref_init(const SphModel& model, std::span<const fx::Mat34> rest_transforms, RefState* out) {
-  LayerStatus status = sph_validate(model, 0, 0);
+  LayerStatus status = sph_validate_model(model);
   if (!status.ok()) return status;
   RefState s;
   s.model = &model;
