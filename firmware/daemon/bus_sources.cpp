@@ -16,6 +16,7 @@
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/gpio/sim/simulated_encoders.hpp"
 #include "hal/modbus/sim/modbus_feeder.hpp"
+#include "hal/units/float_to_fixed.hpp"
 #endif
 
 namespace sinew::firmware {
@@ -412,8 +413,7 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
       const double offset_deg = (*t)["offset_deg"].value_or(0.0);
       if (!(offset_deg >= -360 && offset_deg <= 360))
         return *error = where(s, "encoder.offset_deg") + " must be -360..360", nullptr;
-      e.offset = static_cast<int32_t>(
-          static_cast<uint32_t>(static_cast<int64_t>(std::llround(offset_deg / 360.0 * 4294967296.0))));
+      e.offset = static_cast<int32_t>(units::angle_from_degrees(offset_deg).value);  // binary angle, signed view
       e.invert = (*t)["invert"].value_or(false);
       const double window_us = (*t)["window_us"].value_or(0.0);
       if (!(window_us >= 0 && window_us <= 1000))

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "hal/units/float_to_fixed.hpp"
 #include "sim_core/pipeline/stage_table.hpp"
 
 namespace sinew::firmware {
@@ -9,7 +10,8 @@ namespace sinew::firmware {
 std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& config, uint64_t) {
   std::vector<InputLimits> limits(rig.input_count());
   const auto timeout = static_cast<uint64_t>(config.timeout_factor * config.default_period_ms * 1e6);
-  const int64_t margin_angle = static_cast<int64_t>(config.range_margin_deg / 360.0 * 4294967296.0);
+  // 0..180 degrees (the config's range): the largest is just under a half turn.
+  const int64_t margin_angle = units::signed_angle_from_degrees(config.range_margin_deg).value;
   for (const rig::JointRecord& j : rig.rig.joints) {
     for (uint32_t d = 0; d < j.dof_count; ++d) {
       InputLimits& l = limits[j.first_input + d];

@@ -1,42 +1,39 @@
 #include "engine_units.hpp"
 
-#include <cmath>
-#include <numbers>
+#include "hal/units/float_to_fixed.hpp"
 
 namespace sinew::hal::can {
 
-namespace {
-constexpr double kTwo32 = 4294967296.0;
-constexpr double kTwo20 = 1048576.0;
-
-double round_half_up(double x) { return std::floor(x + 0.5); }
-}  // namespace
-
+// The conversions are hal/units' (correctly rounded, half up, exact for
+// every double); this file only maps the signal's unit onto them.
 bool to_engine_value(double physical, PhysicalUnit unit, int32_t& out) {
-  if (!std::isfinite(physical)) return false;
-  if (unit == PhysicalUnit::kRigUnits) {
-    const double q = round_half_up(physical * kTwo20);
-    if (q < -2147483648.0 || q > 2147483647.0) return false;
-    out = static_cast<int32_t>(q);
-    return true;
+  switch (unit) {
+    case PhysicalUnit::kRigUnits: {
+      const units::FixedResult r = units::to_len(physical, 0);
+      if (r.has(units::kNotFinite) || r.has(units::kClamped)) return false;
+      out = r.value;
+      return true;
+    }
+    case PhysicalUnit::kDegrees:
+    case PhysicalUnit::kRadians: {
+      const units::AngleResult a =
+          unit == PhysicalUnit::kDegrees ? units::angle_from_degrees(physical) : units::angle_from_radians(physical);
+      if (a.has(units::kNotFinite)) return false;
+      out = static_cast<int32_t>(a.value);  // binary angle, viewed signed
+      return true;
+    }
   }
-  const double turns = unit == PhysicalUnit::kDegrees ? physical / 360.0 : physical / (2.0 * std::numbers::pi);
-  // Wrap to one turn first so the product stays exact enough, then round and
-  // wrap again (rounding may land on 2^32).
-  double steps = round_half_up((turns - std::floor(turns)) * kTwo32);
-  if (steps >= kTwo32) steps -= kTwo32;
-  out = static_cast<int32_t>(static_cast<uint32_t>(steps));  // binary angle, viewed signed
-  return true;
+  return false;
 }
 
 double from_engine_value(int32_t value, PhysicalUnit unit) {
   switch (unit) {
     case PhysicalUnit::kRigUnits:
-      return value / kTwo20;
+      return units::len_to_double(value, 0);
     case PhysicalUnit::kDegrees:
-      return value * (360.0 / kTwo32);
+      return units::angle_to_degrees(static_cast<uint32_t>(value));
     case PhysicalUnit::kRadians:
-      return value * (2.0 * std::numbers::pi / kTwo32);
+      return units::angle_to_radians(static_cast<uint32_t>(value));
   }
   return 0.0;
 }

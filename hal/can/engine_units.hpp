@@ -1,7 +1,8 @@
 // Physical values (degrees, radians, rig units) to the engine's integer
 // formats (docs/numerics.md): a rotation becomes a binary angle (2^32 = one
-// turn, wrapping, shown signed), a translation Q12.20 rig units. Rounding is
-// the project's one rule: half up.
+// turn, wrapping, shown signed), a translation Q12.20 rig units. The
+// arithmetic is hal/units' (the one home of boundary conversions): correctly
+// rounded, half up.
 #pragma once
 
 #include <cstdint>

@@ -2,20 +2,11 @@
 
 #include <cmath>
 
+#include "hal/units/float_to_fixed.hpp"
+
 namespace sinew::hal::modbus {
 
 namespace {
-
-constexpr double kTwo32 = 4294967296.0;
-
-double engine_per_unit(Quantity q) {
-  switch (q) {
-    case Quantity::kAngle: return kTwo32 / 360.0;
-    case Quantity::kTranslation: return 1048576.0;  // 2^20
-    case Quantity::kForce: return 65536.0;          // 2^16
-  }
-  return 1.0;
-}
 
 std::string label(const ChannelConfig& c) {
   return "channel " + (c.name.empty() ? "for input " + std::to_string(c.input) : "'" + c.name + "'");
@@ -25,18 +16,24 @@ std::string label(const ChannelConfig& c) {
 
 double representable_limit(Quantity q) {
   switch (q) {
-    case Quantity::kAngle: return 180.0;
-    case Quantity::kTranslation: return 2048.0;
-    case Quantity::kForce: return 32768.0;
+    case Quantity::kAngle:
+      return 180.0;
+    case Quantity::kTranslation:
+      return 2048.0;
+    case Quantity::kForce:
+      return 32768.0;
   }
   return 0.0;
 }
 
 const char* quantity_unit(Quantity q) {
   switch (q) {
-    case Quantity::kAngle: return "deg";
-    case Quantity::kTranslation: return "rig units";
-    case Quantity::kForce: return "N";
+    case Quantity::kAngle:
+      return "deg";
+    case Quantity::kTranslation:
+      return "rig units";
+    case Quantity::kForce:
+      return "N";
   }
   return "";
 }
@@ -56,11 +53,18 @@ int64_t decode_raw(const ChannelConfig& c, std::span<const uint16_t> regs) {
 double to_physical(const ChannelConfig& c, int64_t raw) { return static_cast<double>(raw) * c.scale + c.offset; }
 
 int32_t to_engine(Quantity q, double x) {
-  // Round half up, as everywhere in the engine; saturate instead of wrapping.
-  const double v = std::floor(x * engine_per_unit(q) + 0.5);
-  if (v >= 2147483647.0) return INT32_MAX;
-  if (v <= -2147483648.0) return INT32_MIN;
-  return static_cast<int32_t>(v);
+  // hal/units' conversions (correctly rounded, half up, saturating). Angles
+  // saturate too: +180 is the largest signed angle, not -180, so the
+  // channel's range keeps its order.
+  switch (q) {
+    case Quantity::kAngle:
+      return units::signed_angle_from_degrees(x).value;
+    case Quantity::kTranslation:
+      return units::to_len(x, 0).value;  // Q12.20 rig units
+    case Quantity::kForce:
+      return units::to_fixed(x, 16).value;  // Q15.16 newtons
+  }
+  return 0;
 }
 
 Conversion convert(const ChannelConfig& c, std::span<const uint16_t> regs) {
@@ -74,7 +78,8 @@ Conversion convert(const ChannelConfig& c, std::span<const uint16_t> regs) {
 }
 
 bool validate(const ChannelConfig& c, std::string* error) {
-  if (!std::isfinite(c.scale) || c.scale == 0.0) return *error = label(c) + ": scale must be finite and non-zero", false;
+  if (!std::isfinite(c.scale) || c.scale == 0.0)
+    return *error = label(c) + ": scale must be finite and non-zero", false;
   if (!std::isfinite(c.offset)) return *error = label(c) + ": offset must be finite", false;
   if (!std::isfinite(c.min) || !std::isfinite(c.max) || c.min > c.max)
     return *error = label(c) + ": range needs finite min <= max", false;

@@ -20,18 +20,17 @@ constexpr FixedResult kNaNResult{0, kNotFinite};
 // round_half_up(x * 2^frac_bits), saturated to int32. Exact: |x| is an
 // integer mantissa < 2^53 times 2^exponent, so the scaled value is that
 // mantissa shifted by exponent + frac_bits (any int64 shift).
-FixedResult to_fixed(double x, int64_t frac_bits) {
+FixedResult scale_to_fixed(double x, int64_t frac_bits) {
   const DoubleBits d = double_bits(x);
   if (d.nan) return kNaNResult;
   const FixedResult low{INT32_MIN, kClamped};
   const FixedResult high{INT32_MAX, kClamped};
-  if (!d.finite) return d.negative ? FixedResult{INT32_MIN, kNotFinite | kClamped}
-                                   : FixedResult{INT32_MAX, kNotFinite | kClamped};
+  if (!d.finite)
+    return d.negative ? FixedResult{INT32_MIN, kNotFinite | kClamped} : FixedResult{INT32_MAX, kNotFinite | kClamped};
   if (d.mantissa == 0) return {0, kOk};  // +0.0 and -0.0
 
   const int64_t shift = d.exponent + frac_bits;
-  const int64_t signed_mantissa = d.negative ? -static_cast<int64_t>(d.mantissa)
-                                             : static_cast<int64_t>(d.mantissa);
+  const int64_t signed_mantissa = d.negative ? -static_cast<int64_t>(d.mantissa) : static_cast<int64_t>(d.mantissa);
   int64_t scaled = 0;
   ConversionFlags flags = kOk;
   if (shift >= 0) {
@@ -57,12 +56,14 @@ uint32_t wrap_to_angle(int64_t steps) { return static_cast<uint32_t>(static_cast
 
 }  // namespace
 
-FixedResult to_unit(double x) { return to_fixed(x, fx::kUnitFracBits); }
+FixedResult to_fixed(double x, int32_t frac_bits) { return scale_to_fixed(x, frac_bits); }
 
-FixedResult to_lin(double x) { return to_fixed(x, fx::kLinFracBits); }
+FixedResult to_unit(double x) { return scale_to_fixed(x, fx::kUnitFracBits); }
+
+FixedResult to_lin(double x) { return scale_to_fixed(x, fx::kLinFracBits); }
 
 FixedResult to_len(double x, int32_t length_exponent) {
-  return to_fixed(x, int64_t{fx::kLenFracBits} - length_exponent);
+  return scale_to_fixed(x, int64_t{fx::kLenFracBits} - length_exponent);
 }
 
 AngleResult angle_from_degrees(double deg) {
@@ -75,12 +76,21 @@ AngleResult angle_from_degrees(double deg) {
   // steps = r * 2^32 / 360 = mantissa * 2^(exponent + 29) / 45. |r| < 360
   // makes exponent + 29 <= -15: divide by 45 * 2^j, j >= 15, rounding half up.
   const int64_t j = -(int64_t{d.exponent} + 29);
-  if (j > 57) return {0, kRounded};  // |steps| < 2^53 / (45 * 2^58) < 1/2
+  if (j > 57) return {0, kRounded};          // |steps| < 2^53 / (45 * 2^58) < 1/2
   const int64_t divisor = int64_t{45} << j;  // < 2^63 for j <= 57
   const int64_t n = d.negative ? -static_cast<int64_t>(d.mantissa) : static_cast<int64_t>(d.mantissa);
   const int64_t steps = fx::floor_div(n + divisor / 2, divisor);
   const bool exact = static_cast<int64_t>(d.mantissa) % divisor == 0;
   return {wrap_to_angle(steps), exact ? kOk : kRounded};
+}
+
+FixedResult signed_angle_from_degrees(double deg) {
+  const AngleResult a = angle_from_degrees(deg);
+  if (a.has(kNotFinite)) return {0, kNotFinite};
+  // The half turn is -180 only when the input (mod 360, which keeps its
+  // sign) is negative; a positive one at or just below +180 rounds onto it.
+  if (a.value == 0x80000000u && std::fmod(deg, 360.0) > 0.0) return {INT32_MAX, kClamped};
+  return {static_cast<int32_t>(a.value), a.flags};
 }
 
 AngleResult angle_from_radians(double rad) {
@@ -99,6 +109,10 @@ AngleResult angle_from_radians(double rad) {
   // truncation (< 2^-107 step) is far below how close a double comes to one.
   const uint64_t top = t.word[0];
   return {static_cast<uint32_t>((top >> 32) + ((top >> 31) & 1u)), kRounded};
+}
+
+double fixed_to_double(int32_t value, int32_t frac_bits) {
+  return std::ldexp(static_cast<double>(value), -static_cast<int>(fx::clamp_i64(frac_bits, -1000, 1000)));
 }
 
 double unit_to_double(int32_t unit) { return std::ldexp(static_cast<double>(unit), -fx::kUnitFracBits); }

@@ -61,6 +61,11 @@ struct AngleResult {
 
 // --- double -> fixed ----------------------------------------------------
 
+// Any Qm.n format held in an int32: round_half_up(x * 2^frac_bits), exactly,
+// then saturated (to_unit, to_lin and to_len are this with their n). Any
+// frac_bits: a negative one scales down (x = 1024, frac_bits = -4 gives 64).
+FixedResult to_fixed(double x, int32_t frac_bits);
+
 // Unit, Q2.30: range [-2, 2), resolution 2^-30. Inputs in [2 - 2^-31, +inf)
 // round to 2^31 and clamp to INT32_MAX; inputs in [-2 - 2^-31, -2) round to
 // INT32_MIN (kRounded, not kClamped); below that, kClamped.
@@ -82,12 +87,22 @@ FixedResult to_len(double x, int32_t length_exponent);
 // deg is a multiple of 360 / 2^32 (e.g. every angle_to_degrees output).
 AngleResult angle_from_degrees(double deg);
 
+// Signed binary angle from degrees, for ranges and limits: the int32 view of
+// angle_from_degrees (so in [-180, 180) degrees), except that an input equal
+// to +180 modulo 360 gives INT32_MAX (180 - 2^-32 turn, flagged kClamped)
+// rather than wrapping to -180, so a range [lo, 180] keeps its upper end
+// above its lower end. NaN and infinities: 0, kNotFinite.
+FixedResult signed_angle_from_degrees(double deg);
+
 // Binary angle from radians: round(rad * 2^31 / pi) modulo 2^32, correctly
 // rounded for every finite double (reduction with 1216 bits of 1/(2 pi)).
 // pi is irrational, so every nonzero input is kRounded (and never a tie).
 AngleResult angle_from_radians(double rad);
 
 // --- fixed -> double, for tools and logs ----------------------------------
+
+// Exact: value * 2^-frac_bits (any Q format; frac_bits in [-1000, 1000]).
+double fixed_to_double(int32_t value, int32_t frac_bits);
 
 // Exact.
 double unit_to_double(int32_t unit);

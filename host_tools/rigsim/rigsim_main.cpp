@@ -26,6 +26,7 @@
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #include "hal/common/monotonic_clock.hpp"
 #include "hal/modbus/sim/modbus_feeder.hpp"
+#include "hal/units/float_to_fixed.hpp"
 #include "host_tools/layers/rig_layers.hpp"
 #include "host_tools/motion/bvh_drive.hpp"
 #include "host_tools/motion/csv_tracks.hpp"
@@ -199,8 +200,7 @@ int main(int argc, char** argv) {
           values.push_back(rigc::to_len(deg, rig.rig.length_exponent));
           continue;
         }
-        values.push_back(static_cast<int32_t>(static_cast<uint32_t>(
-            static_cast<int64_t>(std::llround(std::remainder(deg, 360.0) / 360.0 * 4294967296.0)))));
+        values.push_back(static_cast<int32_t>(units::angle_from_degrees(deg).value));  // binary angle, signed view
       }
     }
     motion = hal::sim::RigMotion::keyframed(ranges, std::move(times), std::move(values), std::move(has));

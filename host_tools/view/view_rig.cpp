@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "hal/units/float_to_fixed.hpp"
 #include "json_text.hpp"
 
 namespace sinew::view {
@@ -50,12 +51,12 @@ bool load_view_rig(const std::string& name_or_path, ViewRig* out, std::string* e
 double input_display_value(const ViewRig& rig, uint32_t input, int32_t value) {
   switch (rig.input_unit[input]) {
     case InputUnit::kDegrees:
-      return static_cast<double>(value) * (360.0 / 4294967296.0);
+      return units::angle_to_degrees(static_cast<uint32_t>(value));
     case InputUnit::kMetres:
-      return std::ldexp(static_cast<double>(value), rig.loaded.rig.length_exponent - 20);
+      return units::len_to_double(value, rig.loaded.rig.length_exponent);
     case InputUnit::kNewtons:
     case InputUnit::kRaw:
-      return std::ldexp(static_cast<double>(value), -16);
+      return units::fixed_to_double(value, 16);  // Q15.16
   }
   return 0;
 }

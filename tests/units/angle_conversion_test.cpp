@@ -153,5 +153,24 @@ TEST(AngleConversion, ReverseIsTheSignedView) {
   EXPECT_NEAR(angle_to_radians(kQuarter), std::numbers::pi / 2, 1e-16);
 }
 
+// Ranges and limits need (-180, 180]: +180 saturates instead of wrapping to
+// -180, whichever turn it comes from; -180 and everything else is the int32
+// view of angle_from_degrees.
+TEST(AngleConversion, SignedDegreesKeepPlusHalfTurnAboveMinusHalfTurn) {
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(180.0), INT32_MAX, kClamped));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(540.0), INT32_MAX, kClamped));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(std::nextafter(180.0, 0.0)), INT32_MAX, kClamped));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(-180.0), INT32_MIN, kOk));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(-540.0), INT32_MIN, kOk));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(90.0), int32_t{1} << 30, kOk));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(270.0), -(int32_t{1} << 30), kOk));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(Limits::quiet_NaN()), 0, kNotFinite));
+  EXPECT_TRUE(converts_to(signed_angle_from_degrees(Limits::infinity()), 0, kNotFinite));
+  for (const uint32_t a : sample_angles()) {
+    if (a == 0x80000000u) continue;
+    EXPECT_TRUE(converts_to(signed_angle_from_degrees(angle_to_degrees(a)), static_cast<int32_t>(a), kOk)) << a;
+  }
+}
+
 }  // namespace
 }  // namespace sinew::units

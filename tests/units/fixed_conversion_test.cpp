@@ -196,5 +196,24 @@ TEST(FixedConversion, ReverseIsExactScaling) {
   EXPECT_EQ(len_to_double(-1, INT32_MAX), -kInf);
 }
 
+// The general form: the named formats are to_fixed with their fraction bits,
+// and any other Q format (force Q15.16, a negative scale) follows one rule.
+TEST(FixedConversion, AnyFormatFollowsTheSameRule) {
+  for (const double x : {0.0, 1.5, -1.5, 0.1, -0.1, 1e-12, 3.0, -2.0, 1e30, -1e30}) {
+    const FixedResult u = to_unit(x), f = to_fixed(x, 30);
+    EXPECT_EQ(u.value, f.value) << x;
+    EXPECT_EQ(u.flags, f.flags) << x;
+    const FixedResult l = to_lin(x), g = to_fixed(x, 24);
+    EXPECT_EQ(l.value, g.value) << x;
+    EXPECT_EQ(l.flags, g.flags) << x;
+  }
+  EXPECT_TRUE(converts_to(to_fixed(1.5, 16), 98304, kOk));
+  EXPECT_TRUE(converts_to(to_fixed(-0.5 / 65536.0, 16), 0, kRounded));  // tie: towards +infinity
+  EXPECT_TRUE(converts_to(to_fixed(0.5 / 65536.0, 16), 1, kRounded));
+  EXPECT_TRUE(converts_to(to_fixed(32768.0, 16), INT32_MAX, kClamped));
+  EXPECT_TRUE(converts_to(to_fixed(1024.0, -4), 64, kOk));
+  EXPECT_TRUE(converts_to(to_fixed(Limits::quiet_NaN(), 16), 0, kNotFinite));
+}
+
 }  // namespace
 }  // namespace sinew::units
