@@ -44,7 +44,7 @@ esac
 
 # Node and npm for the viewer's page (three.js from its lockfile), its browser
 # tests' probe and the Khronos glTF validator of the export tests
-# (tests/export): Debian's nodejs and npm, only when no nodejs package is
+# (tests/host_tools/export): Debian's nodejs and npm, only when no nodejs package is
 # installed (another repository's nodejs ships its own npm, which Debian's npm
 # package would conflict with), and npm alone when a nodejs has no npm.
 installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }

@@ -110,7 +110,7 @@ if [ -z "$build_dir" ]; then
   fi
   cmake --build "$build_dir" --target can_tests can_kernel_tests gpio_kernel_tests -j2 >/dev/null
 fi
-programs=("$build_dir/tests/can/can_tests" "$build_dir/tests/kernel/can_kernel_tests"
+programs=("$build_dir/tests/hal/can/can_tests" "$build_dir/tests/kernel/can_kernel_tests"
   "$build_dir/tests/kernel/gpio_kernel_tests")
 for p in "${programs[@]}"; do [ -x "$p" ] || die "missing $p (configure $build_dir with -DSINEW_KERNEL_TESTS=ON)"; done
 

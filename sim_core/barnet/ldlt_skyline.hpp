@@ -25,7 +25,7 @@
 // diagonally dominant M-matrices) plus (n + profile) * 2^-40 rig units. The
 // bar-net step solves for the nodes' move from their skinned positions (the
 // loads alone on the right), so the error scales with the move, not with
-// the positions; tests/barnet measures it against a double solve of eq. (4)
+// the positions; tests/sim_core/barnet measures it against a double solve of eq. (4)
 // (within 2^-12 of a Len LSB before the final rounding on every net there).
 #pragma once
 

@@ -8,7 +8,7 @@ namespace sinew::fx {
 
 // round(x 2^62), computed offline with 60-digit decimal arithmetic (Python's
 // decimal module: Decimal.ln and Decimal.exp, rounded half up); checked
-// against std::log2 / std::exp2 in tests/unit/fixed_log_exp_test.cpp.
+// against std::log2 / std::exp2 in tests/sim_core/fixed/fixed_log_exp_test.cpp.
 const int64_t kReciprocalTableQ62[kLogExpTableSize] = {
     // 1 / (1 + i/32)
     4611686018427387904, 4471937957262921604, 4340410370284600380, 4216398645419326084, 4099276460824344804,

@@ -18,7 +18,7 @@
 // its exact value (series remainder and roundings): log2_q30 returns the
 // correctly rounded value to within 0.5 LSB plus 2^-16 LSB (ties may go
 // either way), exp2_fixed to within 0.5 LSB plus 2^-46 of the result.
-// Measured and enforced in tests/unit/fixed_log_exp_test.cpp and tabled in
+// Measured and enforced in tests/sim_core/fixed/fixed_log_exp_test.cpp and tabled in
 // docs/numerics.md.
 #pragma once
 

@@ -2,7 +2,7 @@
 // 192-entry seed table (built at compile time with exact integer sqrt) and
 // two Newton steps y <- y (3 - v y^2) / 2, all in 64-bit integers. Pure
 // integer, so bit-identical everywhere; about 1e-9 relative error (measured in
-// tests/unit, docs/numerics.md).
+// tests/sim_core/fixed, docs/numerics.md).
 #pragma once
 
 #include <array>

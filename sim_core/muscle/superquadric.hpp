@@ -25,7 +25,7 @@
 // a Newton step along grad G from inside lands on or outside the surface.
 //
 // Accuracy, derived from the Q formats (u = 2^-30) and enforced against a
-// double oracle of Barr's formula in tests/anatomy/superquadric_test.cpp.
+// double oracle of Barr's formula in tests/sim_core/elastic_skin/superquadric_test.cpp.
 // Each log2|q_i| is off by at most u (two correctly rounded logarithms; their
 // kernels' 2^-16 u is lost in the slack below), log2 S by (p_xy + 1) u; each
 // product with a Q16.16 power and each log2(2^a + 2^b) adds u/2; e (Q58)

@@ -7,7 +7,7 @@
 
 #include "firmware/rig/loaded_rig.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
-#include "tests/engine/rig_fixture.hpp"
+#include "tests/sim_core/engine/rig_fixture.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/soak.hpp"
 #include "tests/support/time_units.hpp"

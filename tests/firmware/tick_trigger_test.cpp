@@ -17,7 +17,7 @@
 #include "hal/can/sim/simulated_rig_bus.hpp"
 #endif
 #include "host_tools/rigc/builtin_rigs.hpp"
-#include "tests/engine/rig_fixture.hpp"
+#include "tests/sim_core/engine/rig_fixture.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/time_units.hpp"
 

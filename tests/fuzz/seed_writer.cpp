@@ -15,7 +15,7 @@
 #include "hal/output/frame_log_writer.hpp"
 #include "hal/output/pose_codec.hpp"
 #include "hal/output/udp_datagram.hpp"
-#include "tests/output/datagrams.hpp"
+#include "tests/hal/output/datagrams.hpp"
 
 namespace {
 

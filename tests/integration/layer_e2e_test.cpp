@@ -1,7 +1,7 @@
 // The metaballs layer inside the daemon: the same inputs with and without
 // `[layers] metaballs = true` give the same number of frames; with the layer
 // the flexed elbow's skin differs from plain skinning by a bounded amount
-// (volume preservation itself is tested in tests/metaballs).
+// (volume preservation itself is tested in tests/sim_core/metaballs).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -64,7 +64,7 @@ TEST(LayerEndToEnd, MetaballsLayerChangesTheSkinWithinBounds) {
     differing_frames += differs ? 1 : 0;
   }
   // Within the limb's diameter (the built-in arm's balls carry no bulge
-  // gain, which would scale it by 1 + gain: tests/pipeline/pipeline_test.cpp).
+  // gain, which would scale it by 1 + gain: tests/sim_core/pipeline/pipeline_test.cpp).
   const double limit = 2 * arm_limb_radius();
   std::printf(
       "metaballs vs plain skinning: %zu of %zu frames differ, largest vertex difference %.4f m (bound %.3f m)\n",
@@ -127,7 +127,7 @@ BulgeAtFlexion bulge_at_flexion(const std::string& name, const std::string& laye
 
 // The bar-net's elbow bulge in the daemon's frames grows with flexion (its
 // loads' activation rises with the elbow angle; eq. (4)'s size of it is
-// checked in tests/pipeline and tests/barnet): by more than the frames'
+// checked in tests/sim_core/pipeline and tests/sim_core/barnet): by more than the frames'
 // resolution, and within the limb's diameter.
 TEST(LayerEndToEnd, BarnetBulgeGrowsWithElbowFlexion) {
   const BulgeAtFlexion b = bulge_at_flexion("barnet", "barnet = true");
@@ -139,7 +139,7 @@ TEST(LayerEndToEnd, BarnetBulgeGrowsWithElbowFlexion) {
 // deep flexion (the biceps bulge, the crease pushed out of the muscles) than
 // near straight, by more than the frames' resolution. How far each skin
 // vertex may lie from its anchor is bounded from the model in
-// tests/anatomy/skin_follows_bones_test.cpp; here the upper bound only rules
+// tests/sim_core/elastic_skin/skin_follows_bones_test.cpp; here the upper bound only rules
 // out a blow-up in the daemon: no vertex leaves its limb (the diameter).
 TEST(LayerEndToEnd, AnatomyBulgeGrowsWithElbowFlexion) {
   const BulgeAtFlexion b = bulge_at_flexion("anatomy", "anatomy = true");

@@ -17,10 +17,15 @@
 #   layer names  a firmware/ source or CMake file names a physical layer (in
 #                code or comments): the stage table in sim_core/pipeline is
 #                the only list of layers the daemon reads, so adding a layer
-#                adds no line to firmware.
+#                adds no line to firmware;
+#   tests layout the tests tree stops mirroring the modules: a folder
+#                tests/{sim_core,hal,host_tools}/<m> with no module <m> beside
+#                it, or a folder directly under tests/ that is neither a
+#                module tree (sim_core, hal, host_tools, firmware) nor one of
+#                the cross-module suites (kSuites below).
 # With EXPECT_EVERY_RULE it fails unless every rule fired: the planted tree
 # (tests/lint/planted_layering) proves each rule can fail.
-set(rules sim_core hal firmware host_tools link layer_names tests_tree)
+set(rules sim_core hal firmware host_tools link layer_names tests_tree tests_layout)
 foreach(r IN LISTS rules)
   set(fired_${r} 0)
 endforeach()
@@ -106,6 +111,28 @@ foreach(dir sim_core hal firmware host_tools)
       message("${list_file}: compiles a file of tests/: ${line}")
       math(EXPR fired_tests_tree "${fired_tests_tree} + 1")
     endforeach()
+  endforeach()
+endforeach()
+
+# The tests tree mirrors the modules (tests/CMakeLists.txt says why).
+cmake_policy(SET CMP0057 NEW)  # IN_LIST in script mode
+set(kSuites sim_core hal host_tools firmware determinism property integration fuzz lint kernel oracle bench support data)
+file(GLOB test_dirs LIST_DIRECTORIES true "${ROOT}/tests/*")
+foreach(d IN LISTS test_dirs)
+  get_filename_component(name "${d}" NAME)
+  if(IS_DIRECTORY "${d}" AND NOT name IN_LIST kSuites)
+    message("tests/${name}: neither a module tree nor a cross-module suite")
+    math(EXPR fired_tests_layout "${fired_tests_layout} + 1")
+  endif()
+endforeach()
+foreach(tree sim_core hal host_tools)
+  file(GLOB mirrors LIST_DIRECTORIES true "${ROOT}/tests/${tree}/*")
+  foreach(d IN LISTS mirrors)
+    get_filename_component(name "${d}" NAME)
+    if(IS_DIRECTORY "${d}" AND NOT IS_DIRECTORY "${ROOT}/${tree}/${name}")
+      message("tests/${tree}/${name}: no module ${tree}/${name} to mirror")
+      math(EXPR fired_tests_layout "${fired_tests_layout} + 1")
+    endif()
   endforeach()
 endforeach()
 

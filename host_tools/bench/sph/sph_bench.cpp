@@ -2,7 +2,7 @@
 // table 1 extended to 8000 particles). Per particle count, in one run:
 //   - sph_step alone (2 substeps, the builder's default) and the whole 1 kHz
 //     tick (engine step with LBS skin + sph_step + eq. (2) skin coupling);
-//   - the same sph step by the first implementation (tests/sph/
+//   - the same sph step by the first implementation (tests/sim_core/sph/
 //     sph_reference_v1, per-particle lists, both sides of every pair): the
 //     baseline, on an identical state, so the ratio is the speed-up;
 //   - the LBS-only engine step of the same rig.

@@ -1,0 +1,1 @@
+// planted: a test folder mirroring no module (the tests_layout rule)

@@ -1,0 +1,252 @@
+// The [metaballs] keys of a TOML rig spec (rigc): jiggle in physical units,
+// jiggle and bulge regions, the overlap reach and action lines reach the
+// builder's options; a compiled rig carries the physical jiggle's tick rate
+// in its metaballs section, and the loaded model swings with the gains of
+// that rate.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "host_tools/layers/metaballs/options.hpp"
+#include "host_tools/layers/rig_layers.hpp"
+#include "host_tools/rigc/quantize.hpp"
+#include "host_tools/rigc/toml_spec.hpp"
+#include "sim_core/metaballs/jiggle_gains.hpp"
+#include "sim_core/pipeline/layer_format.hpp"
+#include "sim_core/pipeline/layer_set.hpp"
+#include "sim_core/rig/rig_format.hpp"
+#include "tests/sim_core/pipeline/pipeline_fixture.hpp"
+
+namespace {
+
+using sinew::test::LoadedLayers;
+
+const char* const kSpec = R"(
+[rig]
+source = "builtin:arm"
+skinning = "dqs"
+rate_hz = 500
+
+[metaballs]
+jiggle_frequency = 3.0
+jiggle_window = 0.5
+overlap_reach = 1.5
+
+[[metaballs.jiggle]]
+bone = "shoulder"
+from = 0.3
+to = 0.7
+
+[[metaballs.bulge]]
+bone = "shoulder"
+from = 0.3
+to = 0.7
+angle_a = "shoulder"
+angle_b = "elbow"
+gain = 0.2
+)";
+
+std::string write_spec(const std::string& name, const std::string& text) {
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Compiles the spec `text` (written to a temporary file `name`, as rigc
+// reads it) into a blob and the layer tables it read.
+bool compile(const std::string& name, const std::string& text, std::vector<uint8_t>* blob,
+             sinew::layers::LayerSpecs* layers, std::string* error) {
+  const std::string path = write_spec(name, text);
+  sinew::rigc::RigSpec spec;
+  sinew::rigc::CompileReport core;
+  std::vector<std::string> report;
+  const bool ok = sinew::rigc::load_toml_rig(path, &spec, layers, error) &&
+                  sinew::layers::add_layer_dofs(&spec, *layers, &report, error) &&
+                  sinew::rigc::compile_rig(spec, blob, &core, error) &&
+                  sinew::layers::compile_layers(spec, *layers, blob, &report, error);
+  std::filesystem::remove(path);
+  return ok;
+}
+
+TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_keys.toml", kSpec, &bytes, &layers, &error)) << error;
+  const auto& o = layers.metaballs.options;
+  EXPECT_EQ(o.jiggle_frequency, 3.0);
+  EXPECT_EQ(o.jiggle_window, 0.5);
+  EXPECT_EQ(o.overlap_reach, 1.5);  // not the default (0)
+  ASSERT_EQ(o.jiggle.size(), 1u);
+  ASSERT_EQ(o.bulge.size(), 1u);
+  EXPECT_EQ(o.bulge[0].gain, 0.2);
+
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  ASSERT_TRUE(loaded.layers.has_metaballs);
+  const auto& m = loaded.layers.metaballs;
+  // The section says which rate its gains are for: the spec's rate_hz.
+  EXPECT_EQ(m.jiggle_rate_hz, 500u);
+  sinew::metaballs::JiggleGains want;
+  ASSERT_TRUE(sinew::metaballs::jiggle_gains(3 << 16, 1 << 15, 500, &want));
+  EXPECT_EQ(m.jiggle_damping, want.damping);
+  size_t jiggling = 0;
+  for (const auto k : m.ball_jiggle) {
+    if (k == 0) continue;
+    EXPECT_EQ(k, want.stiffness);
+    ++jiggling;
+  }
+  EXPECT_GT(jiggling, 0u);
+  EXPECT_FALSE(m.bulges.empty());
+  std::printf("spec keys: %zu jiggle balls at %u Hz (k %d, d %d), %zu bulging balls, %zu overlap candidates\n",
+              jiggling, m.jiggle_rate_hz, want.stiffness, want.damping, m.bulges.size(), m.overlap_vertices.size());
+}
+
+// Jiggle is in physical units by default: a jiggle region without
+// jiggle_frequency swings at the default frequency and window for the
+// spec's rate; jiggle_frequency = 0 asks for the per-step gains; a
+// [metaballs] table without jiggle regions is the same either way (its
+// section carries no rate and keeps its bytes).
+const char* const kJiggleOnlySpec = R"(
+[rig]
+source = "builtin:arm"
+skinning = "dqs"
+rate_hz = 500
+
+[metaballs]
+)";
+const char* const kRegion = R"(
+[[metaballs.jiggle]]
+bone = "shoulder"
+from = 0.3
+to = 0.7
+stiffness = 0.05
+)";
+
+TEST(MetaballsSpecKeys, JiggleIsInPhysicalUnitsByDefault) {
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(
+      compile("sinew_metaballs_default_jiggle.toml", std::string(kJiggleOnlySpec) + kRegion, &bytes, &layers, &error))
+      << error;
+  const sinew::metaballs_build::Options defaults;
+  EXPECT_GT(defaults.jiggle_frequency, 0);
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  const auto& m = loaded.layers.metaballs;
+  EXPECT_EQ(m.jiggle_rate_hz, 500u);
+  sinew::metaballs::JiggleGains want;
+  ASSERT_TRUE(sinew::metaballs::jiggle_gains(sinew::rigc::to_fixed(defaults.jiggle_frequency, 16),
+                                             sinew::rigc::to_fixed(defaults.jiggle_window, 16), 500, &want));
+  EXPECT_EQ(m.jiggle_damping, want.damping);
+  size_t jiggling = 0;
+  for (const auto k : m.ball_jiggle)
+    if (k != 0) {
+      EXPECT_EQ(k, want.stiffness);
+      ++jiggling;
+    }
+  EXPECT_GT(jiggling, 0u);
+  std::printf("default jiggle: %zu balls swing at %.1f Hz within %.2f s (k %d, d %d at 500 Hz)\n", jiggling,
+              defaults.jiggle_frequency, defaults.jiggle_window, want.stiffness, want.damping);
+}
+
+TEST(MetaballsSpecKeys, JiggleFrequencyZeroKeepsThePerStepGains) {
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_step_jiggle.toml",
+                      std::string(kJiggleOnlySpec) + "jiggle_frequency = 0\njiggle_damping = 0.95\n" + kRegion, &bytes,
+                      &layers, &error))
+      << error;
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  const auto& m = loaded.layers.metaballs;
+  EXPECT_EQ(m.jiggle_rate_hz, 0u);
+  EXPECT_EQ(m.jiggle_damping, sinew::rigc::to_fixed(0.95, 30));
+  size_t jiggling = 0;
+  for (const auto k : m.ball_jiggle)
+    if (k != 0) {
+      EXPECT_EQ(k, sinew::rigc::to_fixed(0.05, 30));
+      ++jiggling;
+    }
+  EXPECT_GT(jiggling, 0u);
+}
+
+TEST(MetaballsSpecKeys, NoJiggleRegionsNoRateAndTheSameBytes) {
+  std::vector<uint8_t> by_default, per_step;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_no_jiggle.toml", kJiggleOnlySpec, &by_default, &layers, &error)) << error;
+  ASSERT_TRUE(compile("sinew_metaballs_no_jiggle0.toml", std::string(kJiggleOnlySpec) + "jiggle_frequency = 0\n",
+                      &per_step, &layers, &error))
+      << error;
+  EXPECT_EQ(by_default, per_step);
+  LoadedLayers loaded;
+  loaded.bytes = by_default;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  EXPECT_EQ(loaded.layers.metaballs.jiggle_rate_hz, 0u);
+}
+
+TEST(MetaballsSpecKeys, UnknownKeyIsRefused) {
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  EXPECT_FALSE(
+      compile("sinew_metaballs_typo.toml", std::string(kSpec) + "jigle_window = 1\n", &bytes, &layers, &error));
+  EXPECT_NE(error.find("unknown key"), std::string::npos) << error;
+}
+
+// The MBAL section's layer version of a compiled blob (0: none).
+uint32_t metaballs_section_version(const std::vector<uint8_t>& bytes) {
+  const size_t at = sinew::test::section_offset(bytes, sinew::pipeline::kSectionMetaballs);
+  if (at == 0) return 0;
+  sinew::pipeline::LayerSectionHeader lh;
+  std::memcpy(&lh, bytes.data() + at, sizeof(lh));
+  return lh.layer_version;
+}
+
+TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
+  const std::string text =
+      std::string(kSpec) +
+      "\n[[metaballs.action_line]]\norigin = \"shoulder\"\ninsertion = \"elbow\"\nside = [0, 0.03, 0]\n";
+  std::vector<uint8_t> bytes, plain;
+  sinew::layers::LayerSpecs layers, plain_layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_lines.toml", text, &bytes, &layers, &error)) << error;
+  ASSERT_EQ(layers.metaballs.options.action_lines.size(), 1u);
+  EXPECT_EQ(layers.metaballs.options.action_lines[0].side[1], 0.03);
+  // Without action lines the section stays version 1 (the bytes of existing
+  // rigs); with them it is version 2.
+  ASSERT_TRUE(compile("sinew_metaballs_plain.toml", kSpec, &plain, &plain_layers, &error)) << error;
+  EXPECT_EQ(metaballs_section_version(plain), 1u);
+  EXPECT_EQ(metaballs_section_version(bytes), sinew::pipeline::kMetaballsSectionVersion2);
+
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  ASSERT_TRUE(loaded.layers.has_metaballs);
+  const auto& m = loaded.layers.metaballs;
+  ASSERT_EQ(m.action_lines.size(), 1u);
+  EXPECT_FALSE(m.action_balls.empty());
+  // The loaded line is the one the builder made from the same spec.
+  const auto& line = m.action_lines[0];
+  EXPECT_EQ(line.origin_bone, 0);     // shoulder
+  EXPECT_EQ(line.insertion_bone, 1);  // elbow
+  EXPECT_LT(line.origin_rest.y, line.origin_rest.x);
+  EXPECT_GT(line.origin_rest.y, 0);  // the side shift
+  for (const auto& ab : m.action_balls) EXPECT_EQ(ab.line, 0);
+  std::printf("action lines in the rig format: %zu line, %zu action balls, MBAL version %u (%u without lines)\n",
+              m.action_lines.size(), m.action_balls.size(), metaballs_section_version(bytes),
+              metaballs_section_version(plain));
+}
+
+}  // namespace
