@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 namespace sinew::layer {
 
@@ -68,5 +69,20 @@ struct SectionDescriptor {
     return nullptr;
   }
 };
+
+// Where an array sits in a section's array list, found by name at compile
+// time: a loader reads `array_ref(kArrays, "ball_rest")` instead of an index,
+// and checks element_size against the type it reads it as (see
+// layer_loader.cpp's `named`). kNoArray: the list has no such name.
+inline constexpr uint32_t kNoArray = 0xFFFFFFFFu;
+struct ArrayRef {
+  uint32_t index;
+  uint32_t element_size;
+};
+constexpr ArrayRef array_ref(std::span<const SectionArray> arrays, std::string_view name) {
+  for (uint32_t i = 0; i < arrays.size(); ++i)
+    if (name == arrays[i].name) return {i, arrays[i].element_size};
+  return {kNoArray, 0};
+}
 
 }  // namespace sinew::layer

@@ -5,6 +5,7 @@
 // copied into the arena and its model handed to the layer's own validator,
 // which checks every index and parameter against the rig.
 #include <cstring>
+#include <string_view>
 
 #include "layer_set.hpp"
 #include "sim_core/barnet/barnet_validate.hpp"
@@ -124,6 +125,23 @@ std::span<const T> array_of(const SectionView& v, uint32_t i) {
   return {static_cast<const T*>(static_cast<const void*>(v.base + e.offset)), e.count};
 }
 
+// The array the section's descriptor names `R` (layer::array_ref), read as
+// T: a name the descriptor lacks, or a T of another size than the
+// descriptor's element, does not compile, so the loader cannot drift from
+// the descriptor the writer also reads.
+template <typename T, layer::ArrayRef R>
+std::span<const T> named(const SectionView& v) {
+  static_assert(R.index != layer::kNoArray, "the section's descriptor lists no array of that name");
+  static_assert(R.element_size == sizeof(T), "the descriptor's element size differs from the type read");
+  return array_of<T>(v, R.index);
+}
+
+constexpr auto sph_array = [](std::string_view n) { return layer::array_ref(sph::kSphSectionArrays, n); };
+constexpr auto mb_array = [](std::string_view n) { return layer::array_ref(metaballs::kMetaballsSectionArrays, n); };
+constexpr auto muscle_array = [](std::string_view n) { return layer::array_ref(muscle::kMusclesSectionArrays, n); };
+constexpr auto skin_array = [](std::string_view n) { return layer::array_ref(elastic_skin::kSkinSectionArrays, n); };
+constexpr auto barnet_array = [](std::string_view n) { return layer::array_ref(barnet::kBarnetSectionArrays, n); };
+
 template <typename P>
 P params_of(const SectionView& v) {
   P p{};
@@ -193,13 +211,17 @@ LoadStatus load_sph(const SectionView& v, const rig::Rig& rig, uint32_t external
   sph::SphModel& m = out->model;
   m.params = p.params;
   m.joint = p.joint;
-  for (uint32_t c = 0; c < 3; ++c) {
-    m.rest_local[c] = array_of<fx::Len>(v, c);
-    m.rest_model[c] = array_of<fx::Len>(v, 3 + c);
-    m.skin_rest[c] = array_of<fx::Len>(v, 8 + c);
-  }
-  m.bone = array_of<uint8_t>(v, 6);
-  m.skin_vertex = array_of<uint32_t>(v, 7);
+  m.rest_local[0] = named<fx::Len, sph_array("rest_local_x")>(v);
+  m.rest_local[1] = named<fx::Len, sph_array("rest_local_y")>(v);
+  m.rest_local[2] = named<fx::Len, sph_array("rest_local_z")>(v);
+  m.rest_model[0] = named<fx::Len, sph_array("rest_model_x")>(v);
+  m.rest_model[1] = named<fx::Len, sph_array("rest_model_y")>(v);
+  m.rest_model[2] = named<fx::Len, sph_array("rest_model_z")>(v);
+  m.skin_rest[0] = named<fx::Len, sph_array("skin_rest_x")>(v);
+  m.skin_rest[1] = named<fx::Len, sph_array("skin_rest_y")>(v);
+  m.skin_rest[2] = named<fx::Len, sph_array("skin_rest_z")>(v);
+  m.bone = named<uint8_t, sph_array("bone")>(v);
+  m.skin_vertex = named<uint32_t, sph_array("skin_vertex")>(v);
   if (v.header.rate_hz == 0)
     return fail(LoadError::kBadValue, v.id, v.instance, "rate_hz", -1, "an SPH joint's gains need its tick rate");
   const sph::LayerStatus st = sph::sph_validate(m, rig);
@@ -225,34 +247,34 @@ LoadStatus load_metaballs(const SectionView& v, const rig::Rig& rig, metaballs::
   m.jiggle_rate_hz = v.header.rate_hz;  // > 0: physical jiggle gains built for this rate
   m.smoothing_passes = p.smoothing_passes;
   m.smoothing_rate = p.smoothing_rate;
-  m.inverse_bind = array_of<fx::Mat34>(v, 0);
-  m.ball_rest = array_of<fx::Vec3>(v, 1);
-  m.ball_radius = array_of<fx::Len>(v, 2);
-  m.ball_bone = array_of<uint16_t>(v, 3);
-  m.ball_joint = array_of<uint16_t>(v, 4);
-  m.ball_weight = array_of<fx::Unit>(v, 5);
-  m.ball_jiggle = array_of<fx::Unit>(v, 6);
-  m.pairs = array_of<metaballs::BallPair>(v, 7);
-  m.bulges = array_of<metaballs::BulgeRecord>(v, 8);
-  m.vertex_ball = array_of<uint16_t>(v, 9);
-  m.vertex_weight = array_of<fx::Unit>(v, 10);
-  m.vertex_disp = array_of<fx::Vec3>(v, 11);
-  m.joint_balls = array_of<metaballs::JointBall>(v, 12);
-  m.jv_vertex = array_of<uint32_t>(v, 13);
-  m.jv_ball = array_of<uint16_t>(v, 14);
-  m.jv_alpha = array_of<fx::Unit>(v, 15);
-  m.jv_blend = array_of<fx::Unit>(v, 16);
-  m.jv_disp = array_of<fx::Vec3>(v, 17);
-  m.jv_laplacian = array_of<fx::Vec3>(v, 18);
-  m.jv_neighbour_begin = array_of<uint32_t>(v, 19);
-  m.jv_neighbours = array_of<uint32_t>(v, 20);
-  m.jv_inv_count = array_of<fx::Unit>(v, 21);
-  m.overlaps = array_of<metaballs::OverlapRecord>(v, 22);
-  m.overlap_vertices = array_of<uint32_t>(v, 23);
-  m.overlap_balls = array_of<uint16_t>(v, 24);
+  m.inverse_bind = named<fx::Mat34, mb_array("inverse_bind")>(v);
+  m.ball_rest = named<fx::Vec3, mb_array("ball_rest")>(v);
+  m.ball_radius = named<fx::Len, mb_array("ball_radius")>(v);
+  m.ball_bone = named<uint16_t, mb_array("ball_bone")>(v);
+  m.ball_joint = named<uint16_t, mb_array("ball_joint")>(v);
+  m.ball_weight = named<fx::Unit, mb_array("ball_weight")>(v);
+  m.ball_jiggle = named<fx::Unit, mb_array("ball_jiggle")>(v);
+  m.pairs = named<metaballs::BallPair, mb_array("pairs")>(v);
+  m.bulges = named<metaballs::BulgeRecord, mb_array("bulges")>(v);
+  m.vertex_ball = named<uint16_t, mb_array("vertex_ball")>(v);
+  m.vertex_weight = named<fx::Unit, mb_array("vertex_weight")>(v);
+  m.vertex_disp = named<fx::Vec3, mb_array("vertex_disp")>(v);
+  m.joint_balls = named<metaballs::JointBall, mb_array("joint_balls")>(v);
+  m.jv_vertex = named<uint32_t, mb_array("jv_vertex")>(v);
+  m.jv_ball = named<uint16_t, mb_array("jv_ball")>(v);
+  m.jv_alpha = named<fx::Unit, mb_array("jv_alpha")>(v);
+  m.jv_blend = named<fx::Unit, mb_array("jv_blend")>(v);
+  m.jv_disp = named<fx::Vec3, mb_array("jv_disp")>(v);
+  m.jv_laplacian = named<fx::Vec3, mb_array("jv_laplacian")>(v);
+  m.jv_neighbour_begin = named<uint32_t, mb_array("jv_neighbour_begin")>(v);
+  m.jv_neighbours = named<uint32_t, mb_array("jv_neighbours")>(v);
+  m.jv_inv_count = named<fx::Unit, mb_array("jv_inv_count")>(v);
+  m.overlaps = named<metaballs::OverlapRecord, mb_array("overlaps")>(v);
+  m.overlap_vertices = named<uint32_t, mb_array("overlap_vertices")>(v);
+  m.overlap_balls = named<uint16_t, mb_array("overlap_balls")>(v);
   if (v.header.layer_version == kMetaballsSectionVersion2) {  // action lines
-    m.action_lines = array_of<metaballs::ActionLine>(v, 25);
-    m.action_balls = array_of<metaballs::ActionBall>(v, 26);
+    m.action_lines = named<metaballs::ActionLine, mb_array("action_lines")>(v);
+    m.action_balls = named<metaballs::ActionBall, mb_array("action_balls")>(v);
   }
   const metaballs::LayerStatus st = metaballs::metaballs_validate(m, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
@@ -266,11 +288,13 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
   const bool v4 = v.header.layer_version == kMusclesSectionVersion4;
   *out = {p.joint_count,
           p.ring_vertices,
-          array_of<muscle::MuscleRecord>(v, 0),
-          array_of<muscle::PrimitiveRecord>(v, 1),
-          v2 ? array_of<muscle::PrimitiveDeformation>(v, 2) : std::span<const muscle::PrimitiveDeformation>{},
-          v3 ? array_of<muscle::MuscleShape>(v, 3) : std::span<const muscle::MuscleShape>{},
-          v4 ? array_of<muscle::PrimitiveExponents>(v, 4) : std::span<const muscle::PrimitiveExponents>{}};
+          named<muscle::MuscleRecord, muscle_array("muscles")>(v),
+          named<muscle::PrimitiveRecord, muscle_array("primitives")>(v),
+          v2 ? named<muscle::PrimitiveDeformation, muscle_array("deformations")>(v)
+             : std::span<const muscle::PrimitiveDeformation>{},
+          v3 ? named<muscle::MuscleShape, muscle_array("shapes")>(v) : std::span<const muscle::MuscleShape>{},
+          v4 ? named<muscle::PrimitiveExponents, muscle_array("exponents")>(v)
+             : std::span<const muscle::PrimitiveExponents>{}};
   const muscle::LayerStatus st = muscle::muscle_validate(*out, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
   return {};
@@ -311,19 +335,19 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, const muscle::Mu
   }
   *out = {p.joint_count,
           p.vertex_count,
-          array_of<elastic_skin::Anchor>(v, 0),
-          array_of<elastic_skin::Stiffness>(v, 1),
-          array_of<fx::Len>(v, 2),
-          array_of<elastic_skin::Edge>(v, 3),
-          array_of<elastic_skin::RubberBand>(v, 4),
+          named<elastic_skin::Anchor, skin_array("anchors")>(v),
+          named<elastic_skin::Stiffness, skin_array("anchor_stiffness")>(v),
+          named<fx::Len, skin_array("fat")>(v),
+          named<elastic_skin::Edge, skin_array("edges")>(v),
+          named<elastic_skin::RubberBand, skin_array("bands")>(v),
           p.params,
           p.solver,
           rig.triangles};
   // fat_normal is a version 4 field (kept in 5): older sections keep the
   // anchor normal whatever their reserved byte holds.
   if (v.header.layer_version < kSkinSectionVersion4) out->solver.fat_normal = 0;
-  *region = array_of<uint32_t>(v, 5);
-  *region_weight = array_of<fx::Unit>(v, 6);
+  *region = named<uint32_t, skin_array("region_vertex")>(v);
+  *region_weight = named<fx::Unit, skin_array("region_weight")>(v);
   if (out->vertex_count != rig.vertex_count())
     return fail(LoadError::kBadValue, v.id, v.instance, "vertex_count", -1, "differs from the rig's", out->vertex_count,
                 true);
@@ -349,12 +373,12 @@ LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, uint32_t exter
   *out = {p.joint_count,
           p.input_count,
           p.vertex_count,
-          array_of<fx::Mat34>(v, 0),
-          array_of<barnet::NodeRecord>(v, 1),
-          array_of<barnet::BarRecord>(v, 2),
-          array_of<barnet::LoadRecord>(v, 3),
-          array_of<barnet::ControlTriangle>(v, 4),
-          array_of<barnet::WrapRecord>(v, 5),
+          named<fx::Mat34, barnet_array("inverse_bind")>(v),
+          named<barnet::NodeRecord, barnet_array("nodes")>(v),
+          named<barnet::BarRecord, barnet_array("bars")>(v),
+          named<barnet::LoadRecord, barnet_array("loads")>(v),
+          named<barnet::ControlTriangle, barnet_array("triangles")>(v),
+          named<barnet::WrapRecord, barnet_array("wrap")>(v),
           0,
           {}};
   if (v2) {
@@ -362,7 +386,7 @@ LoadStatus load_barnet(const SectionView& v, const rig::Rig& rig, uint32_t exter
       return fail(LoadError::kBadValue, v.id, v.instance, "external_count", -1,
                   "differs from the rig's external inputs (EXTI)", p.external_count, true);
     out->external_count = p.external_count;
-    out->q_inputs = array_of<barnet::ForceDensityInput>(v, 6);
+    out->q_inputs = named<barnet::ForceDensityInput, barnet_array("q_inputs")>(v);
   }
   const barnet::LayerStatus st = barnet::barnet_validate(*out, rig);
   if (!st.ok()) return from_layer(LoadError::kBadValue, v.id, v.instance, st.message);
@@ -423,7 +447,7 @@ LoadStatus layers_init(const rig::Rig& rig, const uint8_t* blob, size_t size, vo
   if (!st.ok()) return st;
   for (uint32_t i = 0; i < view_count; ++i)
     if (views[i].id == kSectionExternalInputs) {
-      set.external = array_of<ExternalInputRecord>(views[i], 0);
+      set.external = named<ExternalInputRecord, layer::array_ref(kExternalInputArraysList, "inputs")>(views[i]);
       if (!(st = check_external(views[i], set.external, rig)).ok()) return st;
     }
   for (uint32_t i = 0; i < view_count; ++i)

@@ -1,6 +1,8 @@
 #include "layer_writer.hpp"
 
 #include <cstring>
+#include <string>
+#include <string_view>
 
 #include "sim_core/muscle/muscle_shape.hpp"
 #include "sim_core/muscle/primitive_deform.hpp"
@@ -40,14 +42,19 @@ class SectionBuilder {
     table_ = bytes_.size();
     bytes_.resize(table_ + size_t{arrays} * sizeof(pipeline::LayerArrayEntry), 0);
   }
+  // The next array, which must be the descriptor's next by name and
+  // element size: a writer listing two arrays of one type in another order
+  // than the loader reads them is refused too.
   template <typename T>
-  SectionBuilder& array(std::span<const T> values) {
+  SectionBuilder& array(std::string_view name, std::span<const T> values) {
     if (version_ == nullptr) return *this;
     if (next_ >= version_->array_count) {
       fault("more arrays than the descriptor's " + std::to_string(version_->array_count));
       return *this;
     }
     const layer::SectionArray& spec = section_.arrays[next_];
+    if (name != spec.name)
+      fault("array " + std::to_string(next_) + " is " + spec.name + " in the descriptor, not " + std::string(name));
     if (sizeof(T) != spec.element_size)
       fault(std::string(spec.name) + " elements are " + std::to_string(sizeof(T)) + " bytes, the descriptor's " +
             std::to_string(spec.element_size));
@@ -102,10 +109,14 @@ LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t forc
   std::memcpy(p1.params, &m.params, sizeof p1.params);
   SectionBuilder b = v2 ? builder(sph::kSphSection, pipeline::kSphSectionVersion2, rate_hz, p2)
                         : builder(sph::kSphSection, pipeline::kLayerSectionVersion, rate_hz, p1);
-  for (int a = 0; a < 3; ++a) b.array(m.rest_local[a]);
-  for (int a = 0; a < 3; ++a) b.array(m.rest_model[a]);
-  b.array(m.bone).array(m.skin_vertex);
-  for (int a = 0; a < 3; ++a) b.array(m.skin_rest[a]);
+  b.array("rest_local_x", m.rest_local[0])
+      .array("rest_local_y", m.rest_local[1])
+      .array("rest_local_z", m.rest_local[2]);
+  b.array("rest_model_x", m.rest_model[0])
+      .array("rest_model_y", m.rest_model[1])
+      .array("rest_model_z", m.rest_model[2]);
+  b.array("bone", m.bone).array("skin_vertex", m.skin_vertex);
+  b.array("skin_rest_x", m.skin_rest[0]).array("skin_rest_y", m.skin_rest[1]).array("skin_rest_z", m.skin_rest[2]);
   return b.finish();
 }
 
@@ -118,13 +129,28 @@ LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
   SectionBuilder b =
       builder(metaballs::kMetaballsSection, v2 ? pipeline::kMetaballsSectionVersion2 : pipeline::kLayerSectionVersion,
               m.jiggle_rate_hz, p);
-  b.array(m.inverse_bind).array(m.ball_rest).array(m.ball_radius).array(m.ball_bone).array(m.ball_joint);
-  b.array(m.ball_weight).array(m.ball_jiggle).array(m.pairs).array(m.bulges);
-  b.array(m.vertex_ball).array(m.vertex_weight).array(m.vertex_disp);
-  b.array(m.joint_balls).array(m.jv_vertex).array(m.jv_ball).array(m.jv_alpha).array(m.jv_blend);
-  b.array(m.jv_disp).array(m.jv_laplacian).array(m.jv_neighbour_begin).array(m.jv_neighbours).array(m.jv_inv_count);
-  b.array(m.overlaps).array(m.overlap_vertices).array(m.overlap_balls);
-  if (v2) b.array(m.action_lines).array(m.action_balls);
+  b.array("inverse_bind", m.inverse_bind)
+      .array("ball_rest", m.ball_rest)
+      .array("ball_radius", m.ball_radius)
+      .array("ball_bone", m.ball_bone)
+      .array("ball_joint", m.ball_joint);
+  b.array("ball_weight", m.ball_weight)
+      .array("ball_jiggle", m.ball_jiggle)
+      .array("pairs", m.pairs)
+      .array("bulges", m.bulges);
+  b.array("vertex_ball", m.vertex_ball).array("vertex_weight", m.vertex_weight).array("vertex_disp", m.vertex_disp);
+  b.array("joint_balls", m.joint_balls)
+      .array("jv_vertex", m.jv_vertex)
+      .array("jv_ball", m.jv_ball)
+      .array("jv_alpha", m.jv_alpha)
+      .array("jv_blend", m.jv_blend);
+  b.array("jv_disp", m.jv_disp)
+      .array("jv_laplacian", m.jv_laplacian)
+      .array("jv_neighbour_begin", m.jv_neighbour_begin)
+      .array("jv_neighbours", m.jv_neighbours)
+      .array("jv_inv_count", m.jv_inv_count);
+  b.array("overlaps", m.overlaps).array("overlap_vertices", m.overlap_vertices).array("overlap_balls", m.overlap_balls);
+  if (v2) b.array("action_lines", m.action_lines).array("action_balls", m.action_balls);
   return b.finish();
 }
 
@@ -144,11 +170,11 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
                            : deformed ? pipeline::kMusclesSectionVersion2
                                       : pipeline::kLayerSectionVersion;
   SectionBuilder b = builder(muscle::kMusclesSection, version, 0, p);
-  b.array(m.muscles).array(m.primitives);
+  b.array("muscles", m.muscles).array("primitives", m.primitives);
   if (general || shaped || deformed)
-    b.array(deformed ? m.deformations : std::span<const ::sinew::muscle::PrimitiveDeformation>{});
-  if (general || shaped) b.array(shaped ? m.shapes : std::span<const ::sinew::muscle::MuscleShape>{});
-  if (general) b.array(m.exponents);
+    b.array("deformations", deformed ? m.deformations : std::span<const ::sinew::muscle::PrimitiveDeformation>{});
+  if (general || shaped) b.array("shapes", shaped ? m.shapes : std::span<const ::sinew::muscle::MuscleShape>{});
+  if (general) b.array("exponents", m.exponents);
   return b.finish();
 }
 
@@ -167,8 +193,12 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
     p5.v3 = {m.joint_count, m.vertex_count, m.params, m.solver};
     for (int c = 0; c < 3; ++c) p5.base_acceleration_input[c] = base_acceleration[c];
     SectionBuilder b = builder(elastic_skin::kSkinSection, pipeline::kSkinSectionVersion5, 0, p5);
-    b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
-    b.array(region).array(region_weight);
+    b.array("anchors", m.anchors)
+        .array("anchor_stiffness", m.anchor_stiffness)
+        .array("fat", m.fat)
+        .array("edges", m.edges)
+        .array("bands", m.bands);
+    b.array("region_vertex", region).array("region_weight", region_weight);
     return b.finish();
   }
   const bool v4 = m.solver.fat_normal != 0;
@@ -188,8 +218,12 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
                            : v2 ? pipeline::kSkinSectionVersion2
                                 : pipeline::kLayerSectionVersion;
   SectionBuilder b(elastic_skin::kSkinSection, version, 0, &p, size);
-  b.array(m.anchors).array(m.anchor_stiffness).array(m.fat).array(m.edges).array(m.bands);
-  b.array(region).array(region_weight);
+  b.array("anchors", m.anchors)
+      .array("anchor_stiffness", m.anchor_stiffness)
+      .array("fat", m.fat)
+      .array("edges", m.edges)
+      .array("bands", m.bands);
+  b.array("region_vertex", region).array("region_weight", region_weight);
   return b.finish();
 }
 
@@ -201,14 +235,19 @@ LayerSection barnet_section(const ::sinew::barnet::BarnetModel& m) {
   const pipeline::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, v2 ? m.external_count : 0};
   SectionBuilder b =
       builder(barnet::kBarnetSection, v2 ? pipeline::kBarnetSectionVersion2 : pipeline::kLayerSectionVersion, 0, p);
-  b.array(m.inverse_bind).array(m.nodes).array(m.bars).array(m.loads).array(m.triangles).array(m.wrap);
-  if (v2) b.array(m.q_inputs);
+  b.array("inverse_bind", m.inverse_bind)
+      .array("nodes", m.nodes)
+      .array("bars", m.bars)
+      .array("loads", m.loads)
+      .array("triangles", m.triangles)
+      .array("wrap", m.wrap);
+  if (v2) b.array("q_inputs", m.q_inputs);
   return b.finish();
 }
 
 LayerSection external_inputs_section(std::span<const pipeline::ExternalInputRecord> inputs) {
   SectionBuilder b(pipeline::kExternalInputSection, pipeline::kLayerSectionVersion, 0, nullptr, 0);
-  b.array(inputs);
+  b.array("inputs", inputs);
   return b.finish();
 }
 
