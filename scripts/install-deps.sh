@@ -18,7 +18,7 @@ runtime_pkgs=(
 )
 test_pkgs=(
   "${runtime_pkgs[@]}"
-  clang libgtest-dev googletest libbenchmark-dev librapidcheck-dev libeigen3-dev
+  clang clang-format libgtest-dev googletest libbenchmark-dev librapidcheck-dev libeigen3-dev
   g++-aarch64-linux-gnu g++-arm-linux-gnueabihf qemu-user-static
   can-utils
   # the builds compile through ccache when it is present (cmake/sinew_options.cmake)

@@ -6,7 +6,7 @@ namespace sinew::firmware {
 
 size_t StepTiming::bucket_of(uint64_t ns) {
   if (ns < kSub) return static_cast<size_t>(ns);  // exact below 16 ns
-  const int octave = 63 - std::countl_zero(ns);    // >= 4
+  const int octave = 63 - std::countl_zero(ns);   // >= 4
   const uint64_t sub = (ns >> (octave - 4)) & (kSub - 1);
   const size_t b = static_cast<size_t>((octave - 3) * kSub) + static_cast<size_t>(sub);
   return b < kSub * kOctaves ? b : kSub * kOctaves - 1;

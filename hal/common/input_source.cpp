@@ -4,9 +4,12 @@ namespace sinew::hal {
 
 const char* source_state_name(SourceState s) {
   switch (s) {
-    case SourceState::kOk: return "ok";
-    case SourceState::kDegraded: return "degraded";
-    case SourceState::kDown: return "down";
+    case SourceState::kOk:
+      return "ok";
+    case SourceState::kDegraded:
+      return "degraded";
+    case SourceState::kDown:
+      return "down";
   }
   return "unknown";
 }

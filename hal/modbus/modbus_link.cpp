@@ -20,8 +20,8 @@ ModbusLink::ModbusLink(const LinkConfig& link, uint64_t response_timeout_ns, uin
   if (link.transport == Transport::kTcp) {
     ctx_ = modbus_new_tcp(link.tcp.host.c_str(), link.tcp.port);
   } else {
-    ctx_ = modbus_new_rtu(link.rtu.device.c_str(), static_cast<int>(link.rtu.baud), link.rtu.parity,
-                          link.rtu.data_bits, link.rtu.stop_bits);
+    ctx_ = modbus_new_rtu(link.rtu.device.c_str(), static_cast<int>(link.rtu.baud), link.rtu.parity, link.rtu.data_bits,
+                          link.rtu.stop_bits);
   }
   if (ctx_ == nullptr) {
     error_ = describe("creating the libmodbus context");
@@ -31,7 +31,8 @@ ModbusLink::ModbusLink(const LinkConfig& link, uint64_t response_timeout_ns, uin
   // block for seconds. Reconnects are the poller's, with back-off.
   bool ok = modbus_set_error_recovery(ctx_, MODBUS_ERROR_RECOVERY_NONE) == 0;
   ok = ok && modbus_set_slave(ctx_, link.unit_id) == 0;
-  ok = ok && modbus_set_response_timeout(ctx_, whole_seconds(response_timeout_ns), remaining_us(response_timeout_ns)) == 0;
+  ok = ok &&
+       modbus_set_response_timeout(ctx_, whole_seconds(response_timeout_ns), remaining_us(response_timeout_ns)) == 0;
   // Zero disables the byte timeout: the whole response must then arrive
   // within the response timeout, which bounds every request.
   ok = ok && modbus_set_byte_timeout(ctx_, whole_seconds(byte_timeout_ns), remaining_us(byte_timeout_ns)) == 0;

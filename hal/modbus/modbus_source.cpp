@@ -39,8 +39,8 @@ size_t ModbusSource::latch(uint64_t until_ns, std::span<hal::JointSample> out, I
 
 std::string ModbusSource::status_line() const {
   const PollerCounters c = counters();
-  return std::string(source_state_name(c.state)) + ", " + std::to_string(request_count()) +
-         " requests/cycle, " + format_counters(c);
+  return std::string(source_state_name(c.state)) + ", " + std::to_string(request_count()) + " requests/cycle, " +
+         format_counters(c);
 }
 
 }  // namespace sinew::hal::modbus

@@ -14,7 +14,6 @@ namespace sinew::hal::modbus {
 
 namespace {
 
-
 PollSnapshot sized_snapshot(size_t channels) {
   PollSnapshot s;
   s.channels.assign(channels, ChannelSlot{});
@@ -164,7 +163,8 @@ void Poller::accept_registers(const ReadRequest& request, std::span<const uint16
   for (uint16_t index : request.channels) {
     const ChannelConfig& c = config_.channels[index];
     ChannelSlot& slot = work_.channels[index];
-    const Conversion conv = convert(c, regs.subspan(static_cast<size_t>(c.address - request.address), register_count(c.width)));
+    const Conversion conv =
+        convert(c, regs.subspan(static_cast<size_t>(c.address - request.address), register_count(c.width)));
     if (!conv.accepted) {
       ++slot.out_of_range;
       slot.status = ChannelStatus::kOutOfRange;
@@ -184,10 +184,17 @@ void Poller::record_failure(const ReadRequest& request, const ReadResult& result
       PollerStats::add(stats_.exceptions);
       PollerStats::add(stats_.by_exception[result.exception_code < kExceptionCodes ? result.exception_code : 0]);
       break;
-    case ReadOutcome::kTimeout: PollerStats::add(stats_.timeouts); break;
-    case ReadOutcome::kBadResponse: PollerStats::add(stats_.bad_responses); break;
-    case ReadOutcome::kLinkLost: PollerStats::add(stats_.link_errors); break;
-    case ReadOutcome::kOk: break;
+    case ReadOutcome::kTimeout:
+      PollerStats::add(stats_.timeouts);
+      break;
+    case ReadOutcome::kBadResponse:
+      PollerStats::add(stats_.bad_responses);
+      break;
+    case ReadOutcome::kLinkLost:
+      PollerStats::add(stats_.link_errors);
+      break;
+    case ReadOutcome::kOk:
+      break;
   }
   for (uint16_t index : request.channels) {
     ChannelSlot& slot = work_.channels[index];

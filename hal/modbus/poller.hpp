@@ -49,9 +49,9 @@ class Poller {
 
  private:
   struct CycleResult {
-    size_t with_data = 0;   // requests answered with registers
-    size_t answered = 0;    // ... or with an exception
-    bool link_lost = false; // the link must be reopened before the next cycle
+    size_t with_data = 0;    // requests answered with registers
+    size_t answered = 0;     // ... or with an exception
+    bool link_lost = false;  // the link must be reopened before the next cycle
   };
 
   void run();

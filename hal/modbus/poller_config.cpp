@@ -22,7 +22,8 @@ bool validate_link(const LinkConfig& link, std::string* error) {
   const RtuEndpoint& rtu = link.rtu;
   if (rtu.device.empty()) return *error = "rtu device is empty", false;
   if (rtu.baud == 0) return *error = "rtu baud must be positive", false;
-  if (rtu.parity != 'N' && rtu.parity != 'E' && rtu.parity != 'O') return *error = "rtu parity must be N, E or O", false;
+  if (rtu.parity != 'N' && rtu.parity != 'E' && rtu.parity != 'O')
+    return *error = "rtu parity must be N, E or O", false;
   if (rtu.data_bits < 5 || rtu.data_bits > 8) return *error = "rtu data_bits must be 5..8", false;
   if (rtu.stop_bits != 1 && rtu.stop_bits != 2) return *error = "rtu stop_bits must be 1 or 2", false;
   if (link.unit_id < 1 || link.unit_id > 247) return *error = "rtu unit_id must be 1..247", false;

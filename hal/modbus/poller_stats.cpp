@@ -34,8 +34,8 @@ std::string format_counters(const PollerCounters& c) {
     s += " (" + detail + ")";
   }
   s += ", timeouts " + std::to_string(c.timeouts) + ", bad responses " + std::to_string(c.bad_responses) +
-       ", out of range " + std::to_string(c.out_of_range) + ", connects " + std::to_string(c.connects) +
-       " (failed " + std::to_string(c.connect_failures) + "), link errors " + std::to_string(c.link_errors);
+       ", out of range " + std::to_string(c.out_of_range) + ", connects " + std::to_string(c.connects) + " (failed " +
+       std::to_string(c.connect_failures) + "), link errors " + std::to_string(c.link_errors);
   if (c.backoff_ns > 0) s += ", back-off " + std::to_string(c.backoff_ns / 1'000'000) + " ms";
   return s;
 }

@@ -15,18 +15,18 @@ namespace sinew::hal::modbus {
 
 // A plain copy of the counters, for reports and tests.
 struct PollerCounters {
-  uint64_t cycles = 0;            // poll cycles run (connected)
-  uint64_t requests = 0;          // read requests sent
-  uint64_t responses = 0;         // requests answered with data
-  uint64_t exceptions = 0;        // requests answered with an exception
+  uint64_t cycles = 0;                                   // poll cycles run (connected)
+  uint64_t requests = 0;                                 // read requests sent
+  uint64_t responses = 0;                                // requests answered with data
+  uint64_t exceptions = 0;                               // requests answered with an exception
   std::array<uint64_t, kExceptionCodes> by_exception{};  // per exception code
   uint64_t timeouts = 0;
   uint64_t bad_responses = 0;
-  uint64_t link_errors = 0;       // connection lost while polling
-  uint64_t connects = 0;          // successful connects
+  uint64_t link_errors = 0;  // connection lost while polling
+  uint64_t connects = 0;     // successful connects
   uint64_t connect_failures = 0;
-  uint64_t out_of_range = 0;      // readings rejected for range
-  uint64_t backoff_ns = 0;        // current back-off wait (0 while healthy)
+  uint64_t out_of_range = 0;  // readings rejected for range
+  uint64_t backoff_ns = 0;    // current back-off wait (0 while healthy)
   SourceState state = SourceState::kDown;
 };
 

@@ -35,17 +35,17 @@ enum class Quantity : uint8_t {
 };
 
 struct ChannelConfig {
-  std::string name;                 // for messages; may be empty
-  uint16_t input = 0;               // rig input index the samples feed
+  std::string name;    // for messages; may be empty
+  uint16_t input = 0;  // rig input index the samples feed
   RegisterTable table = RegisterTable::kHolding;
-  uint16_t address = 0;             // protocol address of the first register (0-based)
+  uint16_t address = 0;  // protocol address of the first register (0-based)
   RegisterWidth width = RegisterWidth::k16;
   WordOrder word_order = WordOrder::kHighWordFirst;  // 32-bit values only
-  bool is_signed = true;            // two's complement raw value
-  double scale = 1.0;               // physical = raw * scale + offset
+  bool is_signed = true;                             // two's complement raw value
+  double scale = 1.0;                                // physical = raw * scale + offset
   double offset = 0.0;
   Quantity quantity = Quantity::kAngle;
-  double min = -180.0;              // accepted physical range, inclusive; outside is rejected
+  double min = -180.0;  // accepted physical range, inclusive; outside is rejected
   double max = 180.0;
 };
 

@@ -13,9 +13,12 @@ uint16_t saturate16(uint64_t v) { return static_cast<uint16_t>(std::min<uint64_t
 
 uint16_t source_state_code(SourceState s) {
   switch (s) {
-    case SourceState::kOk: return 0;
-    case SourceState::kDegraded: return 1;
-    case SourceState::kDown: return 2;
+    case SourceState::kOk:
+      return 0;
+    case SourceState::kDegraded:
+      return 1;
+    case SourceState::kDown:
+      return 2;
   }
   return 2;
 }

@@ -22,8 +22,8 @@ inline constexpr uint16_t kInputCount = 9;
 inline constexpr uint16_t kSourceCount = 10;
 inline constexpr uint16_t kSourcesDown = 11;
 inline constexpr uint16_t kSourcesDegraded = 12;
-inline constexpr uint16_t kSourceState = 16;   // kMaxSources registers: 0 ok, 1 degraded, 2 down
-inline constexpr uint16_t kInputStatus = 32;   // one per rig input: JointStatus bits
+inline constexpr uint16_t kSourceState = 16;  // kMaxSources registers: 0 ok, 1 degraded, 2 down
+inline constexpr uint16_t kInputStatus = 32;  // one per rig input: JointStatus bits
 }  // namespace status_reg
 
 inline constexpr uint16_t kStatusLayout = 1;
@@ -35,7 +35,7 @@ struct StatusUpdate {
   uint64_t tick = 0;
   uint64_t last_step_ns = 0;
   uint32_t stale_count = 0;
-  std::span<const uint8_t> input_status;               // JointStatus bits per rig input
+  std::span<const uint8_t> input_status;  // JointStatus bits per rig input
   std::span<const SourceState> source_states;
 };
 

@@ -17,7 +17,7 @@ namespace sinew::hal::modbus {
 
 namespace {
 
-constexpr int kPollIntervalMs = 50;           // how soon the thread notices stop()
+constexpr int kPollIntervalMs = 50;            // how soon the thread notices stop()
 constexpr uint32_t kClientTimeoutUs = 100000;  // a request must arrive whole within this
 
 std::string why(const char* what) { return std::string("status server: ") + what + ": " + std::strerror(errno); }
@@ -53,7 +53,8 @@ bool StatusServer::open(std::string* error) {
   fcntl(listen_fd_, F_SETFL, fcntl(listen_fd_, F_GETFL) | O_NONBLOCK);
   sockaddr_in bound{};
   socklen_t length = sizeof bound;
-  if (getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound), &length) != 0) return *error = why("getsockname"), false;
+  if (getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound), &length) != 0)
+    return *error = why("getsockname"), false;
   port_ = ntohs(bound.sin_port);
   const auto registers = static_cast<unsigned>(status_register_count(config_.input_count));
   mapping_ = modbus_mapping_new_start_address(0, 0, 0, 0, 0, registers, 0, registers);

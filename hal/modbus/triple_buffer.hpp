@@ -48,8 +48,8 @@ class TripleBuffer {
   static constexpr uint8_t kFresh = 0x4;
 
   std::array<T, 3> slots_;
-  alignas(64) uint8_t back_ = 0;  // producer only
-  alignas(64) uint8_t front_ = 1; // consumer only
+  alignas(64) uint8_t back_ = 0;   // producer only
+  alignas(64) uint8_t front_ = 1;  // consumer only
   alignas(64) std::atomic<uint8_t> middle_{2};
   static_assert(std::atomic<uint8_t>::is_always_lock_free);
 };

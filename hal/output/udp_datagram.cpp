@@ -27,19 +27,25 @@ void write_udp_header(const UdpFragment& f, std::span<const uint8_t> payload, ui
 
 const char* datagram_check_name(DatagramCheck c) {
   switch (c) {
-    case DatagramCheck::kOk: return "ok";
-    case DatagramCheck::kTooShort: return "too-short";
-    case DatagramCheck::kBadMagic: return "bad-magic";
-    case DatagramCheck::kBadVersion: return "bad-version";
-    case DatagramCheck::kBadLength: return "bad-length";
-    case DatagramCheck::kBadLayout: return "bad-layout";
-    case DatagramCheck::kBadChecksum: return "bad-checksum";
+    case DatagramCheck::kOk:
+      return "ok";
+    case DatagramCheck::kTooShort:
+      return "too-short";
+    case DatagramCheck::kBadMagic:
+      return "bad-magic";
+    case DatagramCheck::kBadVersion:
+      return "bad-version";
+    case DatagramCheck::kBadLength:
+      return "bad-length";
+    case DatagramCheck::kBadLayout:
+      return "bad-layout";
+    case DatagramCheck::kBadChecksum:
+      return "bad-checksum";
   }
   return "unknown";
 }
 
-DatagramCheck parse_udp_datagram(std::span<const uint8_t> datagram, UdpFragment* f,
-                                 std::span<const uint8_t>* payload) {
+DatagramCheck parse_udp_datagram(std::span<const uint8_t> datagram, UdpFragment* f, std::span<const uint8_t>* payload) {
   if (datagram.size() < kUdpHeaderBytes) return DatagramCheck::kTooShort;
   const uint8_t* p = datagram.data();
   if (std::memcmp(p, kUdpMagic, sizeof(kUdpMagic)) != 0) return DatagramCheck::kBadMagic;

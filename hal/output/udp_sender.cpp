@@ -46,8 +46,8 @@ int connect_udp(const std::string& host, uint16_t port, std::string* error) {
 
 }  // namespace
 
-bool UdpSender::open(const std::string& host, uint16_t port, const FrameShape& shape,
-                     const UdpSenderOptions& options, std::string* error) {
+bool UdpSender::open(const std::string& host, uint16_t port, const FrameShape& shape, const UdpSenderOptions& options,
+                     std::string* error) {
   close();
   stats_ = {};
   shape_ = shape;

@@ -147,8 +147,7 @@ class BvhParser {
   bool expect_open_brace(const std::string& after) {
     if (tokens_.at_end()) return fail_at_end(cat("expected '{' after ", after));
     const Token token = tokens_.next();
-    if (token.text != "{")
-      return fail(token.line, cat("expected '{' after ", after, ", found ", quoted(token.text)));
+    if (token.text != "{") return fail(token.line, cat("expected '{' after ", after, ", found ", quoted(token.text)));
     return true;
   }
 
@@ -161,8 +160,7 @@ class BvhParser {
         return fail(keyword.line, cat("OFFSET needs 3 numbers, found ", std::to_string(axis)));
       tokens_.next();
       std::string why;
-      if (!parse_finite_double(token.text, &offset[axis], &why))
-        return fail(token.line, cat("OFFSET: ", why));
+      if (!parse_finite_double(token.text, &offset[axis], &why)) return fail(token.line, cat("OFFSET: ", why));
     }
     Token extra;
     double ignored = 0;
@@ -188,23 +186,20 @@ class BvhParser {
     std::string why;
     if (!parse_count(token.text, &count, &why)) return fail(token.line, cat("CHANNELS count: ", why));
     if (count > kMaxChannelsPerJoint)
-      return fail(token.line,
-                  cat("CHANNELS count ", std::to_string(count), ": a joint has at most 6 channels"));
+      return fail(token.line, cat("CHANNELS count ", std::to_string(count), ": a joint has at most 6 channels"));
     BvhJoint& joint = out_->joints[block->index];
     for (size_t i = 0; i < count; ++i) {
       if (!tokens_.peek_on_line(keyword.line, &token))
-        return fail(keyword.line, cat("CHANNELS declares ", std::to_string(count), " channels but lists ",
-                                      std::to_string(i)));
+        return fail(keyword.line,
+                    cat("CHANNELS declares ", std::to_string(count), " channels but lists ", std::to_string(i)));
       tokens_.next();
       BvhChannel channel{};
       if (!channel_from_name(token.text, &channel))
-        return fail(token.line,
-                    cat("unknown channel ", quoted(token.text),
-                        " (expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)"));
+        return fail(token.line, cat("unknown channel ", quoted(token.text),
+                                    " (expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)"));
       for (const BvhChannel seen : joint.channels)
         if (seen == channel)
-          return fail(token.line,
-                      cat("channel ", channel_name(channel), " listed twice for ", describe(*block)));
+          return fail(token.line, cat("channel ", channel_name(channel), " listed twice for ", describe(*block)));
       joint.channels.push_back(channel);
     }
     BvhChannel extra{};
@@ -226,8 +221,7 @@ class BvhParser {
       *value = {token.text.substr(label.size()), token.line, token.line_index};
       return true;
     }
-    if (!tokens_.peek_on_line(token.line, value))
-      return fail(token.line, cat("'", context, "' without a value"));
+    if (!tokens_.peek_on_line(token.line, value)) return fail(token.line, cat("'", context, "' without a value"));
     tokens_.next();
     return true;
   }
@@ -245,8 +239,7 @@ class BvhParser {
       return fail(frame_word.line, cat("expected 'Frame Time:', found ", quoted(frame_word.text)));
     Token time;
     if (!read_labelled_value("Time:", "Frame Time:", &time)) return false;
-    if (!parse_finite_double(time.text, &out_->frame_time, &why))
-      return fail(time.line, cat("Frame Time: ", why));
+    if (!parse_finite_double(time.text, &out_->frame_time, &why)) return fail(time.line, cat("Frame Time: ", why));
     if (out_->frame_time <= 0) return fail(time.line, "Frame Time must be positive");
     Token extra;
     if (tokens_.peek_on_line(time.line, &extra))
@@ -258,8 +251,7 @@ class BvhParser {
   std::string describe_value(size_t value_index) const {
     for (const BvhJoint& joint : out_->joints) {
       if (value_index >= joint.first_value && value_index < joint.first_value + joint.channels.size()) {
-        return cat("joint ", quoted(joint.name), " ",
-                   channel_name(joint.channels[value_index - joint.first_value]));
+        return cat("joint ", quoted(joint.name), " ", channel_name(joint.channels[value_index - joint.first_value]));
       }
     }
     return "unassigned";
@@ -286,23 +278,22 @@ class BvhParser {
                                      "' declares (line ", std::to_string(frames_line_), ")"));
       split_fields(line.text, &fields);
       if (fields.size() != width)
-        return fail(line.number, cat("frame ", std::to_string(rows + 1), " has ",
-                                     std::to_string(fields.size()), fields.size() == 1 ? " value" : " values",
-                                     ", expected ", std::to_string(width), " (one per channel)"));
+        return fail(line.number, cat("frame ", std::to_string(rows + 1), " has ", std::to_string(fields.size()),
+                                     fields.size() == 1 ? " value" : " values", ", expected ", std::to_string(width),
+                                     " (one per channel)"));
       for (size_t k = 0; k < width; ++k) {
         double value = 0;
         std::string why;
         if (!parse_finite_double(fields[k], &value, &why))
-          return fail(line.number, cat("frame ", std::to_string(rows + 1), ", value ", std::to_string(k + 1),
-                                       " (", describe_value(k), "): ", why));
+          return fail(line.number, cat("frame ", std::to_string(rows + 1), ", value ", std::to_string(k + 1), " (",
+                                       describe_value(k), "): ", why));
         out_->values.push_back(value);
       }
       ++rows;
     }
     if (rows < out_->frame_count && width > 0)
-      return fail_at_end(cat("file ends after ", std::to_string(rows), " of the ",
-                             std::to_string(out_->frame_count), " frames declared at line ",
-                             std::to_string(frames_line_)));
+      return fail_at_end(cat("file ends after ", std::to_string(rows), " of the ", std::to_string(out_->frame_count),
+                             " frames declared at line ", std::to_string(frames_line_)));
     return true;
   }
 
@@ -346,8 +337,7 @@ std::string_view channel_name(BvhChannel channel) {
 }
 
 bool is_rotation(BvhChannel channel) {
-  return channel == BvhChannel::kXrotation || channel == BvhChannel::kYrotation ||
-         channel == BvhChannel::kZrotation;
+  return channel == BvhChannel::kXrotation || channel == BvhChannel::kYrotation || channel == BvhChannel::kZrotation;
 }
 
 int channel_axis(BvhChannel channel) {

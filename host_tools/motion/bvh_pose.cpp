@@ -16,8 +16,7 @@ double channel_value(std::span<const double> row, size_t index) { return row.emp
 
 const BvhJoint& joint_at(const Bvh& bvh, size_t joint) {
   if (joint >= bvh.joints.size())
-    throw std::out_of_range(
-        cat("BVH joint ", std::to_string(joint), " of ", std::to_string(bvh.joints.size())));
+    throw std::out_of_range(cat("BVH joint ", std::to_string(joint), " of ", std::to_string(bvh.joints.size())));
   return bvh.joints[joint];
 }
 
@@ -76,9 +75,7 @@ Vec3 local_translation(const Bvh& bvh, size_t joint, size_t frame) {
   return to_vec3(translation_of(joint_at(bvh, joint), bvh.frame(frame)));
 }
 
-std::vector<Vec3> global_positions(const Bvh& bvh, size_t frame) {
-  return forward_kinematics(bvh, bvh.frame(frame));
-}
+std::vector<Vec3> global_positions(const Bvh& bvh, size_t frame) { return forward_kinematics(bvh, bvh.frame(frame)); }
 
 std::vector<Vec3> rest_global_positions(const Bvh& bvh) { return forward_kinematics(bvh, {}); }
 

@@ -76,8 +76,7 @@ class CsvTracksParser {
       const size_t dot = field.rfind('.');
       const bool has_space = std::any_of(field.begin(), field.end(), is_space);
       if (dot == std::string_view::npos || dot == 0 || dot + 1 == field.size() || has_space)
-        return fail_field(line.number, i + 1,
-                          cat(quoted(field), " is not a track name of the form <joint>.<dof>"));
+        return fail_field(line.number, i + 1, cat(quoted(field), " is not a track name of the form <joint>.<dof>"));
       TrackName name{std::string(field.substr(0, dot)), std::string(field.substr(dot + 1))};
       if (out_->find(name.joint, name.dof))
         return fail_field(line.number, i + 1, cat("track ", quoted(field), " appears twice"));
@@ -95,8 +94,8 @@ class CsvTracksParser {
                             std::to_string(fields.size()), " fields, the header ", std::to_string(width)));
     if (fields.size() > width)
       return fail_field(line.number, width + 1,
-                        cat("extra field: the row has ", std::to_string(fields.size()),
-                            " fields, the header ", std::to_string(width)));
+                        cat("extra field: the row has ", std::to_string(fields.size()), " fields, the header ",
+                            std::to_string(width)));
     std::vector<double> row(width);
     for (size_t i = 0; i < width; ++i) {
       std::string why;
@@ -106,9 +105,9 @@ class CsvTracksParser {
         return fail_field(line.number, i + 1, cat(column_label(i + 1), ": ", why));
     }
     if (!out_->times.empty() && !(row[0] > out_->times.back()))
-      return fail_field(line.number, 1,
-                        cat("time ", fields[0], " is not after the previous sample's (line ",
-                            std::to_string(previous_line_), ")"));
+      return fail_field(
+          line.number, 1,
+          cat("time ", fields[0], " is not after the previous sample's (line ", std::to_string(previous_line_), ")"));
     out_->times.push_back(row[0]);
     out_->values.insert(out_->values.end(), row.begin() + 1, row.end());
     previous_line_ = line.number;

@@ -36,13 +36,11 @@ bool validate(const std::vector<KeyPosture>& keys, std::string* error) {
     if (!std::isfinite(key.time)) {
       problem = "time is not finite";
     } else if (i > 0 && !(key.time > keys[i - 1].time)) {
-      problem =
-          cat("time ", shortest(key.time), " is not after the previous key's ", shortest(keys[i - 1].time));
+      problem = cat("time ", shortest(key.time), " is not after the previous key's ", shortest(keys[i - 1].time));
     } else if (key.values.size() != keys[0].values.size()) {
-      problem = cat("has ", std::to_string(key.values.size()), " values, key 0 has ",
-                    std::to_string(keys[0].values.size()));
-    } else if (!std::all_of(key.values.begin(), key.values.end(),
-                            [](double v) { return std::isfinite(v); })) {
+      problem =
+          cat("has ", std::to_string(key.values.size()), " values, key 0 has ", std::to_string(keys[0].values.size()));
+    } else if (!std::all_of(key.values.begin(), key.values.end(), [](double v) { return std::isfinite(v); })) {
       problem = "a value is not finite";
     } else if (!in_unit_range(key.tension) || !in_unit_range(key.continuity) || !in_unit_range(key.bias)) {
       problem = "tension, continuity and bias must each lie in [-1, 1]";
@@ -89,8 +87,7 @@ bool KbSpline::create(std::vector<KeyPosture> keys, KbSpline* out, std::string* 
     const double out_scale = 2 * dt_after / (dt_before + dt_after);
     const double in_scale = 2 * dt_before / (dt_before + dt_after);
     for (size_t d = 0; d < dim; ++d) {
-      const double chord_after =
-          last ? key.values[d] - keys[i - 1].values[d] : keys[i + 1].values[d] - key.values[d];
+      const double chord_after = last ? key.values[d] - keys[i - 1].values[d] : keys[i + 1].values[d] - key.values[d];
       const double chord_before = first ? chord_after : key.values[d] - keys[i - 1].values[d];
       spline.outgoing_[i * dim + d] = out_scale * (out_before * chord_before + out_after * chord_after);
       spline.incoming_[i * dim + d] = in_scale * (in_before * chord_before + in_after * chord_after);
@@ -103,12 +100,10 @@ bool KbSpline::create(std::vector<KeyPosture> keys, KbSpline* out, std::string* 
 
 void KbSpline::sample(double time, std::span<double> out) const {
   if (out.size() != dimension_)
-    throw std::invalid_argument(cat("KbSpline::sample: output has ", std::to_string(out.size()),
-                                    " elements, expected ", std::to_string(dimension_)));
+    throw std::invalid_argument(cat("KbSpline::sample: output has ", std::to_string(out.size()), " elements, expected ",
+                                    std::to_string(dimension_)));
   if (keys_.empty()) throw std::logic_error("KbSpline::sample on a spline without keys (use create)");
-  const auto copy_key = [&](size_t i) {
-    std::copy(keys_[i].values.begin(), keys_[i].values.end(), out.begin());
-  };
+  const auto copy_key = [&](size_t i) { std::copy(keys_[i].values.begin(), keys_[i].values.end(), out.begin()); };
   if (!(time > keys_.front().time)) {  // also NaN
     copy_key(0);
     return;
@@ -117,8 +112,8 @@ void KbSpline::sample(double time, std::span<double> out) const {
     copy_key(keys_.size() - 1);
     return;
   }
-  const auto after_it = std::upper_bound(keys_.begin(), keys_.end(), time,
-                                         [](double t, const KeyPosture& key) { return t < key.time; });
+  const auto after_it =
+      std::upper_bound(keys_.begin(), keys_.end(), time, [](double t, const KeyPosture& key) { return t < key.time; });
   const auto next = static_cast<size_t>(after_it - keys_.begin());
   const size_t i = next - 1;
   const double s = (time - keys_[i].time) / (keys_[next].time - keys_[i].time);

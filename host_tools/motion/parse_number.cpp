@@ -11,8 +11,7 @@ namespace sinew::motion {
 bool parse_finite_double(std::string_view token, double* out, std::string* why) {
   std::string_view digits = token;
   // from_chars refuses a leading '+', which some exporters write.
-  if (digits.size() > 1 && digits.front() == '+' && digits[1] != '-' && digits[1] != '+')
-    digits.remove_prefix(1);
+  if (digits.size() > 1 && digits.front() == '+' && digits[1] != '-' && digits[1] != '+') digits.remove_prefix(1);
   double value = 0;
   const char* end = digits.data() + digits.size();
   const auto [ptr, ec] = std::from_chars(digits.data(), end, value, std::chars_format::general);

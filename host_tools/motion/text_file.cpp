@@ -20,8 +20,7 @@ bool read_text_file(const std::string& path, std::string* text, std::string* err
   text->clear();
   std::array<char, 1 << 16> buffer{};
   size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), file.get())) > 0)
-    text->append(buffer.data(), got);
+  while ((got = std::fread(buffer.data(), 1, buffer.size(), file.get())) > 0) text->append(buffer.data(), got);
   if (std::ferror(file.get())) {
     *error = cat(path, ": read error");
     return false;

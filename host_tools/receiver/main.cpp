@@ -3,9 +3,8 @@
 //   sinew-receive --port P [--count N] [--csv out.csv] [--vertices]
 //                 [--bind ADDR] [--stream ID] [--timeout S] [--quiet]
 #include <CLI/CLI.hpp>
-
-#include <csignal>
 #include <cinttypes>
+#include <csignal>
 #include <cstdio>
 
 #include "csv_writer.hpp"

@@ -13,14 +13,16 @@ constexpr uint64_t kLateWindow = 64;    // bits of Reassembler::late_seen_
 using hal::output::DatagramCheck;
 using hal::output::UdpFragment;
 
-Reassembler::Reassembler(const ReassemblerOptions& options) : options_(options), slots_(std::max<size_t>(1, options.slots)) {}
+Reassembler::Reassembler(const ReassemblerOptions& options)
+    : options_(options), slots_(std::max<size_t>(1, options.slots)) {}
 
 bool Reassembler::feed(std::span<const uint8_t> datagram) {
   ++stats_.datagrams;
   delivered_ = {};
   UdpFragment f;
   std::span<const uint8_t> part;
-  if (hal::output::parse_udp_datagram(datagram, &f, &part) != DatagramCheck::kOk || f.total_bytes > options_.max_frame_bytes)
+  if (hal::output::parse_udp_datagram(datagram, &f, &part) != DatagramCheck::kOk ||
+      f.total_bytes > options_.max_frame_bytes)
     return ++stats_.bad_datagrams, false;
   if (!accept_stream(f.stream_id)) return ++stats_.foreign_datagrams, false;
   if (is_stale(f.sequence)) return false;

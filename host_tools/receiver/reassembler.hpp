@@ -27,18 +27,18 @@
 namespace sinew::receiver {
 
 struct ReassemblerOptions {
-  uint32_t stream_id = 0;                  // accept only this stream (0: follow whichever stream is sending)
-  size_t slots = 4;                        // frames assembled at once
-  uint32_t max_frame_bytes = 64u << 20;    // larger frames are refused (bounds memory)
+  uint32_t stream_id = 0;                // accept only this stream (0: follow whichever stream is sending)
+  size_t slots = 4;                      // frames assembled at once
+  uint32_t max_frame_bytes = 64u << 20;  // larger frames are refused (bounds memory)
 };
 
 struct ReceiverStats {
   uint64_t datagrams = 0;
-  uint64_t bad_datagrams = 0;        // failed parse or checksum
-  uint64_t foreign_datagrams = 0;    // another stream than the one accepted
+  uint64_t bad_datagrams = 0;           // failed parse or checksum
+  uint64_t foreign_datagrams = 0;       // another stream than the one accepted
   uint64_t inconsistent_fragments = 0;  // disagree with earlier fragments of their frame
   uint64_t duplicate_fragments = 0;
-  uint64_t stale_fragments = 0;      // for frames older than the last delivered (or no slot left)
+  uint64_t stale_fragments = 0;  // for frames older than the last delivered (or no slot left)
   uint64_t frames_delivered = 0;
   uint64_t frames_lost = 0;          // sequence numbers skipped between delivered frames
   uint64_t frames_incomplete = 0;    // partly received frames discarded

@@ -79,8 +79,7 @@ std::string UdpReceiver::summary() const {
          std::to_string(s.frames_out_of_order) + "), undecodable " + std::to_string(undecodable_) + "; datagrams " +
          std::to_string(s.datagrams) + " (bad " + std::to_string(s.bad_datagrams) + ", duplicate fragments " +
          std::to_string(s.duplicate_fragments) + ", stale fragments " + std::to_string(s.stale_fragments) +
-         ", foreign " + std::to_string(s.foreign_datagrams) + "), stream restarts " +
-         std::to_string(s.stream_restarts);
+         ", foreign " + std::to_string(s.foreign_datagrams) + "), stream restarts " + std::to_string(s.stream_restarts);
 }
 
 }  // namespace sinew::receiver

@@ -12,8 +12,8 @@ namespace sinew::receiver {
 
 struct UdpReceiverOptions {
   std::string bind_address = "0.0.0.0";
-  uint16_t port = 0;                    // 0: an ephemeral port (see port())
-  int receive_buffer_bytes = 4 << 20;   // SO_RCVBUF: room for bursts of fragments
+  uint16_t port = 0;                   // 0: an ephemeral port (see port())
+  int receive_buffer_bytes = 4 << 20;  // SO_RCVBUF: room for bursts of fragments
   ReassemblerOptions reassembly;
 };
 

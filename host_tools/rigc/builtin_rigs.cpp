@@ -22,8 +22,8 @@ double smoothstep(double x) {
 }
 
 struct ChainJoint {
-  int joint;      // rig joint index
-  double x;       // position along the chain axis (model space)
+  int joint;  // rig joint index
+  double x;   // position along the chain axis (model space)
 };
 
 // A tube along +x from chain.front().x to end_x, centred at (y0, z0), with
@@ -147,7 +147,8 @@ RigSpec builtin_hand(SkinChoice method) {
   std::vector<std::vector<ChainJoint>> chains;
   for (const Finger& f : fingers) {
     const std::string n = f.name;
-    const int mcp = add_joint(&s, n + "_mcp", wrist, {f.base_x, f.y, 0}, rot, {{{0, 1, 0}, -20, 90}, {{0, 0, 1}, -20, 20}});
+    const int mcp =
+        add_joint(&s, n + "_mcp", wrist, {f.base_x, f.y, 0}, rot, {{{0, 1, 0}, -20, 90}, {{0, 0, 1}, -20, 20}});
     const int pip = add_joint(&s, n + "_pip", mcp, {f.length0, 0, 0}, rot, {{{0, 1, 0}, 0, 110}});
     const int dip = add_joint(&s, n + "_dip", pip, {f.length1, 0, 0}, rot, {{{0, 1, 0}, -10, 90}});
     chains.push_back({{mcp, f.base_x}, {pip, f.base_x + f.length0}, {dip, f.base_x + f.length0 + f.length1}});

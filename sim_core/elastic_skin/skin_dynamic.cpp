@@ -347,8 +347,7 @@ LayerStatus skin_dynamic_step(const SkinModel& model, const muscle::MuscleModel&
                                  &s);
     }
     for (int c = 0; c < 3; ++c)
-      for (uint32_t v = 0; v < model.vertex_count; ++v)
-        s.fine[c][v] = int64_t{s.position[c][v]} << kFineExtraBits;
+      for (uint32_t v = 0; v < model.vertex_count; ++v) s.fine[c][v] = int64_t{s.position[c][v]} << kFineExtraBits;
   }
   // Velocities to displacements per substep for the tick (d = v / H:
   // |v| <= 2^46, so v << 16 fits).

@@ -13,9 +13,7 @@ inline int32_t narrow(int64_t v, int s) {
 
 }  // namespace
 
-Mat34 mat34_identity() {
-  return {{{kLinOne, 0, 0}, {0, kLinOne, 0}, {0, 0, kLinOne}}, {0, 0, 0}};
-}
+Mat34 mat34_identity() { return {{{kLinOne, 0, 0}, {0, kLinOne, 0}, {0, 0, kLinOne}}, {0, 0, 0}}; }
 
 Rot3 rot3_from_quat(const Quat& q) {
   const int64_t w = q.w, x = q.x, y = q.y, z = q.z;
@@ -55,13 +53,12 @@ Mat34 mul(const Mat34& a, const Mat34& b) {
   Mat34 out{};
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      out.m[i][j] = narrow(sum3(int64_t{a.m[i][0]} * b.m[0][j], int64_t{a.m[i][1]} * b.m[1][j],
-                                int64_t{a.m[i][2]} * b.m[2][j]),
-                           kLinFracBits);
+      out.m[i][j] =
+          narrow(sum3(int64_t{a.m[i][0]} * b.m[0][j], int64_t{a.m[i][1]} * b.m[1][j], int64_t{a.m[i][2]} * b.m[2][j]),
+                 kLinFracBits);
     }
     // a.m (Q24) * b.t (Q20) -> Q44; a.t (Q20) lifted to Q44 exactly; one rounding.
-    const int64_t lin = sum3(int64_t{a.m[i][0]} * b.t[0], int64_t{a.m[i][1]} * b.t[1],
-                             int64_t{a.m[i][2]} * b.t[2]);
+    const int64_t lin = sum3(int64_t{a.m[i][0]} * b.t[0], int64_t{a.m[i][1]} * b.t[1], int64_t{a.m[i][2]} * b.t[2]);
     out.t[i] = narrow(add_sat_i64(lin, int64_t{a.t[i]} * (int64_t{1} << kLinFracBits)), kLinFracBits);
   }
   return out;
@@ -79,8 +76,7 @@ Vec3 transform_point(const Mat34& a, Vec3 p) {
 Vec3 transform_vector(const Mat34& a, Vec3 v) {
   int32_t out[3];
   for (int i = 0; i < 3; ++i) {
-    out[i] = narrow(sum3(int64_t{a.m[i][0]} * v.x, int64_t{a.m[i][1]} * v.y, int64_t{a.m[i][2]} * v.z),
-                    kLinFracBits);
+    out[i] = narrow(sum3(int64_t{a.m[i][0]} * v.x, int64_t{a.m[i][1]} * v.y, int64_t{a.m[i][2]} * v.z), kLinFracBits);
   }
   return {out[0], out[1], out[2]};
 }
@@ -88,8 +84,7 @@ Vec3 transform_vector(const Mat34& a, Vec3 v) {
 Vec3 rotate(const Rot3& r, Vec3 v) {
   int32_t out[3];
   for (int i = 0; i < 3; ++i) {
-    out[i] = narrow(sum3(int64_t{r.m[i][0]} * v.x, int64_t{r.m[i][1]} * v.y, int64_t{r.m[i][2]} * v.z),
-                    kUnitFracBits);
+    out[i] = narrow(sum3(int64_t{r.m[i][0]} * v.x, int64_t{r.m[i][1]} * v.y, int64_t{r.m[i][2]} * v.z), kUnitFracBits);
   }
   return {out[0], out[1], out[2]};
 }

@@ -33,8 +33,7 @@ int64_t dot_wide(const Quat& a, const Quat& b) {
 
 Quat quat_from_axis_angle(Vec3 unit_axis, Angle angle) {
   const SinCos h = sin_cos(angle >> 1);  // half angle; q and -q are one rotation
-  return {h.cos, mul_unit(unit_axis.x, h.sin), mul_unit(unit_axis.y, h.sin),
-          mul_unit(unit_axis.z, h.sin)};
+  return {h.cos, mul_unit(unit_axis.x, h.sin), mul_unit(unit_axis.y, h.sin), mul_unit(unit_axis.z, h.sin)};
 }
 
 bool normalize(Quat* q) {
@@ -53,9 +52,7 @@ Vec3 rotate(const Quat& q, Vec3 v) { return rotate(rot3_from_quat(q), v); }
 Quat nlerp(const Quat& a, const Quat& b, Unit t) {
   const Quat bb = dot_wide(a, b) < 0 ? negate(b) : b;
   const Unit s = sat_i32(int64_t{kUnitOne} - t);
-  const auto mix = [&](Unit p, Unit q) {
-    return round_q60(add_sat_i64(int64_t{p} * s, int64_t{q} * t));
-  };
+  const auto mix = [&](Unit p, Unit q) { return round_q60(add_sat_i64(int64_t{p} * s, int64_t{q} * t)); };
   Quat r{mix(a.w, bb.w), mix(a.x, bb.x), mix(a.y, bb.y), mix(a.z, bb.z)};
   normalize(&r);
   return r;

@@ -19,12 +19,8 @@ inline constexpr Quat quat_identity() { return {kUnitOne, 0, 0, 0}; }
 // products (saturating on inputs outside the unit range).
 Quat mul(const Quat& a, const Quat& b);
 
-inline constexpr Quat conjugate(const Quat& q) {
-  return {q.w, neg_sat(q.x), neg_sat(q.y), neg_sat(q.z)};
-}
-inline constexpr Quat negate(const Quat& q) {
-  return {neg_sat(q.w), neg_sat(q.x), neg_sat(q.y), neg_sat(q.z)};
-}
+inline constexpr Quat conjugate(const Quat& q) { return {q.w, neg_sat(q.x), neg_sat(q.y), neg_sat(q.z)}; }
+inline constexpr Quat negate(const Quat& q) { return {neg_sat(q.w), neg_sat(q.x), neg_sat(q.y), neg_sat(q.z)}; }
 
 // Four-component dot product in Q4.60 (saturating).
 int64_t dot_wide(const Quat& a, const Quat& b);

@@ -8,9 +8,9 @@ namespace {
 
 // Kernels work in Q62 (|v| < 2) for headroom far below the Q30 output LSB.
 constexpr int64_t kOneQ62 = int64_t{1} << 62;
-constexpr int64_t kPiQ61 = 0x6487ED5110B4611A;             // pi * 2^61
-constexpr uint64_t kInvTwoPiQ64 = 0x28BE60DB9391054Au;      // 1/(2 pi) * 2^64
-constexpr int64_t kQuarterPiQ62 = 0x3243F6A8885A308D;      // pi/4 * 2^62
+constexpr int64_t kPiQ61 = 0x6487ED5110B4611A;          // pi * 2^61
+constexpr uint64_t kInvTwoPiQ64 = 0x28BE60DB9391054Au;  // 1/(2 pi) * 2^64
+constexpr int64_t kQuarterPiQ62 = 0x3243F6A8885A308D;   // pi/4 * 2^62
 
 inline int64_t mul_q62(int64_t a, int64_t b) { return mul_shift_round(a, b, 62); }
 
@@ -68,10 +68,14 @@ SinCos sin_cos(Angle a) {
     c = tmp;
   }
   switch (quadrant) {
-    case 0: return {s, c};
-    case 1: return {c, -s};
-    case 2: return {-s, -c};
-    default: return {-c, s};
+    case 0:
+      return {s, c};
+    case 1:
+      return {c, -s};
+    case 2:
+      return {-s, -c};
+    default:
+      return {-c, s};
   }
 }
 
@@ -107,8 +111,6 @@ Angle angle_from_deg_q16(int32_t deg_q16) {
   return static_cast<Angle>(static_cast<uint64_t>(scaled));
 }
 
-int32_t angle_to_deg_q16(Angle a) {
-  return static_cast<int32_t>(div_round(int64_t{angle_signed(a)} * 360, 65536));
-}
+int32_t angle_to_deg_q16(Angle a) { return static_cast<int32_t>(div_round(int64_t{angle_signed(a)} * 360, 65536)); }
 
 }  // namespace sinew::fx

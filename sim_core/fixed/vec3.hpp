@@ -12,16 +12,10 @@ struct Vec3 {
   friend constexpr bool operator==(const Vec3&, const Vec3&) = default;
 };
 
-inline constexpr Vec3 add(Vec3 a, Vec3 b) {
-  return {add_sat(a.x, b.x), add_sat(a.y, b.y), add_sat(a.z, b.z)};
-}
-inline constexpr Vec3 sub(Vec3 a, Vec3 b) {
-  return {sub_sat(a.x, b.x), sub_sat(a.y, b.y), sub_sat(a.z, b.z)};
-}
+inline constexpr Vec3 add(Vec3 a, Vec3 b) { return {add_sat(a.x, b.x), add_sat(a.y, b.y), add_sat(a.z, b.z)}; }
+inline constexpr Vec3 sub(Vec3 a, Vec3 b) { return {sub_sat(a.x, b.x), sub_sat(a.y, b.y), sub_sat(a.z, b.z)}; }
 // Scales any-format vector by a Q2.30 factor.
-inline constexpr Vec3 scale(Vec3 v, Unit s) {
-  return {mul_by_unit(v.x, s), mul_by_unit(v.y, s), mul_by_unit(v.z, s)};
-}
+inline constexpr Vec3 scale(Vec3 v, Unit s) { return {mul_by_unit(v.x, s), mul_by_unit(v.y, s), mul_by_unit(v.z, s)}; }
 // Exact dot product, in the sum of both operands' fractional bits. Each
 // product is < 2^62 in magnitude; the sum saturates instead of overflowing.
 inline constexpr int64_t dot_wide(Vec3 a, Vec3 b) {

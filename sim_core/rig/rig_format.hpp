@@ -39,34 +39,34 @@ inline constexpr int32_t kMinLengthExponent = -16;
 inline constexpr int32_t kMaxLengthExponent = 16;
 inline constexpr uint32_t kNameBytes = 32;
 
-struct FileHeader {           // 64 bytes at offset 0
-  uint32_t magic;             // kMagic
-  uint16_t version_major;     // 1, or 2 with shared synergies; others are rejected
-  uint16_t version_minor;     // newer minors are accepted (additive sections)
-  uint32_t header_size;       // sizeof(FileHeader)
-  uint32_t total_size;        // bytes in the blob, multiple of 8
-  uint32_t crc32c;            // CRC-32C of the blob with this field as zero
-  uint32_t section_count;     // entries in the section table
+struct FileHeader {        // 64 bytes at offset 0
+  uint32_t magic;          // kMagic
+  uint16_t version_major;  // 1, or 2 with shared synergies; others are rejected
+  uint16_t version_minor;  // newer minors are accepted (additive sections)
+  uint32_t header_size;    // sizeof(FileHeader)
+  uint32_t total_size;     // bytes in the blob, multiple of 8
+  uint32_t crc32c;         // CRC-32C of the blob with this field as zero
+  uint32_t section_count;  // entries in the section table
   uint32_t section_table_offset;
-  int32_t length_exponent;    // one rig unit = 2^length_exponent metres (or model units)
+  int32_t length_exponent;  // one rig unit = 2^length_exponent metres (or model units)
   uint32_t joint_count;
-  uint32_t palette_count;     // skinning bind entries (joint + inverse bind)
+  uint32_t palette_count;  // skinning bind entries (joint + inverse bind)
   uint32_t vertex_count;
   uint32_t triangle_count;
   uint32_t influences_per_vertex;  // K, 1..kMaxInfluences; every vertex has K slots
-  uint32_t input_count;       // commanded degrees of freedom
+  uint32_t input_count;            // commanded degrees of freedom
   uint32_t synergy_count;
   uint32_t primitive_count;
 };
 static_assert(sizeof(FileHeader) == 64);
 
 enum SectionId : uint32_t {
-  kSectionJoints = 0x53544E4Au,      // "JNTS": JointRecord[joint_count]
-  kSectionNames = 0x454D414Eu,       // "NAME": char[kNameBytes][joint_count], NUL-terminated
-  kSectionSynergies = 0x524E5953u,   // "SYNR": SynergyRecord[synergy_count]
-  kSectionPalette = 0x544C4150u,     // "PALT": PaletteRecord[palette_count]
-  kSectionPositions = 0x534F5056u,   // "VPOS": Len x[n], y[n], z[n]
-  kSectionNormals = 0x4D524E56u,     // "VNRM": Unit x[n], y[n], z[n]
+  kSectionJoints = 0x53544E4Au,            // "JNTS": JointRecord[joint_count]
+  kSectionNames = 0x454D414Eu,             // "NAME": char[kNameBytes][joint_count], NUL-terminated
+  kSectionSynergies = 0x524E5953u,         // "SYNR": SynergyRecord[synergy_count]
+  kSectionPalette = 0x544C4150u,           // "PALT": PaletteRecord[palette_count]
+  kSectionPositions = 0x534F5056u,         // "VPOS": Len x[n], y[n], z[n]
+  kSectionNormals = 0x4D524E56u,           // "VNRM": Unit x[n], y[n], z[n]
   kSectionInfluenceJoints = 0x4A464E49u,   // "INFJ": uint16 palette index [n*K]
   kSectionInfluenceWeights = 0x57464E49u,  // "INFW": Unit weight [n*K], each vertex sums to 2^30
   kSectionVertexMethod = 0x4854454Du,      // "METH": uint8 SkinMethod [n]
@@ -85,16 +85,16 @@ static_assert(sizeof(SectionEntry) == 16);
 enum class DofKind : uint8_t { kRotation = 0, kTranslation = 1 };
 enum class SkinMethod : uint8_t { kLinear = 0, kDualQuaternion = 1 };
 
-struct JointRecord {         // 128 bytes
-  int32_t parent;            // -1 for a root; otherwise < own index (parents first)
-  uint8_t dof_count;         // 0..3
-  uint8_t dof_kind;          // DofKind
-  uint16_t first_input;      // index of the first DOF in the input array
+struct JointRecord {     // 128 bytes
+  int32_t parent;        // -1 for a root; otherwise < own index (parents first)
+  uint8_t dof_count;     // 0..3
+  uint8_t dof_kind;      // DofKind
+  uint16_t first_input;  // index of the first DOF in the input array
   fx::Len rest_translation[3];
   fx::Unit rest_rotation[4];  // w, x, y, z, unit length
   fx::Lin rest_scale[3];
-  fx::Unit dof_axis[3][3];    // unit axes in the joint's rest frame
-  int32_t dof_min[3];         // binary angle (signed) or Len
+  fx::Unit dof_axis[3][3];  // unit axes in the joint's rest frame
+  int32_t dof_min[3];       // binary angle (signed) or Len
   int32_t dof_max[3];
   uint32_t reserved[5];
 };

@@ -1,8 +1,9 @@
 // Golden determinism of the engine step on the default rigs: the compiled blob
 // and every step's outputs must hash to the committed values on every build.
+#include "host_tools/determinism/engine_workload.hpp"
+
 #include <gtest/gtest.h>
 
-#include "host_tools/determinism/engine_workload.hpp"
 #include "host_tools/determinism/output_hash.hpp"
 #include "tests/determinism/golden.hpp"
 

@@ -1,8 +1,9 @@
 // Golden determinism of the fixed-point workload. Model: Box2D v3's
 // determinism test (one scene, one hash, checked on every platform).
+#include "host_tools/determinism/fixed_ops_workload.hpp"
+
 #include <gtest/gtest.h>
 
-#include "host_tools/determinism/fixed_ops_workload.hpp"
 #include "host_tools/determinism/output_hash.hpp"
 #include "tests/determinism/golden.hpp"
 #include "tests/support/alloc_guard.hpp"

@@ -10,47 +10,71 @@ namespace {
 size_t component_size(int component_type) {
   switch (component_type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;  // includes DOUBLE, which glTF 2.0 does not allow
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;  // includes DOUBLE, which glTF 2.0 does not allow
   }
 }
 
 int component_count(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    case TINYGLTF_TYPE_MAT2:
+      return 4;
+    case TINYGLTF_TYPE_MAT3:
+      return 9;
+    case TINYGLTF_TYPE_MAT4:
+      return 16;
+    default:
+      return 0;
   }
 }
 
 int matrix_rows(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_MAT2: return 2;
-    case TINYGLTF_TYPE_MAT3: return 3;
-    case TINYGLTF_TYPE_MAT4: return 4;
-    default: return 0;
+    case TINYGLTF_TYPE_MAT2:
+      return 2;
+    case TINYGLTF_TYPE_MAT3:
+      return 3;
+    case TINYGLTF_TYPE_MAT4:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 const char* type_name(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-    case TINYGLTF_TYPE_VEC2: return "VEC2";
-    case TINYGLTF_TYPE_VEC3: return "VEC3";
-    case TINYGLTF_TYPE_VEC4: return "VEC4";
-    case TINYGLTF_TYPE_MAT2: return "MAT2";
-    case TINYGLTF_TYPE_MAT3: return "MAT3";
-    case TINYGLTF_TYPE_MAT4: return "MAT4";
-    default: return "unknown";
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+    default:
+      return "unknown";
   }
 }
 
@@ -84,7 +108,8 @@ double decode(const unsigned char* bytes, int component_type, bool normalized) {
       const double v = load<uint32_t>(bytes);
       return normalized ? v / 4294967295.0 : v;
     }
-    default: return static_cast<double>(load<float>(bytes));
+    default:
+      return static_cast<double>(load<float>(bytes));
   }
 }
 
@@ -115,8 +140,8 @@ bool view_bytes(const tinygltf::Model& model, int view_index, const std::string&
   }
   const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
   if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size()) {
-    *error = what + ": bufferView " + std::to_string(view_index) + " names missing buffer " +
-             std::to_string(view.buffer);
+    *error =
+        what + ": bufferView " + std::to_string(view_index) + " names missing buffer " + std::to_string(view.buffer);
     return false;
   }
   const std::vector<unsigned char>& buffer = model.buffers[static_cast<size_t>(view.buffer)].data;
@@ -142,8 +167,8 @@ bool apply_sparse(const tinygltf::Model& model, const tinygltf::Accessor& access
                   const std::vector<size_t>& offsets, size_t element_bytes, AccessorData* out, std::string* error) {
   const auto& sparse = accessor.sparse;
   if (sparse.count < 1 || static_cast<size_t>(sparse.count) > accessor.count) {
-    *error = what + ": sparse count " + std::to_string(sparse.count) + " is not in 1.." +
-             std::to_string(accessor.count);
+    *error =
+        what + ": sparse count " + std::to_string(sparse.count) + " is not in 1.." + std::to_string(accessor.count);
     return false;
   }
   const auto count = static_cast<size_t>(sparse.count);
@@ -229,8 +254,7 @@ bool read_accessor(const tinygltf::Model& model, int index, int type, const std:
     }
     if (!fits(length, accessor.byteOffset, accessor.count, stride, element_bytes)) {
       *error = name + ": " + std::to_string(accessor.count) + " elements from byteOffset " +
-               std::to_string(accessor.byteOffset) + " run past its " + std::to_string(length) +
-               "-byte bufferView";
+               std::to_string(accessor.byteOffset) + " run past its " + std::to_string(length) + "-byte bufferView";
       return false;
     }
     out->values.assign(accessor.count * components, 0.0);

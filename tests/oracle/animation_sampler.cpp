@@ -48,8 +48,8 @@ bool read_keyframes(const tinygltf::Model& model, const tinygltf::Animation& ani
   const size_t per_key = keys->interpolation == Interpolation::cubic_spline ? 3 : 1;
   if (keys->values.count != per_key * keys->times.count) {
     *error = name + ": " + std::to_string(keys->values.count) + " output values for " +
-             std::to_string(keys->times.count) + " keyframes (expected " +
-             std::to_string(per_key * keys->times.count) + ")";
+             std::to_string(keys->times.count) + " keyframes (expected " + std::to_string(per_key * keys->times.count) +
+             ")";
     return false;
   }
   return true;
@@ -85,7 +85,8 @@ Eigen::Vector4d sample(const Keyframes& keys, bool is_rotation, double time) {
   const double dt = times[k + 1] - times[k];
   const double u = (time - times[k]) / dt;
   switch (keys.interpolation) {
-    case Interpolation::step: return value(k);
+    case Interpolation::step:
+      return value(k);
     case Interpolation::linear:
       if (is_rotation) return slerp(value(k), value(k + 1), u);
       return (1.0 - u) * value(k) + u * value(k + 1);

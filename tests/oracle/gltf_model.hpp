@@ -1,9 +1,9 @@
 #pragma once
 // tinygltf, included the one way the project allows: nlohmann/json first, and
 // the implementation lives in sinew_tinygltf (host_tools/gltf) only.
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace sinew::oracle::detail {

@@ -26,8 +26,7 @@ bool skin_with_poses(const tinygltf::Model& model, const detail::NodePoses& pose
 
 }  // namespace
 
-bool skinned_pose(const std::string& path, int animation, double time_seconds, OracleResult* out,
-                  std::string* error) {
+bool skinned_pose(const std::string& path, int animation, double time_seconds, OracleResult* out, std::string* error) {
   tinygltf::Model model;
   if (!detail::load_model(path, &model, error)) return false;
   if (animation < -1 || animation >= static_cast<int>(model.animations.size())) {

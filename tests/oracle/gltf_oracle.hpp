@@ -32,8 +32,7 @@ struct OracleResult {
 // Morph targets and "weights" channels are ignored. Zero-weight influences are
 // skipped, so only joint indices that carry weight must be in range.
 // Returns false with a message naming the problem.
-bool skinned_pose(const std::string& path, int animation, double time_seconds, OracleResult* out,
-                  std::string* error);
+bool skinned_pose(const std::string& path, int animation, double time_seconds, OracleResult* out, std::string* error);
 
 // First and last keyframe time over all samplers of animation `animation`.
 bool animation_time_range(const std::string& path, int animation, double* start, double* end, std::string* error);

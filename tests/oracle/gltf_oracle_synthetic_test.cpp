@@ -34,26 +34,24 @@ struct Rig {
 Rig two_joint_rig() {
   Rig rig;
   GltfBuilder& g = rig.gltf;
-  const int interleaved = g.add_view(std::vector<float>{1, 0, 0, 1, 0, 0,  //
+  const int interleaved = g.add_view(std::vector<float>{1, 0, 0, 1, 0, 0,        //
                                                         1, 1, 0, 0.6f, 0.8f, 0,  //
                                                         1, 2, 0, 1, 0, 0},
                                      24);
   const int positions = g.add_accessor(interleaved, kFloat, 3, "VEC3");
   const int normals = g.add_accessor(interleaved, kFloat, 3, "VEC3", {{"byteOffset", 12}});
-  const int joints = g.add_accessor(g.add_view(std::vector<uint8_t>{0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0}), kUByte, 3,
-                                    "VEC4");
+  const int joints =
+      g.add_accessor(g.add_view(std::vector<uint8_t>{0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0}), kUByte, 3, "VEC4");
   const int weights =
       g.add_accessor(g.add_view(std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0}), kFloat, 3, "VEC4");
-  const int inverse_binds = g.add_accessor(
-      g.add_view(std::vector<float>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,  //
-                                    1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1}),
-      kFloat, 2, "MAT4");
+  const int inverse_binds =
+      g.add_accessor(g.add_view(std::vector<float>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0,  0, 1,  //
+                                                   1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1}),
+                     kFloat, 2, "MAT4");
   g.doc["scenes"] = Json::array({{{"nodes", {0, 1}}}});
-  g.doc["nodes"] = Json::array({{{"mesh", 0}, {"skin", 0}, {"translation", {100, 0, 0}}},
-                                {{"children", {2}}},
-                                {{"translation", {0, 1, 0}}}});
-  const Json attributes = {
-      {"POSITION", positions}, {"NORMAL", normals}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}};
+  g.doc["nodes"] = Json::array(
+      {{{"mesh", 0}, {"skin", 0}, {"translation", {100, 0, 0}}}, {{"children", {2}}}, {{"translation", {0, 1, 0}}}});
+  const Json attributes = {{"POSITION", positions}, {"NORMAL", normals}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}};
   g.doc["meshes"] = Json::array({{{"primitives", Json::array({{{"attributes", attributes}}})}}});
   g.doc["skins"] = Json::array({{{"joints", {1, 2}}, {"inverseBindMatrices", inverse_binds}}});
   return rig;
@@ -95,8 +93,8 @@ void expect_positions(const OracleResult& result, const std::vector<Eigen::Vecto
   ASSERT_EQ(result.positions.size(), expected.size());
   for (size_t v = 0; v < expected.size(); ++v)
     EXPECT_LT((result.positions[v] - expected[v]).norm(), 1e-6)
-        << "vertex " << v << ": got (" << result.positions[v].transpose() << "), expected ("
-        << expected[v].transpose() << ")";
+        << "vertex " << v << ": got (" << result.positions[v].transpose() << "), expected (" << expected[v].transpose()
+        << ")";
 }
 
 // B rotated by `angle` about +Z maps v1 to (cos, 1 + sin, 0) and v2's B part to
@@ -177,8 +175,8 @@ TEST(GltfOracleSynthetic, QuantisedJointsWeightsAndRotations) {
   rig.attributes()["WEIGHTS_0"] =
       g.add_accessor(g.add_view(std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 51, 204, 0, 0}), kUByte, 3, "VEC4",
                      {{"normalized", true}});
-  const int rotation = g.add_accessor(g.add_view(std::vector<int16_t>{0, 0, 23170, 23170}), kShort, 1, "VEC4",
-                                      {{"normalized", true}});
+  const int rotation =
+      g.add_accessor(g.add_view(std::vector<int16_t>{0, 0, 23170, 23170}), kShort, 1, "VEC4", {{"normalized", true}});
   animate(&rig, 2, "rotation", "LINEAR", {0}, rotation);
   const OracleResult result = pose(rig.write("quantised.gltf"), 0, 3.0);
   expect_positions(result, rotated_b(std::numbers::pi / 2, 0.8));
@@ -208,12 +206,14 @@ TEST(GltfOracleSynthetic, SparseAccessorsSubstituteValues) {
   GltfBuilder& g = rig.gltf;
   const int indices = g.add_view(std::vector<uint8_t>{1});
   const int values = g.add_view(std::vector<float>{3, 1, 0});
-  const Json sparse = {{"count", 1}, {"indices", {{"bufferView", indices}, {"componentType", kUByte}}},
+  const Json sparse = {{"count", 1},
+                       {"indices", {{"bufferView", indices}, {"componentType", kUByte}}},
                        {"values", {{"bufferView", values}}}};
   rig.attributes()["POSITION"] = g.add_accessor(0, kFloat, 3, "VEC3", {{"sparse", sparse}});
   const int key_indices = g.add_view(std::vector<uint16_t>{1});
   const int key_values = g.add_view(std::vector<float>{4, 0, 0});
-  const Json key_sparse = {{"count", 1}, {"indices", {{"bufferView", key_indices}, {"componentType", kUShort}}},
+  const Json key_sparse = {{"count", 1},
+                           {"indices", {{"bufferView", key_indices}, {"componentType", kUShort}}},
                            {"values", {{"bufferView", key_values}}}};
   animate(&rig, 1, "translation", "LINEAR", {0, 2}, g.add_accessor(-1, kFloat, 2, "VEC3", {{"sparse", key_sparse}}));
   const std::string path = rig.write("sparse.gltf");
@@ -251,8 +251,7 @@ TEST(GltfOracleSynthetic, MissingInverseBindMatricesMeanIdentity) {
 TEST(GltfOracleSynthetic, MatrixNodesComposeThroughTheParentChain) {
   // A new root (node 3, matrix = translate(10,0,0)) above joint A moves everything.
   Rig rig = two_joint_rig();
-  rig.gltf.doc["nodes"].push_back(
-      {{"children", {1}}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1}}});
+  rig.gltf.doc["nodes"].push_back({{"children", {1}}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1}}});
   rig.gltf.doc["scenes"][0]["nodes"] = {0, 3};
   expect_positions(pose(rig.write("matrix_root.gltf"), -1, 0), {{11, 0, 0}, {11, 1, 0}, {11, 2, 0}});
 

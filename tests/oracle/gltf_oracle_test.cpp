@@ -1,6 +1,8 @@
 // The oracle on the real third-party assets in tests/data (see ATTRIBUTION.md):
 // hand-derived positions for SimpleSkin, sanity of every animation of every
 // asset, the RiggedFigure weight quirk, and truncated files.
+#include "gltf_oracle.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -13,7 +15,6 @@
 #include <iterator>
 #include <numbers>
 
-#include "gltf_oracle.hpp"
 #include "synthetic_gltf.hpp"
 
 namespace sinew::oracle {
@@ -184,8 +185,8 @@ TEST(GltfOracleErrors, TruncatedGlbIsAnErrorNotACrash) {
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_EQ(bytes.size(), 11048u);
   const std::string path = testing::temp_path("cut_short.glb");
-  for (size_t keep : {size_t{0}, size_t{4}, size_t{19}, size_t{20}, size_t{100}, bytes.size() / 2,
-                      bytes.size() - 4, bytes.size() - 1}) {
+  for (size_t keep : {size_t{0}, size_t{4}, size_t{19}, size_t{20}, size_t{100}, bytes.size() / 2, bytes.size() - 4,
+                      bytes.size() - 1}) {
     {
       std::ofstream out(path, std::ios::binary | std::ios::trunc);
       out.write(bytes.data(), static_cast<std::streamsize>(keep));

@@ -3,7 +3,6 @@
 // format as sinew-pose (comment lines, then x,y,z with 9 significant digits),
 // so the two can be compared by hand.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <fstream>
 
@@ -15,8 +14,7 @@ int main(int argc, char** argv) {
   int animation = 0;
   std::vector<double> times;
   app.add_option("model", model, "glTF 2.0 file (.gltf or .glb) with a skin")->required();
-  app.add_option("--animation", animation, "animation index (0-based; -1 = rest pose)")
-      ->check(CLI::Range(-1, 1 << 30));
+  app.add_option("--animation", animation, "animation index (0-based; -1 = rest pose)")->check(CLI::Range(-1, 1 << 30));
   app.add_option("--time", times, "time in seconds (repeatable; clamped to each sampler's keyframes)")->required();
   app.add_option("--out", out_path, "output CSV file")->required();
   CLI11_PARSE(app, argc, argv);
@@ -37,8 +35,10 @@ int main(int argc, char** argv) {
     }
     if (first) {
       char line[160];
-      std::snprintf(line, sizeof(line), "# double-precision glTF 2.0 reference; rest bbox diagonal %.9g; "
-                    "renormalised weights %d\n", result.bbox_diagonal, result.renormalized_vertices);
+      std::snprintf(line, sizeof(line),
+                    "# double-precision glTF 2.0 reference; rest bbox diagonal %.9g; "
+                    "renormalised weights %d\n",
+                    result.bbox_diagonal, result.renormalized_vertices);
       out << line;
       first = false;
     }

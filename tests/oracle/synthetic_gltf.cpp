@@ -37,7 +37,8 @@ TempFiles& temp_files() {
 }  // namespace
 
 GltfBuilder::GltfBuilder() {
-  doc = {{"asset", {{"version", "2.0"}}}, {"bufferViews", nlohmann::json::array()},
+  doc = {{"asset", {{"version", "2.0"}}},
+         {"bufferViews", nlohmann::json::array()},
          {"accessors", nlohmann::json::array()}};
 }
 

@@ -2,9 +2,8 @@
 // Builds small glTF 2.0 text files for tests (one base64 data-URI buffer), so
 // each feature of the oracle (sparse, quantised, interleaved, CUBICSPLINE...)
 // can be checked against values derived by hand.
-#include <nlohmann/json.hpp>
-
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

@@ -27,11 +27,11 @@
 
 #include "host_tools/bench/common/bench_summary.hpp"
 #include "host_tools/layers/sph/sph_builder.hpp"
+#include "host_tools/layers/sph/sph_reference_v1.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/rig_spec.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/sph/sph_step.hpp"
-#include "host_tools/layers/sph/sph_reference_v1.hpp"
 
 namespace {
 

@@ -69,7 +69,8 @@ TEST(SocketCanWriter, FramesArriveOnTheBusInOrderAndUnchanged) {
   std::array<CanFrame, 32> out;
   size_t got = 0;
   // A liveness bound: success returns as soon as the frames are in.
-  for (const uint64_t deadline = writer_test_now_ns() + 30'000'000'000u; got < sent.size() && writer_test_now_ns() < deadline;) {
+  for (const uint64_t deadline = writer_test_now_ns() + 30'000'000'000u;
+       got < sent.size() && writer_test_now_ns() < deadline;) {
     const size_t n = source.drain(std::span<CanFrame>(out).subspan(got), writer_test_now_ns());
     got += n;
     if (n == 0) usleep(1000);

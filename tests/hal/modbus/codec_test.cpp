@@ -233,7 +233,7 @@ TEST(ModbusTripleBuffer, NeverTearsUnderConcurrentUse) {
 TEST(ModbusStatusRegisters, EncodesTheDocumentedLayout) {
   const std::array<uint8_t, 3> inputs{0, sinew::hal::kJointStale, sinew::hal::kJointRejected};
   const std::array<hal::SourceState, 3> sources{hal::SourceState::kOk, hal::SourceState::kDown,
-                                               hal::SourceState::kDegraded};
+                                                hal::SourceState::kDegraded};
   mb::StatusUpdate u;
   u.tick = 0x0001000200030004u;
   u.last_step_ns = 70'000'123'456u;  // 70000123 us: needs both words

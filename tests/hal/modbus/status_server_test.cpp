@@ -1,4 +1,6 @@
 // The read-only status server, read by a real libmodbus client over loopback.
+#include "hal/modbus/status_server.hpp"
+
 #include <gtest/gtest.h>
 #include <modbus.h>
 
@@ -7,7 +9,6 @@
 #include <vector>
 
 #include "hal/common/pose_frame.hpp"
-#include "hal/modbus/status_server.hpp"
 #include "tests/support/alloc_guard.hpp"
 
 namespace mb = sinew::hal::modbus;

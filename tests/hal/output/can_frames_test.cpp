@@ -1,7 +1,8 @@
 // Compact per-joint CAN frames.
+#include "hal/output/can_frames.hpp"
+
 #include <vector>
 
-#include "hal/output/can_frames.hpp"
 #include "test_poses.hpp"
 #include "tests/support/alloc_guard.hpp"
 

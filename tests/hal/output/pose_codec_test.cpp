@@ -1,8 +1,9 @@
 // The pose payload shared by the log and the UDP stream.
+#include "hal/output/pose_codec.hpp"
+
 #include <vector>
 
 #include "hal/output/le_bytes.hpp"
-#include "hal/output/pose_codec.hpp"
 #include "hal/output/pose_decode.hpp"
 #include "test_poses.hpp"
 

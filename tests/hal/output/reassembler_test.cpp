@@ -1,9 +1,10 @@
 // Reassembly of UDP stream datagrams without a network: fragment order,
 // duplicates, losses, stale frames, corruption, sender restarts.
+#include "host_tools/receiver/reassembler.hpp"
+
 #include <gtest/gtest.h>
 
 #include "datagrams.hpp"
-#include "host_tools/receiver/reassembler.hpp"
 
 namespace sinew::test {
 namespace {
@@ -13,9 +14,7 @@ using receiver::Reassembler;
 constexpr size_t kFragment = 100;
 constexpr uint32_t kStream = 77;
 
-std::vector<uint8_t> delivered(const Reassembler& r) {
-  return {r.frame_payload().begin(), r.frame_payload().end()};
-}
+std::vector<uint8_t> delivered(const Reassembler& r) { return {r.frame_payload().begin(), r.frame_payload().end()}; }
 
 // Feeds datagrams; returns the sequence numbers of the frames delivered, checking their bytes.
 std::vector<uint64_t> feed_all(Reassembler& r, const std::vector<Datagram>& datagrams, size_t payload_bytes) {
@@ -121,8 +120,7 @@ TEST(Reassembler, CorruptDatagramsAreRejected) {
 TEST(Reassembler, FollowsANewStreamAfterARestart) {
   Reassembler r;
   feed_all(r, fragment_frame(payload_for(900, 150), kStream, 900, kFragment), 150);
-  EXPECT_EQ(feed_all(r, fragment_frame(payload_for(0, 150), kStream + 1, 0, kFragment), 150),
-            std::vector<uint64_t>{0});
+  EXPECT_EQ(feed_all(r, fragment_frame(payload_for(0, 150), kStream + 1, 0, kFragment), 150), std::vector<uint64_t>{0});
   EXPECT_EQ(r.stats().stream_restarts, 1u);
   EXPECT_EQ(r.stats().frames_lost, 0u);
 }
@@ -130,8 +128,7 @@ TEST(Reassembler, FollowsANewStreamAfterARestart) {
 TEST(Reassembler, SequenceStartingOverIsARestart) {
   Reassembler r;
   feed_all(r, fragment_frame(payload_for(5000, 150), kStream, 5000, kFragment), 150);
-  EXPECT_EQ(feed_all(r, fragment_frame(payload_for(0, 150), kStream, 0, kFragment), 150),
-            std::vector<uint64_t>{0});
+  EXPECT_EQ(feed_all(r, fragment_frame(payload_for(0, 150), kStream, 0, kFragment), 150), std::vector<uint64_t>{0});
   EXPECT_EQ(r.stats().stream_restarts, 1u);
 }
 

@@ -32,12 +32,10 @@ TEST_F(CmuWalk, CountsMatchTheRecordedProvenance) {
 TEST_F(CmuWalk, SkeletonNamesAndChannelOrders) {
   ASSERT_EQ(bvh_.joints[0].name, "Hips");
   EXPECT_EQ(bvh_.joints[0].parent, -1);
-  const std::vector<BvhChannel> root = {BvhChannel::kXposition, BvhChannel::kYposition,
-                                        BvhChannel::kZposition, BvhChannel::kZrotation,
-                                        BvhChannel::kYrotation, BvhChannel::kXrotation};
+  const std::vector<BvhChannel> root = {BvhChannel::kXposition, BvhChannel::kYposition, BvhChannel::kZposition,
+                                        BvhChannel::kZrotation, BvhChannel::kYrotation, BvhChannel::kXrotation};
   EXPECT_EQ(bvh_.joints[0].channels, root);
-  const std::vector<BvhChannel> zyx = {BvhChannel::kZrotation, BvhChannel::kYrotation,
-                                       BvhChannel::kXrotation};
+  const std::vector<BvhChannel> zyx = {BvhChannel::kZrotation, BvhChannel::kYrotation, BvhChannel::kXrotation};
   for (size_t j = 1; j < bvh_.joints.size(); ++j) {
     EXPECT_EQ(bvh_.joints[j].channels, zyx) << bvh_.joints[j].name;
     EXPECT_LT(bvh_.joints[j].parent, static_cast<int>(j)) << "parents precede children";

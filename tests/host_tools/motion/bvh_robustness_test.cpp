@@ -89,8 +89,7 @@ TEST(BvhRobustness, DeepNestingAndHugeCounts) {
       "Frames: 18446744073709551615\nFrame Time: 1\n0\n";
   EXPECT_FALSE(parse_bvh(huge, &bvh, &error));
   EXPECT_NE(error.find("file ends after 1 of the 18446744073709551615 frames"), std::string::npos) << error;
-  EXPECT_FALSE(
-      parse_bvh(huge.substr(0, huge.find("Frames")) + "Frames: 99999999999999999999\n", &bvh, &error));
+  EXPECT_FALSE(parse_bvh(huge.substr(0, huge.find("Frames")) + "Frames: 99999999999999999999\n", &bvh, &error));
   EXPECT_NE(error.find("too large"), std::string::npos) << error;
 }
 

@@ -23,8 +23,8 @@ KbSpline make(const std::vector<KeyPosture>& keys) {
 
 // Catmull–Rom on one segment, unit parameter step: the textbook matrix form.
 double catmull_rom(double p0, double p1, double p2, double p3, double s) {
-  return 0.5 * (2 * p1 + (-p0 + p2) * s + (2 * p0 - 5 * p1 + 4 * p2 - p3) * s * s +
-                (-p0 + 3 * p1 - 3 * p2 + p3) * s * s * s);
+  return 0.5 *
+         (2 * p1 + (-p0 + p2) * s + (2 * p0 - 5 * p1 + 4 * p2 - p3) * s * s + (-p0 + 3 * p1 - 3 * p2 + p3) * s * s * s);
 }
 
 double derivative(const KbSpline& spline, double time, size_t dim, double side) {
@@ -97,8 +97,7 @@ TEST(KbSpline, VelocityIsContinuousAcrossUnevenKeysWhenContinuityIsZero) {
 }
 
 TEST(KbSpline, TensionOneGivesZeroTangents) {
-  std::vector<KeyPosture> keys = {
-      {0, {0, 1}, 1, 0.3, -0.5}, {1, {10, -2}, 1, -0.7, 0.9}, {2.5, {4, 4}, 1, 0, 0}};
+  std::vector<KeyPosture> keys = {{0, {0, 1}, 1, 0.3, -0.5}, {1, {10, -2}, 1, -0.7, 0.9}, {2.5, {4, 4}, 1, 0, 0}};
   const KbSpline spline = make(keys);
   for (size_t i = 0; i < keys.size(); ++i) {
     for (double v : spline.outgoing_tangent(i)) EXPECT_EQ(v, 0.0);
@@ -112,8 +111,7 @@ TEST(KbSpline, TensionOneGivesZeroTangents) {
 }
 
 TEST(KbSpline, ContinuityMinusOneOnEvenKeysIsLinear) {
-  const KbSpline spline =
-      make({{0, {0}, 0, -1, 0}, {1, {10}, 0, -1, 0}, {2, {4}, 0, -1, 0}, {3, {8}, 0, -1, 0}});
+  const KbSpline spline = make({{0, {0}, 0, -1, 0}, {1, {10}, 0, -1, 0}, {2, {4}, 0, -1, 0}, {3, {8}, 0, -1, 0}});
   EXPECT_NEAR(spline.sample(0.3)[0], 3.0, 1e-12);
   EXPECT_NEAR(spline.sample(1.25)[0], 8.5, 1e-12);
   EXPECT_NEAR(spline.sample(2.5)[0], 6.0, 1e-12);
@@ -159,9 +157,7 @@ TEST(KbSpline, RejectsBadKeys) {
       {"decreasing time", {{1, {1}}, {0, {2}}}, "key 1: time"},
       {"NaN time", {{0, {1}}, {nan, {2}}}, "key 1: time is not finite"},
       {"mismatched values", {{0, {1, 2}}, {1, {2}}}, "key 1: has 1 values, key 0 has 2"},
-      {"infinite value",
-       {{0, {1}}, {1, {std::numeric_limits<double>::infinity()}}},
-       "key 1: a value is not finite"},
+      {"infinite value", {{0, {1}}, {1, {std::numeric_limits<double>::infinity()}}}, "key 1: a value is not finite"},
       {"tension out of range", {{0, {1}, 1.5, 0, 0}}, "key 0: tension, continuity and bias"},
       {"NaN bias", {{0, {1}}, {1, {1}, 0, 0, nan}}, "key 1: tension, continuity and bias"},
   };

@@ -56,14 +56,18 @@ TEST(PoseVsOracle, EveryAssetEveryAnimationWithinTwoE5OfTheDiagonal) {
         ASSERT_TRUE(poser.pose(a, t, &got, &error)) << path << ": " << error;
         ASSERT_EQ(got.size(), ref.positions.size()) << path;
         for (size_t v = 0; v < got.size(); ++v)
-          for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(got[v][static_cast<size_t>(c)] - ref.positions[v][c]));
+          for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::fabs(got[v][static_cast<size_t>(c)] - ref.positions[v][c]));
         diagonal = ref.bbox_diagonal;
         ++samples;
       }
     }
-    std::printf("pose vs oracle: %-24s %2d animation(s), %3d samples, %5zu vertices, max error %.3g = %.3g of the bbox diagonal\n",
-                fs::path(path).filename().c_str(), animations, samples, poser.model().meshes.empty() ? size_t{0} : static_cast<size_t>(poser.report().vertices),
-                worst, worst / diagonal);
+    std::printf(
+        "pose vs oracle: %-24s %2d animation(s), %3d samples, %5zu vertices, max error %.3g = %.3g of the bbox "
+        "diagonal\n",
+        fs::path(path).filename().c_str(), animations, samples,
+        poser.model().meshes.empty() ? size_t{0} : static_cast<size_t>(poser.report().vertices), worst,
+        worst / diagonal);
     EXPECT_LE(worst / diagonal, 2e-5) << path;
     ++compared;
   }
@@ -166,6 +170,7 @@ TEST(PoseVsOracle, SinewPoseCommandWritesTheDocumentedCsv) {
   ASSERT_EQ(rows.size(), ref.positions.size());
   double worst = 0;
   for (size_t v = 0; v < rows.size(); ++v)
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(rows[v][static_cast<size_t>(c)] - ref.positions[v][c]));
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::fabs(rows[v][static_cast<size_t>(c)] - ref.positions[v][c]));
   EXPECT_LE(worst / ref.bbox_diagonal, 2e-5);
 }

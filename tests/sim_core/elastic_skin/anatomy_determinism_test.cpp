@@ -8,10 +8,10 @@
 #include <type_traits>
 #include <vector>
 
-#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "host_tools/determinism/output_hash.hpp"
 #include "sim_core/fixed/trig.hpp"
 #include "tests/sim_core/elastic_skin/golden.hpp"
+#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
 using sinew::test::ArmAnatomy;
 namespace det = sinew::determinism;

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "sim_core/muscle/muscle_model.hpp"
+#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
 namespace {
 

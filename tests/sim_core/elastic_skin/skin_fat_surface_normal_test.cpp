@@ -21,9 +21,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "dynamic_skin_fixture.hpp"
 #include "sim_core/elastic_skin/surface_normals.hpp"
+#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
 using sinew::test::ArmAnatomy;
 using sinew::test::DynamicSkin;

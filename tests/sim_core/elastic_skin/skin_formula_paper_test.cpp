@@ -14,10 +14,10 @@
 #include <utility>
 #include <vector>
 
-#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "host_tools/layers/anatomy/trilinear_inverse.hpp"
 #include "sim_core/elastic_skin/relaxation.hpp"
 #include "sim_core/elastic_skin/virtual_anchors.hpp"
+#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
 using sinew::test::ArmAnatomy;
 

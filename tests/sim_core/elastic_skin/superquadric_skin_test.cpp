@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "dynamic_skin_fixture.hpp"
 #include "sim_core/muscle/superquadric.hpp"
+#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "tests/support/alloc_guard.hpp"
 #include "tests/support/soak.hpp"
 

@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <string>
 
-#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 #include "sim_core/elastic_skin/skin_validate.hpp"
 #include "sim_core/muscle/muscle_validate.hpp"
+#include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
 using sinew::test::ArmAnatomy;
 namespace ab = sinew::anatomy_build;

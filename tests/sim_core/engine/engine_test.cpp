@@ -66,8 +66,10 @@ TEST(Engine, DualQuaternionsKeepTheWristSectionUnderTwistWhileLinearBlendCollaps
   double x_dqs = 0, x_lbs = 0;
   const double dqs_ratio = min_ring_area_ratio(dqs, 0.36, 0.50, &x_dqs);
   const double lbs_ratio = min_ring_area_ratio(lbs, 0.36, 0.50, &x_lbs);
-  std::printf("candy wrapper, 90 deg forearm twist: smallest cross-section area / rest: DQS %.4f (x=%.3f m), "
-              "LBS %.4f (x=%.3f m)\n", dqs_ratio, x_dqs, lbs_ratio, x_lbs);
+  std::printf(
+      "candy wrapper, 90 deg forearm twist: smallest cross-section area / rest: DQS %.4f (x=%.3f m), "
+      "LBS %.4f (x=%.3f m)\n",
+      dqs_ratio, x_dqs, lbs_ratio, x_lbs);
   EXPECT_GT(dqs_ratio, 0.95);
   EXPECT_LT(dqs_ratio, 1.05);
   EXPECT_LT(lbs_ratio, 0.80);  // the candy-wrapper collapse

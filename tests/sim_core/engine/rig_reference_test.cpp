@@ -125,5 +125,9 @@ void compare(const rigc::RigSpec& spec, bool dual, const char* label) {
 }  // namespace
 
 TEST(RigReference, ArmLbsMatchesDouble) { compare(rigc::builtin_arm(rigc::SkinChoice::kLinear), false, "arm LBS"); }
-TEST(RigReference, ArmDqsMatchesDouble) { compare(rigc::builtin_arm(rigc::SkinChoice::kDualQuaternion), true, "arm DQS"); }
-TEST(RigReference, HandDqsMatchesDouble) { compare(rigc::builtin_hand(rigc::SkinChoice::kDualQuaternion), true, "hand DQS"); }
+TEST(RigReference, ArmDqsMatchesDouble) {
+  compare(rigc::builtin_arm(rigc::SkinChoice::kDualQuaternion), true, "arm DQS");
+}
+TEST(RigReference, HandDqsMatchesDouble) {
+  compare(rigc::builtin_hand(rigc::SkinChoice::kDualQuaternion), true, "hand DQS");
+}

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "host_tools/determinism/split_mix.hpp"
 #include "sim_core/fixed/mat34.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/trig.hpp"
-#include "host_tools/determinism/split_mix.hpp"
 
 namespace fx = sinew::fx;
 using sinew::determinism::SplitMix64;
@@ -103,10 +103,9 @@ TEST(FixedAccuracy, QuatProductIsExactlyRounded) {
     const fx::Quat p = fx::mul(a, b);
     const long double aw = a.w, ax = a.x, ay = a.y, az = a.z, bw = b.w, bx = b.x, by = b.y, bz = b.z;
     const long double s = 1073741824.0L;
-    const long double ref[4] = {(aw * bw - ax * bx - ay * by - az * bz) / s,
-                                (aw * bx + ax * bw + ay * bz - az * by) / s,
-                                (aw * by - ax * bz + ay * bw + az * bx) / s,
-                                (aw * bz + ax * by - ay * bx + az * bw) / s};
+    const long double ref[4] = {
+        (aw * bw - ax * bx - ay * by - az * bz) / s, (aw * bx + ax * bw + ay * bz - az * by) / s,
+        (aw * by - ax * bz + ay * bw + az * bx) / s, (aw * bz + ax * by - ay * bx + az * bw) / s};
     const int32_t got[4] = {p.w, p.x, p.y, p.z};
     for (int k = 0; k < 4; ++k) worst = std::max(worst, static_cast<double>(std::fabs(got[k] - ref[k])));
   }
@@ -118,9 +117,11 @@ TEST(FixedAccuracy, MatrixProductWithinTwoLsb) {
   SplitMix64 rng(6);
   double worst_lin = 0, worst_t = 0;
   for (int i = 0; i < 100000; ++i) {
-    const fx::Mat34 a = fx::mat34_from_quat(random_unit_quat(rng), {rng.range(-fx::kLenOne * 4, fx::kLenOne * 4), rng.next_i32() >> 9, rng.next_i32() >> 9});
-    const fx::Mat34 b = fx::mat34_from_trs({rng.next_i32() >> 9, rng.next_i32() >> 9, rng.next_i32() >> 9}, random_unit_quat(rng),
-                                           {rng.range(fx::kLinOne / 4, fx::kLinOne * 4), rng.range(fx::kLinOne / 4, fx::kLinOne * 4), fx::kLinOne});
+    const fx::Mat34 a = fx::mat34_from_quat(random_unit_quat(rng), {rng.range(-fx::kLenOne * 4, fx::kLenOne * 4),
+                                                                    rng.next_i32() >> 9, rng.next_i32() >> 9});
+    const fx::Mat34 b = fx::mat34_from_trs(
+        {rng.next_i32() >> 9, rng.next_i32() >> 9, rng.next_i32() >> 9}, random_unit_quat(rng),
+        {rng.range(fx::kLinOne / 4, fx::kLinOne * 4), rng.range(fx::kLinOne / 4, fx::kLinOne * 4), fx::kLinOne});
     const fx::Mat34 c = fx::mul(a, b);
     for (int r = 0; r < 3; ++r) {
       long double t = static_cast<long double>(a.t[r]) * 16777216.0L;
@@ -145,12 +146,14 @@ TEST(FixedAccuracy, RotationFromQuatWithinOneLsb) {
   for (int i = 0; i < 200000; ++i) {
     const fx::Quat q = random_unit_quat(rng);
     const fx::Rot3 r = fx::rot3_from_quat(q);
-    const long double w = q.w / 1073741824.0L, x = q.x / 1073741824.0L, y = q.y / 1073741824.0L, z = q.z / 1073741824.0L;
+    const long double w = q.w / 1073741824.0L, x = q.x / 1073741824.0L, y = q.y / 1073741824.0L,
+                      z = q.z / 1073741824.0L;
     const long double ref[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
                                    {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
                                    {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) worst = std::max(worst, static_cast<double>(std::fabs(r.m[a][b] - ref[a][b] * 1073741824.0L)));
+      for (int b = 0; b < 3; ++b)
+        worst = std::max(worst, static_cast<double>(std::fabs(r.m[a][b] - ref[a][b] * 1073741824.0L)));
   }
   report("rot3_from_quat", worst, "LSB of Q2.30 (vs exact formula)");
   EXPECT_LE(worst, 1.0);
@@ -187,7 +190,8 @@ TEST(FixedAccuracy, DivisionFreeNormalizationWithinFourLsb) {
   SplitMix64 rng(9);
   double worst = 0;
   for (int i = 0; i < 1000000; ++i) {
-    const fx::Vec3 v{rng.next_i32() >> (rng.next() % 31), rng.next_i32() >> (rng.next() % 31), rng.next_i32() >> (rng.next() % 31)};
+    const fx::Vec3 v{rng.next_i32() >> (rng.next() % 31), rng.next_i32() >> (rng.next() % 31),
+                     rng.next_i32() >> (rng.next() % 31)};
     fx::Vec3 u;
     if (!fx::normalize_fast(v, &u)) continue;
     const long double n = std::sqrt(static_cast<long double>(v.x) * v.x + static_cast<long double>(v.y) * v.y +

@@ -2,8 +2,8 @@
 
 #include <cstdlib>
 
-#include "sim_core/fixed/dual_quat.hpp"
 #include "host_tools/determinism/split_mix.hpp"
+#include "sim_core/fixed/dual_quat.hpp"
 
 namespace fx = sinew::fx;
 using sinew::determinism::SplitMix64;
@@ -56,7 +56,8 @@ TEST(FixedGeometry, DualQuatMatchesRotationPlusTranslation) {
   int32_t worst = 0;
   for (int i = 0; i < 20000; ++i) {
     const fx::Quat q = axis_angle({rng.next_i32() >> 2, rng.next_i32() >> 2, rng.next_i32() >> 2}, rng.next_u32());
-    const fx::Vec3 t{rng.range(-fx::kLenOne * 100, fx::kLenOne * 100), rng.range(-fx::kLenOne, fx::kLenOne), rng.range(-1000, 1000)};
+    const fx::Vec3 t{rng.range(-fx::kLenOne * 100, fx::kLenOne * 100), rng.range(-fx::kLenOne, fx::kLenOne),
+                     rng.range(-1000, 1000)};
     const fx::Vec3 p{rng.range(-fx::kLenOne * 100, fx::kLenOne * 100), rng.range(-fx::kLenOne, fx::kLenOne), 17};
     fx::DualQuat dq = fx::dual_quat_from_rt(q, t);
     fx::normalize(&dq);

@@ -23,7 +23,7 @@ mbb::Options biceps_line_options() {
   l.insertion = "elbow";  // the forearm
   l.insertion_at = 0.3;
   l.side[1] = 0.03;  // +y: the inner side of elbow flexion (about +z)
-  l.reach = 0.04;  // the balls lie on the bone axes, 3 cm from the line
+  l.reach = 0.04;    // the balls lie on the bone axes, 3 cm from the line
   l.stiffness = 1.0;
   o.action_lines.push_back(l);
   return o;

@@ -27,7 +27,11 @@ std::vector<BadSpec> bad_specs() {
       {"ParentAfterChild", [](rigc::RigSpec& s) { s.joints[2].parent = 2; }, "joint[2].parent"},
       {"ParentBeyondJoints", [](rigc::RigSpec& s) { s.joints[1].parent = 7; }, "joint[1].parent"},
       {"FourDofs", [](rigc::RigSpec& s) { s.joints[1].dofs.resize(4); }, "joint[1].dofs"},
-      {"ZeroAxis", [](rigc::RigSpec& s) { s.joints[2].dofs[0].axis = {0, 0, 0}; }, "joint[2].dof axis"},
+      {"ZeroAxis",
+       [](rigc::RigSpec& s) {
+         s.joints[2].dofs[0].axis = {0, 0, 0};
+       },
+       "joint[2].dof axis"},
       {"MinAboveMax",
        [](rigc::RigSpec& s) {
          s.joints[1].dofs[1].min = 30;
@@ -46,17 +50,14 @@ std::vector<BadSpec> bad_specs() {
        },
        "vertex[3].weights"},
       {"NegativeWeight", [](rigc::RigSpec& s) { s.vertices[8].influences[1].weight = -0.25; }, "vertex[8].weight"},
-      {"NanPosition",
-       [](rigc::RigSpec& s) { s.vertices[4].position[1] = std::numeric_limits<double>::quiet_NaN(); },
+      {"NanPosition", [](rigc::RigSpec& s) { s.vertices[4].position[1] = std::numeric_limits<double>::quiet_NaN(); },
        "vertex[4].position"},
-      {"InverseBindEntry100", [](rigc::RigSpec& s) { s.palette[1].inverse_bind[5] = 100; },
-       "palette[1].inverse_bind"},
+      {"InverseBindEntry100", [](rigc::RigSpec& s) { s.palette[1].inverse_bind[5] = 100; }, "palette[1].inverse_bind"},
       {"PaletteJointMissing", [](rigc::RigSpec& s) { s.palette[2].joint = 3; }, "palette[2].joint"},
       {"InfluenceOfMissingPaletteEntry", [](rigc::RigSpec& s) { s.vertices[9].influences[0].palette = 3; },
        "vertex[9].joint"},
       {"TriangleIndexBeyondVertices", [](rigc::RigSpec& s) { s.triangles[4][2] = 20; }, "triangle[4].index"},
-      {"SynergySourceMissing", [](rigc::RigSpec& s) { s.synergies[0].source_input = 4; },
-       "synergy[0].source_input"},
+      {"SynergySourceMissing", [](rigc::RigSpec& s) { s.synergies[0].source_input = 4; }, "synergy[0].source_input"},
   };
 }
 

@@ -23,8 +23,8 @@ struct FieldCase {
   const char* name;
   std::function<void(Blob&)> patch;
   LoadError error;
-  const char* where;    // expected in the message: section[index].field
-  bool reseal = true;   // false: the test is of a check made before the CRC
+  const char* where;   // expected in the message: section[index].field
+  bool reseal = true;  // false: the test is of a check made before the CRC
 };
 
 std::ostream& operator<<(std::ostream& os, const FieldCase& c) { return os << c.name; }
@@ -86,8 +86,7 @@ std::vector<FieldCase> header_cases() {
        "header.total_size", false},
       {"TotalSizeBeyondBlob", patch_header([](FileHeader& h) { h.total_size += 8; }), LoadError::kTruncated,
        "header.total_size", false},
-      {"CrcMismatch", patch_header([](FileHeader& h) { h.crc32c ^= 1; }), LoadError::kChecksum, "header.crc32c",
-       false},
+      {"CrcMismatch", patch_header([](FileHeader& h) { h.crc32c ^= 1; }), LoadError::kChecksum, "header.crc32c", false},
       {"LengthExponentAbove16", patch_header([](FileHeader& h) { h.length_exponent = 17; }), LoadError::kBadValue,
        "header.length_exponent"},
       {"LengthExponentBelowMinus16", patch_header([](FileHeader& h) { h.length_exponent = -17; }), LoadError::kBadValue,
@@ -189,7 +188,8 @@ std::vector<FieldCase> joint_cases() {
       {"RestRotationExtreme",
        patch_joint(0, [](JointRecord& r) { r.rest_rotation[0] = r.rest_rotation[1] = INT32_MIN; }),
        LoadError::kBadValue, "JNTS[0].rest_rotation"},
-      {"DofAxisZero", patch_joint(1, [](JointRecord& r) { r.dof_axis[1][0] = r.dof_axis[1][1] = r.dof_axis[1][2] = 0; }),
+      {"DofAxisZero",
+       patch_joint(1, [](JointRecord& r) { r.dof_axis[1][0] = r.dof_axis[1][1] = r.dof_axis[1][2] = 0; }),
        LoadError::kBadValue, "JNTS[1].dof_axis"},
       {"DofAxisExtreme", patch_joint(1, [](JointRecord& r) { r.dof_axis[0][0] = r.dof_axis[0][1] = INT32_MIN; }),
        LoadError::kBadValue, "JNTS[1].dof_axis"},
@@ -217,21 +217,20 @@ std::vector<FieldCase> record_cases() {
        "SYNR[0].source_input"},
       {"SynergyTargetJointBeyondJoints", at(kSectionSynergies, 2, uint16_t{3}), LoadError::kBadIndex,
        "SYNR[0].target_joint"},
-      {"SynergyTargetDofBeyondDofs", at(kSectionSynergies, 4, uint8_t{1}), LoadError::kBadIndex,
-       "SYNR[0].target_dof"},
+      {"SynergyTargetDofBeyondDofs", at(kSectionSynergies, 4, uint8_t{1}), LoadError::kBadIndex, "SYNR[0].target_dof"},
       {"PaletteJointOutOfRange", at(kSectionPalette, palette, uint32_t{3}), LoadError::kBadIndex, "PALT[1].joint"},
-      {"InverseBindEntryTooLarge", at(kSectionPalette, 2 * palette + 4, int32_t{(1 << 30) + 1}),
-       LoadError::kBadValue, "PALT[2].inverse_bind"},
-      {"InverseBindEntryTooNegative", at(kSectionPalette, 4 + 4 * 4, int32_t{-(1 << 30) - 1}),
-       LoadError::kBadValue, "PALT[0].inverse_bind"},
+      {"InverseBindEntryTooLarge", at(kSectionPalette, 2 * palette + 4, int32_t{(1 << 30) + 1}), LoadError::kBadValue,
+       "PALT[2].inverse_bind"},
+      {"InverseBindEntryTooNegative", at(kSectionPalette, 4 + 4 * 4, int32_t{-(1 << 30) - 1}), LoadError::kBadValue,
+       "PALT[0].inverse_bind"},
   };
 }
 
 std::vector<FieldCase> skin_cases() {
   using rig::kSectionInfluenceJoints, rig::kSectionInfluenceWeights;
   return {
-      {"InfluencePaletteOutOfRange", element(kSectionInfluenceJoints, 4 * kK + 1, uint16_t{3}),
-       LoadError::kBadIndex, "INFJ[4].palette_index"},
+      {"InfluencePaletteOutOfRange", element(kSectionInfluenceJoints, 4 * kK + 1, uint16_t{3}), LoadError::kBadIndex,
+       "INFJ[4].palette_index"},
       {"NegativeWeight",
        [](Blob& b) {  // moves w0 + 1 to the next slot: the sum stays 2^30, the sign check must fire
          const size_t w0 = b.section_offset(kSectionInfluenceWeights) + 5 * kK * 4;
@@ -239,12 +238,9 @@ std::vector<FieldCase> skin_cases() {
          b.write(w0, int32_t{-1});
        },
        LoadError::kBadValue, "INFW[5].weight"},
-      {"WeightAboveOne", element(kSectionInfluenceWeights, 2 * kK, kOne + 1), LoadError::kBadValue,
-       "INFW[2].weight"},
-      {"WeightsSumOneShort", add_i32(kSectionInfluenceWeights, 6 * kK, -1), LoadError::kBadValue,
-       "INFW[6].weight"},
-      {"WeightsSumOneOver", add_i32(kSectionInfluenceWeights, 7 * kK + 2, 1), LoadError::kBadValue,
-       "INFW[7].weight"},
+      {"WeightAboveOne", element(kSectionInfluenceWeights, 2 * kK, kOne + 1), LoadError::kBadValue, "INFW[2].weight"},
+      {"WeightsSumOneShort", add_i32(kSectionInfluenceWeights, 6 * kK, -1), LoadError::kBadValue, "INFW[6].weight"},
+      {"WeightsSumOneOver", add_i32(kSectionInfluenceWeights, 7 * kK + 2, 1), LoadError::kBadValue, "INFW[7].weight"},
       {"MethodUnknown", element(rig::kSectionVertexMethod, 7, uint8_t{7}), LoadError::kBadValue, "METH[7].method"},
       {"TriangleIndexOutOfRange", element(rig::kSectionTriangles, 3 * 3 + 1, uint32_t{20}), LoadError::kBadIndex,
        "TRIS[3].vertex"},

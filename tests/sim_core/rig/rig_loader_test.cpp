@@ -141,8 +141,7 @@ TEST(RigLoader, RejectsMisalignedOrMissingArena) {
   std::vector<uint64_t> arena(blob.size() / 8 + 1);
   rig::Rig r;
   void* odd = reinterpret_cast<uint8_t*>(arena.data()) + 4;
-  EXPECT_EQ(rig::rig_init(blob.data(), blob.size(), odd, blob.size(), &r).error,
-            LoadError::kArenaTooSmall);
+  EXPECT_EQ(rig::rig_init(blob.data(), blob.size(), odd, blob.size(), &r).error, LoadError::kArenaTooSmall);
   EXPECT_EQ(rig::rig_init(blob.data(), blob.size(), nullptr, blob.size(), &r).error, LoadError::kArenaTooSmall);
 }
 

@@ -43,8 +43,8 @@ rigc::RigSpec sample_rig_spec() {
   tip.dofs = {{{1, 0, 0}, -5, 80}};
   spec.joints = {root, knuckle, tip};
   spec.synergies = {{1, 2, 0, 0.6}};  // knuckle flexion drags the tip
-  spec.palette = {{0, inverse_bind({0, 0, 0}, 0)}, {1, inverse_bind({0, 0.04, 0}, 0)},
-                  {2, inverse_bind({0, 0.07, 0}, 30)}};
+  spec.palette = {
+      {0, inverse_bind({0, 0, 0}, 0)}, {1, inverse_bind({0, 0.04, 0}, 0)}, {2, inverse_bind({0, 0.07, 0}, 30)}};
   for (int row = 0; row < 10; ++row) {
     for (int side = 0; side < 2; ++side) {
       rigc::VertexSpec v;
