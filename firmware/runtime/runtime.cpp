@@ -31,6 +31,8 @@ bool Runtime::init(const rig::Rig& rig, const pipeline::LayerSet& layers, const 
   samples_.assign(kMaxSamplesPerTick, hal::JointSample{});
   input_status_.assign(limits.size(), 0);
   pipeline_flags_.assign(limits.size(), 0);
+  measured_.assign(rig.input_count, 0);
+  pipeline::pipeline_set_measured_inputs(&pipeline_, measured_);
   frame_ = {};
   frame_.length_exponent = rig.length_exponent;
   frame_.vertex_count = rig.vertex_count();
@@ -51,6 +53,11 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
     health_.apply(std::span<const hal::JointSample>(samples_.data(), n));
   }
   health_.end_tick(tick_ns);
+  // A DOF some source has measured keeps the measurement: synergies no longer
+  // add to it (the coupling models what is not measured). Once measured, it
+  // stays so; a stale one holds its last measured value.
+  for (uint32_t i = 0; i < measured_.size(); ++i)
+    if (measured_[i] == 0 && health_.counters(i).accepted > 0) measured_[i] = 1;
   // The pipeline times its stages on the monotonic clock: the statistics
   // show every layer's share of the tick.
   const pipeline::StepProbe probe{monotonic_now, nullptr, nullptr};

@@ -67,6 +67,10 @@ class Runtime {
   StageTimes stage_times_;
   char last_layer_error_[192] = {};
   std::vector<uint8_t> pipeline_flags_;  // pipeline::InputFlag bits per input, last tick
+  // Per rig input, 1 once a source has delivered an accepted sample for it:
+  // a measured DOF, which the rig's synergies leave alone
+  // (pipeline_set_measured_inputs).
+  std::vector<uint8_t> measured_;
   InputHealth health_;
   std::vector<hal::JointSample> samples_;
   std::vector<uint8_t> input_status_;

@@ -76,7 +76,7 @@ bool clip_from_frame_log(const std::string& log_path, const firmware::LoadedRig&
     }
     report->last_tick = pose.tick;
     report->last_time_s = t;
-    skeleton::dofs_to_locals(rig.rig, pose.input_value, locals, joint_flags);
+    skeleton::dofs_to_locals(rig.rig, pose.input_value, {}, locals, joint_flags);
     FixedFrame frame;
     for (int c = 0; c < 3; ++c) {
       frame.position[c] = pose.position[c];

@@ -52,7 +52,7 @@ bool engine_init(const rig::Rig& rig, void* arena, size_t arena_bytes, Engine* o
 
 bool engine_step(Engine* e, std::span<const int32_t> inputs) {
   if (e == nullptr || e->rig == nullptr || inputs.size() < e->rig->input_count) return false;
-  e->stats.clamped_dofs = skeleton::dofs_to_locals(*e->rig, inputs, e->locals, e->joint_flags);
+  e->stats.clamped_dofs = skeleton::dofs_to_locals(*e->rig, inputs, e->measured_inputs, e->locals, e->joint_flags);
   finish_step(e);
   return true;
 }

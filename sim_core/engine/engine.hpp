@@ -27,6 +27,9 @@ struct Engine {
   std::span<fx::Mat34> palette;    // skinning matrices
   std::span<fx::DualQuat> dual;    // DQS palette (empty if the rig has no DQS vertex)
   skin::SkinnedVertices vertices;  // outputs, SoA
+  // Caller-owned, empty or one byte per rig input: nonzero marks a DOF a
+  // source measures, which synergies leave alone (skeleton::dofs_to_locals).
+  std::span<const uint8_t> measured_inputs;
   StepStats stats;
 };
 

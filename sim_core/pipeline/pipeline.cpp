@@ -114,6 +114,10 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
 
 bool pipeline_stage_on(const Pipeline& p, Stage s) { return p.on.has(s); }
 
+void pipeline_set_measured_inputs(Pipeline* p, std::span<const uint8_t> measured) {
+  p->engine.measured_inputs = measured;
+}
+
 namespace {
 
 // Twist of q about a unit axis: 2 atan2(q.v . axis, q.w), a binary angle.

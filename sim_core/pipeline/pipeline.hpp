@@ -133,6 +133,14 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
 // Whether a stage does anything for this rig and these options.
 bool pipeline_stage_on(const Pipeline& p, Stage s);
 
+// Which rig inputs a source measures: caller-owned, one byte per rig input
+// (nonzero: measured), read by every later step until set again; empty
+// (the default) measures none. Synergies never add to a measured DOF
+// (skeleton::dofs_to_locals): a glove that measures a DIP gets that angle,
+// not the angle plus 2/3 of the PIP. A span shorter than the rig's inputs
+// marks the rest unmeasured.
+void pipeline_set_measured_inputs(Pipeline* p, std::span<const uint8_t> measured);
+
 // Per-input flags a step reports (StepReport::input_flags).
 enum InputFlag : uint8_t {
   kInputClamped = 1u << 0,  // the joint that owns the input was clamped at a limit this tick

@@ -16,8 +16,12 @@ void rest_locals(const rig::Rig& rig, std::span<LocalPose> locals) {
   }
 }
 
-uint32_t dofs_to_locals(const rig::Rig& rig, std::span<const int32_t> inputs, std::span<LocalPose> locals,
-                        std::span<uint8_t> joint_flags) {
+uint32_t dofs_to_locals(const rig::Rig& rig, std::span<const int32_t> inputs, std::span<const uint8_t> measured,
+                        std::span<LocalPose> locals, std::span<uint8_t> joint_flags) {
+  const auto is_measured = [&](const rig::SynergyRecord& s) {
+    const uint32_t target = rig.joints[s.target_joint].first_input + uint32_t{s.target_dof};
+    return target < measured.size() && measured[target] != 0;
+  };
   rest_locals(rig, locals);
   uint32_t clamped = 0;
   for (uint32_t j = 0; j < rig.joint_count(); ++j) {
@@ -38,6 +42,7 @@ uint32_t dofs_to_locals(const rig::Rig& rig, std::span<const int32_t> inputs, st
       const uint32_t source = s.source_input;
       const bool sources_this = share && source >= r.first_input && source < r.first_input + uint32_t{r.dof_count};
       if (!targets_this && !sources_this) continue;
+      if (is_measured(s)) continue;  // the measured angle stands alone
       const int64_t amount = fx::round_shift(int64_t{inputs[s.source_input]} * s.gain, fx::kUnitFracBits);
       if (targets_this) value[s.target_dof] += amount;
       if (sources_this) value[source - r.first_input] -= amount;

@@ -36,9 +36,14 @@ void rest_locals(const rig::Rig& rig, std::span<LocalPose> locals);
 // to [dof_min, dof_max]
 // (LEMAN §6.8). The rotation is rest_rotation * R(axis0, a0) * R(axis1, a1)
 // * R(axis2, a2). Returns the number of DOFs clamped; sets joint_flags.
+// measured: empty, or one byte per rig input, nonzero when a source measures
+// that DOF (a glove's DIP sensor): a synergy never adds to a measured DOF, so
+// the DOF is the measured angle, and a shared synergy whose target is
+// measured moves nothing off its source either. The coupling is a model of
+// what is not measured, not a correction on top of a measurement.
 // Spans: inputs >= rig.input_count, locals and joint_flags >= joint count.
-uint32_t dofs_to_locals(const rig::Rig& rig, std::span<const int32_t> inputs, std::span<LocalPose> locals,
-                        std::span<uint8_t> joint_flags);
+uint32_t dofs_to_locals(const rig::Rig& rig, std::span<const int32_t> inputs, std::span<const uint8_t> measured,
+                        std::span<LocalPose> locals, std::span<uint8_t> joint_flags);
 
 void locals_to_model(const rig::Rig& rig, std::span<const LocalPose> locals, std::span<fx::Mat34> model);
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 
 #include "firmware/rig/loaded_rig.hpp"
@@ -126,6 +127,30 @@ TEST(Runtime, ClampedJointsAreFlaggedInTheFrame) {
   const hal::PoseFrame& f = rt.step(kMs);
   EXPECT_TRUE(f.input_status[3] & hal::kJointClampedStatus);
   EXPECT_FALSE(f.input_status[0] & hal::kJointClampedStatus);
+}
+
+// The runtime marks every input a source has delivered as measured, so the
+// hand's DIP coupling (2/3 of the PIP) adds nothing to a DIP a glove
+// measures. Index PIP at 60 degrees: a DIP no source sends bends 40 degrees
+// (the coupling alone); a DIP sent at 30 bends 30, not 70.
+TEST(Runtime, ADipASourceMeasuresIsNotCoupledToItsPip) {
+  const LoadedRig hand(sinew::rigc::builtin_hand());
+  ASSERT_TRUE(hand.ok());
+  constexpr uint32_t kIndexPip = 8, kIndexDip = 9, kIndexDipJoint = 6;
+  for (const bool dip_sent : {false, true}) {
+    fw::Runtime rt;
+    std::vector<fw::InputLimits> limits(hand.rig().input_count, fw::InputLimits{degrees(-170), degrees(170), 0});
+    std::string error;
+    ASSERT_TRUE(rt.init(hand.rig(), limits, 0, &error)) << error;
+    std::vector<hal::JointSample> samples{{kIndexPip, degrees(60), 1, 0}};
+    if (dip_sent) samples.push_back({kIndexDip, degrees(30), 1, 0});
+    rt.add_source(std::make_unique<ScriptedSource>(samples));
+    rt.step(kMs);
+    const sinew::fx::Quat q = rt.engine().locals[kIndexDipJoint].rotation;
+    const double sign = q.w < 0 ? -1.0 : 1.0;
+    const double angle = 2 * std::atan2(sign * q.y, sign * static_cast<double>(q.w)) * 180 / 3.14159265358979323846;
+    EXPECT_NEAR(angle, dip_sent ? 30.0 : 40.0, 1e-3) << (dip_sent ? "DIP sent" : "DIP not sent");
+  }
 }
 
 // The built-in arm's compiled SPH elbow in the runtime, fed by the rig's

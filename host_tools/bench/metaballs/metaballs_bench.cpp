@@ -245,7 +245,7 @@ void BM_Dqs(benchmark::State& state) {
 // overlap).
 void metaballs_frame(Scene& s, uint64_t f) {
   set_inputs(s.lbs.inputs, f);
-  sinew::skeleton::dofs_to_locals(s.lbs.rig, s.lbs.inputs, s.locals, s.flags);
+  sinew::skeleton::dofs_to_locals(s.lbs.rig, s.lbs.inputs, {}, s.locals, s.flags);
   sinew::skeleton::locals_to_model(s.lbs.rig, s.locals, s.joint_model);
   sinew::skin::SkinnedVertices out;
   for (int a = 0; a < 3; ++a) out.position[a] = s.out[a];

@@ -60,7 +60,8 @@ struct PosedChain {
 };
 
 // Compiles and loads `spec`, then poses it with `inputs`.
-void pose_chain(const rigc::RigSpec& spec, const std::vector<int32_t>& inputs, PosedChain* p) {
+void pose_chain(const rigc::RigSpec& spec, const std::vector<int32_t>& inputs, PosedChain* p,
+                const std::vector<uint8_t>& measured = {}) {
   std::vector<uint8_t> bytes;
   rigc::CompileReport report;
   std::string error;
@@ -77,7 +78,7 @@ void pose_chain(const rigc::RigSpec& spec, const std::vector<int32_t>& inputs, P
   p->model.resize(n);
   std::vector<uint8_t> flags(n);
   ASSERT_GE(inputs.size(), p->rig.input_count);
-  skeleton::dofs_to_locals(p->rig, inputs, p->locals, flags);
+  skeleton::dofs_to_locals(p->rig, inputs, measured, p->locals, flags);
   skeleton::locals_to_model(p->rig, p->locals, p->model);
 }
 
@@ -118,6 +119,49 @@ TEST(SynergyChain, TwelveDegreesGiveOneDegreePerVertebra) {
   std::printf("synergy chain: 12 deg over %d vertebrae -> top vertebra at %.6f deg (sum of locals %.6f)\n", kVertebrae,
               total, sum);
   EXPECT_NEAR(total, 12.0, kModelToleranceDeg);
+}
+
+// A measured DOF is the measurement: no synergy adds to it. Vertebra 5 is
+// measured at 4 degrees while the chain is commanded 12: it stays at 4, the
+// others take their 1 degree, and the source keeps the share it would have
+// given vertebra 5 (2 degrees), so nothing is lost or counted twice. Without
+// the rule vertebra 5 would read 5 degrees.
+TEST(SynergyChain, AMeasuredVertebraKeepsItsAngleAndTheSourceItsShare) {
+  PosedChain p;
+  std::vector<int32_t> inputs(kVertebrae, 0);
+  inputs[0] = chain_angle_input(12);
+  inputs[5] = chain_angle_input(4);
+  std::vector<uint8_t> measured(kVertebrae, 0);
+  measured[5] = 1;
+  pose_chain(spine_spec(std::vector<double>(kVertebrae, 1.0 / kVertebrae)), inputs, &p, measured);
+  ASSERT_FALSE(HasFatalFailure());
+  for (int v = 0; v < kVertebrae; ++v) {
+    const double want = v == 5 ? 4.0 : (v == 0 ? 2.0 : 1.0);
+    EXPECT_NEAR(local_angle_deg(p.locals[static_cast<size_t>(v)], 0), want, kLocalToleranceDeg) << "vertebra " << v;
+  }
+}
+
+// The built-in hand couples each DIP to 2/3 of its PIP (the flexor tendons).
+// A glove that measures the DIP must get the DIP it measured: with the index
+// PIP at 60 and the DIP input at 30 degrees, an unmeasured DIP bends
+// 30 + 40 = 70 degrees, a measured one 30.
+TEST(SynergyChain, TheHandsDipCouplingNeverAddsToAMeasuredDip) {
+  const rigc::RigSpec hand = rigc::builtin_hand();
+  constexpr size_t kIndexPip = 2 + 4 * 1 + 2, kIndexDip = kIndexPip + 1, kIndexDipJoint = 1 + 3 * 1 + 2;
+  ASSERT_EQ(hand.joints[kIndexDipJoint].name, "index_dip");
+  for (const bool dip_measured : {false, true}) {
+    PosedChain p;
+    std::vector<int32_t> inputs(rigc::input_names(hand).size(), 0);
+    inputs[kIndexPip] = chain_angle_input(60);
+    inputs[kIndexDip] = chain_angle_input(30);
+    std::vector<uint8_t> measured(inputs.size(), 0);
+    measured[kIndexDip] = dip_measured ? 1 : 0;
+    pose_chain(hand, inputs, &p, measured);
+    ASSERT_FALSE(HasFatalFailure());
+    EXPECT_NEAR(local_angle_deg(p.locals[kIndexDipJoint], 1), dip_measured ? 30.0 : 70.0, 1e-3)
+        << (dip_measured ? "measured" : "unmeasured");
+    EXPECT_NEAR(local_angle_deg(p.locals[kIndexDipJoint - 1], 1), 60.0, 1e-3) << "the PIP is its own input";
+  }
 }
 
 TEST(SynergyChain, WeightsSplitTheCommandAndKeepItsSum) {
