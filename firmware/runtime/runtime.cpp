@@ -81,6 +81,7 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
     uint8_t status = hs[i];
     if ((pipeline_flags_[i] & pipeline::kInputClamped) != 0) status |= hal::kJointClampedStatus;
     if ((pipeline_flags_[i] & pipeline::kInputYielded) != 0) status |= hal::kJointYielded;
+    if (i < measured_.size() && measured_[i] != 0) status |= hal::kJointMeasured;
     input_status_[i] = status;
   }
   frame_.tick = tick_index;

@@ -12,6 +12,10 @@ enum JointStatus : uint8_t {
   kJointStale = 1u << 1,          // no valid sample within its timeout: holding the last good value
   kJointRejected = 1u << 2,       // a sample was rejected this tick (CRC, counter, range)
   kJointYielded = 1u << 3,        // a physical layer's joint yielded (SPH Tresca yield, docs/sph.md)
+  // A source has delivered this input (since the run began): a measured DOF,
+  // which the rig's synergies and SPH joints leave as measured
+  // (docs/rig-format.md, docs/sph.md). Replays rebuild the run from it.
+  kJointMeasured = 1u << 4,
 };
 
 struct PoseFrame {

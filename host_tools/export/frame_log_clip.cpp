@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "hal/common/pose_frame.hpp"
 #include "hal/output/frame_log_reader.hpp"
 #include "rig_clip.hpp"
 
@@ -43,6 +44,7 @@ bool clip_from_frame_log(const std::string& log_path, const firmware::LoadedRig&
 
   std::vector<skeleton::LocalPose> locals(rig.rig.joint_count());
   std::vector<uint8_t> joint_flags(rig.rig.joint_count());
+  std::vector<uint8_t> measured;
   hal::output::DecodedPose pose;
   uint64_t first_ns = 0, last_tick = 0, last_ns = 0, in_range = 0;
   double first_exported_s = 0;
@@ -76,7 +78,12 @@ bool clip_from_frame_log(const std::string& log_path, const firmware::LoadedRig&
     }
     report->last_tick = pose.tick;
     report->last_time_s = t;
-    skeleton::dofs_to_locals(rig.rig, pose.input_value, {}, locals, joint_flags);
+    // The DOFs the run's sources measured (kJointMeasured) take no synergy,
+    // as sinewd posed them.
+    measured.assign(rig.rig.input_count, 0);
+    for (size_t i = 0; i < measured.size() && i < pose.input_status.size(); ++i)
+      measured[i] = (pose.input_status[i] & hal::kJointMeasured) != 0 ? 1 : 0;
+    skeleton::dofs_to_locals(rig.rig, pose.input_value, measured, locals, joint_flags);
     FixedFrame frame;
     for (int c = 0; c < 3; ++c) {
       frame.position[c] = pose.position[c];

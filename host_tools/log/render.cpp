@@ -7,6 +7,7 @@
 
 #include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/recording.hpp"
+#include "hal/common/pose_frame.hpp"
 #include "hal/output/frame_log_reader.hpp"
 #include "hal/output/frame_log_writer.hpp"
 
@@ -70,8 +71,14 @@ bool render_recording(const RenderOptions& o, RenderResult* result, std::string*
   }
   RenderResult r;
   hal::output::DecodedPose recorded;
+  // Which DOFs the run's sources measured, as each frame logged it
+  // (kJointMeasured): the synergies and SPH joints treat them as sinewd did.
+  std::vector<uint8_t> measured(rig.rig.input_count, 0);
+  pipeline::pipeline_set_measured_inputs(&pipeline, measured);
   while (reader.next(&recorded)) {
     ++r.frames_read;
+    for (size_t i = 0; i < measured.size() && i < recorded.input_status.size(); ++i)
+      measured[i] = (recorded.input_status[i] & hal::kJointMeasured) != 0 ? 1 : 0;
     // The inputs as the tick applied them: the run's pipeline input.
     (void)pipeline::pipeline_step(&pipeline, recorded.input_value);
     if (recorded.tick % (o.every_n_frames < 1 ? 1 : o.every_n_frames) != 0) continue;

@@ -54,6 +54,12 @@ struct PipelineOptions {
   // not bend the joint again (sph::SphInputs::joint_measured; docs/sph.md,
   // "Measured and simulated joints"). false: the joints are simulated.
   bool sph_joint_measured = false;
+  // With sph_joint_measured false: an SPH joint whose driven DOF a source
+  // measures (pipeline_set_measured_inputs) runs measured all the same, a
+  // glove's elbow sensor being the truth under load. false: every joint is
+  // simulated whatever its sources (a robot whose joint inputs are commanded
+  // targets, the deflection under load being what the particles add).
+  bool sph_measured_from_sources = true;
   uint32_t skin_iterations = 0;  // elastic-skin relaxations per tick; 0 keeps the rig's
   // The loop's tick rate; 0: the rate the rig's SPH joints were compiled
   // for. Another rate converts their gains at init (sph_gains_for_rate).

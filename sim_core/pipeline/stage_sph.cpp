@@ -128,7 +128,15 @@ PipelineStatus sph_step(Pipeline* p, std::span<const int32_t> inputs) {
     sph::SphInputs in;
     in.transforms = p->engine.model;
     in.tresca = p->options.tresca;
-    in.joint_measured = p->options.sph_joint_measured;
+    // Measured when the run says every SPH joint is ([layers] sph_joint =
+    // "measured"), or when a source measures this joint's driven DOF (unless
+    // [layers] sph_measured_from_sources = false): a
+    // glove's elbow sensor already shows the load's flexion, so the bend is
+    // not added twice (docs/sph.md, "Measured and simulated joints").
+    const uint32_t driven = rig.joints[layer.model.joint.distal_joint].first_input;
+    const std::span<const uint8_t> measured = p->engine.measured_inputs;
+    in.joint_measured = p->options.sph_joint_measured ||
+                        (p->options.sph_measured_from_sources && driven < measured.size() && measured[driven] != 0);
     if (layer.force_input != kNoExternalInput &&
         !sph::sph_flexion_force(p->sph_model[i], p->engine.model, inputs[rig.input_count + layer.force_input],
                                 &in.force))

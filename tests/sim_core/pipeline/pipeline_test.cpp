@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <set>
+#include <span>
 #include <vector>
 
 #include "sim_core/skeleton/pose.hpp"
@@ -39,9 +40,11 @@ pl::PipelineOptions only(bool sph, bool metaballs, bool barnet, bool anatomy) {
 
 // Steps the arm `steps` times towards a flexed elbow (with 20 N at the
 // wrist) and returns the final positions, SoA.
-std::array<std::vector<int32_t>, 3> run(LoadedLayers* arm, const pl::PipelineOptions& o, int steps) {
+std::array<std::vector<int32_t>, 3> run(LoadedLayers* arm, const pl::PipelineOptions& o, int steps,
+                                        std::span<const uint8_t> measured = {}) {
   std::string error;
   EXPECT_TRUE(arm->start(o, &error)) << error;
+  pl::pipeline_set_measured_inputs(&arm->pipeline, measured);
   std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
   for (int s = 1; s <= steps; ++s) {
     inputs[kElbowInput] = degrees(90.0 * s / steps);
@@ -368,4 +371,28 @@ TEST(PipelineMeasuredJoint, TheMeasuredElbowAngleIsTheInputs) {
   const uint32_t forearm = arm->layers.sph[0].model.joint.distal_joint;
   const sinew::fx::Mat34& bent = arm->pipeline.engine.model[forearm];
   EXPECT_NE(std::memcmp(&bent, &plain_model[forearm], sizeof bent), 0) << "the simulated joint did not bend";
+}
+
+// A source that measures the elbow makes the SPH joint measured by itself
+// (sph_joint stays "simulated"): a glove's sensed elbow is the truth under
+// load, not a target the particles bend further. With
+// sph_measured_from_sources = false (a robot's commanded joint) the same
+// load bends the forearm again.
+TEST(PipelineMeasuredJoint, AnElbowASourceMeasuresIsNotBentAgain) {
+  auto arm = sinew::test::arm_with_layers();
+  ASSERT_NE(arm, nullptr);
+  const int steps = sinew::test::emulated() ? 10 : 30;
+  run(arm.get(), only(false, false, false, false), steps);
+  const uint32_t forearm = arm->layers.sph[0].model.joint.distal_joint;
+  const sinew::fx::Mat34 plain = arm->pipeline.engine.model[forearm];
+  std::vector<uint8_t> measured(arm->rig.input_count, 0);
+  measured[kElbowInput] = 1;
+  run(arm.get(), only(true, false, false, false), steps, measured);
+  EXPECT_EQ(std::memcmp(&arm->pipeline.engine.model[forearm], &plain, sizeof plain), 0)
+      << "the measured elbow was bent by the particles";
+  pl::PipelineOptions commanded = only(true, false, false, false);
+  commanded.sph_measured_from_sources = false;
+  run(arm.get(), commanded, steps, measured);
+  EXPECT_NE(std::memcmp(&arm->pipeline.engine.model[forearm], &plain, sizeof plain), 0)
+      << "with sph_measured_from_sources = false the commanded elbow did not bend";
 }
