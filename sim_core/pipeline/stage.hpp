@@ -1,14 +1,20 @@
-// The pipeline's stages and a set of them. The stage table
-// (stage_table.hpp) names each; this header only orders them.
+// The pipeline's stages and a set of them, from the one list of them
+// (stage_list.hpp); the stage table (stage_table.hpp) describes each.
 #pragma once
 
 #include <cstdint>
 
+#include "stage_list.hpp"
+
 namespace sinew::pipeline {
 
-// In the order a tick runs them (docs/pipeline.md).
-enum class Stage : uint8_t { kSkinning = 0, kSph, kMetaballs, kBarnet, kAnatomy };
-inline constexpr uint32_t kStageCount = 5;
+// In the order a tick runs them (stage_list.hpp).
+#define SINEW_STAGE_ENUMERATOR(name, enumerator, sections, doc) enumerator,
+enum class Stage : uint8_t { SINEW_STAGE_LIST(SINEW_STAGE_ENUMERATOR) };
+#undef SINEW_STAGE_ENUMERATOR
+#define SINEW_STAGE_ONE(name, enumerator, sections, doc) +1
+inline constexpr uint32_t kStageCount = 0 SINEW_STAGE_LIST(SINEW_STAGE_ONE);
+#undef SINEW_STAGE_ONE
 
 // A set of stages, one bit per Stage. Skinning always runs: its bit is
 // ignored where a set switches layers on or off.

@@ -1,7 +1,7 @@
 // The functions of every stage, with one shape for all of them (the stage
 // table, stage_table.hpp, documents each), so the pipeline's init and step
 // are loops over the table and a new layer is one stage file
-// (stage_<name>.cpp) plus one table row. Each
+// (stage_<name>.cpp) plus one line in stage_list.hpp. Each
 // stage file adapts its layer's own jobs (<layer>_validate, _state_bytes,
 // _init, _step, all returning layer::LayerStatus) to the pipeline: which
 // instances the rig carries, where their state lives in the pipeline's arena,
@@ -19,7 +19,7 @@ namespace sinew::pipeline {
 
 namespace stages {
 
-#define SINEW_DECLARE_STAGE(name)                                                                   \
+#define SINEW_DECLARE_STAGE(name, enumerator, sections, doc)                                        \
   uint32_t name##_compiled(const LayerSet& layers);                                                 \
   void name##_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);      \
   PipelineStatus name##_validate(const rig::Rig& rig, const LayerSet& layers);                      \
@@ -27,11 +27,7 @@ namespace stages {
   PipelineStatus name##_init(Pipeline* p, uint8_t* block, size_t bytes);                            \
   PipelineStatus name##_step(Pipeline* p, std::span<const int32_t> inputs);
 
-SINEW_DECLARE_STAGE(skinning)
-SINEW_DECLARE_STAGE(sph)
-SINEW_DECLARE_STAGE(metaballs)
-SINEW_DECLARE_STAGE(barnet)
-SINEW_DECLARE_STAGE(anatomy)
+SINEW_STAGE_LIST(SINEW_DECLARE_STAGE)
 #undef SINEW_DECLARE_STAGE
 
 // A failed stage's status: "<what>[index]: <detail>" (index when >= 0).

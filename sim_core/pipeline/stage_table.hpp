@@ -1,11 +1,12 @@
-// The stage table: the pipeline's only list of its layers. Each row holds
+// The stage table, expanded from the pipeline's only list of its layers
+// (stage_list.hpp). Each row holds
 // the stage's functions (stage_fns.hpp, one shape for every layer):
 // pipeline_state_bytes, pipeline_init and pipeline_step are loops over it.
 // Everything that names layers or their run-time options (sinewd's [layers]
 // keys, its start-up description and statistics, the recording header,
 // sinew-run's layer list, the viewer) iterates these two tables, so adding a
-// layer adds a stage file and a row here, and no line to the pipeline's
-// loops, firmware or the tools' plumbing.
+// layer adds a stage file and a line to stage_list.hpp, and no line to the
+// pipeline's loops, firmware or the tools' plumbing.
 #pragma once
 
 #include <cstddef>
@@ -47,21 +48,21 @@ struct StageInfo {
   PipelineStatus (*step)(Pipeline* p, std::span<const int32_t> inputs);
 };
 
-// In Stage order (a static_assert in stage_table.cpp checks it).
-inline constexpr StageInfo kStages[kStageCount] = {
-    {Stage::kSkinning, "skinning", "", "docs/numerics.md", stages::skinning_compiled, stages::skinning_describe,
-     stages::skinning_validate, stages::skinning_state_bytes, stages::skinning_init, stages::skinning_step},
-    {Stage::kSph, "sph", "[[sph]]", "docs/sph.md", stages::sph_compiled, stages::sph_describe, stages::sph_validate,
-     stages::sph_state_bytes, stages::sph_init, stages::sph_step},
-    {Stage::kMetaballs, "metaballs", "[metaballs]", "docs/metaballs.md", stages::metaballs_compiled,
-     stages::metaballs_describe, stages::metaballs_validate, stages::metaballs_state_bytes, stages::metaballs_init,
-     stages::metaballs_step},
-    {Stage::kBarnet, "barnet", "[[barnet]]", "docs/barnet.md", stages::barnet_compiled, stages::barnet_describe,
-     stages::barnet_validate, stages::barnet_state_bytes, stages::barnet_init, stages::barnet_step},
-    {Stage::kAnatomy, "anatomy", "[[muscle]] and [skin]", "docs/anatomy.md", stages::anatomy_compiled,
-     stages::anatomy_describe, stages::anatomy_validate, stages::anatomy_state_bytes, stages::anatomy_init,
-     stages::anatomy_step},
-};
+// In Stage order, one row per line of stage_list.hpp (a static_assert in
+// stage_table.cpp checks the order).
+#define SINEW_STAGE_ROW(name, enumerator, sections, doc) \
+  {Stage::enumerator,                                    \
+   #name,                                                \
+   sections,                                             \
+   doc,                                                  \
+   stages::name##_compiled,                              \
+   stages::name##_describe,                              \
+   stages::name##_validate,                              \
+   stages::name##_state_bytes,                           \
+   stages::name##_init,                                  \
+   stages::name##_step},
+inline constexpr StageInfo kStages[kStageCount] = {SINEW_STAGE_LIST(SINEW_STAGE_ROW)};
+#undef SINEW_STAGE_ROW
 
 // A run-time option of one layer: its key in sinewd's [layers], its field
 // in PipelineOptions, its range, and how a recording's description spells it.
