@@ -17,13 +17,17 @@ if(SINEW_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
-# Command-line entry points (the daemon's and the tools' main files) compile
-# unoptimised in sanitized builds. CLI11 is header-only: every file that
-# includes it generates its whole parser, and under UBSan at -O1 that takes
-# about 35 s a file against 13 s at -O0, for code that runs once per process
-# and hands over to the optimised libraries. The sanitizers still instrument
-# it (docs/testing.md, "CI time").
-function(sinew_command_line_source)
+# Files whose compile time under the sanitizers far exceeds what their
+# speed is worth compile unoptimised in sanitized builds; the sanitizers
+# still instrument them (docs/testing.md, "CI time"). The command-line
+# entry points (the daemon's and the tools' main files): CLI11 is
+# header-only, every file that includes it generates its whole parser, and
+# under UBSan at -O1 that takes about 35 s a file against 13 s at -O0, for
+# code that runs once per process and hands over to the optimised
+# libraries. Third-party implementation files (tinygltf with its JSON
+# parser): the largest single file of the build, parsing a few small files
+# per test.
+function(sinew_unoptimised_when_sanitized)
   if(SINEW_SANITIZE)
     set_source_files_properties(${ARGN} DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR} PROPERTIES COMPILE_OPTIONS -O0)
   endif()
