@@ -12,20 +12,6 @@ namespace {
 
 using stages::stage_fail;
 
-uint32_t largest_barnet_nodes(const LayerSet& layers) {
-  uint32_t n = 0;
-  for (uint32_t i = 0; i < layers.barnet_count; ++i)
-    n = std::max(n, static_cast<uint32_t>(layers.barnet[i].nodes.size()));
-  return n;
-}
-
-uint32_t largest_barnet_wrap(const LayerSet& layers) {
-  uint32_t n = 0;
-  for (uint32_t i = 0; i < layers.barnet_count; ++i)
-    n = std::max(n, static_cast<uint32_t>(layers.barnet[i].wrap.size()));
-  return n;
-}
-
 // The stages that run: skinning, and every layer the rig carries that the
 // options leave on.
 StageSet stages_on(const LayerSet& layers, const PipelineOptions& o) {
@@ -47,20 +33,23 @@ fx::ArenaCarver layout(const rig::Rig& rig, const LayerSet& layers, const Pipeli
     block_bytes[i] = on.has(s.stage) ? s.state_bytes(rig, layers, o) : 0;
     blocks[i] = c.raw(block_bytes[i]);
   }
-  const size_t n = rig.vertex_count();
-  const bool sph_on = on.has(Stage::kSph), barnet_on = on.has(Stage::kBarnet);
-  const bool metaballs_on = on.has(Stage::kMetaballs);
-  const bool skin_on = on.has(Stage::kAnatomy) && layers.has_skin;
-  p->flexed = c.take<int32_t>(sph_on ? rig.input_count : 0);
-  p->bent = c.take<skeleton::LocalPose>(sph_on ? rig.joint_count() : 0);
+  stages::SharedNeeds needs;
+  for (const StageInfo& s : kStages) {
+    if (!on.has(s.stage)) continue;
+    const stages::SharedNeeds n = s.shares(rig, layers);
+    needs.reference = needs.reference || n.reference;
+    needs.bent_pose = needs.bent_pose || n.bent_pose;
+    needs.scratch_vertices = std::max(needs.scratch_vertices, n.scratch_vertices);
+    needs.node_outputs = std::max(needs.node_outputs, n.node_outputs);
+  }
+  p->flexed = c.take<int32_t>(needs.bent_pose ? rig.input_count : 0);
+  p->bent = c.take<skeleton::LocalPose>(needs.bent_pose ? rig.joint_count() : 0);
   p->measured = c.take<int32_t>(rig.input_count + layers.external_count());
   // Sizes from the options, never from the blocks (null when only counting).
-  const bool displaced = sph_on || metaballs_on || skin_on || barnet_on;
-  const size_t wrap = barnet_on ? largest_barnet_wrap(layers) : 0;
   for (int a = 0; a < 3; ++a) {
-    p->reference[a] = c.take<fx::Len>(displaced ? n : 0);
-    p->scratch[a] = c.take<fx::Len>(std::max(metaballs_on ? n : size_t{0}, wrap));
-    p->barnet_nodes[a] = c.take<fx::Len>(barnet_on ? largest_barnet_nodes(layers) : 0);
+    p->reference[a] = c.take<fx::Len>(needs.reference ? rig.vertex_count() : 0);
+    p->scratch[a] = c.take<fx::Len>(needs.scratch_vertices);
+    p->barnet_nodes[a] = c.take<fx::Len>(needs.node_outputs);
   }
   return c;
 }

@@ -26,6 +26,9 @@ int32_t rig_acceleration(int32_t q16_metres, int32_t length_exponent) {
 
 uint32_t anatomy_compiled(const LayerSet& layers) { return layers.has_muscles ? 1u : 0u; }
 
+// Muscles alone displace nothing; the elastic skin adds (relaxed skin - R).
+SharedNeeds anatomy_shares(const rig::Rig&, const LayerSet& layers) { return {.reference = layers.has_skin}; }
+
 void anatomy_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
   if (layers.has_muscles) out->text(layers.has_skin ? "anatomy(muscles, skin)" : "anatomy(muscles)");
 }

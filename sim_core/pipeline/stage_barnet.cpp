@@ -1,5 +1,7 @@
 // The bar-net stage (barnet-driven-skinning; docs/barnet.md): each net adds
 // (wrapped skin - R) over its wrap vertices.
+#include <algorithm>
+
 #include "sim_core/barnet/barnet_step.hpp"
 #include "sim_core/barnet/barnet_validate.hpp"
 #include "sim_core/fixed/arena.hpp"
@@ -8,6 +10,16 @@
 namespace sinew::pipeline::stages {
 
 uint32_t barnet_compiled(const LayerSet& layers) { return layers.barnet_count; }
+
+// Each net's node positions, then its wrapped vertices, before they are added.
+SharedNeeds barnet_shares(const rig::Rig&, const LayerSet& layers) {
+  SharedNeeds n{.reference = true};
+  for (uint32_t i = 0; i < layers.barnet_count; ++i) {
+    n.scratch_vertices = std::max(n.scratch_vertices, static_cast<uint32_t>(layers.barnet[i].wrap.size()));
+    n.node_outputs = std::max(n.node_outputs, static_cast<uint32_t>(layers.barnet[i].nodes.size()));
+  }
+  return n;
+}
 
 void barnet_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
   for (uint32_t i = 0; i < layers.barnet_count; ++i) out->text(i > 0 ? " barnet" : "barnet");

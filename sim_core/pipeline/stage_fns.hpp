@@ -19,8 +19,18 @@ namespace sinew::pipeline {
 
 namespace stages {
 
+// The buffers a stage that is on needs from those the stages share (carved
+// once, after the stages' own blocks, each the largest any stage asks for).
+struct SharedNeeds {
+  bool reference = false;         // R, the skin displacements are taken from (rig vertices)
+  bool bent_pose = false;         // flexed inputs and bent locals (SPH bends)
+  uint32_t scratch_vertices = 0;  // a layer's output before it is added, per axis
+  uint32_t node_outputs = 0;      // bar-net node positions, per axis
+};
+
 #define SINEW_DECLARE_STAGE(name, enumerator, sections, doc)                                        \
   uint32_t name##_compiled(const LayerSet& layers);                                                 \
+  SharedNeeds name##_shares(const rig::Rig& rig, const LayerSet& layers);                           \
   void name##_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);      \
   PipelineStatus name##_validate(const rig::Rig& rig, const LayerSet& layers);                      \
   size_t name##_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& o); \

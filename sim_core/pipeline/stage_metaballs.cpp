@@ -8,6 +8,11 @@ namespace sinew::pipeline::stages {
 
 uint32_t metaballs_compiled(const LayerSet& layers) { return layers.has_metaballs ? 1u : 0u; }
 
+// The metaballs skin is computed over every vertex, then added.
+SharedNeeds metaballs_shares(const rig::Rig& rig, const LayerSet&) {
+  return {.reference = true, .scratch_vertices = rig.vertex_count()};
+}
+
 void metaballs_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
   if (layers.has_metaballs) out->text("metaballs");
 }

@@ -7,6 +7,9 @@ namespace sinew::pipeline::stages {
 
 uint32_t skinning_compiled(const LayerSet&) { return 1; }
 
+// Plain skinning writes the output skin directly.
+SharedNeeds skinning_shares(const rig::Rig&, const LayerSet&) { return {}; }
+
 void skinning_describe(const rig::Rig&, const LayerSet&, rig::MessageBuilder*) {}
 
 // rig_init validated the skeleton and the skin.

@@ -75,6 +75,10 @@ void joint_name(const rig::Rig& rig, uint32_t j, rig::MessageBuilder* out) {
 
 uint32_t sph_compiled(const LayerSet& layers) { return layers.sph_count; }
 
+// The bends go into flexed inputs (bent locals for pose-driven steps); the
+// skin they recompute becomes R.
+SharedNeeds sph_shares(const rig::Rig&, const LayerSet&) { return {.reference = true, .bent_pose = true}; }
+
 void sph_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out) {
   for (uint32_t i = 0; i < layers.sph_count; ++i) {
     if (i > 0) out->text(" ");

@@ -30,6 +30,8 @@ struct StageInfo {
   // The instances of the layer the rig carries (0: the rig lacks it);
   // skinning: 1.
   uint32_t (*compiled)(const LayerSet& layers);
+  // The shared buffers the stage needs when it is on.
+  stages::SharedNeeds (*shares)(const rig::Rig& rig, const LayerSet& layers);
   // Appends the layer as a rig carries it, e.g. "sph(elbow)", once per
   // instance and space-separated; nothing when the rig lacks it.
   void (*describe)(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
@@ -56,6 +58,7 @@ struct StageInfo {
    sections,                                             \
    doc,                                                  \
    stages::name##_compiled,                              \
+   stages::name##_shares,                                \
    stages::name##_describe,                              \
    stages::name##_validate,                              \
    stages::name##_state_bytes,                           \
