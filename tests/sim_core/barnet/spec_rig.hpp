@@ -19,6 +19,7 @@
 #include "sim_core/pipeline/pipeline.hpp"
 #include "sim_core/rig/crc32c.hpp"
 #include "sim_core/rig/rig_format.hpp"
+#include "tests/support/temp_path.hpp"
 
 namespace sinew::test::barnet {
 
@@ -56,7 +57,7 @@ struct SpecRig {
 
   // Compiles spec text (written to a temporary file: builtin rigs only).
   bool compile_and_load(const char* text) {
-    const std::string path = (std::filesystem::temp_directory_path() / "sinew_barnet_keys.toml").string();
+    const std::string path = sinew::test::process_temp_path("barnet_keys.toml");
     std::ofstream(path) << text;
     const bool ok = compile_file(path);
     std::filesystem::remove(path);

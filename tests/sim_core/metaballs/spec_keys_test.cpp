@@ -21,6 +21,7 @@
 #include "sim_core/pipeline/layer_set.hpp"
 #include "sim_core/rig/rig_format.hpp"
 #include "tests/sim_core/pipeline/pipeline_fixture.hpp"
+#include "tests/support/temp_path.hpp"
 
 namespace {
 
@@ -52,7 +53,7 @@ gain = 0.2
 )";
 
 std::string write_spec(const std::string& name, const std::string& text) {
-  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  const std::string path = sinew::test::process_temp_path(name);
   std::ofstream(path) << text;
   return path;
 }
