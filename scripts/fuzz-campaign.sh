@@ -11,7 +11,13 @@
 # 3. merges the scratch inputs and the committed campaign/ folder into a
 #    minimal set (libFuzzer's -merge=1: an input stays only if it adds
 #    coverage over the seeds and the inputs kept before it) and writes that
-#    set back to tests/fuzz/corpus/<corpus>/campaign/ (commit it);
+#    set back to tests/fuzz/corpus/<corpus>/campaign/ (commit it). A target
+#    whose inputs are large (the rig blobs: about 46 KB each, so a thousand
+#    kept inputs would add 50 MB of binary files to the repository) keeps
+#    its set as one archive instead, tests/fuzz/corpus/<corpus>.campaign.tar.zst
+#    (beside the seed folder, so that no run reads it as an input), unpacked
+#    into the build tree for the run and packed again, byte for byte
+#    reproducibly, after the merge;
 # 4. appends the run to tests/fuzz/campaigns.tsv (date, commit, target,
 #    seconds, executions, coverage at start and end, corpus kept, findings)
 #    and rewrites the cumulative table in docs/fuzzing.md from that ledger.
@@ -114,7 +120,7 @@ while [ $# -gt 0 ]; do
 done
 [[ "$minutes" =~ ^[0-9]+$ ]] && [ "$minutes" -gt 0 ] || { echo "fuzz-campaign: MINUTES must be a positive integer" >&2; exit 2; }
 [[ "$jobs" =~ ^[0-9]+$ ]] || { echo "fuzz-campaign: --jobs must be a non-negative integer" >&2; exit 2; }
-IFS=: read -r target corpus max_len <<<"$(lookup "$target")"
+IFS=: read -r target corpus max_len storage <<<"$(lookup "$target")"
 
 scripts/install-deps.sh test
 cmake --preset clang >/dev/null
@@ -123,10 +129,22 @@ cmake --build --preset clang -j "$(nproc)" --target "$target"
 build=build/clang/tests/fuzz
 seeds=tests/fuzz/corpus/$corpus
 kept=$seeds/campaign
+archive=""
+extra_inputs=()
 scratch=$build/campaign/$corpus
 findings=$build/findings/$target
 log=$findings/campaign.log
 rm -rf "$scratch"
+if [ "${storage:-}" = archive ]; then
+  # The kept set lives in the archive; it is read from a build-tree folder
+  # (not under the seed folder, so it is named as an input folder of its own).
+  archive=tests/fuzz/corpus/$corpus.campaign.tar.zst
+  kept=$build/campaign/$corpus.kept
+  rm -rf "$kept"
+  mkdir -p "$kept"
+  if [ -f "$archive" ]; then tar --zstd -xf "$archive" -C "$kept"; fi
+  extra_inputs=("$kept")
+fi
 mkdir -p "$scratch" "$kept" "$findings"
 rm -f "$findings"/crash-* "$findings"/leak-* "$findings"/timeout-* "$findings"/oom-* "$findings"/slow-unit-*
 
@@ -137,7 +155,7 @@ start=$SECONDS
 status=0
 nice -n 19 "$build/$target" -max_total_time=$((minutes * 60)) -max_len="$max_len" -timeout="$timeout" \
   -malloc_limit_mb="$malloc_limit" -print_final_stats=1 -artifact_prefix="$findings/" "${fork[@]}" \
-  "$scratch" "$seeds" >"$log" 2>&1 || status=$?
+  "$scratch" "$seeds" "${extra_inputs[@]}" >"$log" 2>&1 || status=$?
 seconds=$((SECONDS - start))
 tail -n 12 "$log"
 
@@ -174,6 +192,11 @@ mkdir -p "$kept"
 if [ -n "$(ls -A "$merged")" ]; then cp "$merged"/* "$kept/"; fi
 inputs=$(find "$kept" -type f | wc -l)
 bytes=$(find "$kept" -type f -printf '%s\n' | awk '{ s += $1 } END { print s + 0 }')
+if [ -n "$archive" ]; then
+  # Sorted names, no times or owners: the same set packs to the same bytes.
+  tar --sort=name --mtime=@0 --owner=0 --group=0 --numeric-owner -C "$kept" -cf - . | zstd -q -19 -f -o "$archive"
+  kept=$archive
+fi
 
 ensure_ledger
 printf '%s\t%s\t%s\t%d\t%d\t%s\t%s\t%d\t%d\t%s\n' "$(date -u +%Y-%m-%d)" "$(git rev-parse --short HEAD)" "$target" \

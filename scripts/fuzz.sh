@@ -38,7 +38,7 @@ if [ -n "$runs" ]; then limit=(-runs="$runs"); else limit=(-max_total_time="$sec
 summary=()
 found=0
 for entry in "${selected[@]}"; do
-  IFS=: read -r target corpus max_len <<<"$entry"
+  IFS=: read -r target corpus max_len _ <<<"$entry"
   mkdir -p "$out/corpus/$corpus" "$out/findings/$target"
   log="$out/findings/$target/last-run.log"
   echo "== $target (${limit[*]}, corpus $corpus)"
