@@ -20,6 +20,7 @@
 namespace sinew::barnet {
 
 inline constexpr uint32_t kSectionBarnet = 0x54454E42u;  // "BNET"
+inline constexpr uint32_t kMaxBarnets = 8;               // BNET sections one blob may carry
 
 struct BarnetSectionParams {
   uint32_t joint_count, input_count, vertex_count;
@@ -46,6 +47,6 @@ inline constexpr layer::SectionVersion kBarnetSectionVersions[] = {
     {kBarnetSectionVersion2, sizeof(BarnetSectionParams), kBarnetArraysV2},
 };
 inline constexpr layer::SectionDescriptor kBarnetSection = {kSectionBarnet, "BNET", kBarnetSectionArrays,
-                                                            kBarnetSectionVersions};
+                                                            kBarnetSectionVersions, kMaxBarnets};
 
 }  // namespace sinew::barnet

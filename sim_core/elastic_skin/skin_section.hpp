@@ -29,6 +29,7 @@
 #include <cstdint>
 
 #include "sim_core/layer/section_format.hpp"
+#include "sim_core/muscle/muscle_section.hpp"
 #include "skin_model.hpp"
 
 namespace sinew::elastic_skin {
@@ -78,7 +79,7 @@ inline constexpr layer::SectionVersion kSkinSectionVersions[] = {
     {kSkinSectionVersion4, sizeof(SkinSectionParamsV3), kSkinArrays},
     {kSkinSectionVersion5, sizeof(SkinSectionParamsV5), kSkinArrays},
 };
-inline constexpr layer::SectionDescriptor kSkinSection = {kSectionElasticSkin, "SKIN", kSkinSectionArrays,
-                                                          kSkinSectionVersions};
+inline constexpr layer::SectionDescriptor kSkinSection = {kSectionElasticSkin,  "SKIN", kSkinSectionArrays,
+                                                          kSkinSectionVersions, 1,      muscle::kSectionMuscles};
 
 }  // namespace sinew::elastic_skin

@@ -61,6 +61,8 @@ struct SectionDescriptor {
   const char* name;  // e.g. "SPHJ"
   std::span<const SectionArray> arrays;
   std::span<const SectionVersion> versions;
+  uint32_t max_instances;  // how many sections of this id one blob may carry
+  uint32_t needs = 0;      // the id of a section it cannot be loaded without, or 0
 
   // The version's row, or null when the loader does not know it.
   constexpr const SectionVersion* find(uint32_t version) const {

@@ -68,6 +68,6 @@ inline constexpr layer::SectionVersion kMetaballsSectionVersions[] = {
     {kMetaballsSectionVersion2, sizeof(MetaballsSectionParams), kMetaballsArraysV2},
 };
 inline constexpr layer::SectionDescriptor kMetaballsSection = {kSectionMetaballs, "MBAL", kMetaballsSectionArrays,
-                                                               kMetaballsSectionVersions};
+                                                               kMetaballsSectionVersions, 1};
 
 }  // namespace sinew::metaballs

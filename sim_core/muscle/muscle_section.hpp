@@ -54,6 +54,6 @@ inline constexpr layer::SectionVersion kMusclesSectionVersions[] = {
     {kMusclesSectionVersion4, sizeof(MusclesSectionParams), kMusclesArraysV4},
 };
 inline constexpr layer::SectionDescriptor kMusclesSection = {kSectionMuscles, "MUSC", kMusclesSectionArrays,
-                                                             kMusclesSectionVersions};
+                                                             kMusclesSectionVersions, 1};
 
 }  // namespace sinew::muscle

@@ -41,11 +41,11 @@ enum LayerSectionId : uint32_t {
   kSectionExternalInputs = 0x49545845u,                     // "EXTI": ExternalInputRecord[]; at most one
 };
 
+using barnet::kMaxBarnets;
 using layer::kLayerSectionVersion;
 using layer::LayerArrayEntry;
 using layer::LayerSectionHeader;
-inline constexpr uint32_t kMaxSphJoints = 8;
-inline constexpr uint32_t kMaxBarnets = 8;
+using sph::kMaxSphJoints;
 inline constexpr uint32_t kMaxExternalInputs = 64;
 inline constexpr uint32_t kMaxLayerArrays = 32;
 inline constexpr uint32_t kUnitBytes = 16;
@@ -115,13 +115,20 @@ inline constexpr layer::SectionArray kExternalInputArraysList[kExternalInputArra
 };
 inline constexpr layer::SectionVersion kExternalInputVersions[] = {{kLayerSectionVersion, 0, kExternalInputArrays}};
 inline constexpr layer::SectionDescriptor kExternalInputSection = {kSectionExternalInputs, "EXTI",
-                                                                   kExternalInputArraysList, kExternalInputVersions};
+                                                                   kExternalInputArraysList, kExternalInputVersions, 1};
 
 // Every layer section the loader knows, with its descriptor.
 inline constexpr const layer::SectionDescriptor* kLayerSections[] = {
     &sph::kSphSection,           &metaballs::kMetaballsSection, &muscle::kMusclesSection,
     &elastic_skin::kSkinSection, &barnet::kBarnetSection,       &kExternalInputSection,
 };
+
+// The most layer sections one blob may carry, every id at its limit.
+inline constexpr uint32_t kMaxLayerSectionCount = [] {
+  uint32_t n = 0;
+  for (const layer::SectionDescriptor* d : kLayerSections) n += d->max_instances;
+  return n;
+}();
 
 // The descriptor of a section id, or null.
 constexpr const layer::SectionDescriptor* find_layer_section(uint32_t id) {

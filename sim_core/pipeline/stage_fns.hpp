@@ -13,6 +13,7 @@
 #include <span>
 
 #include "pipeline.hpp"
+#include "section_view.hpp"
 #include "sim_core/rig/message.hpp"
 
 namespace sinew::pipeline {
@@ -28,13 +29,14 @@ struct SharedNeeds {
   uint32_t node_outputs = 0;      // bar-net node positions, per axis
 };
 
-#define SINEW_DECLARE_STAGE(name, enumerator, sections, doc)                                        \
-  uint32_t name##_compiled(const LayerSet& layers);                                                 \
-  SharedNeeds name##_shares(const rig::Rig& rig, const LayerSet& layers);                           \
-  void name##_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);      \
-  PipelineStatus name##_validate(const rig::Rig& rig, const LayerSet& layers);                      \
-  size_t name##_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& o); \
-  PipelineStatus name##_init(Pipeline* p, uint8_t* block, size_t bytes);                            \
+#define SINEW_DECLARE_STAGE(name, enumerator, sections, doc)                                           \
+  rig::LoadStatus name##_load(std::span<const SectionView> views, const rig::Rig& rig, LayerSet* set); \
+  uint32_t name##_compiled(const LayerSet& layers);                                                    \
+  SharedNeeds name##_shares(const rig::Rig& rig, const LayerSet& layers);                              \
+  void name##_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);         \
+  PipelineStatus name##_validate(const rig::Rig& rig, const LayerSet& layers);                         \
+  size_t name##_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& o);    \
+  PipelineStatus name##_init(Pipeline* p, uint8_t* block, size_t bytes);                               \
   PipelineStatus name##_step(Pipeline* p, std::span<const int32_t> inputs);
 
 SINEW_STAGE_LIST(SINEW_DECLARE_STAGE)

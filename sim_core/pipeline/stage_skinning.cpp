@@ -5,6 +5,9 @@
 
 namespace sinew::pipeline::stages {
 
+// The rig's core sections carry the skeleton and the skin (rig_init).
+rig::LoadStatus skinning_load(std::span<const SectionView>, const rig::Rig&, LayerSet*) { return {}; }
+
 uint32_t skinning_compiled(const LayerSet&) { return 1; }
 
 // Plain skinning writes the output skin directly.

@@ -27,6 +27,11 @@ struct StageInfo {
   // about a layer the rig lacks.
   const char* rig_sections;
   const char* doc;  // the document that describes it
+  // Loads the stage's layer sections of a blob (every section's structure
+  // already checked against its descriptor, the external inputs already in
+  // `set`) into `set`, running the layer's validator on each; sections of
+  // other ids are skipped. Errors name the section, instance and field.
+  rig::LoadStatus (*load)(std::span<const SectionView> sections, const rig::Rig& rig, LayerSet* set);
   // The instances of the layer the rig carries (0: the rig lacks it);
   // skinning: 1.
   uint32_t (*compiled)(const LayerSet& layers);
@@ -57,6 +62,7 @@ struct StageInfo {
    #name,                                                \
    sections,                                             \
    doc,                                                  \
+   stages::name##_load,                                  \
    stages::name##_compiled,                              \
    stages::name##_shares,                                \
    stages::name##_describe,                              \

@@ -22,6 +22,7 @@
 namespace sinew::sph {
 
 inline constexpr uint32_t kSectionSphJoint = 0x4A485053u;  // "SPHJ"
+inline constexpr uint32_t kMaxSphJoints = 8;               // SPHJ sections one blob may carry
 
 inline constexpr uint32_t kSphParamsV1Bytes = 44;  // SphParams up to grid_radius
 struct SphSectionParamsV1 {
@@ -59,6 +60,6 @@ inline constexpr layer::SectionVersion kSphSectionVersions[] = {
     {kSphSectionVersion2, sizeof(SphSectionParams), kSphArrays},
 };
 inline constexpr layer::SectionDescriptor kSphSection = {kSectionSphJoint, "SPHJ", kSphSectionArrays,
-                                                         kSphSectionVersions};
+                                                         kSphSectionVersions, kMaxSphJoints};
 
 }  // namespace sinew::sph

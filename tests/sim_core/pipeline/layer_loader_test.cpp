@@ -161,7 +161,8 @@ TEST(LayerLoader, InstanceLimitsAndDependenciesAreEnforced) {
   };
   EXPECT_NE(retag(pl::kSectionBarnet, pl::kSectionMetaballs).find("MBAL#1: more instances than the format allows"),
             std::string::npos);
-  EXPECT_NE(retag(pl::kSectionMuscles, 0x58585858u).find("the elastic skin (SKIN) needs MUSC"), std::string::npos);
+  EXPECT_NE(retag(pl::kSectionMuscles, 0x58585858u).find("SKIN#0: needs a MUSC section, which the blob lacks"),
+            std::string::npos);
 }
 
 TEST(LayerLoader, ArenaTooSmallIsRefused) {
