@@ -89,7 +89,7 @@ find_mirror() {
     sed -e 's/#.*//' -e 's/\[[^]]*\]//' "$f" | awk -v suite="$suite" '$1 == "deb" && $3 == suite { print $2 }'
   done
 }
-mirror="${SINEW_FRESH_MIRROR:-$(find_mirror | head -n 1)}"
+mirror="${SINEW_FRESH_MIRROR:-$(find_mirror | sed -n 1p)}"
 mirror="${mirror%/}"
 [ -n "$mirror" ] || unsupported "no apt source for '$suite' found in /etc/apt (set SINEW_FRESH_MIRROR)"
 

@@ -48,7 +48,7 @@ fi
 # --- the kernel: resolved at run time, since old ABI packages disappear -------
 resolve_image() {
   apt-cache show --no-all-versions linux-image-amd64 2>/dev/null |
-    sed -n 's/^Depends:.*\(linux-image-6\.1\.0-[0-9]*-amd64\).*/\1/p' | head -n1
+    sed -n 's/^Depends:.*\(linux-image-6\.1\.0-[0-9]*-amd64\).*/\1/p' | sed -n 1p
 }
 image_pkg=$(resolve_image)
 if [ -z "$image_pkg" ]; then  # no package lists yet (fresh container)
@@ -70,7 +70,7 @@ if [ ! -f "$cache/.fetched" ]; then
     apt-get download -q "$image_pkg" "linux-headers-$abi" "linux-headers-${abi%-amd64}-common" \
       "linux-kbuild-6.1=$version" "linux-source-6.1=$version" 2>&1 | grep -v '^W: Download is performed unsandboxed' || true)
   for pkg in "$image_pkg" "linux-headers-$abi" "linux-headers-${abi%-amd64}-common" linux-kbuild-6.1 linux-source-6.1; do
-    deb=$(ls "$cache/debs/${pkg}_"*.deb 2>/dev/null | head -n1)
+    deb=$(ls "$cache/debs/${pkg}_"*.deb 2>/dev/null | sed -n 1p)
     [ -n "$deb" ] || die "apt-get download did not fetch $pkg"
     dpkg-deb -x "$deb" "$kroot"
   done

@@ -181,7 +181,7 @@ skipped="${skipped:-0}"
 received="$(sed -n 's/.*delivered \([0-9]*\), lost \([0-9]*\).*/\1/p' "$work/receive.err" | tail -1)"
 udp_lost="$(sed -n 's/.*delivered \([0-9]*\), lost \([0-9]*\).*/\2/p' "$work/receive.err" | tail -1)"
 "$sinew_log" verify "$work/soak.rec" > "$work/verify.out" 2>&1 && recording_ok=1 || recording_ok=0
-recorded="$(sed -n 's/^  \([0-9]*\) frames.*/\1/p' "$work/verify.out" | head -1)"
+recorded="$(sed -n 's/^  \([0-9]*\) frames.*/\1/p' "$work/verify.out" | sed -n 1p)"
 
 echo "=== sinewd soak: $minutes min live at 1 kHz, built-in arm (metaballs, bar-net), faults cycling every 10 s${realtime:+, SCHED_FIFO}"
 grep -E '^(SCHED_FIFO|affinity|mlockall|sink .* I/O thread)' "$work/daemon.out" || true

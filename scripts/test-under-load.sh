@@ -81,7 +81,7 @@ stop_load
 echo
 echo "slowest tests of the last run (seconds, and the test's timeout):"
 grep -E '^ *[0-9]+/[0-9]+ Test +#[0-9]+: ' "$out/run-$runs.log" |
-  sed -E 's/^ *[0-9]+\/[0-9]+ Test +#[0-9]+: ([^ ]+) .* ([0-9.]+) sec$/\2 \1/' | sort -rn | head -n 12 |
+  sed -E 's/^ *[0-9]+\/[0-9]+ Test +#[0-9]+: ([^ ]+) .* ([0-9.]+) sec$/\2 \1/' | sort -rn | sed -n 1,12p |
   while read -r secs name; do
     # This one test's properties only: parsing the whole suite's JSON in
     # CMake takes minutes.
