@@ -86,10 +86,10 @@ bool read_layers(const toml::table& t, const std::string& origin, pipeline::Pipe
   for (const pipeline::StageOption& option : pipeline::kStageOptions) {
     switch (option.kind) {
       case pipeline::OptionKind::kFlag:
-        if (!read_flag(t, option.key, &(o->*option.flag), origin, error)) return false;
+        if (!read_flag(t, option.key, option.flag(o), origin, error)) return false;
         break;
       case pipeline::OptionKind::kNumber:
-        if (!read_number<uint32_t>(t, option.key, option.min, option.max, &(o->*option.number), origin, error))
+        if (!read_number<uint32_t>(t, option.key, option.min, option.max, option.number(o), origin, error))
           return false;
         break;
       case pipeline::OptionKind::kChoice:
@@ -99,7 +99,7 @@ bool read_layers(const toml::table& t, const std::string& origin, pipeline::Pipe
             return *error = at(origin, n, std::string("[layers] ") + option.key) + ": must be \"" + option.choice[0] +
                             "\" or \"" + option.choice[1] + "\"",
                    false;
-          o->*option.flag = *v == option.choice[1];
+          *option.flag(o) = *v == option.choice[1];
         }
         break;
     }

@@ -54,13 +54,12 @@ std::string encode_run_description(const RunDescription& run) {
   for (const pipeline::StageOption& option : pipeline::kStageOptions) {
     std::string value;
     bool is_default = false;
-    if (option.kind == pipeline::OptionKind::kNumber) {
-      value = std::to_string(o.*option.number);
-      is_default = o.*option.number == defaults.*option.number;
-    } else {
-      value = o.*option.flag ? "true" : "false";
-      is_default = o.*option.flag == defaults.*option.flag;
-    }
+    const uint32_t v = pipeline::option_value(option, o);
+    if (option.kind == pipeline::OptionKind::kNumber)
+      value = std::to_string(v);
+    else
+      value = v != 0 ? "true" : "false";
+    is_default = v == pipeline::option_value(option, defaults);
     if (option.recorded_always || !is_default) out += std::string(option.recording_key) + " = " + value + "\n";
   }
   return out;
@@ -112,10 +111,10 @@ bool parse_run_description(std::string_view text, RunDescription* out, std::stri
         if (key != option.recording_key) continue;
         index = kFixed + kLayers + i;
         if (option.kind == pipeline::OptionKind::kNumber)
-          ok = parse_uint(value, 10, &(o.*option.number)) && o.*option.number >= option.min &&
-               o.*option.number <= option.max;
+          ok = parse_uint(value, 10, option.number(&o)) && *option.number(&o) >= option.min &&
+               *option.number(&o) <= option.max;
         else
-          ok = parse_bool(value, &(o.*option.flag));
+          ok = parse_bool(value, option.flag(&o));
       }
       if (index == kKeys)
         return *error =

@@ -60,49 +60,49 @@ void add_overlays(const ShadowPipeline& shadow, int32_t e, FloatArrays* a, JsonT
   // SPH particles (every joint's, concatenated), pressure rho - rho0 in
   // normalised density units (Q8.24), yielded 0/1.
   size_t particles = 0;
-  for (uint32_t s = 0; s < p.sph_count; ++s) particles += p.sph[s].pressure.size();
+  for (uint32_t s = 0; s < p.sph.count; ++s) particles += p.sph.joint[s].pressure.size();
   a->add("sph_position", 3 * particles);
-  for (uint32_t s = 0; s < p.sph_count; ++s)
-    for (size_t k = 0; k < p.sph[s].pressure.size(); ++k)
-      for (int c = 0; c < 3; ++c) a->push(metres(p.sph[s].position[c][k], e));
+  for (uint32_t s = 0; s < p.sph.count; ++s)
+    for (size_t k = 0; k < p.sph.joint[s].pressure.size(); ++k)
+      for (int c = 0; c < 3; ++c) a->push(metres(p.sph.joint[s].position[c][k], e));
   a->add("sph_pressure", particles);
-  for (uint32_t s = 0; s < p.sph_count; ++s)
-    for (const auto d : p.sph[s].pressure) a->push(std::ldexp(static_cast<double>(d), -24));
+  for (uint32_t s = 0; s < p.sph.count; ++s)
+    for (const auto d : p.sph.joint[s].pressure) a->push(std::ldexp(static_cast<double>(d), -24));
   a->add("sph_yielded", particles);
-  for (uint32_t s = 0; s < p.sph_count; ++s)
-    for (const uint8_t y : p.sph[s].yielded) a->push(y);
+  for (uint32_t s = 0; s < p.sph.count; ++s)
+    for (const uint8_t y : p.sph.joint[s].yielded) a->push(y);
   j.key("sph_joints").open_array();
-  for (uint32_t s = 0; s < p.sph_count; ++s) {
+  for (uint32_t s = 0; s < p.sph.count; ++s) {
     j.open_object();
-    j.key("joint").number(p.sph_model[s].joint.distal_joint);
-    j.key("yielded").boolean(p.sph[s].joint_yielded);
-    j.key("yielded_particles").number(p.sph[s].yielded_particles);
+    j.key("joint").number(p.sph.model[s].joint.distal_joint);
+    j.key("yielded").boolean(p.sph.joint[s].joint_yielded);
+    j.key("yielded_particles").number(p.sph.joint[s].yielded_particles);
     j.close_object();
   }
   j.close_array();
   // Metaballs: centre and radius (r0 x the volume-preserving scale).
-  const size_t balls = p.metaballs_on ? p.metaballs.ball_center.size() : 0;
+  const size_t balls = p.metaballs.on ? p.metaballs.state.ball_center.size() : 0;
   a->add("metaballs", 4 * balls);
   for (size_t b = 0; b < balls; ++b) {
-    const fx::Vec3& c = p.metaballs.ball_center[b];
+    const fx::Vec3& c = p.metaballs.state.ball_center[b];
     a->push(metres(c.x, e));
     a->push(metres(c.y, e));
     a->push(metres(c.z, e));
-    const double scale = std::ldexp(static_cast<double>(p.metaballs.ball_scale[b]), -30);
-    a->push(metres(p.metaballs.model->ball_radius[b], e) * scale);
+    const double scale = std::ldexp(static_cast<double>(p.metaballs.state.ball_scale[b]), -30);
+    a->push(metres(p.metaballs.state.model->ball_radius[b], e) * scale);
   }
   // Muscles: their surface vertices (rings of slices).
-  const size_t muscle_vertices = p.anatomy_on ? p.muscles.vertex[0].size() : 0;
+  const size_t muscle_vertices = p.anatomy.on ? p.anatomy.muscles.vertex[0].size() : 0;
   a->add("muscles", 3 * muscle_vertices);
   for (size_t v = 0; v < muscle_vertices; ++v)
-    for (int c = 0; c < 3; ++c) a->push(metres(p.muscles.vertex[c][v], e));
+    for (int c = 0; c < 3; ++c) a->push(metres(p.anatomy.muscles.vertex[c][v], e));
   // Bar-nets: each net's free nodes at their smooth-skinned positions.
   size_t nodes = 0;
-  for (uint32_t n = 0; n < p.barnet_count; ++n) nodes += p.barnet[n].skinned[0].size();
+  for (uint32_t n = 0; n < p.barnet.count; ++n) nodes += p.barnet.net[n].skinned[0].size();
   a->add("barnet", 3 * nodes);
-  for (uint32_t n = 0; n < p.barnet_count; ++n)
-    for (size_t k = 0; k < p.barnet[n].skinned[0].size(); ++k)
-      for (int c = 0; c < 3; ++c) a->push(metres(p.barnet[n].skinned[c][k], e));
+  for (uint32_t n = 0; n < p.barnet.count; ++n)
+    for (size_t k = 0; k < p.barnet.net[n].skinned[0].size(); ++k)
+      for (int c = 0; c < 3; ++c) a->push(metres(p.barnet.net[n].skinned[c][k], e));
 }
 
 }  // namespace

@@ -11,37 +11,26 @@
 
 #include "layer_format.hpp"
 #include "sim_core/rig/rig.hpp"
+#include "stage_data.hpp"
 
 namespace sinew::pipeline {
 
-struct SphJointLayer {
-  sph::SphModel model;
-  uint32_t force_input = kNoExternalInput;  // index into external, or kNoExternalInput
-};
-
+// Each stage's loaded models (StageData<stage>::Layers, stage_<name>.hpp),
+// one member per line of stage_list.hpp named as the stage: layers.sph,
+// layers.metaballs, ... The pipeline's own: the external inputs and the rate.
 struct LayerSet {
   std::span<const ExternalInputRecord> external;
-  SphJointLayer sph[kMaxSphJoints];
-  uint32_t sph_count = 0;
-  bool has_metaballs = false;
-  metaballs::MetaballModel metaballs;
-  bool has_muscles = false;
-  muscle::MuscleModel muscles;
-  bool has_skin = false;
-  elastic_skin::SkinModel skin;
-  std::span<const uint32_t> skin_region;         // vertices the skin displaces (empty: all)
-  std::span<const fx::Unit> skin_region_weight;  // their weights, Q2.30 in (0, 1]
-  // The external inputs of the base's acceleration, x, y, z (SKIN version 5),
-  // or kNoExternalInput: the dynamic skin then feels no base motion.
-  uint32_t skin_base_acceleration[3] = {kNoExternalInput, kNoExternalInput, kNoExternalInput};
-  barnet::BarnetModel barnet[kMaxBarnets];
-  uint32_t barnet_count = 0;
+#define SINEW_STAGE_LAYERS(name, enumerator, sections, doc) \
+  [[no_unique_address]] StageData<Stage::enumerator>::Layers name;
+  SINEW_STAGE_LIST(SINEW_STAGE_LAYERS)
+#undef SINEW_STAGE_LAYERS
   // The tick rate the rate-dependent sections were built for (SPH); 0 when
   // no section depends on the rate.
   uint32_t rate_hz = 0;
 
   uint32_t external_count() const { return static_cast<uint32_t>(external.size()); }
-  bool empty() const { return sph_count == 0 && !has_metaballs && !has_muscles && barnet_count == 0; }
+  // No layer beyond skinning (the stage table's compiled counts).
+  bool empty() const;
 };
 
 // Validates the layer sections of a blob that rig_init accepted for `rig`,

@@ -49,7 +49,7 @@ fx::ArenaCarver layout(const rig::Rig& rig, const LayerSet& layers, const Pipeli
   for (int a = 0; a < 3; ++a) {
     p->reference[a] = c.take<fx::Len>(needs.reference ? rig.vertex_count() : 0);
     p->scratch[a] = c.take<fx::Len>(needs.scratch_vertices);
-    p->barnet_nodes[a] = c.take<fx::Len>(needs.node_outputs);
+    p->node_outputs[a] = c.take<fx::Len>(needs.node_outputs);
   }
   return c;
 }
@@ -72,8 +72,18 @@ PipelineStatus pipeline_init(const rig::Rig& rig, const LayerSet& layers, const 
                              size_t arena_bytes, Pipeline* out) {
   if (out == nullptr) return stage_fail(PipelineError::kArena, "pipeline", "no pipeline to initialise");
   if (!fx::aligned8(arena)) return stage_fail(PipelineError::kArena, "pipeline", "arena missing or misaligned");
-  if (options.skin_iterations > elastic_skin::kMaxIterations)
-    return stage_fail(PipelineError::kBadModel, "pipeline", "skin_iterations beyond the elastic skin's maximum (256)");
+  // Every number option within the range its row declares.
+  for (const StageOption& option : kStageOptions) {
+    if (option.kind != OptionKind::kNumber) continue;
+    const uint32_t v = option_value(option, options);
+    if (v >= option.min && v <= option.max) continue;
+    PipelineStatus st;
+    st.error = PipelineError::kBadModel;
+    rig::MessageBuilder m(st.message, sizeof(st.message));
+    m.text("pipeline: ").text(option.key).text(" = ").unsigned_number(v).text(" is outside ");
+    m.unsigned_number(option.min).text("..").unsigned_number(option.max);
+    return st;
+  }
   const StageSet on = stages_on(layers, options);
   for (const StageInfo& s : kStages) {
     if (!on.has(s.stage)) continue;
@@ -176,22 +186,11 @@ void begin_report(StepReport* report) {
   std::fill(report->input_flags.begin(), report->input_flags.end(), uint8_t{0});
 }
 
-// The engine's clamp flags per joint and the SPH joints' yield, per input.
+// Each stage that is on flags the inputs it concerns (StageInfo::flag_inputs).
 void report_input_flags(const Pipeline& p, StepReport* report) {
   if (report == nullptr || report->input_flags.empty()) return;
-  const std::span<uint8_t> flags = report->input_flags;
-  const rig::Rig& rig = *p.rig;
-  for (uint32_t j = 0; j < rig.joint_count(); ++j) {
-    if ((p.engine.joint_flags[j] & skeleton::kJointClamped) == 0) continue;
-    const rig::JointRecord& r = rig.joints[j];
-    for (uint32_t d = 0; d < r.dof_count; ++d)
-      if (r.first_input + d < flags.size()) flags[r.first_input + d] |= kInputClamped;
-  }
-  for (uint32_t i = 0; i < p.sph_count; ++i) {
-    if (!p.sph[i].joint_yielded) continue;
-    const uint32_t input = rig.joints[p.layers->sph[i].model.joint.distal_joint].first_input;
-    if (input < flags.size()) flags[input] |= kInputYielded;
-  }
+  for (const StageInfo& s : kStages)
+    if (p.on.has(s.stage)) s.flag_inputs(p, report->input_flags);
 }
 
 }  // namespace

@@ -30,13 +30,8 @@
 #include <span>
 
 #include "layer_set.hpp"
-#include "sim_core/barnet/barnet_state.hpp"
-#include "sim_core/elastic_skin/skin_state.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/fixed/status.hpp"
-#include "sim_core/metaballs/state.hpp"
-#include "sim_core/muscle/muscle_state.hpp"
-#include "sim_core/sph/sph_state.hpp"
 #include "stage.hpp"
 
 namespace sinew::pipeline {
@@ -48,30 +43,19 @@ struct PipelineOptions {
   // The layers that run: a compiled layer can be switched off at run time
   // (a layer the rig lacks is off whatever this says; skinning always runs).
   StageSet stages = StageSet::all();
-  bool tresca = true;  // the SPH yield condition, eqs. (3)-(4)
-  // The SPH joints' angles are measured (a wearable's sensors), hence already
-  // the truth under the load: the particles move the soft tissue only and do
-  // not bend the joint again (sph::SphInputs::joint_measured; docs/sph.md,
-  // "Measured and simulated joints"). false: the joints are simulated.
-  bool sph_joint_measured = false;
-  // With sph_joint_measured false: an SPH joint whose driven DOF a source
-  // measures (pipeline_set_measured_inputs) runs measured all the same, a
-  // glove's elbow sensor being the truth under load. false: every joint is
-  // simulated whatever its sources (a robot whose joint inputs are commanded
-  // targets, the deflection under load being what the particles add).
-  bool sph_measured_from_sources = true;
-  uint32_t skin_iterations = 0;  // elastic-skin relaxations per tick; 0 keeps the rig's
-  // The loop's tick rate; 0: the rate the rig's SPH joints were compiled
-  // for. Another rate converts their gains at init (sph_gains_for_rate).
-  // The dynamic elastic skin takes its time step from it too (0 and no SPH
-  // rate: 1 kHz).
+  // The loop's tick rate; 0: the rate the rig's rate-dependent sections
+  // were compiled for. Stages convert their gains at init (SPH:
+  // sph_gains_for_rate; the metaballs' jiggle; the dynamic skin's time
+  // step, 1 kHz when neither says).
   uint32_t tick_hz = 0;
-  // The dynamic skin's limit on the acceleration of its anchors, m/s^2
-  // (elastic_skin::SkinTick::max_anchor_acceleration; 0: none, 1..32767).
-  // 500 m/s^2 (about 50 g) is above a boxer's fist; a bone that moves
-  // faster than that within a tick is taken as a jump, and the skin is
-  // carried with it instead of being flung off the limb.
-  uint32_t skin_max_anchor_acceleration = 500;
+  // Each stage's own options (StageData<stage>::Options, stage_<name>.hpp),
+  // one member per line of stage_list.hpp named as the stage:
+  // options.sph.tresca, options.anatomy.skin_iterations, ... The stage
+  // table's kStageOptions names each with its key and range.
+#define SINEW_STAGE_OPTIONS(name, enumerator, sections, doc) \
+  [[no_unique_address]] StageData<Stage::enumerator>::Options name;
+  SINEW_STAGE_LIST(SINEW_STAGE_OPTIONS)
+#undef SINEW_STAGE_OPTIONS
 };
 
 enum class PipelineError : uint8_t {
@@ -104,25 +88,20 @@ struct Pipeline {
   const rig::Rig* rig = nullptr;
   const LayerSet* layers = nullptr;
   PipelineOptions options;
-  StageSet on;                             // the stages that run (pipeline_stage_on)
-  engine::Engine engine;                   // skeleton, palette and the output vertices
-  sph::SphModel sph_model[kMaxSphJoints];  // the layers' SPH models, gains for the loop's rate
-  sph::SphState sph[kMaxSphJoints];
-  uint32_t sph_count = 0;  // SPH joints running (0 when switched off)
-  bool sph_started = false;
-  metaballs::MetaballState metaballs;
-  muscle::MuscleState muscles;
-  elastic_skin::SkinState skin;
-  barnet::BarnetState barnet[kMaxBarnets];
-  uint32_t barnet_count = 0;
-  bool metaballs_on = false, anatomy_on = false;
+  StageSet on;            // the stages that run (pipeline_stage_on)
+  engine::Engine engine;  // skeleton, palette and the output vertices (every stage's)
+  // Each stage's state (StageData<stage>::Run, stage_<name>.hpp), one member
+  // per line of stage_list.hpp named as the stage: p.sph, p.metaballs, ...
+#define SINEW_STAGE_RUN(name, enumerator, sections, doc) [[no_unique_address]] StageData<Stage::enumerator>::Run name;
+  SINEW_STAGE_LIST(SINEW_STAGE_RUN)
+#undef SINEW_STAGE_RUN
   std::span<int32_t> flexed;            // the rig's inputs with the SPH bends added
   std::span<skeleton::LocalPose> bent;  // locals with the SPH bends applied (pose-driven steps)
   std::span<int32_t> measured;          // pose-driven steps: DOF values read from the pose, then the external inputs
   bool pose_driven = false;             // this tick came from pipeline_step_locals
   std::span<fx::Len> reference[3];      // R: the skin every layer's displacement is taken from
   std::span<fx::Len> scratch[3];        // a layer's full-skin output before it is added
-  std::span<fx::Len> barnet_nodes[3];   // bar-net node outputs, the largest net's size
+  std::span<fx::Len> node_outputs[3];   // a layer's node positions (bar-nets), the largest asked for
   uint32_t input_count = 0;             // rig inputs + external inputs
   uint32_t saturated = 0;               // displacement sums clamped, last step
 };

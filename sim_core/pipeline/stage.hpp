@@ -31,4 +31,14 @@ struct StageSet {
   constexpr bool operator==(const StageSet&) const = default;
 };
 
+// What a stage keeps, declared beside its stage file (stage_<name>.hpp):
+//   Layers: its loaded models in the LayerSet (the blob's sections);
+//   Run:    its state in the Pipeline (in the pipeline's arena);
+//   Options: its run-time options in PipelineOptions.
+// LayerSet, Pipeline and PipelineOptions hold one member of each per stage,
+// named as the stage, expanded from stage_list.hpp: they name no layer
+// themselves.
+template <Stage S>
+struct StageData;
+
 }  // namespace sinew::pipeline

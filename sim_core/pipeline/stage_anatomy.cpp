@@ -24,51 +24,53 @@ int32_t rig_acceleration(int32_t q16_metres, int32_t length_exponent) {
 
 }  // namespace
 
-uint32_t anatomy_compiled(const LayerSet& layers) { return layers.has_muscles ? 1u : 0u; }
+uint32_t anatomy_compiled(const LayerSet& layers) { return layers.anatomy.has_muscles ? 1u : 0u; }
 
 // Muscles alone displace nothing; the elastic skin adds (relaxed skin - R).
-SharedNeeds anatomy_shares(const rig::Rig&, const LayerSet& layers) { return {.reference = layers.has_skin}; }
+SharedNeeds anatomy_shares(const rig::Rig&, const LayerSet& layers) { return {.reference = layers.anatomy.has_skin}; }
 
 void anatomy_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
-  if (layers.has_muscles) out->text(layers.has_skin ? "anatomy(muscles, skin)" : "anatomy(muscles)");
+  if (layers.anatomy.has_muscles) out->text(layers.anatomy.has_skin ? "anatomy(muscles, skin)" : "anatomy(muscles)");
 }
 
 PipelineStatus anatomy_validate(const rig::Rig& rig, const LayerSet& layers) {
-  if (!layers.has_muscles) return {};
-  layer::LayerStatus st = muscle::muscle_validate(layers.muscles, rig);
-  if (st.ok() && layers.has_skin) st = elastic_skin::skin_validate(layers.skin, rig, layers.muscles);
+  if (!layers.anatomy.has_muscles) return {};
+  layer::LayerStatus st = muscle::muscle_validate(layers.anatomy.muscles, rig);
+  if (st.ok() && layers.anatomy.has_skin)
+    st = elastic_skin::skin_validate(layers.anatomy.skin, rig, layers.anatomy.muscles);
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "anatomy", st.message);
   return {};
 }
 
 size_t anatomy_state_bytes(const rig::Rig&, const LayerSet& layers, const PipelineOptions&) {
-  if (!layers.has_muscles) return 0;
+  if (!layers.anatomy.has_muscles) return 0;
   fx::ArenaCarver c(nullptr, 0);
-  c.raw(muscle::muscle_state_bytes(layers.muscles));
-  if (layers.has_skin) c.raw(elastic_skin::skin_state_bytes(layers.skin));
+  c.raw(muscle::muscle_state_bytes(layers.anatomy.muscles));
+  if (layers.anatomy.has_skin) c.raw(elastic_skin::skin_state_bytes(layers.anatomy.skin));
   return c.needed();
 }
 
 PipelineStatus anatomy_init(Pipeline* p, uint8_t* block, size_t bytes) {
   const LayerSet& layers = *p->layers;
   fx::ArenaCarver c(block, bytes);
-  const size_t muscle_bytes = muscle::muscle_state_bytes(layers.muscles);
-  layer::LayerStatus st = muscle::muscle_init(layers.muscles, c.raw(muscle_bytes), muscle_bytes, &p->muscles);
-  if (st.ok() && layers.has_skin) {
-    const size_t skin_bytes = elastic_skin::skin_state_bytes(layers.skin);
-    st = elastic_skin::skin_init(layers.skin, c.raw(skin_bytes), skin_bytes, &p->skin);
+  const size_t muscle_bytes = muscle::muscle_state_bytes(layers.anatomy.muscles);
+  layer::LayerStatus st =
+      muscle::muscle_init(layers.anatomy.muscles, c.raw(muscle_bytes), muscle_bytes, &p->anatomy.muscles);
+  if (st.ok() && layers.anatomy.has_skin) {
+    const size_t skin_bytes = elastic_skin::skin_state_bytes(layers.anatomy.skin);
+    st = elastic_skin::skin_init(layers.anatomy.skin, c.raw(skin_bytes), skin_bytes, &p->anatomy.skin);
   }
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "anatomy", st.message);
-  p->anatomy_on = true;
+  p->anatomy.on = true;
   return {};
 }
 
 PipelineStatus anatomy_step(Pipeline* p, std::span<const int32_t> inputs) {
-  const layer::LayerStatus ms = muscle::muscle_step(p->layers->muscles, p->engine.model, &p->muscles);
+  const layer::LayerStatus ms = muscle::muscle_step(p->layers->anatomy.muscles, p->engine.model, &p->anatomy.muscles);
   if (!ms.ok()) return stage_fail(PipelineError::kLayer, "muscles", ms.message);
-  if (!p->layers->has_skin) return {};
-  elastic_skin::SkinModel model = p->layers->skin;
-  if (p->options.skin_iterations != 0) model.params.iterations = p->options.skin_iterations;
+  if (!p->layers->anatomy.has_skin) return {};
+  elastic_skin::SkinModel model = p->layers->anatomy.skin;
+  if (p->options.anatomy.skin_iterations != 0) model.params.iterations = p->options.anatomy.skin_iterations;
   // The dynamic skin's time step: the loop's rate, else the rate the rig
   // was built for, else rigc's default rate (1 kHz).
   elastic_skin::SkinTick tick;
@@ -76,31 +78,34 @@ PipelineStatus anatomy_step(Pipeline* p, std::span<const int32_t> inputs) {
   // The base's measured acceleration (LEMAN §3: the skin feels -a_base).
   int32_t base[3] = {0, 0, 0};
   for (int c = 0; c < 3; ++c) {
-    const uint32_t k = p->layers->skin_base_acceleration[c];
+    const uint32_t k = p->layers->anatomy.skin_base_acceleration[c];
     if (k != kNoExternalInput) base[c] = rig_acceleration(inputs[p->rig->input_count + k], p->rig->length_exponent);
   }
   tick.base_acceleration = {base[0], base[1], base[2]};
-  const uint32_t cap = std::min<uint32_t>(p->options.skin_max_anchor_acceleration, 32767);
+  const uint32_t cap = std::min<uint32_t>(p->options.anatomy.skin_max_anchor_acceleration, 32767);
   tick.max_anchor_acceleration = rig_acceleration(static_cast<int32_t>(cap << 16), p->rig->length_exponent);
-  const layer::LayerStatus ss =
-      elastic_skin::skin_step(model, p->layers->muscles, p->muscles, p->engine.model, tick, &p->skin);
+  const layer::LayerStatus ss = elastic_skin::skin_step(model, p->layers->anatomy.muscles, p->anatomy.muscles,
+                                                        p->engine.model, tick, &p->anatomy.skin);
   if (!ss.ok()) return stage_fail(PipelineError::kLayer, "elastic skin", ss.message);
-  const std::span<const uint32_t> region = p->layers->skin_region;
+  const std::span<const uint32_t> region = p->layers->anatomy.skin_region;
   if (region.empty()) {
     for (int a = 0; a < 3; ++a)
-      for (uint32_t v = 0; v < model.vertex_count; ++v) add_displacement(p, a, v, p->skin.position[a][v]);
+      for (uint32_t v = 0; v < model.vertex_count; ++v) add_displacement(p, a, v, p->anatomy.skin.position[a][v]);
     return {};
   }
   // The support region: weight x (relaxed - reference), Q2.30 weights.
   for (size_t i = 0; i < region.size(); ++i) {
     const uint32_t v = region[i];
-    const fx::Unit w = p->layers->skin_region_weight[i];
+    const fx::Unit w = p->layers->anatomy.skin_region_weight[i];
     for (int a = 0; a < 3; ++a) {
-      const int64_t delta = int64_t{p->skin.position[a][v]} - p->reference[a][v];
+      const int64_t delta = int64_t{p->anatomy.skin.position[a][v]} - p->reference[a][v];
       add_displacement(p, a, v, fx::sat_i32(p->reference[a][v] + fx::round_shift(delta * w, fx::kUnitFracBits)));
     }
   }
   return {};
 }
+
+// No input flag of its own.
+void anatomy_flag_inputs(const Pipeline&, std::span<uint8_t>) {}
 
 }  // namespace sinew::pipeline::stages

@@ -50,7 +50,7 @@ LoadStatus skin_params(const SectionView& v, std::span<const ExternalInputRecord
       if (k != kNoExternalInput && external[k].quantity != static_cast<uint32_t>(InputQuantity::kAcceleration))
         return section_fail(LoadError::kBadValue, v, "base_acceleration_input", c,
                             "names an external input that is not an acceleration", k, true);
-      set->skin_base_acceleration[c] = k;
+      set->anatomy.skin_base_acceleration[c] = k;
     }
   } else if (v.header.layer_version == kSkinSectionVersion3 || v.header.layer_version == kSkinSectionVersion4) {
     p = params_of<SkinSectionParamsV3>(v);
@@ -73,9 +73,9 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
   SkinSectionParamsV3 p{};
   LoadStatus ps = skin_params(v, set->external, set, &p);
   if (!ps.ok()) return ps;
-  elastic_skin::SkinModel* out = &set->skin;
-  std::span<const uint32_t>* region = &set->skin_region;
-  std::span<const fx::Unit>* region_weight = &set->skin_region_weight;
+  elastic_skin::SkinModel* out = &set->anatomy.skin;
+  std::span<const uint32_t>* region = &set->anatomy.skin_region;
+  std::span<const fx::Unit>* region_weight = &set->anatomy.skin_region_weight;
   *out = {p.joint_count,
           p.vertex_count,
           named<elastic_skin::Anchor, skin_array("anchors")>(v),
@@ -103,7 +103,7 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
     if ((*region_weight)[i] <= 0 || (*region_weight)[i] > fx::kUnitOne)
       return section_fail(LoadError::kBadValue, v, "region_weight", i, "outside (0, 1]", (*region_weight)[i], true);
   }
-  const muscle::LayerStatus st = elastic_skin::skin_validate(*out, rig, set->muscles);
+  const muscle::LayerStatus st = elastic_skin::skin_validate(*out, rig, set->anatomy.muscles);
   if (!st.ok()) return section_layer_fail(LoadError::kBadValue, v, st.message);
   return {};
 }
@@ -114,13 +114,13 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
 LoadStatus anatomy_load(std::span<const SectionView> sections, const rig::Rig& rig, LayerSet* set) {
   for (const SectionView& v : sections) {
     if (v.id != muscle::kSectionMuscles) continue;
-    set->has_muscles = true;
-    LoadStatus st = load_muscles(v, rig, &set->muscles);
+    set->anatomy.has_muscles = true;
+    LoadStatus st = load_muscles(v, rig, &set->anatomy.muscles);
     if (!st.ok()) return st;
   }
   for (const SectionView& v : sections) {
     if (v.id != elastic_skin::kSectionElasticSkin) continue;  // layers_validate saw MUSC (the descriptor's needs)
-    set->has_skin = true;
+    set->anatomy.has_skin = true;
     LoadStatus st = load_skin(v, rig, set);
     if (!st.ok()) return st;
   }

@@ -9,28 +9,28 @@
 
 namespace sinew::pipeline::stages {
 
-uint32_t barnet_compiled(const LayerSet& layers) { return layers.barnet_count; }
+uint32_t barnet_compiled(const LayerSet& layers) { return layers.barnet.count; }
 
 // Each net's node positions, then its wrapped vertices, before they are added.
 SharedNeeds barnet_shares(const rig::Rig&, const LayerSet& layers) {
   SharedNeeds n{.reference = true};
-  for (uint32_t i = 0; i < layers.barnet_count; ++i) {
-    n.scratch_vertices = std::max(n.scratch_vertices, static_cast<uint32_t>(layers.barnet[i].wrap.size()));
-    n.node_outputs = std::max(n.node_outputs, static_cast<uint32_t>(layers.barnet[i].nodes.size()));
+  for (uint32_t i = 0; i < layers.barnet.count; ++i) {
+    n.scratch_vertices = std::max(n.scratch_vertices, static_cast<uint32_t>(layers.barnet.net[i].wrap.size()));
+    n.node_outputs = std::max(n.node_outputs, static_cast<uint32_t>(layers.barnet.net[i].nodes.size()));
   }
   return n;
 }
 
 void barnet_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
-  for (uint32_t i = 0; i < layers.barnet_count; ++i) out->text(i > 0 ? " barnet" : "barnet");
+  for (uint32_t i = 0; i < layers.barnet.count; ++i) out->text(i > 0 ? " barnet" : "barnet");
 }
 
 PipelineStatus barnet_validate(const rig::Rig& rig, const LayerSet& layers) {
-  for (uint32_t i = 0; i < layers.barnet_count; ++i) {
-    const layer::LayerStatus st = barnet::barnet_validate(layers.barnet[i], rig);
+  for (uint32_t i = 0; i < layers.barnet.count; ++i) {
+    const layer::LayerStatus st = barnet::barnet_validate(layers.barnet.net[i], rig);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "barnet", st.message, i);
     // The net's loads read external inputs below its external_count.
-    if (layers.barnet[i].external_count > layers.external_count())
+    if (layers.barnet.net[i].external_count > layers.external_count())
       return stage_fail(PipelineError::kBadModel, "barnet", "external_count: exceeds the layer set's external inputs",
                         i);
   }
@@ -39,17 +39,17 @@ PipelineStatus barnet_validate(const rig::Rig& rig, const LayerSet& layers) {
 
 size_t barnet_state_bytes(const rig::Rig&, const LayerSet& layers, const PipelineOptions&) {
   fx::ArenaCarver c(nullptr, 0);
-  for (uint32_t i = 0; i < layers.barnet_count; ++i) c.raw(barnet::barnet_state_bytes(layers.barnet[i]));
+  for (uint32_t i = 0; i < layers.barnet.count; ++i) c.raw(barnet::barnet_state_bytes(layers.barnet.net[i]));
   return c.needed();
 }
 
 PipelineStatus barnet_init(Pipeline* p, uint8_t* block, size_t bytes) {
   fx::ArenaCarver c(block, bytes);
-  p->barnet_count = p->layers->barnet_count;
-  for (uint32_t i = 0; i < p->barnet_count; ++i) {
-    const barnet::BarnetModel& m = p->layers->barnet[i];
+  p->barnet.count = p->layers->barnet.count;
+  for (uint32_t i = 0; i < p->barnet.count; ++i) {
+    const barnet::BarnetModel& m = p->layers->barnet.net[i];
     const size_t need = barnet::barnet_state_bytes(m);
-    const layer::LayerStatus st = barnet::barnet_init(m, c.raw(need), need, &p->barnet[i]);
+    const layer::LayerStatus st = barnet::barnet_init(m, c.raw(need), need, &p->barnet.net[i]);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "barnet", st.message, i);
   }
   return {};
@@ -57,15 +57,16 @@ PipelineStatus barnet_init(Pipeline* p, uint8_t* block, size_t bytes) {
 
 PipelineStatus barnet_step(Pipeline* p, std::span<const int32_t> inputs) {
   PipelineStatus first;
-  for (uint32_t i = 0; i < p->barnet_count; ++i) {
-    const barnet::BarnetModel& m = p->layers->barnet[i];
+  for (uint32_t i = 0; i < p->barnet.count; ++i) {
+    const barnet::BarnetModel& m = p->layers->barnet.net[i];
     barnet::StepOutputs out;
     for (int a = 0; a < 3; ++a) {
-      out.node[a] = p->barnet_nodes[a];
+      out.node[a] = p->node_outputs[a];
       out.skin[a] = p->scratch[a];
     }
     const layer::LayerStatus st = barnet::barnet_step(
-        &p->barnet[i], {p->engine.model, inputs.first(p->rig->input_count), inputs.subspan(p->rig->input_count)}, out);
+        &p->barnet.net[i], {p->engine.model, inputs.first(p->rig->input_count), inputs.subspan(p->rig->input_count)},
+        out);
     if (!st.ok()) {
       if (first.ok()) first = stage_fail(PipelineError::kLayer, "barnet", st.message, i);
       continue;
@@ -75,5 +76,8 @@ PipelineStatus barnet_step(Pipeline* p, std::span<const int32_t> inputs) {
   }
   return first;
 }
+
+// No input flag of its own.
+void barnet_flag_inputs(const Pipeline&, std::span<uint8_t>) {}
 
 }  // namespace sinew::pipeline::stages

@@ -43,7 +43,7 @@ LoadStatus load_net(const SectionView& v, const rig::Rig& rig, uint32_t external
 LoadStatus barnet_load(std::span<const SectionView> sections, const rig::Rig& rig, LayerSet* set) {
   for (const SectionView& v : sections) {
     if (v.id != barnet::kSectionBarnet) continue;
-    LoadStatus st = load_net(v, rig, set->external_count(), &set->barnet[set->barnet_count++]);
+    LoadStatus st = load_net(v, rig, set->external_count(), &set->barnet.net[set->barnet.count++]);
     if (!st.ok()) return st;
   }
   return {};

@@ -1,7 +1,8 @@
 // The functions of every stage, with one shape for all of them (the stage
 // table, stage_table.hpp, documents each), so the pipeline's init and step
-// are loops over the table and a new layer is one stage file
-// (stage_<name>.cpp) plus one line in stage_list.hpp. Each
+// are loops over the table and a new layer is its stage files
+// (stage_<name>.hpp with its StageData, stage_<name>.cpp) plus one line in
+// stage_list.hpp and one include in stage_data.hpp. Each
 // stage file adapts its layer's own jobs (<layer>_validate, _state_bytes,
 // _init, _step, all returning layer::LayerStatus) to the pipeline: which
 // instances the rig carries, where their state lives in the pipeline's arena,
@@ -37,7 +38,8 @@ struct SharedNeeds {
   PipelineStatus name##_validate(const rig::Rig& rig, const LayerSet& layers);                         \
   size_t name##_state_bytes(const rig::Rig& rig, const LayerSet& layers, const PipelineOptions& o);    \
   PipelineStatus name##_init(Pipeline* p, uint8_t* block, size_t bytes);                               \
-  PipelineStatus name##_step(Pipeline* p, std::span<const int32_t> inputs);
+  PipelineStatus name##_step(Pipeline* p, std::span<const int32_t> inputs);                            \
+  void name##_flag_inputs(const Pipeline& p, std::span<uint8_t> flags);
 
 SINEW_STAGE_LIST(SINEW_DECLARE_STAGE)
 #undef SINEW_DECLARE_STAGE

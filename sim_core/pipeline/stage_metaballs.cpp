@@ -6,7 +6,7 @@
 
 namespace sinew::pipeline::stages {
 
-uint32_t metaballs_compiled(const LayerSet& layers) { return layers.has_metaballs ? 1u : 0u; }
+uint32_t metaballs_compiled(const LayerSet& layers) { return layers.metaballs.present ? 1u : 0u; }
 
 // The metaballs skin is computed over every vertex, then added.
 SharedNeeds metaballs_shares(const rig::Rig& rig, const LayerSet&) {
@@ -14,38 +14,41 @@ SharedNeeds metaballs_shares(const rig::Rig& rig, const LayerSet&) {
 }
 
 void metaballs_describe(const rig::Rig&, const LayerSet& layers, rig::MessageBuilder* out) {
-  if (layers.has_metaballs) out->text("metaballs");
+  if (layers.metaballs.present) out->text("metaballs");
 }
 
 PipelineStatus metaballs_validate(const rig::Rig& rig, const LayerSet& layers) {
-  if (!layers.has_metaballs) return {};
-  const layer::LayerStatus st = metaballs::metaballs_validate(layers.metaballs, rig);
+  if (!layers.metaballs.present) return {};
+  const layer::LayerStatus st = metaballs::metaballs_validate(layers.metaballs.model, rig);
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "metaballs", st.message);
   return {};
 }
 
 size_t metaballs_state_bytes(const rig::Rig&, const LayerSet& layers, const PipelineOptions&) {
-  return layers.has_metaballs ? metaballs::metaballs_state_bytes(layers.metaballs) : 0;
+  return layers.metaballs.present ? metaballs::metaballs_state_bytes(layers.metaballs.model) : 0;
 }
 
 PipelineStatus metaballs_init(Pipeline* p, uint8_t* block, size_t bytes) {
-  layer::LayerStatus st = metaballs::metaballs_init(p->layers->metaballs, block, bytes, &p->metaballs);
+  layer::LayerStatus st = metaballs::metaballs_init(p->layers->metaballs.model, block, bytes, &p->metaballs.state);
   // Physical jiggle gains are converted from the section's rate to the
   // loop's (as SPH's gains are).
-  if (st.ok() && p->options.tick_hz != 0) st = metaballs::set_tick_rate(&p->metaballs, p->options.tick_hz);
+  if (st.ok() && p->options.tick_hz != 0) st = metaballs::set_tick_rate(&p->metaballs.state, p->options.tick_hz);
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "metaballs", st.message);
-  p->metaballs_on = true;
+  p->metaballs.on = true;
   return {};
 }
 
 PipelineStatus metaballs_step(Pipeline* p, std::span<const int32_t>) {
   skin::SkinnedVertices out;
   for (int a = 0; a < 3; ++a) out.position[a] = p->scratch[a].first(p->rig->vertex_count());
-  const layer::LayerStatus st = metaballs::metaballs_step(&p->metaballs, p->engine.model, out);
+  const layer::LayerStatus st = metaballs::metaballs_step(&p->metaballs.state, p->engine.model, out);
   if (!st.ok()) return stage_fail(PipelineError::kLayer, "metaballs", st.message);
   for (int a = 0; a < 3; ++a)
     for (uint32_t v = 0; v < p->rig->vertex_count(); ++v) add_displacement(p, a, v, p->scratch[a][v]);
   return {};
 }
+
+// No input flag of its own.
+void metaballs_flag_inputs(const Pipeline&, std::span<uint8_t>) {}
 
 }  // namespace sinew::pipeline::stages

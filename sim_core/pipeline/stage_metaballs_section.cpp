@@ -60,8 +60,8 @@ LoadStatus load_section(const SectionView& v, const rig::Rig& rig, metaballs::Me
 LoadStatus metaballs_load(std::span<const SectionView> sections, const rig::Rig& rig, LayerSet* set) {
   for (const SectionView& v : sections) {
     if (v.id != metaballs::kSectionMetaballs) continue;
-    set->has_metaballs = true;
-    LoadStatus st = load_section(v, rig, &set->metaballs);
+    set->metaballs.present = true;
+    LoadStatus st = load_section(v, rig, &set->metaballs.model);
     if (!st.ok()) return st;
   }
   return {};

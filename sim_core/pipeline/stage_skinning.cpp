@@ -35,4 +35,15 @@ PipelineStatus skinning_step(Pipeline* p, std::span<const int32_t> inputs) {
   return {};
 }
 
+// The engine's clamp flags per joint, on each of the joint's inputs.
+void skinning_flag_inputs(const Pipeline& p, std::span<uint8_t> flags) {
+  const rig::Rig& rig = *p.rig;
+  for (uint32_t j = 0; j < rig.joint_count(); ++j) {
+    if ((p.engine.joint_flags[j] & skeleton::kJointClamped) == 0) continue;
+    const rig::JointRecord& r = rig.joints[j];
+    for (uint32_t d = 0; d < r.dof_count; ++d)
+      if (r.first_input + d < flags.size()) flags[r.first_input + d] |= kInputClamped;
+  }
+}
+
 }  // namespace sinew::pipeline::stages

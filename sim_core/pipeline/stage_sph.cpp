@@ -73,24 +73,24 @@ void joint_name(const rig::Rig& rig, uint32_t j, rig::MessageBuilder* out) {
 
 }  // namespace
 
-uint32_t sph_compiled(const LayerSet& layers) { return layers.sph_count; }
+uint32_t sph_compiled(const LayerSet& layers) { return layers.sph.count; }
 
 // The bends go into flexed inputs (bent locals for pose-driven steps); the
 // skin they recompute becomes R.
 SharedNeeds sph_shares(const rig::Rig&, const LayerSet&) { return {.reference = true, .bent_pose = true}; }
 
 void sph_describe(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out) {
-  for (uint32_t i = 0; i < layers.sph_count; ++i) {
+  for (uint32_t i = 0; i < layers.sph.count; ++i) {
     if (i > 0) out->text(" ");
     out->text("sph(");
-    joint_name(rig, layers.sph[i].model.joint.distal_joint, out);
+    joint_name(rig, layers.sph.joint[i].model.joint.distal_joint, out);
     out->text(")");
   }
 }
 
 PipelineStatus sph_validate(const rig::Rig& rig, const LayerSet& layers) {
-  for (uint32_t i = 0; i < layers.sph_count; ++i) {
-    const layer::LayerStatus st = sph::sph_validate(layers.sph[i].model, rig);
+  for (uint32_t i = 0; i < layers.sph.count; ++i) {
+    const layer::LayerStatus st = sph::sph_validate(layers.sph.joint[i].model, rig);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "sph", st.message, i);
   }
   return {};
@@ -99,24 +99,24 @@ PipelineStatus sph_validate(const rig::Rig& rig, const LayerSet& layers) {
 // The state size does not depend on the gains (nor on the rate).
 size_t sph_state_bytes(const rig::Rig&, const LayerSet& layers, const PipelineOptions&) {
   fx::ArenaCarver c(nullptr, 0);
-  for (uint32_t i = 0; i < layers.sph_count; ++i) c.raw(sph::sph_state_bytes(layers.sph[i].model));
+  for (uint32_t i = 0; i < layers.sph.count; ++i) c.raw(sph::sph_state_bytes(layers.sph.joint[i].model));
   return c.needed();
 }
 
 PipelineStatus sph_init(Pipeline* p, uint8_t* block, size_t bytes) {
   const LayerSet& layers = *p->layers;
   fx::ArenaCarver c(block, bytes);
-  p->sph_count = layers.sph_count;
-  for (uint32_t i = 0; i < p->sph_count; ++i) {
-    // The states keep pointers to p->sph_model: the gains for the loop's rate.
-    p->sph_model[i] = layers.sph[i].model;
-    const PipelineStatus rate =
-        sph_gains_for_rate(layers.sph[i].model.params, layers.rate_hz, p->options.tick_hz, &p->sph_model[i].params);
+  p->sph.count = layers.sph.count;
+  for (uint32_t i = 0; i < p->sph.count; ++i) {
+    // The states keep pointers to p->sph.model: the gains for the loop's rate.
+    p->sph.model[i] = layers.sph.joint[i].model;
+    const PipelineStatus rate = sph_gains_for_rate(layers.sph.joint[i].model.params, layers.rate_hz, p->options.tick_hz,
+                                                   &p->sph.model[i].params);
     if (!rate.ok()) return rate;
-    const sph::SphModel& m = p->sph_model[i];
+    const sph::SphModel& m = p->sph.model[i];
     const size_t need = sph::sph_state_bytes(m);
     layer::LayerStatus st = sph::sph_validate(m, *p->rig);
-    if (st.ok()) st = sph::sph_init(m, p->engine.model, c.raw(need), need, &p->sph[i]);
+    if (st.ok()) st = sph::sph_init(m, p->engine.model, c.raw(need), need, &p->sph.joint[i]);
     if (!st.ok()) return stage_fail(PipelineError::kBadModel, "sph", st.message, i);
   }
   return {};
@@ -127,11 +127,11 @@ PipelineStatus sph_step(Pipeline* p, std::span<const int32_t> inputs) {
   PipelineStatus first;
   // The particles were initialised at the rest pose; the first commanded pose
   // may be far from it: start them at rest in that pose, not with a jump.
-  for (uint32_t i = 0; i < p->sph_count; ++i) {
-    const SphJointLayer& layer = p->layers->sph[i];
+  for (uint32_t i = 0; i < p->sph.count; ++i) {
+    const SphJointLayer& layer = p->layers->sph.joint[i];
     sph::SphInputs in;
     in.transforms = p->engine.model;
-    in.tresca = p->options.tresca;
+    in.tresca = p->options.sph.tresca;
     // Measured when the run says every SPH joint is ([layers] sph_joint =
     // "measured"), or when a source measures this joint's driven DOF (unless
     // [layers] sph_measured_from_sources = false): a
@@ -139,27 +139,27 @@ PipelineStatus sph_step(Pipeline* p, std::span<const int32_t> inputs) {
     // not added twice (docs/sph.md, "Measured and simulated joints").
     const uint32_t driven = rig.joints[layer.model.joint.distal_joint].first_input;
     const std::span<const uint8_t> measured = p->engine.measured_inputs;
-    in.joint_measured = p->options.sph_joint_measured ||
-                        (p->options.sph_measured_from_sources && driven < measured.size() && measured[driven] != 0);
+    in.joint_measured = p->options.sph.joint_measured ||
+                        (p->options.sph.measured_from_sources && driven < measured.size() && measured[driven] != 0);
     if (layer.force_input != kNoExternalInput &&
-        !sph::sph_flexion_force(p->sph_model[i], p->engine.model, inputs[rig.input_count + layer.force_input],
+        !sph::sph_flexion_force(p->sph.model[i], p->engine.model, inputs[rig.input_count + layer.force_input],
                                 &in.force))
       in.force = {0, 0, 0};
-    if (!p->sph_started && !sph::sph_reset(&p->sph[i], p->engine.model).ok() && first.ok())
+    if (!p->sph.started && !sph::sph_reset(&p->sph.joint[i], p->engine.model).ok() && first.ok())
       first = stage_fail(PipelineError::kLayer, "sph", "reset failed", i);
-    const layer::LayerStatus st = sph::sph_step(&p->sph[i], in);
+    const layer::LayerStatus st = sph::sph_step(&p->sph.joint[i], in);
     if (!st.ok() && first.ok()) first = stage_fail(PipelineError::kLayer, "sph", st.message, i);
   }
-  p->sph_started = true;
+  p->sph.started = true;
   // The particles' bends flex the driven joints (docs/sph.md).
   if (!p->pose_driven) {
     // Commanded DOFs: the bend adds to the driven DOF, saturated at the
     // angle range rather than wrapped: past its limit the engine clamps the
     // joint and flags it; a wrapped angle would swing it back.
     std::copy_n(inputs.begin(), p->flexed.size(), p->flexed.begin());
-    for (uint32_t i = 0; i < p->sph_count; ++i) {
-      const uint32_t driven = rig.joints[p->layers->sph[i].model.joint.distal_joint].first_input;
-      const int64_t bent = int64_t{p->flexed[driven]} + static_cast<int32_t>(p->sph[i].bend);
+    for (uint32_t i = 0; i < p->sph.count; ++i) {
+      const uint32_t driven = rig.joints[p->layers->sph.joint[i].model.joint.distal_joint].first_input;
+      const int64_t bent = int64_t{p->flexed[driven]} + static_cast<int32_t>(p->sph.joint[i].bend);
       p->flexed[driven] = static_cast<int32_t>(std::clamp<int64_t>(bent, INT32_MIN, INT32_MAX));
     }
     engine::engine_step(&p->engine, p->flexed);
@@ -167,16 +167,25 @@ PipelineStatus sph_step(Pipeline* p, std::span<const int32_t> inputs) {
     // A sampled pose: the bend turns the driven joint's local rotation about
     // the SPH axis (in that joint's frame), after the sampled rotation.
     std::copy(p->engine.locals.begin(), p->engine.locals.end(), p->bent.begin());
-    for (uint32_t i = 0; i < p->sph_count; ++i) {
-      const sph::SphJoint& joint = p->layers->sph[i].model.joint;
+    for (uint32_t i = 0; i < p->sph.count; ++i) {
+      const sph::SphJoint& joint = p->layers->sph.joint[i].model.joint;
       skeleton::LocalPose& l = p->bent[joint.distal_joint];
-      l.rotation = fx::mul(l.rotation, fx::quat_from_axis_angle(joint.axis, p->sph[i].bend));
+      l.rotation = fx::mul(l.rotation, fx::quat_from_axis_angle(joint.axis, p->sph.joint[i].bend));
     }
     engine::engine_step_locals(&p->engine, p->bent);
   }
   take_reference(p);
-  for (uint32_t i = 0; i < p->sph_count; ++i) sph::sph_apply_skin(p->sph[i], p->engine.vertices.position);
+  for (uint32_t i = 0; i < p->sph.count; ++i) sph::sph_apply_skin(p->sph.joint[i], p->engine.vertices.position);
   return first;
+}
+
+// A joint that yielded (Tresca, eqs. (3)-(4)) flags its driven input.
+void sph_flag_inputs(const Pipeline& p, std::span<uint8_t> flags) {
+  for (uint32_t i = 0; i < p.sph.count; ++i) {
+    if (!p.sph.joint[i].joint_yielded) continue;
+    const uint32_t input = p.rig->joints[p.layers->sph.joint[i].model.joint.distal_joint].first_input;
+    if (input < flags.size()) flags[input] |= kInputYielded;
+  }
 }
 
 }  // namespace stages

@@ -57,7 +57,7 @@ LoadStatus load_joint(const SectionView& v, const rig::Rig& rig, uint32_t extern
 LoadStatus sph_load(std::span<const SectionView> sections, const rig::Rig& rig, LayerSet* set) {
   for (const SectionView& v : sections) {
     if (v.id != sph::kSectionSphJoint) continue;
-    LoadStatus st = load_joint(v, rig, set->external_count(), &set->sph[set->sph_count]);
+    LoadStatus st = load_joint(v, rig, set->external_count(), &set->sph.joint[set->sph.count]);
     if (!st.ok()) return st;
     // The joints' gains are built for one tick rate (sph_gains_for_rate
     // rescales them all from it).
@@ -65,7 +65,7 @@ LoadStatus sph_load(std::span<const SectionView> sections, const rig::Rig& rig, 
       return section_fail(LoadError::kBadValue, v, "rate_hz", -1, "differs from another SPH joint's", v.header.rate_hz,
                           true);
     set->rate_hz = v.header.rate_hz;
-    ++set->sph_count;
+    ++set->sph.count;
   }
   return {};
 }

@@ -10,6 +10,12 @@ static_assert(
     }(),
     "kStages must list the stages in Stage order");
 
+bool LayerSet::empty() const {
+  for (const StageInfo& s : kStages)
+    if (s.stage != Stage::kSkinning && s.compiled(*this) > 0) return false;
+  return true;
+}
+
 const StageInfo* find_stage(const char* name, size_t name_length) {
   for (const StageInfo& s : kStages) {
     size_t n = 0;

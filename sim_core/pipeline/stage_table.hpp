@@ -5,7 +5,7 @@
 // Everything that names layers or their run-time options (sinewd's [layers]
 // keys, its start-up description and statistics, the recording header,
 // sinew-run's layer list, the viewer) iterates these two tables, so adding a
-// layer adds a stage file and a line to stage_list.hpp, and no line to the
+// layer adds its stage files and a line to stage_list.hpp, and no line to the
 // pipeline's loops, firmware or the tools' plumbing.
 #pragma once
 
@@ -53,6 +53,9 @@ struct StageInfo {
   // One tick of the stage (inputs: the rig's, then the external inputs);
   // adds the layer's displacement from the reference to the skin.
   PipelineStatus (*step)(Pipeline* p, std::span<const int32_t> inputs);
+  // After a step: ORs the stage's InputFlag bits into flags (one byte per
+  // input, rig inputs then external inputs; may be shorter than the inputs).
+  void (*flag_inputs)(const Pipeline& p, std::span<uint8_t> flags);
 };
 
 // In Stage order, one row per line of stage_list.hpp (a static_assert in
@@ -69,12 +72,14 @@ struct StageInfo {
    stages::name##_validate,                              \
    stages::name##_state_bytes,                           \
    stages::name##_init,                                  \
-   stages::name##_step},
+   stages::name##_step,                                  \
+   stages::name##_flag_inputs},
 inline constexpr StageInfo kStages[kStageCount] = {SINEW_STAGE_LIST(SINEW_STAGE_ROW)};
 #undef SINEW_STAGE_ROW
 
 // A run-time option of one layer: its key in sinewd's [layers], its field
-// in PipelineOptions, its range, and how a recording's description spells it.
+// in its stage's PipelineOptions member, its range, and how a recording's
+// description spells it.
 enum class OptionKind : uint8_t {
   kFlag,    // true / false
   kChoice,  // one of two names, for false and for true
@@ -85,10 +90,10 @@ struct StageOption {
   const char* key;  // in [layers]
   Stage stage;      // the layer it tunes
   OptionKind kind;
-  bool PipelineOptions::*flag;        // kFlag, kChoice
-  const char* choice[2];              // kChoice: the names of false and of true
-  uint32_t PipelineOptions::*number;  // kNumber
-  uint32_t min, max;                  // kNumber
+  bool* (*flag)(PipelineOptions* o);        // kFlag, kChoice: its field in o
+  const char* choice[2];                    // kChoice: the names of false and of true
+  uint32_t* (*number)(PipelineOptions* o);  // kNumber: its field in o
+  uint32_t min, max;                        // kNumber
   // Its key in a recording's description, a flag or a number.
   const char* recording_key;
   // Written into every recording (a reader requires it), or only when it
@@ -102,7 +107,7 @@ inline constexpr StageOption kStageOptions[] = {
     {"tresca",
      Stage::kSph,
      OptionKind::kFlag,
-     &PipelineOptions::tresca,
+     [](PipelineOptions* o) { return &o->sph.tresca; },
      {nullptr, nullptr},
      nullptr,
      0,
@@ -115,16 +120,16 @@ inline constexpr StageOption kStageOptions[] = {
      OptionKind::kNumber,
      nullptr,
      {nullptr, nullptr},
-     &PipelineOptions::skin_iterations,
+     [](PipelineOptions* o) { return &o->anatomy.skin_iterations; },
      0,
-     256,
+     elastic_skin::kMaxIterations,
      "skin_iterations",
      true,
      "elastic-skin relaxations per tick; 0 keeps the rig's (docs/anatomy.md)"},
     {"sph_joint",
      Stage::kSph,
      OptionKind::kChoice,
-     &PipelineOptions::sph_joint_measured,
+     [](PipelineOptions* o) { return &o->sph.joint_measured; },
      {"simulated", "measured"},
      nullptr,
      0,
@@ -135,7 +140,7 @@ inline constexpr StageOption kStageOptions[] = {
     {"sph_measured_from_sources",
      Stage::kSph,
      OptionKind::kFlag,
-     &PipelineOptions::sph_measured_from_sources,
+     [](PipelineOptions* o) { return &o->sph.measured_from_sources; },
      {nullptr, nullptr},
      nullptr,
      0,
@@ -149,13 +154,18 @@ inline constexpr StageOption kStageOptions[] = {
      OptionKind::kNumber,
      nullptr,
      {nullptr, nullptr},
-     &PipelineOptions::skin_max_anchor_acceleration,
+     [](PipelineOptions* o) { return &o->anatomy.skin_max_anchor_acceleration; },
      0,
      32767,
      "skin_max_anchor_acceleration",
      false,
      "the dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none (docs/anatomy.md)"},
 };
+
+// An option's value in a set of options (its flag, 0 or 1, or its number).
+inline uint32_t option_value(const StageOption& option, PipelineOptions o) {
+  return option.kind == OptionKind::kNumber ? *option.number(&o) : (*option.flag(&o) ? 1u : 0u);
+}
 
 // The table row of a stage name, or null.
 const StageInfo* find_stage(const char* name, size_t name_length);

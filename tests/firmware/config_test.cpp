@@ -134,14 +134,14 @@ TEST(DaemonConfig, LayerSwitches) {
   EXPECT_TRUE(c.layers.stages.has(Stage::kAnatomy));
   EXPECT_FALSE(c.layers.stages.has(Stage::kMetaballs));
   EXPECT_FALSE(c.layers.stages.has(Stage::kBarnet));
-  EXPECT_FALSE(c.layers.tresca);
-  EXPECT_EQ(c.layers.skin_iterations, 8u);
+  EXPECT_FALSE(c.layers.sph.tresca);
+  EXPECT_EQ(c.layers.anatomy.skin_iterations, 8u);
   const std::string old_key = error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nsph_particles = 500\n");
   EXPECT_NE(old_key.find("test.toml:4: [layers] sph_particles: unknown key"), std::string::npos) << old_key;
   EXPECT_NE(old_key.find("compiled into the rig"), std::string::npos) << old_key;
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_iterations = 300\n").find("skin_iterations"),
             std::string::npos);
-  EXPECT_EQ(c.layers.skin_max_anchor_acceleration, 500u);
+  EXPECT_EQ(c.layers.anatomy.skin_max_anchor_acceleration, 500u);
   EXPECT_NE(error_of("[rig]\nbuiltin = \"arm\"\n[layers]\nskin_max_anchor_acceleration = 40000\n")
                 .find("skin_max_anchor_acceleration"),
             std::string::npos);

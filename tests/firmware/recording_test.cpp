@@ -15,8 +15,8 @@ TEST(RunDescription, RoundTripsEveryField) {
   run.options.stages = sinew::pipeline::StageSet::none();
   run.options.stages.set(Stage::kMetaballs, true);
   run.options.stages.set(Stage::kAnatomy, true);
-  run.options.tresca = false;
-  run.options.skin_iterations = 7;
+  run.options.sph.tresca = false;
+  run.options.anatomy.skin_iterations = 7;
   fw::RunDescription back;
   std::string error;
   ASSERT_TRUE(fw::parse_run_description(fw::encode_run_description(run), &back, &error)) << error;
@@ -27,20 +27,20 @@ TEST(RunDescription, RoundTripsEveryField) {
   EXPECT_TRUE(back.options.stages.has(Stage::kMetaballs));
   EXPECT_FALSE(back.options.stages.has(Stage::kBarnet));
   EXPECT_TRUE(back.options.stages.has(Stage::kAnatomy));
-  EXPECT_FALSE(back.options.tresca);
-  EXPECT_EQ(back.options.skin_iterations, 7u);
-  EXPECT_FALSE(back.options.sph_joint_measured);
+  EXPECT_FALSE(back.options.sph.tresca);
+  EXPECT_EQ(back.options.anatomy.skin_iterations, 7u);
+  EXPECT_FALSE(back.options.sph.joint_measured);
   // A measured-joint run says so (and only then: older descriptions stay as they were).
   EXPECT_EQ(fw::encode_run_description(run).find("sph_joint_measured"), std::string::npos);
-  run.options.sph_joint_measured = true;
+  run.options.sph.joint_measured = true;
   ASSERT_TRUE(fw::parse_run_description(fw::encode_run_description(run), &back, &error)) << error;
-  EXPECT_TRUE(back.options.sph_joint_measured);
+  EXPECT_TRUE(back.options.sph.joint_measured);
   // The dynamic skin's anchor cap too, when not the default.
-  EXPECT_EQ(back.options.skin_max_anchor_acceleration, 500u);
+  EXPECT_EQ(back.options.anatomy.skin_max_anchor_acceleration, 500u);
   EXPECT_EQ(fw::encode_run_description(run).find("skin_max_anchor_acceleration"), std::string::npos);
-  run.options.skin_max_anchor_acceleration = 0;
+  run.options.anatomy.skin_max_anchor_acceleration = 0;
   ASSERT_TRUE(fw::parse_run_description(fw::encode_run_description(run), &back, &error)) << error;
-  EXPECT_EQ(back.options.skin_max_anchor_acceleration, 0u);
+  EXPECT_EQ(back.options.anatomy.skin_max_anchor_acceleration, 0u);
 }
 
 TEST(RunDescription, RefusesWhatItCannotReproduce) {

@@ -140,8 +140,8 @@ TEST(SphEndToEnd, BendStaysWithinTheForceBalance) {
   sinew::firmware::LoadedRig rig;
   std::string error;
   ASSERT_TRUE(sinew::firmware::load_rig("arm", "", &rig, &error)) << error;
-  ASSERT_EQ(rig.layers.sph_count, 1u);
-  const sinew::sph::SphModel& m = rig.layers.sph[0].model;
+  ASSERT_EQ(rig.layers.sph.count, 1u);
+  const sinew::sph::SphModel& m = rig.layers.sph.joint[0].model;
   const sinew::sph::SphParams& p = m.params;
   const double unit = std::ldexp(1.0, rig.rig.length_exponent), metres = unit / 1048576.0;
   const sinew::rigc::RigSpec spec = sinew::rigc::builtin_arm(sinew::rigc::SkinChoice::kDualQuaternion);

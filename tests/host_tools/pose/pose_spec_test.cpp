@@ -31,10 +31,10 @@ TEST(PoseSpec, ABarnetAloneMovesOnlyItsWrappedVertices) {
   ASSERT_TRUE(plain.open(kData + "/RiggedFigure.glb", &error)) << error;
   ASSERT_TRUE(layered.open_spec(spec, 100, &error)) << error;
   std::remove(spec.c_str());
-  ASSERT_EQ(layered.layers().barnet_count, 1u);
-  size_t wrapped = layered.layers().barnet[0].wrap.size(), moved = 0, moved_outside = 0;
+  ASSERT_EQ(layered.layers().barnet.count, 1u);
+  size_t wrapped = layered.layers().barnet.net[0].wrap.size(), moved = 0, moved_outside = 0;
   std::vector<bool> in_wrap(1u << 16, false);
-  for (const auto& w : layered.layers().barnet[0].wrap) in_wrap[w.vertex] = true;
+  for (const auto& w : layered.layers().barnet.net[0].wrap) in_wrap[w.vertex] = true;
   for (double t : {0.3, 0.8, 1.2}) {
     const auto a = pose(&plain, t), b = pose(&layered, t);
     ASSERT_EQ(a.size(), b.size());

@@ -132,8 +132,8 @@ RigBounds overlay_rig_bounds(const pipeline::Pipeline& rest) {
       b.limb_radius[static_cast<size_t>(j)] = std::max(b.limb_radius[static_cast<size_t>(j)], d);
     }
   }
-  for (uint32_t s = 0; s < rest.sph_count; ++s) {
-    const auto& m = rest.sph_model[s];
+  for (uint32_t s = 0; s < rest.sph.count; ++s) {
+    const auto& m = rest.sph.model[s];
     const OverlayPoint joint = origin[m.joint.distal_joint];
     double extent = 0;
     for (uint32_t k = 0; k < m.particle_count(); ++k)
@@ -143,12 +143,12 @@ RigBounds overlay_rig_bounds(const pipeline::Pipeline& rest) {
                                          joint));
     b.sph_reach.push_back(extent + 2 * overlay_metres(m.params.h, e));
   }
-  if (rest.metaballs_on)
-    for (size_t k = 0; k < rest.metaballs.ball_center.size(); ++k) {
-      const auto& c = rest.metaballs.ball_center[k];
+  if (rest.metaballs.on)
+    for (size_t k = 0; k < rest.metaballs.state.ball_center.size(); ++k) {
+      const auto& c = rest.metaballs.state.ball_center[k];
       const double gap =
           overlay_nearest({overlay_metres(c.x, e), overlay_metres(c.y, e), overlay_metres(c.z, e)}, skin) -
-          overlay_metres(rest.metaballs.model->ball_radius[k], e);
+          overlay_metres(rest.metaballs.state.model->ball_radius[k], e);
       b.largest_ball_gap = std::max(b.largest_ball_gap, gap);
     }
   for (size_t t = 0; t < r.triangles.size(); t += 3)
@@ -293,8 +293,8 @@ void check_overlays_follow_the_skin(const char* rig_name, uint32_t tick_hz, bool
       // behind a fast move, one edge. And the particles are the daemon's
       // own: the same rate and inputs give the same state (float rounding).
       const std::vector<OverlayPoint> particles = overlay_points(arrays.at("sph_position"));
-      const auto& daemon_sph = daemon.p_.sph;
-      for (uint32_t js = 0, k = 0; js < daemon.p_.sph_count; ++js)
+      const auto& daemon_sph = daemon.p_.sph.joint;
+      for (uint32_t js = 0, k = 0; js < daemon.p_.sph.count; ++js)
         for (size_t i = 0; i < daemon_sph[js].position[0].size(); ++i, ++k) {
           const OverlayPoint want{overlay_metres(daemon_sph[js].position[0][i], e),
                                   overlay_metres(daemon_sph[js].position[1][i], e),
@@ -303,8 +303,8 @@ void check_overlays_follow_the_skin(const char* rig_name, uint32_t tick_hz, bool
               << where << ": particle " << k << " not the daemon's";
         }
       size_t first = 0;
-      for (uint32_t js = 0; js < shadow.state().sph_count; ++js) {
-        const auto& m = shadow.state().sph_model[js];
+      for (uint32_t js = 0; js < shadow.state().sph.count; ++js) {
+        const auto& m = shadow.state().sph.model[js];
         const OverlayPoint joint = truth[m.joint.distal_joint];
         for (size_t k = first; k < first + m.particle_count(); ++k) {
           const double d = overlay_distance(particles[k], joint);

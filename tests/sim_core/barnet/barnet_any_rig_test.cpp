@@ -83,9 +83,9 @@ bool compile(const Case& c, tb::SpecRig* on, tb::SpecRig* off) {
 void full_activation(const tb::SpecRig& r, std::vector<int32_t>* angles, std::vector<int32_t>* external) {
   angles->assign(r.rig.input_count, 0);
   external->assign(r.layers.external_count(), 0);
-  for (uint32_t i = 0; i < r.layers.barnet_count; ++i)
-    for (const bn::LoadRecord& l : r.layers.barnet[i].loads) {
-      const bn::BarnetModel& m = r.layers.barnet[i];
+  for (uint32_t i = 0; i < r.layers.barnet.count; ++i)
+    for (const bn::LoadRecord& l : r.layers.barnet.net[i].loads) {
+      const bn::BarnetModel& m = r.layers.barnet.net[i];
       if (l.input < m.input_count)
         (*angles)[l.input] = l.angle_hi;
       else
@@ -131,7 +131,7 @@ int64_t pipeline_mismatches(const tb::SpecRig& on, const tb::SpecRig& off,
     const auto& ref = off.pipeline.engine.vertices.position[c];
     std::vector<int64_t> want(ref.begin(), ref.begin() + n);
     for (size_t i = 0; i < nets.size(); ++i) {
-      const bn::BarnetModel& m = on.layers.barnet[i];
+      const bn::BarnetModel& m = on.layers.barnet.net[i];
       for (uint32_t w = 0; w < m.wrap.size(); ++w)
         want[m.wrap[w].vertex] += nets[i]->loaded.skin(c, w) - int64_t{ref[m.wrap[w].vertex]};
     }
@@ -146,18 +146,18 @@ TEST(BarnetAnyRig, PapersNetsMoveTheSkinAsEquation4Says) {
   for (const Case& c : kCases) {
     tb::SpecRig on, off;
     ASSERT_TRUE(compile(c, &on, &off)) << c.name << ": " << on.error << off.error;
-    ASSERT_GE(on.layers.barnet_count, 2u) << c.name;
+    ASSERT_GE(on.layers.barnet.count, 2u) << c.name;
     // Bind pose, no input: no activation, the skinned control mesh exactly.
     ASSERT_TRUE(on.tick({}, {}));
-    for (uint32_t i = 0; i < on.layers.barnet_count; ++i)
-      EXPECT_EQ(on.pipeline.barnet[i].stats.max_displacement, 0) << c.name << " net " << i;
+    for (uint32_t i = 0; i < on.layers.barnet.count; ++i)
+      EXPECT_EQ(on.pipeline.barnet.net[i].stats.max_displacement, 0) << c.name << " net " << i;
 
     std::vector<int32_t> angles, external;
     full_activation(on, &angles, &external);
     ASSERT_TRUE(on.tick(angles, external) && off.tick(angles, external));
     std::vector<std::unique_ptr<tb::NetCheck>> nets;
-    for (uint32_t i = 0; i < on.layers.barnet_count; ++i) {
-      const bn::BarnetModel& m = on.layers.barnet[i];
+    for (uint32_t i = 0; i < on.layers.barnet.count; ++i) {
+      const bn::BarnetModel& m = on.layers.barnet.net[i];
       nets.push_back(std::make_unique<tb::NetCheck>(m, on.pipeline.engine.model, on.angles, on.external_values));
       const tb::NetCheck& n = *nets.back();
       ASSERT_TRUE(n.ok) << c.name << " net " << i << ": " << n.loaded.error();
@@ -216,20 +216,20 @@ TEST(BarnetAnyRig, LowerForceDensityFromAnInputGivesALargerBulgeOnAGltfModel) {
   ASSERT_TRUE(r.compile_file(kData + "rigged_figure_nets.toml")) << r.error;
   const uint32_t tone = sinew::pipeline::find_external_input(r.layers, "thigh.tone");
   ASSERT_NE(tone, sinew::pipeline::kNoExternalInput);
-  ASSERT_EQ(r.layers.barnet[0].q_inputs.size(), 1u);
+  ASSERT_EQ(r.layers.barnet.net[0].q_inputs.size(), 1u);
   std::vector<int32_t> angles, external;
   full_activation(r, &angles, &external);
   double moved[2] = {}, bound[2] = {};
   for (const int half : {0, 1}) {
     external[tone] = half != 0 ? 1 << 15 : 1 << 16;
     ASSERT_TRUE(r.tick(angles, external));
-    const tb::NetCheck n(r.layers.barnet[0], r.pipeline.engine.model, r.angles, r.external_values);
+    const tb::NetCheck n(r.layers.barnet.net[0], r.pipeline.engine.model, r.angles, r.external_values);
     ASSERT_TRUE(n.ok) << n.loaded.error();
     EXPECT_LE(tb::eq4_worst(n), n.move.bound);
-    moved[half] = r.pipeline.barnet[0].stats.max_displacement;
+    moved[half] = r.pipeline.barnet.net[0].stats.max_displacement;
     bound[half] = n.move.bound;
     EXPECT_LE(std::abs(moved[half] - n.move.largest), n.move.bound);
-    EXPECT_GT(r.pipeline.barnet[0].refactor_products, 0u) << "D re-factorised for this step's q";
+    EXPECT_GT(r.pipeline.barnet.net[0].refactor_products, 0u) << "D re-factorised for this step's q";
   }
   std::printf("RiggedFigure thigh muscles: largest node move %.0f LSB at q, %.0f at q/2\n", moved[0], moved[1]);
   EXPECT_LE(std::abs(moved[1] - 2 * moved[0]), bound[1] + 2 * bound[0]) << "half the force density, twice the bulge";
@@ -274,7 +274,7 @@ TEST(BarnetAnyRig, GltfNetsMatchGoldenAndAllocateNothing) {
       ASSERT_TRUE(sinew::pipeline::pipeline_step(&r.pipeline, inputs).ok());
       for (size_t c = 0; c < 3; ++c)
         for (uint32_t v = 0; v < r.rig.vertex_count(); ++v) h.add_i32(r.pipeline.engine.vertices.position[c][v]);
-      for (uint32_t i = 0; i < r.layers.barnet_count; ++i) h.add_u32(r.pipeline.barnet[i].stats.saturated);
+      for (uint32_t i = 0; i < r.layers.barnet.count; ++i) h.add_u32(r.pipeline.barnet.net[i].stats.saturated);
     }
     EXPECT_EQ(allocations.allocations(), 0u) << file;
     // No determinism line: the glTF import runs in the host builds only, and

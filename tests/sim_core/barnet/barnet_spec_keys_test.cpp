@@ -45,9 +45,10 @@ q_input = "biceps.tone"
 // The first net of the rig after its last tick against eq. (4) on the same
 // bones and inputs (net_oracle.hpp); its nodes must be the pipeline's.
 struct FirstNet {
-  explicit FirstNet(BarnetRig& r) : check(r.layers.barnet[0], r.pipeline.engine.model, r.angles, r.external_values) {
-    for (uint32_t i = 0; i < r.layers.barnet[0].nodes.size(); ++i)
-      for (size_t c = 0; c < 3; ++c) same &= r.pipeline.barnet_nodes[c][i] == check.loaded.node(c, i);
+  explicit FirstNet(BarnetRig& r)
+      : check(r.layers.barnet.net[0], r.pipeline.engine.model, r.angles, r.external_values) {
+    for (uint32_t i = 0; i < r.layers.barnet.net[0].nodes.size(); ++i)
+      for (size_t c = 0; c < 3; ++c) same &= r.pipeline.node_outputs[c][i] == check.loaded.node(c, i);
   }
   tb::NetCheck check;
   bool same = true;
@@ -61,9 +62,9 @@ TEST(BarnetSpecKeys, PlainNetKeepsTheVersionOneSection) {
   BarnetRig r;
   ASSERT_TRUE(r.compile_and_load(kPlainSpec)) << r.error;
   EXPECT_EQ(r.barnet_section_version(), 1u);
-  ASSERT_EQ(r.layers.barnet_count, 1u);
-  EXPECT_EQ(r.layers.barnet[0].external_count, 0u);
-  EXPECT_TRUE(r.layers.barnet[0].q_inputs.empty());
+  ASSERT_EQ(r.layers.barnet.count, 1u);
+  EXPECT_EQ(r.layers.barnet.net[0].external_count, 0u);
+  EXPECT_TRUE(r.layers.barnet.net[0].q_inputs.empty());
   EXPECT_EQ(r.step(0, {}), 0) << "no flexion, no load: the skinned control mesh";
   EXPECT_GT(r.step(90, {}), 0) << "the ring loads follow the flexion";
 }
@@ -78,7 +79,7 @@ TEST(BarnetSpecKeys, ForceAndForceDensityInputsDriveTheNet) {
   ASSERT_NE(tone, pl::kNoExternalInput);
   EXPECT_EQ(r.layers.external[grip].quantity, static_cast<uint32_t>(pl::InputQuantity::kForce));
   EXPECT_EQ(r.layers.external[tone].quantity, static_cast<uint32_t>(pl::InputQuantity::kScalar));
-  const sinew::barnet::BarnetModel& m = r.layers.barnet[0];
+  const sinew::barnet::BarnetModel& m = r.layers.barnet.net[0];
   EXPECT_EQ(m.external_count, r.layers.external_count());
   ASSERT_FALSE(m.loads.empty());
   for (const sinew::barnet::LoadRecord& l : m.loads) EXPECT_EQ(l.input, r.rig.input_count + grip);
@@ -163,8 +164,8 @@ TEST(BarnetSpecKeys, NetKeySelectsThePapersArmNets) {
         std::string("[rig]\nsource = \"builtin:arm\"\n\n[[barnet]]\njoint = \"elbow\"\nnet = \"") + net + "\"\n";
     BarnetRig r;
     ASSERT_TRUE(r.compile_and_load(text.c_str())) << net << ": " << r.error;
-    ASSERT_EQ(r.layers.barnet_count, 1u);
-    const sinew::barnet::BarnetModel& m = r.layers.barnet[0];
+    ASSERT_EQ(r.layers.barnet.count, 1u);
+    const sinew::barnet::BarnetModel& m = r.layers.barnet.net[0];
     uint32_t free = 0;
     for (const sinew::barnet::NodeRecord& n : m.nodes) free += n.kind == 0 ? 1u : 0u;
     EXPECT_EQ(free, std::string(net) == "arm-muscles" ? 12u : 77u) << net;

@@ -134,7 +134,7 @@ struct SpecRig {
     std::vector<int32_t> inputs(rig.input_count, 0);
     inputs[elbow] = static_cast<int32_t>(std::llround(elbow_degrees / 360.0 * 4294967296.0));
     tick(inputs, external);
-    return pipeline.barnet[0].stats.max_displacement;
+    return pipeline.barnet.net[0].stats.max_displacement;
   }
 };
 

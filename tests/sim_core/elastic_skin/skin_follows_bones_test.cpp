@@ -71,7 +71,7 @@ void follow_run(const std::string& name, uint32_t hz, double seconds) {
   pl::PipelineOptions options;
   options.tick_hz = hz;
   ASSERT_TRUE(l->start(options, &error)) << error;
-  const sinew::elastic_skin::SkinModel& skin = l->layers.skin;
+  const sinew::elastic_skin::SkinModel& skin = l->layers.anatomy.skin;
   // The bound on |skin - anchor| (§5.1-5.6): the relaxed skin sits on its
   // virtual anchor, pushed out over the fat and the muscles beneath it.
   // Fat: the thickest. Muscles: a slice swells by sqrt(rest / present
@@ -81,7 +81,7 @@ void follow_run(const std::string& name, uint32_t hz, double seconds) {
   double fat = 0, muscle = 0, mean_edge = 0;
   for (uint32_t v = 0; v < skin.vertex_count; ++v) fat = std::max(fat, follow_units(skin.fat[v]));
   fat += follow_units(skin.solver.fat_thickness);
-  for (const sinew::muscle::MuscleRecord& m : l->layers.muscles.muscles)
+  for (const sinew::muscle::MuscleRecord& m : l->layers.anatomy.muscles.muscles)
     for (uint32_t k = 0; k < sinew::muscle::kSlices; ++k)
       muscle = std::max(muscle, 2 * follow_units(m.half_thickness[k]) + follow_units(m.bulge[k]));
   for (const sinew::elastic_skin::Edge& e : skin.edges) mean_edge += follow_units(e.rest);
@@ -89,7 +89,7 @@ void follow_run(const std::string& name, uint32_t hz, double seconds) {
   const double bound = fat + muscle + mean_edge;
 
   std::vector<int32_t> inputs(l->pipeline.input_count, 0);
-  const sinew::elastic_skin::SkinState& s = l->pipeline.skin;
+  const sinew::elastic_skin::SkinState& s = l->pipeline.anatomy.skin;
   double worst_offset2 = 0, worst_skin = 0, worst_anchors = 0, worst_plain = 0, worst_ratio = 0;
   double last_anchors[3] = {1, 1, 1};
   int worst_tick = -1;

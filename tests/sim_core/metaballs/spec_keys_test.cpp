@@ -90,8 +90,8 @@ TEST(MetaballsSpecKeys, PhysicalJiggleBulgeAndOverlapKeysReachTheLoadedModel) {
   LoadedLayers loaded;
   loaded.bytes = bytes;
   ASSERT_TRUE(loaded.load(&error)) << error;
-  ASSERT_TRUE(loaded.layers.has_metaballs);
-  const auto& m = loaded.layers.metaballs;
+  ASSERT_TRUE(loaded.layers.metaballs.present);
+  const auto& m = loaded.layers.metaballs.model;
   // The section says which rate its gains are for: the spec's rate_hz.
   EXPECT_EQ(m.jiggle_rate_hz, 500u);
   sinew::metaballs::JiggleGains want;
@@ -142,7 +142,7 @@ TEST(MetaballsSpecKeys, JiggleIsInPhysicalUnitsByDefault) {
   LoadedLayers loaded;
   loaded.bytes = bytes;
   ASSERT_TRUE(loaded.load(&error)) << error;
-  const auto& m = loaded.layers.metaballs;
+  const auto& m = loaded.layers.metaballs.model;
   EXPECT_EQ(m.jiggle_rate_hz, 500u);
   sinew::metaballs::JiggleGains want;
   ASSERT_TRUE(sinew::metaballs::jiggle_gains(sinew::rigc::to_fixed(defaults.jiggle_frequency, 16),
@@ -170,7 +170,7 @@ TEST(MetaballsSpecKeys, JiggleFrequencyZeroKeepsThePerStepGains) {
   LoadedLayers loaded;
   loaded.bytes = bytes;
   ASSERT_TRUE(loaded.load(&error)) << error;
-  const auto& m = loaded.layers.metaballs;
+  const auto& m = loaded.layers.metaballs.model;
   EXPECT_EQ(m.jiggle_rate_hz, 0u);
   EXPECT_EQ(m.jiggle_damping, sinew::rigc::to_fixed(0.95, 30));
   size_t jiggling = 0;
@@ -194,7 +194,7 @@ TEST(MetaballsSpecKeys, NoJiggleRegionsNoRateAndTheSameBytes) {
   LoadedLayers loaded;
   loaded.bytes = by_default;
   ASSERT_TRUE(loaded.load(&error)) << error;
-  EXPECT_EQ(loaded.layers.metaballs.jiggle_rate_hz, 0u);
+  EXPECT_EQ(loaded.layers.metaballs.model.jiggle_rate_hz, 0u);
 }
 
 TEST(MetaballsSpecKeys, UnknownKeyIsRefused) {
@@ -234,8 +234,8 @@ TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
   LoadedLayers loaded;
   loaded.bytes = bytes;
   ASSERT_TRUE(loaded.load(&error)) << error;
-  ASSERT_TRUE(loaded.layers.has_metaballs);
-  const auto& m = loaded.layers.metaballs;
+  ASSERT_TRUE(loaded.layers.metaballs.present);
+  const auto& m = loaded.layers.metaballs.model;
   ASSERT_EQ(m.action_lines.size(), 1u);
   EXPECT_FALSE(m.action_balls.empty());
   // The loaded line is the one the builder made from the same spec.

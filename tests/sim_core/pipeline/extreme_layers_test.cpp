@@ -34,8 +34,8 @@ std::vector<int32_t> run_all_layers(t::LoadedLayers* l) {
   std::string error;
   EXPECT_TRUE(l->start(pl::PipelineOptions{}, &error)) << error;
   if (!error.empty()) return {};
-  EXPECT_TRUE(l->pipeline.sph_count > 0 && l->pipeline.metaballs_on && l->pipeline.barnet_count > 0 &&
-              l->pipeline.anatomy_on && l->layers.has_skin);
+  EXPECT_TRUE(l->pipeline.sph.count > 0 && l->pipeline.metaballs.on && l->pipeline.barnet.count > 0 &&
+              l->pipeline.anatomy.on && l->layers.anatomy.has_skin);
   std::vector<int32_t> inputs(l->pipeline.input_count, 0), out;
   uint32_t ticks = 0, ok_ticks = 0;
   const auto record = [&] {

@@ -51,16 +51,16 @@ TEST(LayerLoader, BuiltInArmCarriesEveryLayerKind) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
   const pl::LayerSet& l = arm->layers;
-  EXPECT_EQ(l.sph_count, 1u);
-  EXPECT_TRUE(l.has_metaballs);
-  EXPECT_TRUE(l.has_muscles);
-  EXPECT_TRUE(l.has_skin);
-  EXPECT_EQ(l.barnet_count, 1u);
+  EXPECT_EQ(l.sph.count, 1u);
+  EXPECT_TRUE(l.metaballs.present);
+  EXPECT_TRUE(l.anatomy.has_muscles);
+  EXPECT_TRUE(l.anatomy.has_skin);
+  EXPECT_EQ(l.barnet.count, 1u);
   ASSERT_EQ(l.external_count(), 1u);
   EXPECT_STREQ(l.external[0].name, "elbow.force");
   EXPECT_STREQ(l.external[0].unit, "N");
   EXPECT_EQ(l.rate_hz, 1000u);
-  EXPECT_EQ(l.sph[0].force_input, 0u);
+  EXPECT_EQ(l.sph.joint[0].force_input, 0u);
   EXPECT_EQ(pl::find_external_input(l, "elbow.force"), 0u);
   EXPECT_EQ(pl::find_external_input(l, "wrist.force"), pl::kNoExternalInput);
   sinew::rig::FileHeader h;
@@ -210,7 +210,7 @@ TEST(LayerLoader, SphVersion2CarriesTheSurfaceTension) {
   const size_t section = sinew::test::section_offset(arm->bytes, pl::kSectionSphJoint);
   ASSERT_NE(section, 0u);
   EXPECT_EQ(get_u32(arm->bytes, section), 1u) << "no tension: the writer keeps version 1";
-  const sinew::sph::SphParams v1 = arm->layers.sph[0].model.params;
+  const sinew::sph::SphParams v1 = arm->layers.sph.joint[0].model.params;
   EXPECT_EQ(v1.tension_gain, 0);
   const size_t params = section + sizeof(pl::LayerSectionHeader);
   pl::SphSectionParamsV1 old;
@@ -227,13 +227,13 @@ TEST(LayerLoader, SphVersion2CarriesTheSurfaceTension) {
   sinew::test::fix_crc(&l.bytes);
   std::string error;
   ASSERT_TRUE(l.load(&error)) << error;
-  const sinew::sph::SphModel& m = l.layers.sph[0].model;
+  const sinew::sph::SphModel& m = l.layers.sph.joint[0].model;
   EXPECT_EQ(m.params.tension_gain, 12345);
   sinew::sph::SphParams expected = v1;
   expected.tension_gain = 12345;
   EXPECT_EQ(0, std::memcmp(&m.params, &expected, sizeof expected));
-  EXPECT_EQ(0, std::memcmp(&m.joint, &arm->layers.sph[0].model.joint, sizeof m.joint));
-  EXPECT_EQ(l.layers.sph[0].force_input, arm->layers.sph[0].force_input);
+  EXPECT_EQ(0, std::memcmp(&m.joint, &arm->layers.sph.joint[0].model.joint, sizeof m.joint));
+  EXPECT_EQ(l.layers.sph.joint[0].force_input, arm->layers.sph.joint[0].force_input);
   // A version this loader does not know is refused.
   put_u32(&l.bytes, section, 3);
   sinew::test::fix_crc(&l.bytes);
@@ -262,7 +262,7 @@ TEST(LayerLoader, SphSurfaceTensionCompilesToVersion2) {
   const size_t section = sinew::test::section_offset(l.bytes, pl::kSectionSphJoint);
   ASSERT_NE(section, 0u);
   EXPECT_EQ(get_u32(l.bytes, section), pl::kSphSectionVersion2);
-  EXPECT_GT(l.layers.sph[0].model.params.tension_gain, 0);
+  EXPECT_GT(l.layers.sph.joint[0].model.params.tension_gain, 0);
   pl::PipelineOptions options;
   ASSERT_TRUE(l.start(options, &error)) << error;
 }

@@ -60,8 +60,8 @@ TEST(MetaballsActionLinePipeline, BallsFollowTheLineEndpointsAsTheElbowBends) {
   pl::PipelineOptions options;
   ASSERT_TRUE(on->start(options, &error)) << error;
   ASSERT_TRUE(off->start(options, &error)) << error;
-  off->pipeline.metaballs.features.action_lines = false;
-  const auto& model = on->layers.metaballs;
+  off->pipeline.metaballs.state.features.action_lines = false;
+  const auto& model = on->layers.metaballs.model;
   ASSERT_EQ(model.action_lines.size(), 1u);
   ASSERT_FALSE(model.action_balls.empty());
   const double lsb = std::ldexp(1.0, on->rig.length_exponent - sinew::fx::kLenFracBits);
@@ -77,8 +77,8 @@ TEST(MetaballsActionLinePipeline, BallsFollowTheLineEndpointsAsTheElbowBends) {
   // The line point of an action ball, from the endpoints' geometry alone:
   // the origin stays, the insertion turns with the forearm by phi.
   const auto line_point = [&](const sinew::pipeline::LayerSet& set, size_t k, double phi) {
-    const Point insertion = turned_about_z(metres(set.metaballs.action_lines[0].insertion_rest), elbow, phi);
-    const double t = std::ldexp(set.metaballs.action_balls[k].along, -30);
+    const Point insertion = turned_about_z(metres(set.metaballs.model.action_lines[0].insertion_rest), elbow, phi);
+    const double t = std::ldexp(set.metaballs.model.action_balls[k].along, -30);
     return Point{origin.x + t * (insertion.x - origin.x), origin.y + t * (insertion.y - origin.y),
                  origin.z + t * (insertion.z - origin.z)};
   };
@@ -87,7 +87,7 @@ TEST(MetaballsActionLinePipeline, BallsFollowTheLineEndpointsAsTheElbowBends) {
     double worst = 0;
     for (size_t k = 0; k < model.action_balls.size(); ++k) {
       const auto& a = model.action_balls[k];
-      const Point c = metres(arm.pipeline.metaballs.ball_center[a.ball]);
+      const Point c = metres(arm.pipeline.metaballs.state.ball_center[a.ball]);
       worst = std::max(worst, std::fabs(point_distance(c, line_point(arm.layers, k, phi)) - lsb * a.rest));
     }
     return worst;

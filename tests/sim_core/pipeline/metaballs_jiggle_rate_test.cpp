@@ -61,11 +61,11 @@ JiggleRun run_jiggle(uint32_t rate_hz, bool converted) {
   pl::PipelineOptions options;
   options.tick_hz = converted ? rate_hz : 0;
   EXPECT_TRUE(arm->start(options, &error)) << error;
-  const auto& state = arm->pipeline.metaballs;
-  EXPECT_TRUE(arm->pipeline.metaballs_on);
+  const auto& state = arm->pipeline.metaballs.state;
+  EXPECT_TRUE(arm->pipeline.metaballs.on);
   EXPECT_EQ(state.tick_hz, converted ? rate_hz : kBuiltHz);
-  for (uint32_t b = 0; b < arm->layers.metaballs.ball_count(); ++b)
-    if (arm->layers.metaballs.ball_jiggle[b] != 0) out.balls.push_back(b);
+  for (uint32_t b = 0; b < arm->layers.metaballs.model.ball_count(); ++b)
+    if (arm->layers.metaballs.model.ball_jiggle[b] != 0) out.balls.push_back(b);
   EXPECT_FALSE(out.balls.empty());
   out.dt = 1.0 / rate_hz;
   out.lsb = std::ldexp(1.0, arm->rig.length_exponent - sinew::fx::kLenFracBits);

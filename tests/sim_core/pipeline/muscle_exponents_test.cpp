@@ -61,7 +61,7 @@ TEST(MuscleExponents, GeneralBelliesCompileToMuscVersion4AndRun) {
   ASSERT_NE(l, nullptr) << error;
   const size_t section = sinew::test::section_offset(l->bytes, pl::kSectionMuscles);
   EXPECT_EQ(musc_u32(l->bytes, section), pl::kMusclesSectionVersion4);
-  const muscle::MuscleModel& m = l->layers.muscles;
+  const muscle::MuscleModel& m = l->layers.anatomy.muscles;
   ASSERT_EQ(m.primitives.size(), 2u);
   ASSERT_EQ(m.exponents.size(), 2u);
   EXPECT_EQ(m.exponents[0].power_xy, 3 << 16);
@@ -79,7 +79,7 @@ TEST(MuscleExponents, GeneralBelliesCompileToMuscVersion4AndRun) {
   ASSERT_NE(arm, nullptr);
   EXPECT_LT(musc_u32(arm->bytes, sinew::test::section_offset(arm->bytes, pl::kSectionMuscles)),
             pl::kMusclesSectionVersion4);
-  EXPECT_TRUE(arm->layers.muscles.exponents.empty());
+  EXPECT_TRUE(arm->layers.anatomy.muscles.exponents.empty());
   // The pipeline steps it; the muscle step hands the pair to the frame.
   ASSERT_TRUE(l->start(pl::PipelineOptions{}, &error)) << error;
   std::vector<int32_t> inputs(l->pipeline.input_count, 0);

@@ -33,8 +33,8 @@ TEST(PipelineDeterminism, EveryLayerOnTheArmMatchesGolden) {
     ASSERT_TRUE(st.ok()) << st.message;
     for (int a = 0; a < 3; ++a)
       for (int32_t v : arm->pipeline.engine.vertices.position[a]) out.add_i32(v);
-    out.add_u32(static_cast<uint32_t>(arm->pipeline.sph[0].bend));
-    out.add_u32(arm->pipeline.sph[0].yielded_particles);
+    out.add_u32(static_cast<uint32_t>(arm->pipeline.sph.joint[0].bend));
+    out.add_u32(arm->pipeline.sph.joint[0].yielded_particles);
     out.add_u32(arm->pipeline.saturated);
   }
   const uint64_t output_hash = out.digest();

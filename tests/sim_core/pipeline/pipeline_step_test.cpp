@@ -71,7 +71,7 @@ TEST(PipelineStep, TheFirstFailingStageEndsTheTick) {
       << error;
   std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
   ASSERT_TRUE(pl::pipeline_step(&arm->pipeline, inputs).ok());
-  arm->pipeline.metaballs.bone = {};
+  arm->pipeline.metaballs.state.bone = {};
   StepTestProbe clock;
   const pl::StepProbe probe = clock.probe();
   pl::StepReport report;
@@ -155,12 +155,12 @@ namespace {
 TEST(PipelineInit, RunsTheStagesValidatorsOnAHandBuiltLayerSet) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
-  ASSERT_TRUE(arm->layers.has_muscles);
-  std::vector<sinew::muscle::MuscleRecord> muscles(arm->layers.muscles.muscles.begin(),
-                                                   arm->layers.muscles.muscles.end());
+  ASSERT_TRUE(arm->layers.anatomy.has_muscles);
+  std::vector<sinew::muscle::MuscleRecord> muscles(arm->layers.anatomy.muscles.muscles.begin(),
+                                                   arm->layers.anatomy.muscles.muscles.end());
   muscles[0].pivot_bone = static_cast<int32_t>(arm->rig.joint_count()) + 3;  // no such joint
   pl::LayerSet edited = arm->layers;
-  edited.muscles.muscles = muscles;
+  edited.anatomy.muscles.muscles = muscles;
   const pl::PipelineOptions options = step_test_options({pl::Stage::kAnatomy});
   std::vector<uint64_t> memory(pl::pipeline_state_bytes(arm->rig, edited, options) / 8 + 1, 0);
   pl::Pipeline p;
@@ -179,20 +179,20 @@ TEST(PipelineInit, RunsTheStagesValidatorsOnAHandBuiltLayerSet) {
 TEST(PipelineInit, RefusesALayerBuiltForAnotherRig) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
-  ASSERT_TRUE(arm->layers.has_metaballs);
-  ASSERT_GT(arm->layers.barnet_count, 0u);
+  ASSERT_TRUE(arm->layers.metaballs.present);
+  ASSERT_GT(arm->layers.barnet.count, 0u);
   struct Case {
     pl::Stage stage;
     void (*edit)(pl::LayerSet*);
     const char* message;
   };
   const Case cases[] = {
-      {pl::Stage::kMetaballs, [](pl::LayerSet* l) { l->metaballs.joint_count += 1; }, "metaballs: joint_count"},
-      {pl::Stage::kMetaballs, [](pl::LayerSet* l) { l->metaballs.vertex_count -= 1; }, "metaballs: vertex_count"},
-      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].joint_count += 1; }, "barnet[0]: joint_count"},
-      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].input_count += 1; }, "barnet[0]: input_count"},
-      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].vertex_count += 1; }, "barnet[0]: vertex_count"},
-      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet[0].external_count = l->external_count() + 1; },
+      {pl::Stage::kMetaballs, [](pl::LayerSet* l) { l->metaballs.model.joint_count += 1; }, "metaballs: joint_count"},
+      {pl::Stage::kMetaballs, [](pl::LayerSet* l) { l->metaballs.model.vertex_count -= 1; }, "metaballs: vertex_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet.net[0].joint_count += 1; }, "barnet[0]: joint_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet.net[0].input_count += 1; }, "barnet[0]: input_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet.net[0].vertex_count += 1; }, "barnet[0]: vertex_count"},
+      {pl::Stage::kBarnet, [](pl::LayerSet* l) { l->barnet.net[0].external_count = l->external_count() + 1; },
        "barnet[0]: external_count"},
   };
   for (const Case& c : cases) {

@@ -141,7 +141,7 @@ TEST(Pipeline, BarnetMovesOnlyItsWrappedVertices) {
   angles[kElbowInput] = degrees(90.0);
   angles[0] = degrees(20.0);
   external[0] = 20 * 65536;
-  const sinew::barnet::BarnetModel& m = arm->layers.barnet[0];
+  const sinew::barnet::BarnetModel& m = arm->layers.barnet.net[0];
   const tb::NetCheck n(m, arm->pipeline.engine.model, angles, external);
   ASSERT_TRUE(n.ok) << n.loaded.error();
   std::set<uint32_t> support;
@@ -177,7 +177,7 @@ TEST(Pipeline, SphMovesItsSkinAndTheDistalBoneOnly) {
   const auto plain = run(arm.get(), only(false, false, false, false), steps);
   const auto sph = run(arm.get(), only(true, false, false, false), steps);
   std::set<uint32_t> support = not_upper_arm(*arm);
-  for (uint32_t v : arm->layers.sph[0].model.skin_vertex) support.insert(v);
+  for (uint32_t v : arm->layers.sph.joint[0].model.skin_vertex) support.insert(v);
   const Comparison c = compare(*arm, plain, sph, support);
   std::printf("sph: %zu of %zu vertices (tissue skin and distal bones) moved (largest %.2f mm), %zu others moved\n",
               c.inside_moved, support.size(), c.largest_inside_mm, c.outside_moved);
@@ -191,8 +191,8 @@ TEST(Pipeline, ElasticSkinMovesOnlyItsSupportRegion) {
   const int steps = sinew::test::emulated() ? 4 : 20;
   const auto plain = run(arm.get(), only(false, false, false, false), steps);
   const auto skin = run(arm.get(), only(false, false, false, true), steps);
-  ASSERT_FALSE(arm->layers.skin_region.empty());
-  const std::set<uint32_t> support(arm->layers.skin_region.begin(), arm->layers.skin_region.end());
+  ASSERT_FALSE(arm->layers.anatomy.skin_region.empty());
+  const std::set<uint32_t> support(arm->layers.anatomy.skin_region.begin(), arm->layers.anatomy.skin_region.end());
   const Comparison c = compare(*arm, plain, skin, support);
   std::printf("elastic skin: %zu of %zu region vertices moved (largest %.2f mm), %zu others moved\n", c.inside_moved,
               support.size(), c.largest_inside_mm, c.outside_moved);
@@ -216,7 +216,7 @@ TEST(Pipeline, MetaballsReshapeTheWholeSkin) {
   // radius), grown by the largest bulge gain g (balls and their skin
   // displacements scale by at most 1 + g).
   double gain = 0;
-  for (const auto& b : arm->layers.metaballs.bulges) gain = std::max(gain, std::ldexp(b.gain, -30));
+  for (const auto& b : arm->layers.metaballs.model.bulges) gain = std::max(gain, std::ldexp(b.gain, -30));
   const double limit = 2 * limb_radius_mm(*arm) * (1 + gain);
   std::printf("metaballs: %zu of %zu vertices moved, largest %.2f mm (bound %.1f mm)\n", c.inside_moved, all.size(),
               c.largest_inside_mm, limit);
@@ -261,7 +261,7 @@ TEST(Pipeline, PoseDrivenStepsMeasureTheDofsTheyCarry) {
   // in the loads: the wrapped skin may differ by eq. (4)'s skin for the
   // measured DOFs less that for the commanded ones, plus both runs' bounds
   // against it; every other vertex not at all.
-  const sinew::barnet::BarnetModel& m = arm->layers.barnet[0];
+  const sinew::barnet::BarnetModel& m = arm->layers.barnet.net[0];
   const auto rig_inputs = static_cast<std::ptrdiff_t>(arm->rig.input_count);
   const std::vector<int32_t> angles(inputs.begin(), inputs.begin() + rig_inputs),
       external(inputs.begin() + rig_inputs, inputs.end());
@@ -292,7 +292,7 @@ TEST(Pipeline, PoseDrivenStepsMeasureTheDofsTheyCarry) {
 TEST(Pipeline, SphGainsConvertWithTheLoopRate) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
-  const sinew::sph::SphParams& c = arm->layers.sph[0].model.params;
+  const sinew::sph::SphParams& c = arm->layers.sph.joint[0].model.params;
   sinew::sph::SphParams same, slow;
   ASSERT_TRUE(pl::sph_gains_for_rate(c, 1000, 1000, &same).ok());
   EXPECT_EQ(same.elastic_gain, c.elastic_gain);
@@ -336,7 +336,7 @@ TEST(Pipeline, RefusesShortInputsAndTooManyRelaxations) {
   std::vector<int32_t> short_inputs(arm->rig.input_count, 0);  // the external force is missing
   EXPECT_EQ(pl::pipeline_step(&arm->pipeline, short_inputs).error, pl::PipelineError::kBadInput);
   pl::PipelineOptions o;
-  o.skin_iterations = 300;
+  o.anatomy.skin_iterations = 300;
   EXPECT_FALSE(arm->start(o, &error));
   EXPECT_NE(error.find("skin_iterations"), std::string::npos) << error;
 }
@@ -353,14 +353,15 @@ TEST(PipelineMeasuredJoint, TheMeasuredElbowAngleIsTheInputs) {
   const auto plain = run(arm.get(), only(false, false, false, false), steps);
   const std::vector<sinew::fx::Mat34> plain_model(arm->pipeline.engine.model.begin(), arm->pipeline.engine.model.end());
   pl::PipelineOptions measured = only(true, false, false, false);
-  measured.sph_joint_measured = true;
+  measured.sph.joint_measured = true;
   const auto tissue_only = run(arm.get(), measured, steps);
   for (size_t j = 0; j < plain_model.size(); ++j) {
     const sinew::fx::Mat34& a = plain_model[j];
     const sinew::fx::Mat34& b = arm->pipeline.engine.model[j];
     EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "joint " << j << " moved off the measured pose";
   }
-  std::set<uint32_t> tissue(arm->layers.sph[0].model.skin_vertex.begin(), arm->layers.sph[0].model.skin_vertex.end());
+  std::set<uint32_t> tissue(arm->layers.sph.joint[0].model.skin_vertex.begin(),
+                            arm->layers.sph.joint[0].model.skin_vertex.end());
   const Comparison c = compare(*arm, plain, tissue_only, tissue);
   std::printf("measured elbow: %zu of %zu tissue vertices moved (largest %.2f mm), %zu others moved\n", c.inside_moved,
               tissue.size(), c.largest_inside_mm, c.outside_moved);
@@ -368,7 +369,7 @@ TEST(PipelineMeasuredJoint, TheMeasuredElbowAngleIsTheInputs) {
   EXPECT_GT(c.inside_moved, 0u);
 
   run(arm.get(), only(true, false, false, false), steps);  // simulated: the load bends the forearm
-  const uint32_t forearm = arm->layers.sph[0].model.joint.distal_joint;
+  const uint32_t forearm = arm->layers.sph.joint[0].model.joint.distal_joint;
   const sinew::fx::Mat34& bent = arm->pipeline.engine.model[forearm];
   EXPECT_NE(std::memcmp(&bent, &plain_model[forearm], sizeof bent), 0) << "the simulated joint did not bend";
 }
@@ -383,7 +384,7 @@ TEST(PipelineMeasuredJoint, AnElbowASourceMeasuresIsNotBentAgain) {
   ASSERT_NE(arm, nullptr);
   const int steps = sinew::test::emulated() ? 10 : 30;
   run(arm.get(), only(false, false, false, false), steps);
-  const uint32_t forearm = arm->layers.sph[0].model.joint.distal_joint;
+  const uint32_t forearm = arm->layers.sph.joint[0].model.joint.distal_joint;
   const sinew::fx::Mat34 plain = arm->pipeline.engine.model[forearm];
   std::vector<uint8_t> measured(arm->rig.input_count, 0);
   measured[kElbowInput] = 1;
@@ -391,7 +392,7 @@ TEST(PipelineMeasuredJoint, AnElbowASourceMeasuresIsNotBentAgain) {
   EXPECT_EQ(std::memcmp(&arm->pipeline.engine.model[forearm], &plain, sizeof plain), 0)
       << "the measured elbow was bent by the particles";
   pl::PipelineOptions commanded = only(true, false, false, false);
-  commanded.sph_measured_from_sources = false;
+  commanded.sph.measured_from_sources = false;
   run(arm.get(), commanded, steps, measured);
   EXPECT_NE(std::memcmp(&arm->pipeline.engine.model[forearm], &plain, sizeof plain), 0)
       << "with sph_measured_from_sources = false the commanded elbow did not bend";

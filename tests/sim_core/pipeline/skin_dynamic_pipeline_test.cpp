@@ -44,7 +44,7 @@ TEST(SkinDynamicPipeline, StaticRigKeepsVersion1) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
   EXPECT_EQ(skin_section_version(arm->bytes), 1u);
-  EXPECT_EQ(arm->layers.skin.solver.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kStatic));
+  EXPECT_EQ(arm->layers.anatomy.skin.solver.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kStatic));
 }
 
 TEST(SkinDynamicPipeline, DynamicRigLoadsAndStepsAtTheLoopRate) {
@@ -52,7 +52,7 @@ TEST(SkinDynamicPipeline, DynamicRigLoadsAndStepsAtTheLoopRate) {
   auto arm = arm_with_dynamic_skin(&error);
   ASSERT_NE(arm, nullptr) << error;
   EXPECT_EQ(skin_section_version(arm->bytes), pl::kSkinSectionVersion2);
-  const sinew::elastic_skin::SkinSolverParams& solver = arm->layers.skin.solver;
+  const sinew::elastic_skin::SkinSolverParams& solver = arm->layers.anatomy.skin.solver;
   EXPECT_EQ(solver.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kDynamic));
   EXPECT_LT(solver.gravity.y, 0);
   pl::PipelineOptions options;
@@ -65,8 +65,8 @@ TEST(SkinDynamicPipeline, DynamicRigLoadsAndStepsAtTheLoopRate) {
     inputs[0] = sinew::test::degrees(k < 50 ? k * 1.8 : 90.0);
     const pl::PipelineStatus st = pl::pipeline_step(&arm->pipeline, inputs);
     ASSERT_TRUE(st.ok()) << st.message;
-    ASSERT_EQ(arm->pipeline.skin.stats.substeps, (solver.substep_hz + 499) / 500);  // ceil(substep_hz / 500)
-    ASSERT_EQ(arm->pipeline.skin.stats.inside_after, 0u) << "tick " << k;
+    ASSERT_EQ(arm->pipeline.anatomy.skin.stats.substeps, (solver.substep_hz + 499) / 500);  // ceil(substep_hz / 500)
+    ASSERT_EQ(arm->pipeline.anatomy.skin.stats.inside_after, 0u) << "tick " << k;
   }
 }
 
@@ -96,7 +96,7 @@ std::vector<int32_t> run_skin(sinew::test::LoadedLayers* arm, const std::vector<
     EXPECT_TRUE(st.ok()) << st.message;
   }
   for (int a = 0; a < 3; ++a)
-    out.insert(out.end(), arm->pipeline.skin.position[a].begin(), arm->pipeline.skin.position[a].end());
+    out.insert(out.end(), arm->pipeline.anatomy.skin.position[a].begin(), arm->pipeline.anatomy.skin.position[a].end());
   return out;
 }
 
@@ -111,8 +111,8 @@ TEST(SkinDynamicPipeline, BaseAccelerationInputsReachTheSkinAsAnInertialField) {
   auto moving = arm_on_a_moving_base(&error);
   ASSERT_NE(moving, nullptr) << error;
   EXPECT_EQ(skin_section_version(moving->bytes), pl::kSkinSectionVersion5);
-  for (int c = 0; c < 3; ++c) ASSERT_NE(moving->layers.skin_base_acceleration[c], pl::kNoExternalInput);
-  const uint32_t ay = moving->layers.skin_base_acceleration[1];
+  for (int c = 0; c < 3; ++c) ASSERT_NE(moving->layers.anatomy.skin_base_acceleration[c], pl::kNoExternalInput);
+  const uint32_t ay = moving->layers.anatomy.skin_base_acceleration[1];
   EXPECT_EQ(moving->layers.external[ay].quantity, static_cast<uint32_t>(pl::InputQuantity::kAcceleration));
   // 4 m/s^2 in Q16.16; on the arm (metres, length_exponent 0) 1024 in Q24.8.
   std::vector<int32_t> extra(moving->layers.external_count(), 0);

@@ -26,7 +26,7 @@ TEST(DynamicSkinGltf, RunsOnTheHandWithoutAllocating) {
       << error;
   auto hand = sinew::test::compiled_with_layers(std::move(spec), layers, &error);
   ASSERT_NE(hand, nullptr) << error;
-  ASSERT_EQ(hand->layers.skin.solver.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kDynamic));
+  ASSERT_EQ(hand->layers.anatomy.skin.solver.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kDynamic));
   pl::PipelineOptions options;
   options.tick_hz = 100;
   ASSERT_TRUE(hand->start(options, &error)) << error;
@@ -42,9 +42,9 @@ TEST(DynamicSkinGltf, RunsOnTheHandWithoutAllocating) {
     sweep(k);
     const pl::PipelineStatus st = pl::pipeline_step(&hand->pipeline, inputs);
     ASSERT_TRUE(st.ok()) << st.message;
-    ASSERT_EQ(hand->pipeline.skin.stats.inside_after, 0u) << "tick " << k;
+    ASSERT_EQ(hand->pipeline.anatomy.skin.stats.inside_after, 0u) << "tick " << k;
   }
   EXPECT_EQ(allocations.allocations(), 0u);
   std::printf("glTF hand, dynamic skin at 100 Hz: %u substeps a tick, omega_max %u rad/s\n",
-              hand->pipeline.skin.stats.substeps, hand->pipeline.skin.stats.omega_max);
+              hand->pipeline.anatomy.skin.stats.substeps, hand->pipeline.anatomy.skin.stats.omega_max);
 }

@@ -112,11 +112,11 @@ TEST(RigSpecs, CommittedSpecsCompileEveryLayerKind) {
                 l.rig.vertex_count());
     for (const std::string& line : c.report) std::printf(" [%s]", line.c_str());
     std::printf("\n");
-    EXPECT_EQ(l.layers.sph_count, 1u) << spec;
-    EXPECT_TRUE(l.layers.has_metaballs) << spec;
-    EXPECT_TRUE(l.layers.has_muscles) << spec;
-    EXPECT_TRUE(l.layers.has_skin) << spec;
-    EXPECT_EQ(l.layers.barnet_count, 1u) << spec;
+    EXPECT_EQ(l.layers.sph.count, 1u) << spec;
+    EXPECT_TRUE(l.layers.metaballs.present) << spec;
+    EXPECT_TRUE(l.layers.anatomy.has_muscles) << spec;
+    EXPECT_TRUE(l.layers.anatomy.has_skin) << spec;
+    EXPECT_EQ(l.layers.barnet.count, 1u) << spec;
     // The SPH joint's force input, and the dynamic skin's three base-acceleration inputs.
     const bool dynamic = std::string(spec).find("dynamic") != std::string::npos;
     EXPECT_EQ(l.layers.external_count(), dynamic ? 4u : 1u) << spec;
@@ -197,8 +197,8 @@ TEST(RigSpecs, SkinSolverKeysReachTheLoadedModel) {
   Loaded l;
   std::string error;
   ASSERT_TRUE(compile_text("skin_solver_keys.toml", text, &l, &error)) << error;
-  ASSERT_TRUE(l.layers.has_skin);
-  const sinew::elastic_skin::SkinSolverParams& s = l.layers.skin.solver;
+  ASSERT_TRUE(l.layers.anatomy.has_skin);
+  const sinew::elastic_skin::SkinSolverParams& s = l.layers.anatomy.skin.solver;
   const int e = l.rig.length_exponent;  // one rig unit is 2^e model units
   EXPECT_EQ(s.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kDynamic));
   EXPECT_EQ(s.substep_hz, 2000u);
@@ -248,9 +248,9 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
   Loaded l;
   std::string error;
   ASSERT_TRUE(compile_text("muscle_shape_keys.toml", text, &l, &error)) << error;
-  ASSERT_TRUE(l.layers.has_muscles);
+  ASSERT_TRUE(l.layers.anatomy.has_muscles);
   const int e = l.rig.length_exponent;
-  const sinew::muscle::MuscleModel& m = l.layers.muscles;
+  const sinew::muscle::MuscleModel& m = l.layers.anatomy.muscles;
   ASSERT_EQ(m.shapes.size(), 1u);
   const sinew::muscle::MuscleShape& sh = m.shapes[0];
   EXPECT_EQ(sh.end_axes, static_cast<uint8_t>(sinew::muscle::EndAxes::kBoneNormals));
@@ -269,10 +269,10 @@ TEST(RigSpecs, MuscleShapeAndSkinKeysReachTheLoadedModel) {
   EXPECT_EQ(m.deformations[0].taper, 1 << 28);                                  // 0.25 in Q2.30
   EXPECT_EQ(m.deformations[0].twist, static_cast<int32_t>(4294967296.0 / 12));  // 30 degrees
   EXPECT_EQ(m.deformations[0].bend, sinew::rigc::to_angle(-10));                // -10 degrees
-  ASSERT_TRUE(l.layers.has_skin);
-  EXPECT_EQ(l.layers.skin.solver.edge_damping, std::lround(0.25 * 65536.0));  // N s/m: no rig-unit factor
-  EXPECT_EQ(l.layers.skin.solver.fat_normal, static_cast<uint8_t>(sinew::elastic_skin::FatNormal::kSurface));
-  EXPECT_EQ(l.layers.skin.triangles.size(), l.rig.triangles.size());
+  ASSERT_TRUE(l.layers.anatomy.has_skin);
+  EXPECT_EQ(l.layers.anatomy.skin.solver.edge_damping, std::lround(0.25 * 65536.0));  // N s/m: no rig-unit factor
+  EXPECT_EQ(l.layers.anatomy.skin.solver.fat_normal, static_cast<uint8_t>(sinew::elastic_skin::FatNormal::kSurface));
+  EXPECT_EQ(l.layers.anatomy.skin.triangles.size(), l.rig.triangles.size());
 
   const std::string muscle =
       "[rig]\nsource = \"builtin:arm\"\n[[muscle]]\norigin = \"shoulder\"\ninsertion = "
@@ -326,19 +326,19 @@ TEST(RigSpecs, MuscleBellyExponentsReachTheLoadedModel) {
   };
   Loaded general;
   ASSERT_TRUE(compiled("belly_exponents.toml", "belly_exponent = 3.5\nbelly_exponent_z = 1.25\n", &general));
-  const sinew::muscle::MuscleModel& m = general.layers.muscles;
+  const sinew::muscle::MuscleModel& m = general.layers.anatomy.muscles;
   ASSERT_EQ(m.exponents.size(), 1u);
   EXPECT_EQ(m.exponents[0].power_xy, 7 << 15);  // 3.5 in Q16.16
   EXPECT_EQ(m.exponents[0].power_z, 5 << 14);   // 1.25
   EXPECT_EQ(m.primitives[0].exponent, 0);
   Loaded same;  // belly_exponent_z defaults to belly_exponent
   ASSERT_TRUE(compiled("belly_exponent_only.toml", "belly_exponent = 6.5\n", &same));
-  ASSERT_EQ(same.layers.muscles.exponents.size(), 1u);
-  EXPECT_EQ(same.layers.muscles.exponents[0].power_z, 13 << 15);
+  ASSERT_EQ(same.layers.anatomy.muscles.exponents.size(), 1u);
+  EXPECT_EQ(same.layers.anatomy.muscles.exponents[0].power_z, 13 << 15);
   Loaded exact;  // an equal 8: the record's exponent, no exponents array (MUSC v1 to v3)
   ASSERT_TRUE(compiled("belly_exponent_8.toml", "belly_exponent = 8\n", &exact));
-  EXPECT_TRUE(exact.layers.muscles.exponents.empty());
-  EXPECT_EQ(exact.layers.muscles.primitives[0].exponent, 8);
+  EXPECT_TRUE(exact.layers.anatomy.muscles.exponents.empty());
+  EXPECT_EQ(exact.layers.anatomy.muscles.primitives[0].exponent, 8);
 
   struct Case {
     std::string text, expected;
@@ -369,7 +369,7 @@ TEST(RigSpecs, DynamicSkinTissueDefaultsFollowThePhysics) {
   Loaded l;
   std::string error;
   ASSERT_TRUE(compile_text("skin_tissue_defaults.toml", dynamic, &l, &error)) << error;
-  const sinew::elastic_skin::SkinModel& m = l.layers.skin;
+  const sinew::elastic_skin::SkinModel& m = l.layers.anatomy.skin;
   const sinew::elastic_skin::SkinSolverParams& s = m.solver;
   // The skin's area, model units (metres) squared, from the loaded rest mesh.
   const double unit = std::ldexp(1.0, l.rig.length_exponent - 20);
@@ -425,7 +425,7 @@ TEST(RigSpecs, RubberBandAndFatVertexTablesReachTheLoadedModel) {
   Loaded plain;
   std::string error;
   ASSERT_TRUE(compile_text("bands_plain.toml", base, &plain, &error)) << error;
-  const auto& bands0 = plain.layers.skin.bands;
+  const auto& bands0 = plain.layers.anatomy.skin.bands;
   ASSERT_EQ(bands0.size(), 1u);  // the biceps' own fascia band
 
   Loaded by_point;
@@ -433,7 +433,7 @@ TEST(RigSpecs, RubberBandAndFatVertexTablesReachTheLoadedModel) {
                            base + "\n[[rubber_band]]\nmuscle = \"biceps\"\nslice = 2\nring_vertex = 1\nstiffness = 2\n",
                            &by_point, &error))
       << error;
-  const auto& bands1 = by_point.layers.skin.bands;
+  const auto& bands1 = by_point.layers.anatomy.skin.bands;
   ASSERT_EQ(bands1.size(), 2u);
   EXPECT_EQ(bands1[0].vertex, bands0[0].vertex);  // the default band is untouched
   EXPECT_EQ(bands1[1].muscle, 0u);
@@ -446,7 +446,7 @@ TEST(RigSpecs, RubberBandAndFatVertexTablesReachTheLoadedModel) {
                            base + "\n[[rubber_band]]\nmuscle = \"biceps\"\nvertex = " + vertex + "\nstiffness = 2\n",
                            &by_vertex, &error))
       << error;
-  const auto& bands2 = by_vertex.layers.skin.bands;
+  const auto& bands2 = by_vertex.layers.anatomy.skin.bands;
   ASSERT_EQ(bands2.size(), 2u);
   EXPECT_EQ(bands2[1].vertex, bands1[1].vertex);
   EXPECT_EQ(bands2[1].slice, bands1[1].slice);
@@ -459,7 +459,7 @@ TEST(RigSpecs, RubberBandAndFatVertexTablesReachTheLoadedModel) {
   no_default.insert(at + name.size(), "band = false\n");
   Loaded none;
   ASSERT_TRUE(compile_text("bands_none.toml", no_default, &none, &error)) << error;
-  EXPECT_TRUE(none.layers.skin.bands.empty());
+  EXPECT_TRUE(none.layers.anatomy.skin.bands.empty());
 
   // Fat: two vertices of the skin's region get their own thickness.
   const uint32_t v0 = bands0[0].vertex, v1 = bands1[1].vertex;
@@ -469,8 +469,8 @@ TEST(RigSpecs, RubberBandAndFatVertexTablesReachTheLoadedModel) {
                                                    std::to_string(v1) + ", 0.011]]\n"),
                            &fat, &error))
       << error;
-  const auto& f0 = plain.layers.skin.fat;
-  const auto& f1 = fat.layers.skin.fat;
+  const auto& f0 = plain.layers.anatomy.skin.fat;
+  const auto& f1 = fat.layers.anatomy.skin.fat;
   ASSERT_EQ(f0.size(), f1.size());
   ASSERT_GT(f0[v0], 0);
   const int e = fat.rig.length_exponent;

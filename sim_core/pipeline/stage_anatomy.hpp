@@ -1,0 +1,54 @@
+// What the anatomy stage keeps (anatomically-based-modeling,
+// leman-elastic-skin; docs/anatomy.md): the muscles and, over them, the
+// optional elastic skin.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "layer_format.hpp"
+#include "sim_core/elastic_skin/skin_state.hpp"
+#include "sim_core/fixed/q_formats.hpp"
+#include "sim_core/muscle/muscle_state.hpp"
+#include "stage.hpp"
+
+namespace sinew::pipeline {
+
+struct AnatomyLayers {
+  bool has_muscles = false;
+  muscle::MuscleModel muscles;
+  bool has_skin = false;  // needs the muscles
+  elastic_skin::SkinModel skin;
+  std::span<const uint32_t> skin_region;         // vertices the skin displaces (empty: all)
+  std::span<const fx::Unit> skin_region_weight;  // their weights, Q2.30 in (0, 1]
+  // The external inputs of the base's acceleration, x, y, z (SKIN version 5),
+  // or kNoExternalInput: the dynamic skin then feels no base motion.
+  uint32_t skin_base_acceleration[3] = {kNoExternalInput, kNoExternalInput, kNoExternalInput};
+};
+
+struct AnatomyRun {
+  bool on = false;  // initialised: the stage runs
+  muscle::MuscleState muscles;
+  elastic_skin::SkinState skin;
+};
+
+// Its run-time options ([layers] skin_iterations,
+// skin_max_anchor_acceleration; the stage table's option rows).
+struct AnatomyOptions {
+  uint32_t skin_iterations = 0;  // elastic-skin relaxations per tick, 0..256; 0 keeps the rig's
+  // The dynamic skin's limit on the acceleration of its anchors, m/s^2
+  // (elastic_skin::SkinTick::max_anchor_acceleration; 0: none, 1..32767).
+  // 500 m/s^2 (about 50 g) is above a boxer's fist; a bone that moves
+  // faster than that within a tick is taken as a jump, and the skin is
+  // carried with it instead of being flung off the limb.
+  uint32_t skin_max_anchor_acceleration = 500;
+};
+
+template <>
+struct StageData<Stage::kAnatomy> {
+  using Layers = AnatomyLayers;
+  using Run = AnatomyRun;
+  using Options = AnatomyOptions;
+};
+
+}  // namespace sinew::pipeline

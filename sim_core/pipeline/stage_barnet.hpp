@@ -1,0 +1,32 @@
+// What the bar-net stage keeps (barnet-driven-skinning; docs/barnet.md): the
+// rig's bar-nets, up to kMaxBarnets.
+#pragma once
+
+#include <cstdint>
+
+#include "layer_format.hpp"
+#include "sim_core/barnet/barnet_state.hpp"
+#include "stage.hpp"
+
+namespace sinew::pipeline {
+
+struct BarnetLayers {
+  barnet::BarnetModel net[kMaxBarnets];
+  uint32_t count = 0;
+};
+
+struct BarnetRun {
+  barnet::BarnetState net[kMaxBarnets];
+  uint32_t count = 0;  // nets running (0 when switched off)
+};
+
+struct BarnetOptions {};
+
+template <>
+struct StageData<Stage::kBarnet> {
+  using Layers = BarnetLayers;
+  using Run = BarnetRun;
+  using Options = BarnetOptions;
+};
+
+}  // namespace sinew::pipeline

@@ -1,0 +1,29 @@
+// What the metaballs stage keeps (metaballs-pbd-skinning; docs/metaballs.md):
+// at most one metaballs skin.
+#pragma once
+
+#include "sim_core/metaballs/state.hpp"
+#include "stage.hpp"
+
+namespace sinew::pipeline {
+
+struct MetaballsLayers {
+  bool present = false;
+  metaballs::MetaballModel model;
+};
+
+struct MetaballsRun {
+  bool on = false;  // initialised: the stage runs
+  metaballs::MetaballState state;
+};
+
+struct MetaballsOptions {};
+
+template <>
+struct StageData<Stage::kMetaballs> {
+  using Layers = MetaballsLayers;
+  using Run = MetaballsRun;
+  using Options = MetaballsOptions;
+};
+
+}  // namespace sinew::pipeline

@@ -1,0 +1,20 @@
+// What the skinning stage keeps: nothing of its own. The engine it runs is
+// the pipeline's (every stage reads its skeleton and writes its skin).
+#pragma once
+
+#include "stage.hpp"
+
+namespace sinew::pipeline {
+
+struct SkinningLayers {};
+struct SkinningRun {};
+struct SkinningOptions {};
+
+template <>
+struct StageData<Stage::kSkinning> {
+  using Layers = SkinningLayers;
+  using Run = SkinningRun;
+  using Options = SkinningOptions;
+};
+
+}  // namespace sinew::pipeline
