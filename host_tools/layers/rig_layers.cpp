@@ -167,7 +167,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
   if (records.size() > pipeline::kMaxExternalInputs) return fail("[[external_input]]", "at most 64", error);
   if (!records.empty()) sections.push_back(external_inputs_section(records));
 
-  if (layers.sph.size() > pipeline::kMaxSphJoints) return fail("[[sph]]", "at most 8 SPH joints", error);
+  if (layers.sph.size() > sinew::sph::kMaxSphJoints) return fail("[[sph]]", "at most 8 SPH joints", error);
   for (size_t i = 0; i < layers.sph.size(); ++i) {
     const SphTable& t = layers.sph[i];
     const int j = resolve_joint(spec, t.joint, error);
@@ -351,7 +351,7 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
     }
   }
 
-  if (layers.barnets.size() > pipeline::kMaxBarnets) return fail("[[barnet]]", "at most 8 bar-nets", error);
+  if (layers.barnets.size() > sinew::barnet::kMaxBarnets) return fail("[[barnet]]", "at most 8 bar-nets", error);
   for (size_t i = 0; i < layers.barnets.size(); ++i) {
     const BarnetTable& t = layers.barnets[i];
     const int j = resolve_joint(spec, t.joint, error);

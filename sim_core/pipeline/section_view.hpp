@@ -8,7 +8,7 @@
 #include <cstring>
 #include <span>
 
-#include "layer_format.hpp"
+#include "layer_sections.hpp"
 #include "sim_core/rig/rig.hpp"
 
 namespace sinew::pipeline {

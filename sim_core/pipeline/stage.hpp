@@ -2,8 +2,10 @@
 // (stage_list.hpp); the stage table (stage_table.hpp) describes each.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
+#include "sim_core/layer/section_format.hpp"
 #include "stage_list.hpp"
 
 namespace sinew::pipeline {
@@ -34,7 +36,9 @@ struct StageSet {
 // What a stage keeps, declared beside its stage file (stage_<name>.hpp):
 //   Layers: its loaded models in the LayerSet (the blob's sections);
 //   Run:    its state in the Pipeline (in the pipeline's arena);
-//   Options: its run-time options in PipelineOptions.
+//   Options: its run-time options in PipelineOptions;
+//   sections: the rig sections it loads (a std::array of descriptors,
+//             layer_sections.hpp lists them all).
 // LayerSet, Pipeline and PipelineOptions hold one member of each per stage,
 // named as the stage, expanded from stage_list.hpp: they name no layer
 // themselves.

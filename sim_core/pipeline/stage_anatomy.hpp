@@ -7,8 +7,10 @@
 #include <span>
 
 #include "layer_format.hpp"
+#include "sim_core/elastic_skin/skin_section.hpp"
 #include "sim_core/elastic_skin/skin_state.hpp"
 #include "sim_core/fixed/q_formats.hpp"
+#include "sim_core/muscle/muscle_section.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "stage.hpp"
 
@@ -49,6 +51,9 @@ struct StageData<Stage::kAnatomy> {
   using Layers = AnatomyLayers;
   using Run = AnatomyRun;
   using Options = AnatomyOptions;
+  // The skin needs the muscles (its descriptor says so).
+  static constexpr std::array<const layer::SectionDescriptor*, 2> sections = {&muscle::kMusclesSection,
+                                                                              &elastic_skin::kSkinSection};
 };
 
 }  // namespace sinew::pipeline

@@ -16,10 +16,10 @@ constexpr auto muscle_array = [](std::string_view n) { return layer::array_ref(m
 constexpr auto skin_array = [](std::string_view n) { return layer::array_ref(elastic_skin::kSkinSectionArrays, n); };
 
 LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::MuscleModel* out) {
-  const MusclesSectionParams p = params_of<MusclesSectionParams>(v);
-  const bool v2 = v.header.layer_version >= kMusclesSectionVersion2;
-  const bool v3 = v.header.layer_version >= kMusclesSectionVersion3;
-  const bool v4 = v.header.layer_version == kMusclesSectionVersion4;
+  const muscle::MusclesSectionParams p = params_of<muscle::MusclesSectionParams>(v);
+  const bool v2 = v.header.layer_version >= muscle::kMusclesSectionVersion2;
+  const bool v3 = v.header.layer_version >= muscle::kMusclesSectionVersion3;
+  const bool v4 = v.header.layer_version == muscle::kMusclesSectionVersion4;
   *out = {p.joint_count,
           p.ring_vertices,
           named<muscle::MuscleRecord, muscle_array("muscles")>(v),
@@ -37,10 +37,10 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
 // The skin's params record, from any version: older ones get the fields
 // they lack at their defaults.
 LoadStatus skin_params(const SectionView& v, std::span<const ExternalInputRecord> external, LayerSet* set,
-                       SkinSectionParamsV3* out) {
-  SkinSectionParamsV3& p = *out;
-  if (v.header.layer_version == kSkinSectionVersion5) {
-    const SkinSectionParamsV5 p5 = params_of<SkinSectionParamsV5>(v);
+                       elastic_skin::SkinSectionParamsV3* out) {
+  elastic_skin::SkinSectionParamsV3& p = *out;
+  if (v.header.layer_version == elastic_skin::kSkinSectionVersion5) {
+    const elastic_skin::SkinSectionParamsV5 p5 = params_of<elastic_skin::SkinSectionParamsV5>(v);
     p = p5.v3;
     for (int c = 0; c < 3; ++c) {
       const uint32_t k = p5.base_acceleration_input[c];
@@ -52,16 +52,17 @@ LoadStatus skin_params(const SectionView& v, std::span<const ExternalInputRecord
                             "names an external input that is not an acceleration", k, true);
       set->anatomy.skin_base_acceleration[c] = k;
     }
-  } else if (v.header.layer_version == kSkinSectionVersion3 || v.header.layer_version == kSkinSectionVersion4) {
-    p = params_of<SkinSectionParamsV3>(v);
-  } else if (v.header.layer_version == kSkinSectionVersion2) {  // the solver record without edge_damping
-    const SkinSectionParamsV2 p2 = params_of<SkinSectionParamsV2>(v);
+  } else if (v.header.layer_version == elastic_skin::kSkinSectionVersion3 ||
+             v.header.layer_version == elastic_skin::kSkinSectionVersion4) {
+    p = params_of<elastic_skin::SkinSectionParamsV3>(v);
+  } else if (v.header.layer_version == elastic_skin::kSkinSectionVersion2) {  // the solver record without edge_damping
+    const elastic_skin::SkinSectionParamsV2 p2 = params_of<elastic_skin::SkinSectionParamsV2>(v);
     p.joint_count = p2.joint_count;
     p.vertex_count = p2.vertex_count;
     p.params = p2.params;
-    std::memcpy(static_cast<void*>(&p.solver), p2.solver, kSkinSolverBytesV2);
+    std::memcpy(static_cast<void*>(&p.solver), p2.solver, elastic_skin::kSkinSolverBytesV2);
   } else {  // version 1: the default solver (static relaxation)
-    const SkinSectionParams p1 = params_of<SkinSectionParams>(v);
+    const elastic_skin::SkinSectionParams p1 = params_of<elastic_skin::SkinSectionParams>(v);
     p.joint_count = p1.joint_count;
     p.vertex_count = p1.vertex_count;
     p.params = p1.params;
@@ -70,7 +71,7 @@ LoadStatus skin_params(const SectionView& v, std::span<const ExternalInputRecord
 }
 
 LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
-  SkinSectionParamsV3 p{};
+  elastic_skin::SkinSectionParamsV3 p{};
   LoadStatus ps = skin_params(v, set->external, set, &p);
   if (!ps.ok()) return ps;
   elastic_skin::SkinModel* out = &set->anatomy.skin;
@@ -88,7 +89,7 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
           rig.triangles};
   // fat_normal is a version 4 field (kept in 5): older sections keep the
   // anchor normal whatever their reserved byte holds.
-  if (v.header.layer_version < kSkinSectionVersion4) out->solver.fat_normal = 0;
+  if (v.header.layer_version < elastic_skin::kSkinSectionVersion4) out->solver.fat_normal = 0;
   *region = named<uint32_t, skin_array("region_vertex")>(v);
   *region_weight = named<fx::Unit, skin_array("region_weight")>(v);
   if (out->vertex_count != rig.vertex_count())

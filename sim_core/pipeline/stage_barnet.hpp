@@ -5,10 +5,13 @@
 #include <cstdint>
 
 #include "layer_format.hpp"
+#include "sim_core/barnet/barnet_section.hpp"
 #include "sim_core/barnet/barnet_state.hpp"
 #include "stage.hpp"
 
 namespace sinew::pipeline {
+
+using barnet::kMaxBarnets;
 
 struct BarnetLayers {
   barnet::BarnetModel net[kMaxBarnets];
@@ -27,6 +30,7 @@ struct StageData<Stage::kBarnet> {
   using Layers = BarnetLayers;
   using Run = BarnetRun;
   using Options = BarnetOptions;
+  static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&barnet::kBarnetSection};
 };
 
 }  // namespace sinew::pipeline

@@ -13,8 +13,8 @@ using rig::LoadStatus;
 constexpr auto barnet_array = [](std::string_view n) { return layer::array_ref(barnet::kBarnetSectionArrays, n); };
 
 LoadStatus load_net(const SectionView& v, const rig::Rig& rig, uint32_t external_count, barnet::BarnetModel* out) {
-  const BarnetSectionParams p = params_of<BarnetSectionParams>(v);
-  const bool v2 = v.header.layer_version == kBarnetSectionVersion2;
+  const barnet::BarnetSectionParams p = params_of<barnet::BarnetSectionParams>(v);
+  const bool v2 = v.header.layer_version == barnet::kBarnetSectionVersion2;
   *out = {p.joint_count,
           p.input_count,
           p.vertex_count,

@@ -2,6 +2,7 @@
 // at most one metaballs skin.
 #pragma once
 
+#include "sim_core/metaballs/metaballs_section.hpp"
 #include "sim_core/metaballs/state.hpp"
 #include "stage.hpp"
 
@@ -24,6 +25,7 @@ struct StageData<Stage::kMetaballs> {
   using Layers = MetaballsLayers;
   using Run = MetaballsRun;
   using Options = MetaballsOptions;
+  static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&metaballs::kMetaballsSection};
 };
 
 }  // namespace sinew::pipeline

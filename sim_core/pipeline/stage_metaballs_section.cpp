@@ -12,7 +12,7 @@ using rig::LoadStatus;
 constexpr auto mb_array = [](std::string_view n) { return layer::array_ref(metaballs::kMetaballsSectionArrays, n); };
 
 LoadStatus load_section(const SectionView& v, const rig::Rig& rig, metaballs::MetaballModel* out) {
-  const MetaballsSectionParams p = params_of<MetaballsSectionParams>(v);
+  const metaballs::MetaballsSectionParams p = params_of<metaballs::MetaballsSectionParams>(v);
   metaballs::MetaballModel& m = *out;
   m.joint_count = p.joint_count;
   m.vertex_count = p.vertex_count;
@@ -46,7 +46,7 @@ LoadStatus load_section(const SectionView& v, const rig::Rig& rig, metaballs::Me
   m.overlaps = named<metaballs::OverlapRecord, mb_array("overlaps")>(v);
   m.overlap_vertices = named<uint32_t, mb_array("overlap_vertices")>(v);
   m.overlap_balls = named<uint16_t, mb_array("overlap_balls")>(v);
-  if (v.header.layer_version == kMetaballsSectionVersion2) {  // action lines
+  if (v.header.layer_version == metaballs::kMetaballsSectionVersion2) {  // action lines
     m.action_lines = named<metaballs::ActionLine, mb_array("action_lines")>(v);
     m.action_balls = named<metaballs::ActionBall, mb_array("action_balls")>(v);
   }

@@ -15,6 +15,8 @@ struct StageData<Stage::kSkinning> {
   using Layers = SkinningLayers;
   using Run = SkinningRun;
   using Options = SkinningOptions;
+  // The rig's core sections carry the skeleton and the skin.
+  static constexpr std::array<const layer::SectionDescriptor*, 0> sections = {};
 };
 
 }  // namespace sinew::pipeline

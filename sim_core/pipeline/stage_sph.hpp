@@ -5,10 +5,13 @@
 #include <cstdint>
 
 #include "layer_format.hpp"
+#include "sim_core/sph/sph_section.hpp"
 #include "sim_core/sph/sph_state.hpp"
 #include "stage.hpp"
 
 namespace sinew::pipeline {
+
+using sph::kMaxSphJoints;
 
 struct SphJointLayer {
   sph::SphModel model;
@@ -49,6 +52,7 @@ struct StageData<Stage::kSph> {
   using Layers = SphLayers;
   using Run = SphRun;
   using Options = SphOptions;
+  static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&sph::kSphSection};
 };
 
 }  // namespace sinew::pipeline

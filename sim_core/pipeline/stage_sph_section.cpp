@@ -14,11 +14,11 @@ constexpr auto sph_array = [](std::string_view n) { return layer::array_ref(sph:
 
 LoadStatus load_joint(const SectionView& v, const rig::Rig& rig, uint32_t external_count, SphJointLayer* out) {
   // Version 1 has no surface tension: its record stops before tension_gain.
-  SphSectionParams p{};
-  if (v.header.layer_version == kSphSectionVersion2) {
-    p = params_of<SphSectionParams>(v);
+  sph::SphSectionParams p{};
+  if (v.header.layer_version == sph::kSphSectionVersion2) {
+    p = params_of<sph::SphSectionParams>(v);
   } else {
-    const SphSectionParamsV1 p1 = params_of<SphSectionParamsV1>(v);
+    const sph::SphSectionParamsV1 p1 = params_of<sph::SphSectionParamsV1>(v);
     std::memcpy(static_cast<void*>(&p.params), p1.params, sizeof p1.params);
     p.params.tension_gain = 0;
     p.joint = p1.joint;

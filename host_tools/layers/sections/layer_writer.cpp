@@ -100,14 +100,14 @@ SectionBuilder builder(const layer::SectionDescriptor& section, uint32_t version
 LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t force_input) {
   // Version 1 without surface tension (the bytes of rigs without it do not
   // change); version 2 stores the whole SphParams.
-  pipeline::SphSectionParams p2{};
-  pipeline::SphSectionParamsV1 p1{};
+  ::sinew::sph::SphSectionParams p2{};
+  ::sinew::sph::SphSectionParamsV1 p1{};
   const bool v2 = m.params.tension_gain != 0;
   p2.params = m.params;
   p2.joint = p1.joint = m.joint;
   p2.force_input = p1.force_input = force_input;
   std::memcpy(p1.params, &m.params, sizeof p1.params);
-  SectionBuilder b = v2 ? builder(sph::kSphSection, pipeline::kSphSectionVersion2, rate_hz, p2)
+  SectionBuilder b = v2 ? builder(sph::kSphSection, ::sinew::sph::kSphSectionVersion2, rate_hz, p2)
                         : builder(sph::kSphSection, pipeline::kLayerSectionVersion, rate_hz, p1);
   b.array("rest_local_x", m.rest_local[0])
       .array("rest_local_y", m.rest_local[1])
@@ -121,14 +121,14 @@ LayerSection sph_section(const sph::SphModel& m, uint32_t rate_hz, uint32_t forc
 }
 
 LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
-  const pipeline::MetaballsSectionParams p{m.joint_count,    m.vertex_count,     m.pbd_iterations,
-                                           m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
+  const ::sinew::metaballs::MetaballsSectionParams p{m.joint_count,    m.vertex_count,     m.pbd_iterations,
+                                                     m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
   // Version 1 without action lines (the bytes of rigs without them do not
   // change); version 2 appends them.
   const bool v2 = !m.action_lines.empty();
   SectionBuilder b =
-      builder(metaballs::kMetaballsSection, v2 ? pipeline::kMetaballsSectionVersion2 : pipeline::kLayerSectionVersion,
-              m.jiggle_rate_hz, p);
+      builder(metaballs::kMetaballsSection,
+              v2 ? ::sinew::metaballs::kMetaballsSectionVersion2 : pipeline::kLayerSectionVersion, m.jiggle_rate_hz, p);
   b.array("inverse_bind", m.inverse_bind)
       .array("ball_rest", m.ball_rest)
       .array("ball_radius", m.ball_radius)
@@ -164,10 +164,10 @@ LayerSection muscles_section(const ::sinew::muscle::MuscleModel& m) {
   // Version 4 only while some primitive is a general superquadric.
   bool general = false;
   for (const auto& r : m.primitives) general = general || (!m.exponents.empty() && r.exponent == 0);
-  const pipeline::MusclesSectionParams p{m.joint_count, m.ring_vertices};
-  const uint32_t version = general    ? pipeline::kMusclesSectionVersion4
-                           : shaped   ? pipeline::kMusclesSectionVersion3
-                           : deformed ? pipeline::kMusclesSectionVersion2
+  const ::sinew::muscle::MusclesSectionParams p{m.joint_count, m.ring_vertices};
+  const uint32_t version = general    ? ::sinew::muscle::kMusclesSectionVersion4
+                           : shaped   ? ::sinew::muscle::kMusclesSectionVersion3
+                           : deformed ? ::sinew::muscle::kMusclesSectionVersion2
                                       : pipeline::kLayerSectionVersion;
   SectionBuilder b = builder(muscle::kMusclesSection, version, 0, p);
   b.array("muscles", m.muscles).array("primitives", m.primitives);
@@ -189,10 +189,10 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
                   base_acceleration[1] != pipeline::kNoExternalInput ||
                   base_acceleration[2] != pipeline::kNoExternalInput;
   if (v5) {
-    pipeline::SkinSectionParamsV5 p5{};
+    ::sinew::elastic_skin::SkinSectionParamsV5 p5{};
     p5.v3 = {m.joint_count, m.vertex_count, m.params, m.solver};
     for (int c = 0; c < 3; ++c) p5.base_acceleration_input[c] = base_acceleration[c];
-    SectionBuilder b = builder(elastic_skin::kSkinSection, pipeline::kSkinSectionVersion5, 0, p5);
+    SectionBuilder b = builder(elastic_skin::kSkinSection, ::sinew::elastic_skin::kSkinSectionVersion5, 0, p5);
     b.array("anchors", m.anchors)
         .array("anchor_stiffness", m.anchor_stiffness)
         .array("fat", m.fat)
@@ -203,19 +203,19 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
   }
   const bool v4 = m.solver.fat_normal != 0;
   const bool v3 = !v4 && m.solver.edge_damping != 0;
-  const bool v2 = !v4 && !v3 && std::memcmp(&m.solver, &defaults, pipeline::kSkinSolverBytesV2) != 0;
-  pipeline::SkinSectionParamsV3 p{};
+  const bool v2 = !v4 && !v3 && std::memcmp(&m.solver, &defaults, ::sinew::elastic_skin::kSkinSolverBytesV2) != 0;
+  ::sinew::elastic_skin::SkinSectionParamsV3 p{};
   p.joint_count = m.joint_count;
   p.vertex_count = m.vertex_count;
   p.params = m.params;
   p.solver = m.solver;
   // The version 1 and 2 records are prefixes of the version 3 one.
-  const uint32_t size = v4 || v3 ? uint32_t{sizeof(pipeline::SkinSectionParamsV3)}
-                        : v2     ? uint32_t{sizeof(pipeline::SkinSectionParamsV2)}
-                                 : uint32_t{sizeof(pipeline::SkinSectionParams)};
-  const uint32_t version = v4   ? pipeline::kSkinSectionVersion4
-                           : v3 ? pipeline::kSkinSectionVersion3
-                           : v2 ? pipeline::kSkinSectionVersion2
+  const uint32_t size = v4 || v3 ? uint32_t{sizeof(::sinew::elastic_skin::SkinSectionParamsV3)}
+                        : v2     ? uint32_t{sizeof(::sinew::elastic_skin::SkinSectionParamsV2)}
+                                 : uint32_t{sizeof(::sinew::elastic_skin::SkinSectionParams)};
+  const uint32_t version = v4   ? ::sinew::elastic_skin::kSkinSectionVersion4
+                           : v3 ? ::sinew::elastic_skin::kSkinSectionVersion3
+                           : v2 ? ::sinew::elastic_skin::kSkinSectionVersion2
                                 : pipeline::kLayerSectionVersion;
   SectionBuilder b(elastic_skin::kSkinSection, version, 0, &p, size);
   b.array("anchors", m.anchors)
@@ -232,9 +232,9 @@ LayerSection barnet_section(const ::sinew::barnet::BarnetModel& m) {
   // (the bytes of rigs without them do not change); version 2 otherwise.
   bool v2 = !m.q_inputs.empty();
   for (const ::sinew::barnet::LoadRecord& l : m.loads) v2 = v2 || l.input >= m.input_count;
-  const pipeline::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, v2 ? m.external_count : 0};
-  SectionBuilder b =
-      builder(barnet::kBarnetSection, v2 ? pipeline::kBarnetSectionVersion2 : pipeline::kLayerSectionVersion, 0, p);
+  const ::sinew::barnet::BarnetSectionParams p{m.joint_count, m.input_count, m.vertex_count, v2 ? m.external_count : 0};
+  SectionBuilder b = builder(barnet::kBarnetSection,
+                             v2 ? ::sinew::barnet::kBarnetSectionVersion2 : pipeline::kLayerSectionVersion, 0, p);
   b.array("inverse_bind", m.inverse_bind)
       .array("nodes", m.nodes)
       .array("bars", m.bars)

@@ -9,7 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "sim_core/barnet/barnet_section.hpp"
+#include "sim_core/elastic_skin/skin_section.hpp"
+#include "sim_core/metaballs/metaballs_section.hpp"
+#include "sim_core/muscle/muscle_section.hpp"
 #include "sim_core/pipeline/layer_format.hpp"
+#include "sim_core/sph/sph_section.hpp"
 
 namespace sinew::layers {
 

@@ -72,7 +72,7 @@ TEST(BarnetSpecKeys, PlainNetKeepsTheVersionOneSection) {
 TEST(BarnetSpecKeys, ForceAndForceDensityInputsDriveTheNet) {
   BarnetRig r;
   ASSERT_TRUE(r.compile_and_load(kInputSpec)) << r.error;
-  EXPECT_EQ(r.barnet_section_version(), pl::kBarnetSectionVersion2);
+  EXPECT_EQ(r.barnet_section_version(), sinew::barnet::kBarnetSectionVersion2);
   const uint32_t grip = pl::find_external_input(r.layers, "biceps.grip");
   const uint32_t tone = pl::find_external_input(r.layers, "biceps.tone");
   ASSERT_NE(grip, pl::kNoExternalInput);
@@ -136,8 +136,8 @@ TEST(BarnetSpecKeys, VersionTwoSectionWithAWrongExternalCountIsRefused) {
   ASSERT_TRUE(r.compile_and_load(kInputSpec)) << r.error;
   const uint32_t rig_count = r.layers.external_count();
   ASSERT_EQ(rig_count, 2u);
-  const size_t field =
-      r.barnet_section_offset() + sizeof(pl::LayerSectionHeader) + offsetof(pl::BarnetSectionParams, external_count);
+  const size_t field = r.barnet_section_offset() + sizeof(pl::LayerSectionHeader) +
+                       offsetof(sinew::barnet::BarnetSectionParams, external_count);
   uint32_t written = 0;
   std::memcpy(&written, r.bytes.data() + field, sizeof(written));
   ASSERT_EQ(written, rig_count) << "the compiled section carries the rig's count";

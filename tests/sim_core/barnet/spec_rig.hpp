@@ -100,7 +100,7 @@ struct SpecRig {
     for (uint32_t i = 0; i < f.section_count; ++i) {
       sinew::rig::SectionEntry e;
       std::memcpy(&e, bytes.data() + f.section_table_offset + i * sizeof(e), sizeof(e));
-      if (e.id == pl::kSectionBarnet) return e.offset;
+      if (e.id == sinew::barnet::kSectionBarnet) return e.offset;
     }
     return 0;
   }

@@ -208,7 +208,7 @@ TEST(MetaballsSpecKeys, UnknownKeyIsRefused) {
 
 // The MBAL section's layer version of a compiled blob (0: none).
 uint32_t metaballs_section_version(const std::vector<uint8_t>& bytes) {
-  const size_t at = sinew::test::section_offset(bytes, sinew::pipeline::kSectionMetaballs);
+  const size_t at = sinew::test::section_offset(bytes, sinew::metaballs::kSectionMetaballs);
   if (at == 0) return 0;
   sinew::pipeline::LayerSectionHeader lh;
   std::memcpy(&lh, bytes.data() + at, sizeof(lh));
@@ -229,7 +229,7 @@ TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
   // rigs); with them it is version 2.
   ASSERT_TRUE(compile("sinew_metaballs_plain.toml", kSpec, &plain, &plain_layers, &error)) << error;
   EXPECT_EQ(metaballs_section_version(plain), 1u);
-  EXPECT_EQ(metaballs_section_version(bytes), sinew::pipeline::kMetaballsSectionVersion2);
+  EXPECT_EQ(metaballs_section_version(bytes), sinew::metaballs::kMetaballsSectionVersion2);
 
   LoadedLayers loaded;
   loaded.bytes = bytes;

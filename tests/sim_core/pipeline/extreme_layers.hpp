@@ -32,21 +32,21 @@ inline void extreme_mat34(fx::Mat34& m, size_t i) {
 // skin at +-(2^31 - 1).
 inline void push_sph(std::vector<uint8_t>* bytes, bool wide) {
   for (uint32_t inst = 0; inst < pipeline::kMaxSphJoints; ++inst) {
-    const LayerView v = layer_view(*bytes, pipeline::kSectionSphJoint, inst);
+    const LayerView v = layer_view(*bytes, sinew::sph::kSectionSphJoint, inst);
     if (!v) return;
     // The built sections are version 1 (no surface tension): rewritten as
     // version 2 with the tension gain at its maximum too.
-    pipeline::SphSectionParamsV1 v1;
+    sinew::sph::SphSectionParamsV1 v1;
     std::memcpy(&v1, bytes->data() + v.params, sizeof v1);
-    pipeline::SphSectionParams v2{};
+    sinew::sph::SphSectionParams v2{};
     std::memcpy(static_cast<void*>(&v2.params), v1.params, sizeof v1.params);
     v2.joint = v1.joint;
     v2.force_input = v1.force_input;
     std::memcpy(bytes->data() + v.params, &v2, sizeof v2);
-    std::memcpy(bytes->data() + v.section, &pipeline::kSphSectionVersion2, sizeof(uint32_t));
-    edit_record<pipeline::SphSectionParams>(
+    std::memcpy(bytes->data() + v.section, &sinew::sph::kSphSectionVersion2, sizeof(uint32_t));
+    edit_record<sinew::sph::SphSectionParams>(
         bytes, v.params,
-        [&](pipeline::SphSectionParams& p, size_t) {
+        [&](sinew::sph::SphSectionParams& p, size_t) {
           p.params.substeps = sph::kMaxSubsteps;
           p.params.max_neighbours = sph::kMaxNeighbours;
           p.params.elastic_gain = p.params.pressure_gain = p.params.viscosity_gain = kUnitMax - 1;
@@ -71,11 +71,11 @@ inline void push_sph(std::vector<uint8_t>* bytes, bool wide) {
 // the inverse binds (unchecked) at the Lin and Len extremes.
 inline void push_metaballs(std::vector<uint8_t>* bytes) {
   namespace mb = metaballs;
-  const LayerView v = layer_view(*bytes, pipeline::kSectionMetaballs);
+  const LayerView v = layer_view(*bytes, sinew::metaballs::kSectionMetaballs);
   if (!v) return;
-  edit_record<pipeline::MetaballsSectionParams>(
+  edit_record<sinew::metaballs::MetaballsSectionParams>(
       bytes, v.params,
-      [](pipeline::MetaballsSectionParams& p, size_t) {
+      [](sinew::metaballs::MetaballsSectionParams& p, size_t) {
         p.pbd_iterations = mb::kMaxPbdIterations;
         p.jiggle_damping = kUnitMax - 1;
         p.smoothing_passes = mb::kMaxSmoothingPasses;
@@ -103,7 +103,7 @@ inline void push_metaballs(std::vector<uint8_t>* bytes) {
 // LSB.
 inline void push_muscles(std::vector<uint8_t>* bytes) {
   namespace mu = muscle;
-  const LayerView v = layer_view(*bytes, pipeline::kSectionMuscles);
+  const LayerView v = layer_view(*bytes, sinew::muscle::kSectionMuscles);
   if (!v) return;
   edit_array<mu::MuscleRecord>(bytes, v, 0, [](mu::MuscleRecord& m, size_t i) {
     for (int k = 0; k < 2; ++k) {
@@ -129,11 +129,11 @@ inline void push_muscles(std::vector<uint8_t>* bytes) {
 // parameters at their bounds.
 inline void push_skin(std::vector<uint8_t>* bytes, uint32_t iterations) {
   namespace es = elastic_skin;
-  const LayerView v = layer_view(*bytes, pipeline::kSectionElasticSkin);
+  const LayerView v = layer_view(*bytes, sinew::elastic_skin::kSectionElasticSkin);
   if (!v) return;
-  edit_record<pipeline::SkinSectionParams>(
+  edit_record<sinew::elastic_skin::SkinSectionParams>(
       bytes, v.params,
-      [&](pipeline::SkinSectionParams& p, size_t) {
+      [&](sinew::elastic_skin::SkinSectionParams& p, size_t) {
         p.params.iterations = iterations;
         p.params.push_back = kUnitMax;
         p.params.compression_band = 1;
@@ -168,7 +168,7 @@ inline void push_skin(std::vector<uint8_t>* bytes, uint32_t iterations) {
 inline void push_barnet(std::vector<uint8_t>* bytes) {
   namespace bn = sinew::barnet;
   for (uint32_t inst = 0; inst < pipeline::kMaxBarnets; ++inst) {
-    const LayerView v = layer_view(*bytes, pipeline::kSectionBarnet, inst);
+    const LayerView v = layer_view(*bytes, sinew::barnet::kSectionBarnet, inst);
     if (!v) return;
     edit_array<fx::Mat34>(bytes, v, 0, [](fx::Mat34& m, size_t i) { extreme_mat34(m, i); });
     edit_array<bn::NodeRecord>(bytes, v, 1, [](bn::NodeRecord& n, size_t i) { n.rest = extreme_vec(i); });

@@ -90,22 +90,22 @@ TEST(LayerLoader, CorruptionsAreRefusedNamingSectionAndField) {
     };
   };
   const Corruption cases[] = {
-      {"version", pl::kSectionSphJoint, at(0, 3), "SPHJ#0.layer_version: unsupported layer section version"},
-      {"params size", pl::kSectionSphJoint, at(4, 80), "SPHJ#0.params_size: does not match"},
-      {"array count", pl::kSectionSphJoint, at(8, 10), "SPHJ#0.array_count: does not match"},
-      {"rate", pl::kSectionSphJoint, at(12, 0), "SPHJ#0.rate_hz: an SPH joint's gains need its tick rate"},
-      {"element size", pl::kSectionSphJoint, array_field(0, 8, 8), "SPHJ#0.rest_local_x: element size"},
-      {"count beyond maximum", pl::kSectionSphJoint, array_field(0, 4, 9000),
+      {"version", sinew::sph::kSectionSphJoint, at(0, 3), "SPHJ#0.layer_version: unsupported layer section version"},
+      {"params size", sinew::sph::kSectionSphJoint, at(4, 80), "SPHJ#0.params_size: does not match"},
+      {"array count", sinew::sph::kSectionSphJoint, at(8, 10), "SPHJ#0.array_count: does not match"},
+      {"rate", sinew::sph::kSectionSphJoint, at(12, 0), "SPHJ#0.rate_hz: an SPH joint's gains need its tick rate"},
+      {"element size", sinew::sph::kSectionSphJoint, array_field(0, 8, 8), "SPHJ#0.rest_local_x: element size"},
+      {"count beyond maximum", sinew::sph::kSectionSphJoint, array_field(0, 4, 9000),
        "SPHJ#0.rest_local_x: count exceeds the documented maximum"},
-      {"misaligned array", pl::kSectionSphJoint, array_field(7, 0, 4, true),
+      {"misaligned array", sinew::sph::kSectionSphJoint, array_field(7, 0, 4, true),
        "SPHJ#0.skin_vertex: outside the section or misaligned"},
-      {"array past the section", pl::kSectionSphJoint, array_field(0, 0, 0x7FFFFFF8u),
+      {"array past the section", sinew::sph::kSectionSphJoint, array_field(0, 0, 0x7FFFFFF8u),
        "SPHJ#0.rest_local_x: outside the section or misaligned"},
-      {"count past the section", pl::kSectionSphJoint, array_field(10, 4, 8000),
+      {"count past the section", sinew::sph::kSectionSphJoint, array_field(10, 4, 8000),
        "SPHJ#0.skin_rest_z: outside the section"},
-      {"joint index", pl::kSectionSphJoint, at(32 + 48, 99), "SPHJ#0: "},
-      {"force input", pl::kSectionSphJoint, at(32 + 76, 5), "SPHJ#0.force_input: names no external input"},
-      {"gain", pl::kSectionSphJoint, at(32 + 12, 0x7FFFFFFFu), "SPHJ#0: "},
+      {"joint index", sinew::sph::kSectionSphJoint, at(32 + 48, 99), "SPHJ#0: "},
+      {"force input", sinew::sph::kSectionSphJoint, at(32 + 76, 5), "SPHJ#0.force_input: names no external input"},
+      {"gain", sinew::sph::kSectionSphJoint, at(32 + 12, 0x7FFFFFFFu), "SPHJ#0: "},
       {"input name", pl::kSectionExternalInputs,
        [](std::vector<uint8_t>* b, size_t s) {
          const size_t data = get_u32(*b, array_entry(*b, s, 0));
@@ -118,19 +118,21 @@ TEST(LayerLoader, CorruptionsAreRefusedNamingSectionAndField) {
       {"input quantity", pl::kSectionExternalInputs,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 0)) + 48, 9); },
        "EXTI#0.quantity[0]: unknown quantity"},
-      {"metaballs vertices", pl::kSectionMetaballs, at(36, 7), "MBAL#0: vertex_count: differs from the rig's"},
-      {"metaballs model", pl::kSectionMetaballs, at(40, 99), "MBAL#0: "},
-      {"ring vertices", pl::kSectionMuscles, at(36, 6), "MUSC#0: "},
-      {"skin vertices", pl::kSectionElasticSkin, at(36, 9), "SKIN#0.vertex_count: differs from the rig's"},
-      {"skin iterations", pl::kSectionElasticSkin, at(40, 0), "SKIN#0: "},
-      {"skin region", pl::kSectionElasticSkin,
+      {"metaballs vertices", sinew::metaballs::kSectionMetaballs, at(36, 7),
+       "MBAL#0: vertex_count: differs from the rig's"},
+      {"metaballs model", sinew::metaballs::kSectionMetaballs, at(40, 99), "MBAL#0: "},
+      {"ring vertices", sinew::muscle::kSectionMuscles, at(36, 6), "MUSC#0: "},
+      {"skin vertices", sinew::elastic_skin::kSectionElasticSkin, at(36, 9),
+       "SKIN#0.vertex_count: differs from the rig's"},
+      {"skin iterations", sinew::elastic_skin::kSectionElasticSkin, at(40, 0), "SKIN#0: "},
+      {"skin region", sinew::elastic_skin::kSectionElasticSkin,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 5)), 99999); },
        "SKIN#0.region_vertex[0]: not an ascending vertex index of the rig"},
-      {"skin region weight", pl::kSectionElasticSkin,
+      {"skin region weight", sinew::elastic_skin::kSectionElasticSkin,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 6)), 0); },
        "SKIN#0.region_weight[0]: outside (0, 1]"},
-      {"bar-net joints", pl::kSectionBarnet, at(32, 3), "BNET#0: joint_count: differs from the rig's"},
-      {"bar-net model", pl::kSectionBarnet,
+      {"bar-net joints", sinew::barnet::kSectionBarnet, at(32, 3), "BNET#0: joint_count: differs from the rig's"},
+      {"bar-net model", sinew::barnet::kSectionBarnet,
        [](std::vector<uint8_t>* b, size_t s) { put_u32(b, s + get_u32(*b, array_entry(*b, s, 2)), 9999); }, "BNET#0: "},
   };
   for (const Corruption& c : cases) {
@@ -159,10 +161,12 @@ TEST(LayerLoader, InstanceLimitsAndDependenciesAreEnforced) {
     sinew::test::fix_crc(&bytes);
     return load_error(bytes);
   };
-  EXPECT_NE(retag(pl::kSectionBarnet, pl::kSectionMetaballs).find("MBAL#1: more instances than the format allows"),
+  EXPECT_NE(retag(sinew::barnet::kSectionBarnet, sinew::metaballs::kSectionMetaballs)
+                .find("MBAL#1: more instances than the format allows"),
             std::string::npos);
-  EXPECT_NE(retag(pl::kSectionMuscles, 0x58585858u).find("SKIN#0: needs a MUSC section, which the blob lacks"),
-            std::string::npos);
+  EXPECT_NE(
+      retag(sinew::muscle::kSectionMuscles, 0x58585858u).find("SKIN#0: needs a MUSC section, which the blob lacks"),
+      std::string::npos);
 }
 
 TEST(LayerLoader, ArenaTooSmallIsRefused) {
@@ -207,15 +211,15 @@ TEST(LayerLoader, RandomCorruptionNeverCrashes) {
 TEST(LayerLoader, SphVersion2CarriesTheSurfaceTension) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
-  const size_t section = sinew::test::section_offset(arm->bytes, pl::kSectionSphJoint);
+  const size_t section = sinew::test::section_offset(arm->bytes, sinew::sph::kSectionSphJoint);
   ASSERT_NE(section, 0u);
   EXPECT_EQ(get_u32(arm->bytes, section), 1u) << "no tension: the writer keeps version 1";
   const sinew::sph::SphParams v1 = arm->layers.sph.joint[0].model.params;
   EXPECT_EQ(v1.tension_gain, 0);
   const size_t params = section + sizeof(pl::LayerSectionHeader);
-  pl::SphSectionParamsV1 old;
+  sinew::sph::SphSectionParamsV1 old;
   std::memcpy(&old, arm->bytes.data() + params, sizeof old);
-  pl::SphSectionParams now{};
+  sinew::sph::SphSectionParams now{};
   std::memcpy(static_cast<void*>(&now.params), old.params, sizeof old.params);
   now.params.tension_gain = 12345;
   now.joint = old.joint;
@@ -223,7 +227,7 @@ TEST(LayerLoader, SphVersion2CarriesTheSurfaceTension) {
   LoadedLayers l;
   l.bytes = arm->bytes;
   std::memcpy(l.bytes.data() + params, &now, sizeof now);
-  put_u32(&l.bytes, section, pl::kSphSectionVersion2);
+  put_u32(&l.bytes, section, sinew::sph::kSphSectionVersion2);
   sinew::test::fix_crc(&l.bytes);
   std::string error;
   ASSERT_TRUE(l.load(&error)) << error;
@@ -259,9 +263,9 @@ TEST(LayerLoader, SphSurfaceTensionCompilesToVersion2) {
               sinew::layers::compile_layers(spec, specs, &l.bytes, &report, &error))
       << error;
   ASSERT_TRUE(l.load(&error)) << error;
-  const size_t section = sinew::test::section_offset(l.bytes, pl::kSectionSphJoint);
+  const size_t section = sinew::test::section_offset(l.bytes, sinew::sph::kSectionSphJoint);
   ASSERT_NE(section, 0u);
-  EXPECT_EQ(get_u32(l.bytes, section), pl::kSphSectionVersion2);
+  EXPECT_EQ(get_u32(l.bytes, section), sinew::sph::kSphSectionVersion2);
   EXPECT_GT(l.layers.sph.joint[0].model.params.tension_gain, 0);
   pl::PipelineOptions options;
   ASSERT_TRUE(l.start(options, &error)) << error;

@@ -39,7 +39,7 @@ uint32_t musc_u32(const std::vector<uint8_t>& b, size_t at) {
 
 // Offset (from the blob start) of element `index` of array `array` of the MUSC section.
 size_t musc_element(const std::vector<uint8_t>& b, uint32_t array, uint32_t index) {
-  const size_t s = sinew::test::section_offset(b, pl::kSectionMuscles);
+  const size_t s = sinew::test::section_offset(b, sinew::muscle::kSectionMuscles);
   const uint32_t params = musc_u32(b, s + 4);
   const size_t entry = s + sizeof(pl::LayerSectionHeader) + ((params + 7u) & ~7u) + array * sizeof(pl::LayerArrayEntry);
   return s + musc_u32(b, entry) + index * musc_u32(b, entry + 8);
@@ -59,8 +59,8 @@ TEST(MuscleExponents, GeneralBelliesCompileToMuscVersion4AndRun) {
   std::string error;
   auto l = arm_with_general_belly(&error);
   ASSERT_NE(l, nullptr) << error;
-  const size_t section = sinew::test::section_offset(l->bytes, pl::kSectionMuscles);
-  EXPECT_EQ(musc_u32(l->bytes, section), pl::kMusclesSectionVersion4);
+  const size_t section = sinew::test::section_offset(l->bytes, sinew::muscle::kSectionMuscles);
+  EXPECT_EQ(musc_u32(l->bytes, section), sinew::muscle::kMusclesSectionVersion4);
   const muscle::MuscleModel& m = l->layers.anatomy.muscles;
   ASSERT_EQ(m.primitives.size(), 2u);
   ASSERT_EQ(m.exponents.size(), 2u);
@@ -77,8 +77,8 @@ TEST(MuscleExponents, GeneralBelliesCompileToMuscVersion4AndRun) {
   // The built-in arm (exponent 4 only) keeps its older section and bytes.
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
-  EXPECT_LT(musc_u32(arm->bytes, sinew::test::section_offset(arm->bytes, pl::kSectionMuscles)),
-            pl::kMusclesSectionVersion4);
+  EXPECT_LT(musc_u32(arm->bytes, sinew::test::section_offset(arm->bytes, sinew::muscle::kSectionMuscles)),
+            sinew::muscle::kMusclesSectionVersion4);
   EXPECT_TRUE(arm->layers.anatomy.muscles.exponents.empty());
   // The pipeline steps it; the muscle step hands the pair to the frame.
   ASSERT_TRUE(l->start(pl::PipelineOptions{}, &error)) << error;
@@ -122,8 +122,8 @@ TEST(MuscleExponents, BadValuesAreRefusedNamingSectionArrayIndexAndField) {
   }
   // One pair for two primitives.
   std::vector<uint8_t> bytes = good;
-  const size_t s = sinew::test::section_offset(bytes, pl::kSectionMuscles);
-  const size_t entry = s + sizeof(pl::LayerSectionHeader) + sizeof(pl::MusclesSectionParams) +
+  const size_t s = sinew::test::section_offset(bytes, sinew::muscle::kSectionMuscles);
+  const size_t entry = s + sizeof(pl::LayerSectionHeader) + sizeof(sinew::muscle::MusclesSectionParams) +
                        4 * sizeof(pl::LayerArrayEntry);  // the params (8 bytes) need no padding
   const uint32_t one = 1;
   std::memcpy(bytes.data() + entry + 4, &one, 4);

@@ -44,8 +44,9 @@ TEST(SectionDescriptors, EveryDescriptorIsWellFormed) {
     }
     EXPECT_EQ(d->versions.back().array_count, d->arrays.size()) << d->name << ": the newest version has every array";
   }
-  for (uint32_t id : {pl::kSectionSphJoint, pl::kSectionMetaballs, pl::kSectionMuscles, pl::kSectionElasticSkin,
-                      pl::kSectionBarnet, pl::kSectionExternalInputs})
+  for (uint32_t id :
+       {sinew::sph::kSectionSphJoint, sinew::metaballs::kSectionMetaballs, sinew::muscle::kSectionMuscles,
+        sinew::elastic_skin::kSectionElasticSkin, sinew::barnet::kSectionBarnet, pl::kSectionExternalInputs})
     EXPECT_NE(pl::find_layer_section(id), nullptr) << std::hex << id;
 }
 
@@ -92,7 +93,7 @@ TEST(SectionDescriptors, TheBuiltInRigsSectionsMatchTheirDescriptors) {
 TEST(SectionDescriptors, ASectionThatDiffersFromItsDescriptorIsRefusedNamed) {
   auto arm = sinew::test::arm_with_layers();
   ASSERT_NE(arm, nullptr);
-  const size_t at = sinew::test::section_offset(arm->bytes, pl::kSectionBarnet);
+  const size_t at = sinew::test::section_offset(arm->bytes, sinew::barnet::kSectionBarnet);
   ASSERT_NE(at, 0u);
   ly::LayerSectionHeader sh;
   std::memcpy(&sh, arm->bytes.data() + at, sizeof(sh));

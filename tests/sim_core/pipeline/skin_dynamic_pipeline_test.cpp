@@ -32,7 +32,7 @@ std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* er
 }
 
 uint32_t skin_section_version(const std::vector<uint8_t>& bytes) {
-  const size_t at = sinew::test::section_offset(bytes, pl::kSectionElasticSkin);
+  const size_t at = sinew::test::section_offset(bytes, sinew::elastic_skin::kSectionElasticSkin);
   uint32_t v = 0;
   if (at != 0) std::memcpy(&v, bytes.data() + at, 4);
   return v;
@@ -51,7 +51,7 @@ TEST(SkinDynamicPipeline, DynamicRigLoadsAndStepsAtTheLoopRate) {
   std::string error;
   auto arm = arm_with_dynamic_skin(&error);
   ASSERT_NE(arm, nullptr) << error;
-  EXPECT_EQ(skin_section_version(arm->bytes), pl::kSkinSectionVersion2);
+  EXPECT_EQ(skin_section_version(arm->bytes), sinew::elastic_skin::kSkinSectionVersion2);
   const sinew::elastic_skin::SkinSolverParams& solver = arm->layers.anatomy.skin.solver;
   EXPECT_EQ(solver.mode, static_cast<uint8_t>(sinew::elastic_skin::SkinMode::kDynamic));
   EXPECT_LT(solver.gravity.y, 0);
@@ -110,7 +110,7 @@ TEST(SkinDynamicPipeline, BaseAccelerationInputsReachTheSkinAsAnInertialField) {
   std::string error;
   auto moving = arm_on_a_moving_base(&error);
   ASSERT_NE(moving, nullptr) << error;
-  EXPECT_EQ(skin_section_version(moving->bytes), pl::kSkinSectionVersion5);
+  EXPECT_EQ(skin_section_version(moving->bytes), sinew::elastic_skin::kSkinSectionVersion5);
   for (int c = 0; c < 3; ++c) ASSERT_NE(moving->layers.anatomy.skin_base_acceleration[c], pl::kNoExternalInput);
   const uint32_t ay = moving->layers.anatomy.skin_base_acceleration[1];
   EXPECT_EQ(moving->layers.external[ay].quantity, static_cast<uint32_t>(pl::InputQuantity::kAcceleration));
@@ -153,10 +153,10 @@ TEST(SkinDynamicPipeline, LoaderRefusesBaseAccelerationInputsThatAreNotAccelerat
   std::string error;
   auto moving = arm_on_a_moving_base(&error);
   ASSERT_NE(moving, nullptr) << error;
-  const size_t section = sinew::test::section_offset(moving->bytes, pl::kSectionElasticSkin);
+  const size_t section = sinew::test::section_offset(moving->bytes, sinew::elastic_skin::kSectionElasticSkin);
   ASSERT_NE(section, 0u);
-  const size_t field =
-      section + sizeof(pl::LayerSectionHeader) + offsetof(pl::SkinSectionParamsV5, base_acceleration_input) + 4;
+  const size_t field = section + sizeof(pl::LayerSectionHeader) +
+                       offsetof(sinew::elastic_skin::SkinSectionParamsV5, base_acceleration_input) + 4;
   const uint32_t force = pl::find_external_input(moving->layers, "elbow.force");
   ASSERT_NE(force, pl::kNoExternalInput);
   const struct {
