@@ -267,6 +267,10 @@ TEST(AsyncSink, StatusFollowsTheWritesWithoutAFlush) {
     std::string report;
     fw::AsyncSinkOptions options;
     options.poll_ns = poll_ns;
+    // Lossless: an I/O thread held off the CPU longer than the ring lasts
+    // (128 ms) would otherwise drop frames, and write() would say so. The
+    // refresh under test does not depend on the mode.
+    options.lossless = true;
     fw::AsyncSink sink(std::make_unique<CountingStatusSink>(), kDims, options, &report);
     EXPECT_EQ(sink.status_line().rfind("written 0;", 0), 0u) << sink.status_line();
     TickFrame f(0);
