@@ -15,6 +15,7 @@
 #    whose inputs are large (the rig blobs: about 46 KB each, so a thousand
 #    kept inputs would add 50 MB of binary files to the repository) keeps
 #    its set as one archive instead, tests/fuzz/corpus/<corpus>.campaign.tar.zst
+#    (<NAME>.campaign.tar.zst for an "archive=NAME" entry)
 #    (beside the seed folder, so that no run reads it as an input), unpacked
 #    into the build tree for the run and packed again, byte for byte
 #    reproducibly, after the merge;
@@ -121,6 +122,10 @@ done
 [[ "$minutes" =~ ^[0-9]+$ ]] && [ "$minutes" -gt 0 ] || { echo "fuzz-campaign: MINUTES must be a positive integer" >&2; exit 2; }
 [[ "$jobs" =~ ^[0-9]+$ ]] || { echo "fuzz-campaign: --jobs must be a non-negative integer" >&2; exit 2; }
 IFS=: read -r target corpus max_len storage <<<"$(lookup "$target")"
+# "archive=NAME": the kept set is NAME's, for targets that share their seeds
+# but not what they keep (each merge keeps what adds to its own coverage).
+set_name=$corpus
+case "${storage:-}" in archive=*) set_name=${storage#archive=}; storage=archive ;; esac
 
 scripts/install-deps.sh test
 cmake --preset clang >/dev/null
@@ -131,15 +136,15 @@ seeds=tests/fuzz/corpus/$corpus
 kept=$seeds/campaign
 archive=""
 extra_inputs=()
-scratch=$build/campaign/$corpus
+scratch=$build/campaign/$set_name
 findings=$build/findings/$target
 log=$findings/campaign.log
 rm -rf "$scratch"
 if [ "${storage:-}" = archive ]; then
   # The kept set lives in the archive; it is read from a build-tree folder
   # (not under the seed folder, so it is named as an input folder of its own).
-  archive=tests/fuzz/corpus/$corpus.campaign.tar.zst
-  kept=$build/campaign/$corpus.kept
+  archive=tests/fuzz/corpus/$set_name.campaign.tar.zst
+  kept=$build/campaign/$set_name.kept
   rm -rf "$kept"
   mkdir -p "$kept"
   if [ -f "$archive" ]; then tar --zstd -xf "$archive" -C "$kept"; fi
@@ -176,7 +181,7 @@ fi
 
 # Minimise: the seeds first (they are always kept), then every input of the
 # committed campaign folder and of this run that adds coverage beyond them.
-merged=$build/campaign/$corpus.merged
+merged=$build/campaign/$set_name.merged
 rm -rf "$merged"
 mkdir -p "$merged"
 find "$seeds" -maxdepth 1 -type f ! -name README.md -exec cp {} "$merged/" \;
