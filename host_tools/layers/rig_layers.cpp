@@ -6,14 +6,18 @@
 #include <sstream>
 
 #include "host_tools/layers/anatomy/anatomy_build.hpp"
+#include "host_tools/layers/anatomy/anatomy_section_writer.hpp"
 #include "host_tools/layers/anatomy/joint_anatomy.hpp"
+#include "host_tools/layers/barnet/barnet_section_writer.hpp"
 #include "host_tools/layers/barnet/joint_net.hpp"
 #include "host_tools/layers/barnet/muscle_net.hpp"
 #include "host_tools/layers/barnet/wrinkle_net.hpp"
 #include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/layers/metaballs/builder.hpp"
+#include "host_tools/layers/metaballs/metaballs_section_writer.hpp"
 #include "host_tools/layers/sections/layer_writer.hpp"
 #include "host_tools/layers/sph/sph_builder.hpp"
+#include "host_tools/layers/sph/sph_section_writer.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "sim_core/rig/rig.hpp"
 #include "sim_core/sph/sph_model.hpp"
