@@ -236,6 +236,47 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
                       std::to_string(built.jv_vertex.size()) + " joint-region vertices");
   }
 
+  if (layers.barnets.size() > sinew::barnet::kMaxBarnets) return fail("[[barnet]]", "at most 8 bar-nets", error);
+  for (size_t i = 0; i < layers.barnets.size(); ++i) {
+    const BarnetTable& t = layers.barnets[i];
+    const int j = resolve_joint(spec, t.joint, error);
+    if (j < 0) return false;
+    barnet::JointNetOptions o;
+    o.segments = t.segments;
+    o.rings = t.rings;
+    o.ring_step = t.ring_step;
+    o.force = t.force;
+    o.external_count = static_cast<uint32_t>(records.size());
+    for (size_t k = 0; k < records.size(); ++k) {
+      if (!t.force_input.empty() && t.force_input == records[k].name) o.force_input = static_cast<int>(k);
+      if (!t.q_input.empty() && t.q_input == records[k].name) o.q_input = static_cast<int>(k);
+    }
+    o.force_input_hi = t.force_input_full;
+    barnet::NetSpec net;
+    barnet::BarnetBuild built;
+    bool built_net = false;
+    if (t.net == "joint") {
+      built_net = barnet::joint_net(spec, g, j, o, &net, error);
+    } else {
+      barnet::JointMuscleNetOptions muscles;
+      muscles.segments = t.segments;
+      muscles.force = t.force;
+      barnet::SkinWrinkleOptions wrinkles;
+      wrinkles.force = t.force;
+      built_net = t.net == "muscles"       ? barnet::joint_muscle_net(spec, g, j, muscles, &net, error)
+                  : t.net == "wrinkles"    ? barnet::skin_wrinkle_net(spec, g, j, wrinkles, &net, error)
+                  : t.net == "arm-muscles" ? barnet::arm_muscle_net(spec, {}, &net, error)
+                                           : barnet::arm_wrinkle_net(spec, {}, &net, error);
+      barnet::drive_from_inputs({o.external_count, o.force_input, o.force_input_lo, o.force_input_hi, o.q_input}, &net);
+    }
+    if (!built_net || !barnet::build_barnet(net, spec, &built, error)) return fail(t.joint.where, *error, error);
+    sections.push_back(barnet_section(built.model()));
+    report->push_back("barnet[" + std::to_string(i) + "] " + spec.joints[static_cast<size_t>(j)].name + ": " +
+                      std::to_string(built.nodes.size()) + " nodes, " + std::to_string(built.bars.size()) + " bars, " +
+                      std::to_string(built.loads.size()) + " loads, " + std::to_string(built.wrap.size()) +
+                      " wrapped vertices");
+  }
+
   if (!layers.muscles.empty() || layers.skin.on) {
     if (layers.muscles.empty()) return fail(layers.skin.where, "the elastic skin needs at least one [[muscle]]", error);
     std::vector<anatomy_build::MuscleRequest> requests;
@@ -353,47 +394,6 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
                           " N s/m per unit stiffness, stiffest mode " + fmt(model.report.omega_max) + " rad/s, " +
                           std::to_string(model.report.substep_hz) + " Hz substeps");
     }
-  }
-
-  if (layers.barnets.size() > sinew::barnet::kMaxBarnets) return fail("[[barnet]]", "at most 8 bar-nets", error);
-  for (size_t i = 0; i < layers.barnets.size(); ++i) {
-    const BarnetTable& t = layers.barnets[i];
-    const int j = resolve_joint(spec, t.joint, error);
-    if (j < 0) return false;
-    barnet::JointNetOptions o;
-    o.segments = t.segments;
-    o.rings = t.rings;
-    o.ring_step = t.ring_step;
-    o.force = t.force;
-    o.external_count = static_cast<uint32_t>(records.size());
-    for (size_t k = 0; k < records.size(); ++k) {
-      if (!t.force_input.empty() && t.force_input == records[k].name) o.force_input = static_cast<int>(k);
-      if (!t.q_input.empty() && t.q_input == records[k].name) o.q_input = static_cast<int>(k);
-    }
-    o.force_input_hi = t.force_input_full;
-    barnet::NetSpec net;
-    barnet::BarnetBuild built;
-    bool built_net = false;
-    if (t.net == "joint") {
-      built_net = barnet::joint_net(spec, g, j, o, &net, error);
-    } else {
-      barnet::JointMuscleNetOptions muscles;
-      muscles.segments = t.segments;
-      muscles.force = t.force;
-      barnet::SkinWrinkleOptions wrinkles;
-      wrinkles.force = t.force;
-      built_net = t.net == "muscles"       ? barnet::joint_muscle_net(spec, g, j, muscles, &net, error)
-                  : t.net == "wrinkles"    ? barnet::skin_wrinkle_net(spec, g, j, wrinkles, &net, error)
-                  : t.net == "arm-muscles" ? barnet::arm_muscle_net(spec, {}, &net, error)
-                                           : barnet::arm_wrinkle_net(spec, {}, &net, error);
-      barnet::drive_from_inputs({o.external_count, o.force_input, o.force_input_lo, o.force_input_hi, o.q_input}, &net);
-    }
-    if (!built_net || !barnet::build_barnet(net, spec, &built, error)) return fail(t.joint.where, *error, error);
-    sections.push_back(barnet_section(built.model()));
-    report->push_back("barnet[" + std::to_string(i) + "] " + spec.joints[static_cast<size_t>(j)].name + ": " +
-                      std::to_string(built.nodes.size()) + " nodes, " + std::to_string(built.bars.size()) + " bars, " +
-                      std::to_string(built.loads.size()) + " loads, " + std::to_string(built.wrap.size()) +
-                      " wrapped vertices");
   }
   return append_layer_sections(blob, sections, error);
 }

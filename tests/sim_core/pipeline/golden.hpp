@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xb4397f7f72c0d8bcu;
+inline constexpr uint64_t kArmLayersBlob = 0xe322104d09c54a42u;
 inline constexpr uint64_t kPipelineArmAllLayers = 0x8beec896e5a7c8f8u;
 }  // namespace sinew::test::golden
