@@ -1,5 +1,5 @@
-// The layer tables of a TOML rig spec ([[sph]], [metaballs], [[muscle]],
-// [skin], [[barnet]], [[external_input]], and [rig] rate_hz), read into
+// The layer tables of a TOML rig spec (each layer's, read by its
+// tables/<layer>_table.cpp; [[external_input]]; and [rig] rate_hz), read into
 // layers::LayerSpecs. Unknown keys and wrong types are refused with the
 // file, the line and the key. docs/rig-format.md lists every key.
 #pragma once
@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 
 #include <string>
+#include <string_view>
 
 #include "host_tools/layers/rig_layers.hpp"
 #include "rig_spec.hpp"
@@ -14,5 +15,8 @@
 namespace sinew::rigc {
 
 bool read_toml_layers(const std::string& path, const toml::table& t, layers::LayerSpecs* out, std::string* error);
+
+// A top-level table a layer owns, or [[external_input]].
+bool is_layer_table(std::string_view key);
 
 }  // namespace sinew::rigc

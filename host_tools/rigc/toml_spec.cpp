@@ -149,9 +149,8 @@ bool load_toml_rig(const std::string& path, RigSpec* out, layers::LayerSpecs* la
     return false;
   }
   for (const auto& [key, node] : t) {
-    static const char* const kTables[] = {"rig",  "joint",  "synergy",        "sph",    "metaballs",  "muscle",
-                                          "skin", "barnet", "external_input", "motion", "rubber_band"};
-    bool known = false;
+    static const char* const kTables[] = {"rig", "joint", "synergy", "motion"};
+    bool known = is_layer_table(key.str());
     for (const char* k : kTables) known |= key.str() == k;
     if (!known) return *error = where(path, &node, std::string(key.str())) + ": unknown table", false;
   }

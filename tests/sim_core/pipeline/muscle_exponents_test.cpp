@@ -24,10 +24,10 @@ std::unique_ptr<LoadedLayers> arm_with_general_belly(std::string* error) {
   if (!sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec) ||
       !sinew::layers::builtin_layers("arm", &tables))
     return nullptr;
-  tables.muscles.push_back(tables.muscles[0]);
-  tables.muscles[1].name = "biceps_2";
-  tables.muscles[0].belly_exponent = 3;
-  tables.muscles[0].belly_exponent_z = 2.5;
+  tables.anatomy.muscles.push_back(tables.anatomy.muscles[0]);
+  tables.anatomy.muscles[1].name = "biceps_2";
+  tables.anatomy.muscles[0].belly_exponent = 3;
+  tables.anatomy.muscles[0].belly_exponent_z = 2.5;
   return sinew::test::compiled_with_layers(spec, tables, error);
 }
 

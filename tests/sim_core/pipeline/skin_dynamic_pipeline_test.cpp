@@ -22,13 +22,13 @@ std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* er
   if (!sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec) ||
       !sinew::layers::builtin_layers("arm", &layers))
     return nullptr;
-  layers.skin.solver.dynamic = true;
+  layers.anatomy.skin.solver.dynamic = true;
   tweak(layers);
   return sinew::test::compiled_with_layers(std::move(spec), layers, error);
 }
 
 std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* error) {
-  return arm_with_dynamic_skin(error, [](sinew::layers::LayerSpecs& l) { l.skin.solver.gravity[1] = -9.81; });
+  return arm_with_dynamic_skin(error, [](sinew::layers::LayerSpecs& l) { l.anatomy.skin.solver.gravity[1] = -9.81; });
 }
 
 uint32_t skin_section_version(const std::vector<uint8_t>& bytes) {
@@ -76,7 +76,7 @@ namespace {
 // acceleration read from three external inputs.
 std::unique_ptr<sinew::test::LoadedLayers> arm_on_a_moving_base(std::string* error) {
   return arm_with_dynamic_skin(error, [](sinew::layers::LayerSpecs& l) {
-    l.skin.base_acceleration = {"base.ax", "base.ay", "base.az"};
+    l.anatomy.skin.base_acceleration = {"base.ax", "base.ay", "base.az"};
   });
 }
 
@@ -119,7 +119,8 @@ TEST(SkinDynamicPipeline, BaseAccelerationInputsReachTheSkinAsAnInertialField) {
   extra[ay] = 4 << 16;
   const std::vector<int32_t> accelerated = run_skin(moving.get(), extra, 300);
 
-  auto heavy = arm_with_dynamic_skin(&error, [](sinew::layers::LayerSpecs& l) { l.skin.solver.gravity[1] = -4.0; });
+  auto heavy =
+      arm_with_dynamic_skin(&error, [](sinew::layers::LayerSpecs& l) { l.anatomy.skin.solver.gravity[1] = -4.0; });
   ASSERT_NE(heavy, nullptr) << error;
   const std::vector<int32_t> under_gravity = run_skin(heavy.get(), {}, 300);
   EXPECT_EQ(accelerated, under_gravity);
@@ -137,14 +138,14 @@ TEST(SkinDynamicPipeline, BaseAccelerationMustNameAccelerationInputs) {
   sinew::layers::LayerSpecs layers;
   ASSERT_TRUE(sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec));
   ASSERT_TRUE(sinew::layers::builtin_layers("arm", &layers));
-  layers.skin.solver.dynamic = true;
-  layers.skin.base_acceleration = {"base.ax", "grip", "base.az"};
+  layers.anatomy.skin.solver.dynamic = true;
+  layers.anatomy.skin.base_acceleration = {"base.ax", "grip", "base.az"};
   layers.external.push_back({"grip", "N", "force", -40, 40, "spec:3"});
   std::string error;
   EXPECT_EQ(sinew::test::compiled_with_layers(spec, layers, &error), nullptr);
   EXPECT_NE(error.find("base_acceleration input 'grip' is not an acceleration"), std::string::npos) << error;
   layers.external.clear();
-  layers.skin.base_acceleration = {"base.ax", "base.ay"};
+  layers.anatomy.skin.base_acceleration = {"base.ax", "base.ay"};
   EXPECT_EQ(sinew::test::compiled_with_layers(spec, layers, &error), nullptr);
   EXPECT_NE(error.find("base_acceleration must name 3 inputs"), std::string::npos) << error;
 }
