@@ -71,10 +71,11 @@ bool compile_layers(const rigc::RigSpec& spec, const LayerSpecs& layers, std::ve
                     std::vector<std::string>* report, std::string* error) {
   if (layers.empty()) return true;
   if (layers.rate_hz < 13 || layers.rate_hz > 100000)
-    return layer_fail("[rig] rate_hz", "must be 13..100000 (the SPH substeps cover at most 80 ms)", error);
+    return layer_fail("[rig] rate_hz", "must be 13..100000 (a rate-dependent layer's substeps cover at most 80 ms)",
+                      error);
   RigGeometry g;
   if (!rig_geometry(spec, &g, error)) return false;
-  // The compiled core, loaded as the board will: the anatomy builder works
+  // The compiled core, loaded as the board will: a layer's builder may work
   // from it, and every layer is checked against it.
   std::vector<uint64_t> core(blob->size() / 8 + 1);
   std::memcpy(core.data(), blob->data(), blob->size());

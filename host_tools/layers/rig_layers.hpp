@@ -1,7 +1,7 @@
-// The physical layers a rig spec asks for ([[sph]], [metaballs], [[muscle]],
-// [skin], [[barnet]], [[external_input]]; docs/rig-format.md lists every
-// key), built for any skeleton by the offline builders and written into the
-// rig blob as layer sections. A table holding only its required keys works
+// The physical layers a rig spec asks for (each layer's tables, and
+// [[external_input]]; docs/rig-format.md lists every key), built for any
+// skeleton by the offline builders and written into the rig blob as layer
+// sections. A table holding only its required keys works
 // on any model: every other parameter derives from the rig's geometry
 // (layers/common/rig_geometry.hpp). Runs on the host only; the board loads
 // the fixed-point results.
@@ -26,7 +26,7 @@ namespace sinew::layers {
 // (sim_core/pipeline/stage_list.hpp), named after the stage and typed by the
 // layer's HostLayer<Stage>::Tables (layers/<layer>/<layer>_compile.hpp).
 struct LayerSpecs {
-  uint32_t rate_hz = 1000;  // tick rate the rate-dependent layers (SPH) are built for
+  uint32_t rate_hz = 1000;  // tick rate the rate-dependent layers are built for
 #define SINEW_LAYER_SPEC_MEMBER(name, enumerator, sections, doc) HostLayer<pipeline::Stage::enumerator>::Tables name;
   SINEW_STAGE_LIST(SINEW_LAYER_SPEC_MEMBER)
 #undef SINEW_LAYER_SPEC_MEMBER
@@ -34,7 +34,7 @@ struct LayerSpecs {
   bool empty() const;
 };
 
-// Gives every joint a layer drives through an angle ([[sph]], [[barnet]])
+// Gives every joint a layer drives through an angle (HostLayer::bent_joints)
 // and that has no rotational DOF (glTF joints have none) one rotational DOF
 // about its bend axis: the normal of the plane of its parent's bone and its
 // own, or a perpendicular of the parent's bone where they are collinear;

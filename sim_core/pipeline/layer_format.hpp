@@ -5,7 +5,7 @@
 // A 1.0 loader skips these sections (unknown ids). Every layer section has
 // the same shape (sim_core/layer/section_format.hpp), so one reader
 // bounds-checks all of them against each section's descriptor, which lives
-// beside its layer (e.g. sim_core/sph/sph_section.hpp, SPHJ); each stage
+// beside its layer (sim_core/<layer>/<layer>_section.hpp); each stage
 // names its sections (StageData::sections, stage_<name>.hpp) and
 // layer_sections.hpp lists them all for the loader. EXTI, the external
 // inputs, is the pipeline's own (below).
@@ -42,7 +42,7 @@ enum class InputQuantity : uint32_t {
   kLength = 1,        // metres
   kAngle = 2,         // degrees
   kScalar = 3,        // dimensionless
-  kAcceleration = 4,  // metres / s^2 (the rig's base: the elastic skin's a_base)
+  kAcceleration = 4,  // metres / s^2 (e.g. the rig's base)
 };
 
 // An input the rig's layers read besides its joint DOFs (e.g. a force

@@ -149,8 +149,8 @@ LoadStatus layers_validate(const rig::Rig& rig, const uint8_t* blob, size_t size
     return s;
   });
   if (!st.ok()) return st;
-  // A section that is loaded with another (the elastic skin rides on the
-  // muscles) is refused without it.
+  // A section that is loaded with another (its descriptor's `needs`) is
+  // refused without it.
   for (size_t k = 0; k < std::size(kLayerSections); ++k) {
     const layer::SectionDescriptor& d = *kLayerSections[k];
     if (present[k] == 0 || d.needs == 0) continue;

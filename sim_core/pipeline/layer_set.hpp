@@ -16,15 +16,15 @@
 namespace sinew::pipeline {
 
 // Each stage's loaded models (StageData<stage>::Layers, stage_<name>.hpp),
-// one member per line of stage_list.hpp named as the stage: layers.sph,
-// layers.metaballs, ... The pipeline's own: the external inputs and the rate.
+// one member per line of stage_list.hpp named as the stage
+// (layers.<stage>). The pipeline's own: the external inputs and the rate.
 struct LayerSet {
   std::span<const ExternalInputRecord> external;
 #define SINEW_STAGE_LAYERS(name, enumerator, sections, doc) \
   [[no_unique_address]] StageData<Stage::enumerator>::Layers name;
   SINEW_STAGE_LIST(SINEW_STAGE_LAYERS)
 #undef SINEW_STAGE_LAYERS
-  // The tick rate the rate-dependent sections were built for (SPH); 0 when
+  // The tick rate the rate-dependent sections were built for; 0 when
   // no section depends on the rate.
   uint32_t rate_hz = 0;
 

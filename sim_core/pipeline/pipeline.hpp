@@ -6,16 +6,11 @@
 // (stage_table.hpp) names the stages and their options for everything that
 // lists them.
 //
-// Stages, in this order (docs/pipeline.md):
-//   1. kSkinning   commanded inputs -> skeleton -> skinned vertices (engine).
-//   2. kSph        every SPH joint steps on the commanded pose; their bends
-//                  are added to the driven joints' first DOF (saturated),
-//                  the skeleton and skin are recomputed once with them, and
-//                  this skin becomes the reference R; then each joint adds its
-//                  eq. (2) offsets of sph-elastic-joints-tresca.
-//   3. kMetaballs  adds (metaballs skin - R) over every vertex.
-//   4. kBarnet     each bar-net adds (wrapped skin - R) over its wrap vertices.
-//   5. kAnatomy    muscles, then the elastic skin; adds (relaxed skin - R).
+// Stages run in the order of stage_list.hpp; docs/pipeline.md says what
+// each adds. The first, skinning, poses the skeleton and skins the mesh;
+// a stage may then bend joints and recompute the skin once with the bends
+// (flexed, bent), which becomes the reference R; every later stage adds its
+// displacement from R.
 // The layers compose by superposition of their displacements from the same
 // reference, so a vertex outside every layer's support keeps the skinned
 // position bit for bit, and enabling one layer never rewrites another's work.
@@ -36,7 +31,7 @@
 
 namespace sinew::pipeline {
 
-// The stage's name in the stage table ("skinning", "sph", ...).
+// The stage's name in the stage table (its name in stage_list.hpp).
 const char* stage_name(Stage s);
 
 struct PipelineOptions {
@@ -44,14 +39,13 @@ struct PipelineOptions {
   // (a layer the rig lacks is off whatever this says; skinning always runs).
   StageSet stages = StageSet::all();
   // The loop's tick rate; 0: the rate the rig's rate-dependent sections
-  // were compiled for. Stages convert their gains at init (SPH:
-  // sph_gains_for_rate; the metaballs' jiggle; the dynamic skin's time
-  // step, 1 kHz when neither says).
+  // were compiled for. Stages convert their rate-dependent gains at init
+  // (stage_<name>.hpp says how; 1 kHz when neither says).
   uint32_t tick_hz = 0;
   // Each stage's own options (StageData<stage>::Options, stage_<name>.hpp),
-  // one member per line of stage_list.hpp named as the stage:
-  // options.sph.tresca, options.anatomy.skin_iterations, ... The stage
-  // table's kStageOptions names each with its key and range.
+  // one member per line of stage_list.hpp named as the stage
+  // (options.<stage>.<option>). The stage table's kStageOptions names each
+  // with its key and range.
 #define SINEW_STAGE_OPTIONS(name, enumerator, sections, doc) \
   [[no_unique_address]] StageData<Stage::enumerator>::Options name;
   SINEW_STAGE_LIST(SINEW_STAGE_OPTIONS)
@@ -68,22 +62,6 @@ enum class PipelineError : uint8_t {
 
 using PipelineStatus = fx::Status<PipelineError>;
 
-// The SPH gains of a joint compiled for compiled_hz, converted for tick_hz:
-// substeps max(2, ceil(200 / tick_hz)) (dt <= 5 ms, as rigc picks them);
-// with rho = dt_new / dt_compiled = (compiled_hz x s_compiled) /
-// (tick_hz x s_new) as the exact fraction N / D, the gains scale as their
-// definitions in docs/sph.md do: k_e dt^2, k_p dt^2 / h, the surface
-// tension 6 sigma h dt^2 / (m C) and the load gain by rho^2 (two roundings
-// of x N / D, half up; the load gain saturates at its Q2.30 limit, as
-// rigc's builder saturates it), mu dt by rho, and the kept
-// velocity 1 - c dt as 1 - (1 - damping) rho. The particles, h and the
-// Tresca limit do not depend on the rate. Fails (kBadModel, naming the
-// gain) when the rate needs more than 16 substeps or a gain leaves its range;
-// for any u32 rates, a scaled gain beyond int64 saturates (then is refused,
-// or for the load gain saturates at its Q2.30 limit) rather than overflowing.
-PipelineStatus sph_gains_for_rate(const sph::SphParams& compiled, uint32_t compiled_hz, uint32_t tick_hz,
-                                  sph::SphParams* out);
-
 struct Pipeline {
   const rig::Rig* rig = nullptr;
   const LayerSet* layers = nullptr;
@@ -91,17 +69,17 @@ struct Pipeline {
   StageSet on;            // the stages that run (pipeline_stage_on)
   engine::Engine engine;  // skeleton, palette and the output vertices (every stage's)
   // Each stage's state (StageData<stage>::Run, stage_<name>.hpp), one member
-  // per line of stage_list.hpp named as the stage: p.sph, p.metaballs, ...
+  // per line of stage_list.hpp named as the stage (p.<stage>).
 #define SINEW_STAGE_RUN(name, enumerator, sections, doc) [[no_unique_address]] StageData<Stage::enumerator>::Run name;
   SINEW_STAGE_LIST(SINEW_STAGE_RUN)
 #undef SINEW_STAGE_RUN
-  std::span<int32_t> flexed;            // the rig's inputs with the SPH bends added
-  std::span<skeleton::LocalPose> bent;  // locals with the SPH bends applied (pose-driven steps)
+  std::span<int32_t> flexed;            // the rig's inputs with a stage's joint bends added
+  std::span<skeleton::LocalPose> bent;  // locals with those bends applied (pose-driven steps)
   std::span<int32_t> measured;          // pose-driven steps: DOF values read from the pose, then the external inputs
   bool pose_driven = false;             // this tick came from pipeline_step_locals
   std::span<fx::Len> reference[3];      // R: the skin every layer's displacement is taken from
   std::span<fx::Len> scratch[3];        // a layer's full-skin output before it is added
-  std::span<fx::Len> node_outputs[3];   // a layer's node positions (bar-nets), the largest asked for
+  std::span<fx::Len> node_outputs[3];   // a layer's node positions, the largest asked for
   uint32_t input_count = 0;             // rig inputs + external inputs
   uint32_t saturated = 0;               // displacement sums clamped, last step
 };
@@ -129,7 +107,7 @@ void pipeline_set_measured_inputs(Pipeline* p, std::span<const uint8_t> measured
 // Per-input flags a step reports (StepReport::input_flags).
 enum InputFlag : uint8_t {
   kInputClamped = 1u << 0,  // the joint that owns the input was clamped at a limit this tick
-  kInputYielded = 1u << 1,  // a physical layer's joint driven by the input yielded (SPH Tresca yield)
+  kInputYielded = 1u << 1,  // a physical layer's joint driven by the input yielded (its material gave way)
 };
 
 // What a step may be asked to do beside stepping; every field optional.
@@ -154,8 +132,8 @@ struct StepReport {
 // The whole tick: every stage that is on, in order. The error rule: the
 // first stage that fails ends the tick there: the pose is what the stages
 // before it made plus what the failing stage added for the instances that
-// did step (SPH joints, bar-nets: each adds its displacement only after a
-// step that succeeded), the later stages do not run, and the status names
+// did step (a layer with several instances adds each one's displacement
+// only after that instance's step succeeded), the later stages do not run, and the status names
 // the failing stage. A skinning failure (inputs refused) leaves the previous
 // pose.
 // inputs: the rig's inputs, then its external inputs (input_count in all).
@@ -163,11 +141,11 @@ PipelineStatus pipeline_step(Pipeline* p, std::span<const int32_t> inputs, const
                              StepReport* report = nullptr);
 
 // The whole tick from sampled local poses (one per joint, e.g. a glTF
-// animation) instead of commanded DOFs. Layers that read DOF values (bar-net
-// loads) get them measured from the pose: for each rotational DOF the twist
+// animation) instead of commanded DOFs. Layers that read DOF values get
+// them measured from the pose: for each rotational DOF the twist
 // of (rest rotation^-1 x local rotation) about its axis, for a translational
-// one the offset from the rest translation along its axis; SPH bends turn
-// the driven joint's local rotation about the SPH axis. external: the rig's
+// one the offset from the rest translation along its axis; a stage's joint
+// bends turn the driven joint's local rotation about the bend's axis. external: the rig's
 // external inputs (may be shorter: missing ones read 0). The skinning stage
 // is the posing from the locals; the error rule is pipeline_step's.
 PipelineStatus pipeline_step_locals(Pipeline* p, std::span<const skeleton::LocalPose> locals,

@@ -38,11 +38,41 @@ struct StageSet {
 //   Run:    its state in the Pipeline (in the pipeline's arena);
 //   Options: its run-time options in PipelineOptions;
 //   sections: the rig sections it loads (a std::array of descriptors,
-//             layer_sections.hpp lists them all).
+//             layer_sections.hpp lists them all);
+//   options: its run-time options' rows (a std::array of StageOption, below;
+//            the stage table's kStageOptions lists them all).
 // LayerSet, Pipeline and PipelineOptions hold one member of each per stage,
 // named as the stage, expanded from stage_list.hpp: they name no layer
 // themselves.
 template <Stage S>
 struct StageData;
+
+struct PipelineOptions;
+
+// A run-time option of one layer: its key in sinewd's [layers], its field
+// in its stage's PipelineOptions member, its range, and how a recording's
+// description spells it.
+enum class OptionKind : uint8_t {
+  kFlag,    // true / false
+  kChoice,  // one of two names, for false and for true
+  kNumber,  // an unsigned integer in [min, max]
+};
+
+struct StageOption {
+  const char* key = nullptr;  // in [layers]
+  Stage stage{};              // the layer it tunes
+  OptionKind kind{};
+  bool* (*flag)(PipelineOptions* o) = nullptr;        // kFlag, kChoice: its field in o
+  const char* choice[2] = {nullptr, nullptr};         // kChoice: the names of false and of true
+  uint32_t* (*number)(PipelineOptions* o) = nullptr;  // kNumber: its field in o
+  uint32_t min = 0, max = 0;                          // kNumber
+  // Its key in a recording's description, a flag or a number.
+  const char* recording_key = nullptr;
+  // Written into every recording (a reader requires it), or only when it
+  // differs from the default (options added after the format was fixed, so
+  // that the recordings made before read as they did).
+  bool recorded_always = false;
+  const char* meaning = nullptr;  // one line, for messages and help
+};
 
 }  // namespace sinew::pipeline

@@ -10,7 +10,14 @@
 #include "sim_core/muscle/muscle_validate.hpp"
 #include "stage_fns.hpp"
 
-namespace sinew::pipeline::stages {
+namespace sinew::pipeline {
+
+uint32_t* anatomy_skin_iterations_option(PipelineOptions* o) { return &o->anatomy.skin_iterations; }
+uint32_t* anatomy_skin_max_anchor_acceleration_option(PipelineOptions* o) {
+  return &o->anatomy.skin_max_anchor_acceleration;
+}
+
+namespace stages {
 namespace {
 
 // An acceleration input (Q16.16 m/s^2) in the skin's Q24.8 rig units / s^2:
@@ -108,4 +115,5 @@ PipelineStatus anatomy_step(Pipeline* p, std::span<const int32_t> inputs) {
 // No input flag of its own.
 void anatomy_flag_inputs(const Pipeline&, std::span<uint8_t>) {}
 
-}  // namespace sinew::pipeline::stages
+}  // namespace stages
+}  // namespace sinew::pipeline

@@ -46,11 +46,39 @@ struct AnatomyOptions {
   uint32_t skin_max_anchor_acceleration = 500;
 };
 
+// Its options' fields in PipelineOptions (stage_anatomy.cpp).
+uint32_t* anatomy_skin_iterations_option(PipelineOptions* o);
+uint32_t* anatomy_skin_max_anchor_acceleration_option(PipelineOptions* o);
+
 template <>
 struct StageData<Stage::kAnatomy> {
   using Layers = AnatomyLayers;
   using Run = AnatomyRun;
   using Options = AnatomyOptions;
+  static constexpr std::array<StageOption, 2> options = {
+      StageOption{"skin_iterations",
+                  Stage::kAnatomy,
+                  OptionKind::kNumber,
+                  nullptr,
+                  {nullptr, nullptr},
+                  anatomy_skin_iterations_option,
+                  0,
+                  elastic_skin::kMaxIterations,
+                  "skin_iterations",
+                  true,
+                  "elastic-skin relaxations per tick; 0 keeps the rig's (docs/anatomy.md)"},
+      StageOption{"skin_max_anchor_acceleration",
+                  Stage::kAnatomy,
+                  OptionKind::kNumber,
+                  nullptr,
+                  {nullptr, nullptr},
+                  anatomy_skin_max_anchor_acceleration_option,
+                  0,
+                  32767,
+                  "skin_max_anchor_acceleration",
+                  false,
+                  "the dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none (docs/anatomy.md)"},
+  };
   // The skin needs the muscles (its descriptor says so).
   static constexpr std::array<const layer::SectionDescriptor*, 2> sections = {&muscle::kMusclesSection,
                                                                               &elastic_skin::kSkinSection};

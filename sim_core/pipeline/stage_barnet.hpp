@@ -31,6 +31,7 @@ struct StageData<Stage::kBarnet> {
   using Run = BarnetRun;
   using Options = BarnetOptions;
   static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&barnet::kBarnetSection};
+  static constexpr std::array<StageOption, 0> options = {};  // none
 };
 
 }  // namespace sinew::pipeline

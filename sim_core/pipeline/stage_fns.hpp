@@ -25,9 +25,9 @@ namespace stages {
 // once, after the stages' own blocks, each the largest any stage asks for).
 struct SharedNeeds {
   bool reference = false;         // R, the skin displacements are taken from (rig vertices)
-  bool bent_pose = false;         // flexed inputs and bent locals (SPH bends)
+  bool bent_pose = false;         // flexed inputs and bent locals (a stage bends joints)
   uint32_t scratch_vertices = 0;  // a layer's output before it is added, per axis
-  uint32_t node_outputs = 0;      // bar-net node positions, per axis
+  uint32_t node_outputs = 0;      // a layer's node positions, per axis
 };
 
 #define SINEW_DECLARE_STAGE(name, enumerator, sections, doc)                                           \

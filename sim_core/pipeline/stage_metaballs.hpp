@@ -26,6 +26,7 @@ struct StageData<Stage::kMetaballs> {
   using Run = MetaballsRun;
   using Options = MetaballsOptions;
   static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&metaballs::kMetaballsSection};
+  static constexpr std::array<StageOption, 0> options = {};  // none
 };
 
 }  // namespace sinew::pipeline

@@ -17,6 +17,7 @@ struct StageData<Stage::kSkinning> {
   using Options = SkinningOptions;
   // The rig's core sections carry the skeleton and the skin.
   static constexpr std::array<const layer::SectionDescriptor*, 0> sections = {};
+  static constexpr std::array<StageOption, 0> options = {};  // none
 };
 
 }  // namespace sinew::pipeline

@@ -8,8 +8,13 @@
 #include "sim_core/fixed/quat.hpp"
 #include "sim_core/sph/sph_step.hpp"
 #include "stage_fns.hpp"
+#include "stage_sph_rate.hpp"
 
 namespace sinew::pipeline {
+
+bool* sph_tresca_option(PipelineOptions* o) { return &o->sph.tresca; }
+bool* sph_joint_measured_option(PipelineOptions* o) { return &o->sph.joint_measured; }
+bool* sph_measured_from_sources_option(PipelineOptions* o) { return &o->sph.measured_from_sources; }
 
 PipelineStatus sph_gains_for_rate(const sph::SphParams& c, uint32_t compiled_hz, uint32_t tick_hz,
                                   sph::SphParams* out) {

@@ -47,12 +47,54 @@ struct SphOptions {
   bool measured_from_sources = true;
 };
 
+// Its options' fields in PipelineOptions (stage_sph.cpp).
+bool* sph_tresca_option(PipelineOptions* o);
+bool* sph_joint_measured_option(PipelineOptions* o);
+bool* sph_measured_from_sources_option(PipelineOptions* o);
+
 template <>
 struct StageData<Stage::kSph> {
   using Layers = SphLayers;
   using Run = SphRun;
   using Options = SphOptions;
   static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&sph::kSphSection};
+  static constexpr std::array<StageOption, 3> options = {
+      StageOption{"tresca",
+                  Stage::kSph,
+                  OptionKind::kFlag,
+                  sph_tresca_option,
+                  {nullptr, nullptr},
+                  nullptr,
+                  0,
+                  0,
+                  "tresca",
+                  true,
+                  "the SPH joints' Tresca yield condition, eqs. (3)-(4) (docs/sph.md)"},
+      StageOption{"sph_joint",
+                  Stage::kSph,
+                  OptionKind::kChoice,
+                  sph_joint_measured_option,
+                  {"simulated", "measured"},
+                  nullptr,
+                  0,
+                  0,
+                  "sph_joint_measured",
+                  false,
+                  "\"measured\": the sensors' angles are the truth under load, the particles only move the tissue "
+                  "(docs/sph.md)"},
+      StageOption{"sph_measured_from_sources",
+                  Stage::kSph,
+                  OptionKind::kFlag,
+                  sph_measured_from_sources_option,
+                  {nullptr, nullptr},
+                  nullptr,
+                  0,
+                  0,
+                  "sph_measured_from_sources",
+                  false,
+                  "an SPH joint whose driven DOF a source measures runs measured; false: simulated whatever its "
+                  "sources (docs/sph.md)"},
+  };
 };
 
 }  // namespace sinew::pipeline

@@ -3,6 +3,7 @@
 // the record).
 #include "sim_core/sph/sph_model.hpp"
 #include "stage_fns.hpp"
+#include "stage_sph_rate.hpp"
 
 namespace sinew::pipeline::stages {
 namespace {

@@ -37,7 +37,7 @@ struct StageInfo {
   uint32_t (*compiled)(const LayerSet& layers);
   // The shared buffers the stage needs when it is on.
   stages::SharedNeeds (*shares)(const rig::Rig& rig, const LayerSet& layers);
-  // Appends the layer as a rig carries it, e.g. "sph(elbow)", once per
+  // Appends the layer as a rig carries it, "<name>(<joint>)" once per
   // instance and space-separated; nothing when the rig lacks it.
   void (*describe)(const rig::Rig& rig, const LayerSet& layers, rig::MessageBuilder* out);
   // Every compiled instance's model against the rig, by the layer's own
@@ -77,90 +77,20 @@ struct StageInfo {
 inline constexpr StageInfo kStages[kStageCount] = {SINEW_STAGE_LIST(SINEW_STAGE_ROW)};
 #undef SINEW_STAGE_ROW
 
-// A run-time option of one layer: its key in sinewd's [layers], its field
-// in its stage's PipelineOptions member, its range, and how a recording's
-// description spells it.
-enum class OptionKind : uint8_t {
-  kFlag,    // true / false
-  kChoice,  // one of two names, for false and for true
-  kNumber,  // an unsigned integer in [min, max]
-};
-
-struct StageOption {
-  const char* key;  // in [layers]
-  Stage stage;      // the layer it tunes
-  OptionKind kind;
-  bool* (*flag)(PipelineOptions* o);        // kFlag, kChoice: its field in o
-  const char* choice[2];                    // kChoice: the names of false and of true
-  uint32_t* (*number)(PipelineOptions* o);  // kNumber: its field in o
-  uint32_t min, max;                        // kNumber
-  // Its key in a recording's description, a flag or a number.
-  const char* recording_key;
-  // Written into every recording (a reader requires it), or only when it
-  // differs from the default (options added after the format was fixed, so
-  // that the recordings made before read as they did).
-  bool recorded_always;
-  const char* meaning;  // one line, for messages and help
-};
-
-inline constexpr StageOption kStageOptions[] = {
-    {"tresca",
-     Stage::kSph,
-     OptionKind::kFlag,
-     [](PipelineOptions* o) { return &o->sph.tresca; },
-     {nullptr, nullptr},
-     nullptr,
-     0,
-     0,
-     "tresca",
-     true,
-     "the SPH joints' Tresca yield condition, eqs. (3)-(4) (docs/sph.md)"},
-    {"skin_iterations",
-     Stage::kAnatomy,
-     OptionKind::kNumber,
-     nullptr,
-     {nullptr, nullptr},
-     [](PipelineOptions* o) { return &o->anatomy.skin_iterations; },
-     0,
-     elastic_skin::kMaxIterations,
-     "skin_iterations",
-     true,
-     "elastic-skin relaxations per tick; 0 keeps the rig's (docs/anatomy.md)"},
-    {"sph_joint",
-     Stage::kSph,
-     OptionKind::kChoice,
-     [](PipelineOptions* o) { return &o->sph.joint_measured; },
-     {"simulated", "measured"},
-     nullptr,
-     0,
-     0,
-     "sph_joint_measured",
-     false,
-     "\"measured\": the sensors' angles are the truth under load, the particles only move the tissue (docs/sph.md)"},
-    {"sph_measured_from_sources",
-     Stage::kSph,
-     OptionKind::kFlag,
-     [](PipelineOptions* o) { return &o->sph.measured_from_sources; },
-     {nullptr, nullptr},
-     nullptr,
-     0,
-     0,
-     "sph_measured_from_sources",
-     false,
-     "an SPH joint whose driven DOF a source measures runs measured; false: simulated whatever its sources "
-     "(docs/sph.md)"},
-    {"skin_max_anchor_acceleration",
-     Stage::kAnatomy,
-     OptionKind::kNumber,
-     nullptr,
-     {nullptr, nullptr},
-     [](PipelineOptions* o) { return &o->anatomy.skin_max_anchor_acceleration; },
-     0,
-     32767,
-     "skin_max_anchor_acceleration",
-     false,
-     "the dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none (docs/anatomy.md)"},
-};
+// Every stage's option rows (StageData<stage>::options, stage_<name>.hpp),
+// in stage order.
+#define SINEW_STAGE_OPTION_COUNT(name, enumerator, sections, doc) +StageData<Stage::enumerator>::options.size()
+inline constexpr size_t kStageOptionCount = 0 SINEW_STAGE_LIST(SINEW_STAGE_OPTION_COUNT);
+#undef SINEW_STAGE_OPTION_COUNT
+inline constexpr std::array<StageOption, kStageOptionCount> kStageOptions = [] {
+  std::array<StageOption, kStageOptionCount> all{};
+  size_t k = 0;
+#define SINEW_STAGE_OPTION_ROWS(name, enumerator, sections, doc) \
+  for (const StageOption& o : StageData<Stage::enumerator>::options) all[k++] = o;
+  SINEW_STAGE_LIST(SINEW_STAGE_OPTION_ROWS)
+#undef SINEW_STAGE_OPTION_ROWS
+  return all;
+}();
 
 // An option's value in a set of options (its flag, 0 or 1, or its number).
 inline uint32_t option_value(const StageOption& option, PipelineOptions o) {
@@ -170,8 +100,8 @@ inline uint32_t option_value(const StageOption& option, PipelineOptions o) {
 // The table row of a stage name, or null.
 const StageInfo* find_stage(const char* name, size_t name_length);
 
-// The layers a rig carries, e.g. "sph(elbow) metaballs anatomy(muscles,
-// skin)", or "none"; truncated to the buffer.
+// The layers a rig carries, each stage's describe() in stage order, or
+// "none"; truncated to the buffer.
 void describe_layers(const rig::Rig& rig, const LayerSet& layers, char* out, size_t capacity);
 
 }  // namespace sinew::pipeline

@@ -18,6 +18,13 @@
 #                code or comments): the stage table in sim_core/pipeline is
 #                the only list of layers the daemon reads, so adding a layer
 #                adds no line to firmware;
+#   shared names a file every layer shares names a layer outside an #include
+#                line: sim_core/pipeline/ (but stage_list.hpp and each
+#                stage's own stage_<name>* files, <name> as stage_list.hpp
+#                lists it), host_tools/layers/ at its top (but the built-in
+#                rigs' recipe, builtin_layers.*), common/ and sections/, and
+#                rigc's toml_layers.*, toml_reader.* and tables/rigc_table.hpp:
+#                a layer lives in its own files;
 #   tests layout the tests tree stops mirroring the modules: a folder
 #                tests/{sim_core,hal,host_tools}/<m> with no module <m> beside
 #                it, or a folder directly under tests/ that is neither a
@@ -25,7 +32,7 @@
 #                the cross-module suites (kSuites below).
 # With EXPECT_EVERY_RULE it fails unless every rule fired: the planted tree
 # (tests/lint/planted_layering) proves each rule can fail.
-set(rules sim_core hal firmware host_tools link layer_names tests_tree tests_layout)
+set(rules sim_core hal firmware host_tools link layer_names shared_names tests_tree tests_layout)
 foreach(r IN LISTS rules)
   set(fired_${r} 0)
 endforeach()
@@ -82,15 +89,62 @@ function(scan_layer_names dir)
        "${ROOT}/${dir}/CMakeLists.txt")
   foreach(src IN LISTS sources)
     file(STRINGS "${src}" lines)
-    set(line_no 0)
     foreach(line IN LISTS lines)
-      math(EXPR line_no "${line_no} + 1")
       string(TOLOWER "${line}" lower)
       if(lower MATCHES "${layer_word}")
-        message("${src}:${line_no}: firmware names the physical layer '${CMAKE_MATCH_2}' (use the stage table)")
+        string(STRIP "${line}" shown)
+        message("${src}: firmware names the physical layer '${CMAKE_MATCH_2}' (use the stage table): ${shown}")
         math(EXPR n "${fired_layer_names} + 1")
         set(fired_layer_names ${n})
         set(fired_layer_names ${n} PARENT_SCOPE)
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
+# The files every layer shares (the shared_names rule above).
+function(scan_shared_names)
+  set(stage_names "")
+  if(EXISTS "${ROOT}/sim_core/pipeline/stage_list.hpp")
+    # Read whole: its lines end in "\\", which would escape a list's ";".
+    file(READ "${ROOT}/sim_core/pipeline/stage_list.hpp" list_text)
+    string(REGEX MATCHALL "X\\([a-z_]+," entries "${list_text}")
+    foreach(e IN LISTS entries)
+      string(REGEX REPLACE "X\\(([a-z_]+)," "\\1" stage "${e}")
+      list(APPEND stage_names "${stage}")
+    endforeach()
+  endif()
+  file(GLOB pipeline_files "${ROOT}/sim_core/pipeline/*.hpp" "${ROOT}/sim_core/pipeline/*.cpp")
+  set(shared "")
+  foreach(f IN LISTS pipeline_files)
+    get_filename_component(name "${f}" NAME)
+    set(own FALSE)
+    foreach(stage IN LISTS stage_names)
+      if(name MATCHES "^stage_${stage}[_.]")
+        set(own TRUE)
+      endif()
+    endforeach()
+    if(NOT own AND NOT name STREQUAL "stage_list.hpp")
+      list(APPEND shared "${f}")
+    endif()
+  endforeach()
+  file(GLOB host_files "${ROOT}/host_tools/layers/*.hpp" "${ROOT}/host_tools/layers/*.cpp"
+       "${ROOT}/host_tools/layers/common/*.hpp" "${ROOT}/host_tools/layers/common/*.cpp"
+       "${ROOT}/host_tools/layers/sections/*.hpp" "${ROOT}/host_tools/layers/sections/*.cpp"
+       "${ROOT}/host_tools/rigc/toml_layers.*" "${ROOT}/host_tools/rigc/toml_reader.*"
+       "${ROOT}/host_tools/rigc/tables/rigc_table.hpp")
+  list(FILTER host_files EXCLUDE REGEX "/builtin_layers\\.[a-z]+$")
+  list(APPEND shared ${host_files})
+  foreach(src IN LISTS shared)
+    file(STRINGS "${src}" lines)
+    foreach(line IN LISTS lines)
+      string(TOLOWER "${line}" lower)
+      if(NOT lower MATCHES "^[ \t]*#[ \t]*include" AND lower MATCHES "${layer_word}")
+        string(STRIP "${line}" shown)
+        message("${src}: a file every layer shares names the layer '${CMAKE_MATCH_2}': ${shown}")
+        math(EXPR n "${fired_shared_names} + 1")
+        set(fired_shared_names ${n})
+        set(fired_shared_names ${n} PARENT_SCOPE)
       endif()
     endforeach()
   endforeach()
@@ -101,6 +155,7 @@ scan(hal hal)
 scan(firmware firmware)
 scan(host_tools host_tools)
 scan_layer_names(firmware)
+scan_shared_names()
 
 # A product CMakeLists.txt that compiles a source of tests/.
 foreach(dir sim_core hal firmware host_tools)

@@ -15,6 +15,7 @@
 #include <climits>
 #include <functional>
 
+#include "sim_core/pipeline/stage_sph_rate.hpp"
 #include "tests/sim_core/pipeline/pipeline_fixture.hpp"
 #include "tests/support/soak.hpp"
 

@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "sim_core/pipeline/stage_sph_rate.hpp"
 #include "sim_core/skeleton/pose.hpp"
 #include "tests/sim_core/barnet/net_oracle.hpp"
 #include "tests/sim_core/pipeline/pipeline_fixture.hpp"
