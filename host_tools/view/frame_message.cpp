@@ -4,23 +4,17 @@
 #include <cstring>
 
 #include "json_text.hpp"
+// One line per stage: what the viewer draws of it.
+#include "overlays/anatomy_overlay.hpp"
+#include "overlays/barnet_overlay.hpp"
+#include "overlays/metaballs_overlay.hpp"
+#include "overlays/skinning_overlay.hpp"
+#include "overlays/sph_overlay.hpp"
 #include "sim_core/skeleton/pose.hpp"
 
 namespace sinew::view {
 
 namespace {
-
-struct FloatArrays {
-  std::vector<std::pair<std::string, size_t>> names;
-  std::vector<float> values;
-
-  void add(const char* name, size_t count) { names.emplace_back(name, count); }
-  void push(double v) { values.push_back(static_cast<float>(v)); }
-};
-
-double metres(int32_t q12_20, int32_t length_exponent) {
-  return std::ldexp(static_cast<double>(q12_20), length_exponent - 20);
-}
 
 void add_playback(JsonText& j, const PlaybackState& p, const StreamCounters& c, const std::string& error) {
   j.key("source").string(p.replay ? "log" : "udp");
@@ -50,59 +44,12 @@ std::vector<uint8_t> assemble(const std::string& json, const std::vector<float>&
   return out;
 }
 
-void add_overlays(const ShadowPipeline& shadow, int32_t e, FloatArrays* a, JsonText& j) {
+// Every stage's overlay, in stage order.
+void add_overlays(const ShadowPipeline& shadow, int32_t e, OverlayArrays* a, JsonText& j) {
   const pipeline::Pipeline& p = shadow.state();
-  const rig::Rig& rig = *p.rig;
-  // Skeleton: model-space joint origins.
-  a->add("joints", 3 * rig.joint_count());
-  for (uint32_t k = 0; k < rig.joint_count(); ++k)
-    for (int c = 0; c < 3; ++c) a->push(metres(p.engine.model[k].t[c], e));
-  // SPH particles (every joint's, concatenated), pressure rho - rho0 in
-  // normalised density units (Q8.24), yielded 0/1.
-  size_t particles = 0;
-  for (uint32_t s = 0; s < p.sph.count; ++s) particles += p.sph.joint[s].pressure.size();
-  a->add("sph_position", 3 * particles);
-  for (uint32_t s = 0; s < p.sph.count; ++s)
-    for (size_t k = 0; k < p.sph.joint[s].pressure.size(); ++k)
-      for (int c = 0; c < 3; ++c) a->push(metres(p.sph.joint[s].position[c][k], e));
-  a->add("sph_pressure", particles);
-  for (uint32_t s = 0; s < p.sph.count; ++s)
-    for (const auto d : p.sph.joint[s].pressure) a->push(std::ldexp(static_cast<double>(d), -24));
-  a->add("sph_yielded", particles);
-  for (uint32_t s = 0; s < p.sph.count; ++s)
-    for (const uint8_t y : p.sph.joint[s].yielded) a->push(y);
-  j.key("sph_joints").open_array();
-  for (uint32_t s = 0; s < p.sph.count; ++s) {
-    j.open_object();
-    j.key("joint").number(p.sph.model[s].joint.distal_joint);
-    j.key("yielded").boolean(p.sph.joint[s].joint_yielded);
-    j.key("yielded_particles").number(p.sph.joint[s].yielded_particles);
-    j.close_object();
-  }
-  j.close_array();
-  // Metaballs: centre and radius (r0 x the volume-preserving scale).
-  const size_t balls = p.metaballs.on ? p.metaballs.state.ball_center.size() : 0;
-  a->add("metaballs", 4 * balls);
-  for (size_t b = 0; b < balls; ++b) {
-    const fx::Vec3& c = p.metaballs.state.ball_center[b];
-    a->push(metres(c.x, e));
-    a->push(metres(c.y, e));
-    a->push(metres(c.z, e));
-    const double scale = std::ldexp(static_cast<double>(p.metaballs.state.ball_scale[b]), -30);
-    a->push(metres(p.metaballs.state.model->ball_radius[b], e) * scale);
-  }
-  // Muscles: their surface vertices (rings of slices).
-  const size_t muscle_vertices = p.anatomy.on ? p.anatomy.muscles.vertex[0].size() : 0;
-  a->add("muscles", 3 * muscle_vertices);
-  for (size_t v = 0; v < muscle_vertices; ++v)
-    for (int c = 0; c < 3; ++c) a->push(metres(p.anatomy.muscles.vertex[c][v], e));
-  // Bar-nets: each net's free nodes at their smooth-skinned positions.
-  size_t nodes = 0;
-  for (uint32_t n = 0; n < p.barnet.count; ++n) nodes += p.barnet.net[n].skinned[0].size();
-  a->add("barnet", 3 * nodes);
-  for (uint32_t n = 0; n < p.barnet.count; ++n)
-    for (size_t k = 0; k < p.barnet.net[n].skinned[0].size(); ++k)
-      for (int c = 0; c < 3; ++c) a->push(metres(p.barnet.net[n].skinned[c][k], e));
+#define SINEW_STAGE_OVERLAY(name, enumerator, sections, doc) ViewOverlay<pipeline::Stage::enumerator>::add(p, e, a, j);
+  SINEW_STAGE_LIST(SINEW_STAGE_OVERLAY)
+#undef SINEW_STAGE_OVERLAY
 }
 
 }  // namespace
@@ -126,7 +73,7 @@ std::vector<uint8_t> frame_message(const ViewRig& rig, const hal::output::Decode
                                    uint64_t budget_ns, const PlaybackState& playback, const StreamCounters& counters,
                                    const std::string& error) {
   JsonText j;
-  FloatArrays a;
+  OverlayArrays a;
   j.open_object();
   j.key("type").string("frame");
   j.key("tick").number(pose.tick);

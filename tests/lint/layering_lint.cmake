@@ -22,8 +22,9 @@
 #                line: sim_core/pipeline/ (but stage_list.hpp and each
 #                stage's own stage_<name>* files, <name> as stage_list.hpp
 #                lists it), host_tools/layers/ at its top (but the built-in
-#                rigs' recipe, builtin_layers.*), common/ and sections/, and
-#                rigc's toml_layers.*, toml_reader.* and tables/rigc_table.hpp:
+#                rigs' recipe, builtin_layers.*), common/ and sections/,
+#                rigc's toml_layers.*, toml_reader.* and tables/rigc_table.hpp,
+#                and the viewer's frame_message.* and overlays/overlay.hpp:
 #                a layer lives in its own files;
 #   tests layout the tests tree stops mirroring the modules: a folder
 #                tests/{sim_core,hal,host_tools}/<m> with no module <m> beside
@@ -132,7 +133,8 @@ function(scan_shared_names)
        "${ROOT}/host_tools/layers/common/*.hpp" "${ROOT}/host_tools/layers/common/*.cpp"
        "${ROOT}/host_tools/layers/sections/*.hpp" "${ROOT}/host_tools/layers/sections/*.cpp"
        "${ROOT}/host_tools/rigc/toml_layers.*" "${ROOT}/host_tools/rigc/toml_reader.*"
-       "${ROOT}/host_tools/rigc/tables/rigc_table.hpp")
+       "${ROOT}/host_tools/rigc/tables/rigc_table.hpp" "${ROOT}/host_tools/view/frame_message.*"
+       "${ROOT}/host_tools/view/overlays/overlay.hpp")
   list(FILTER host_files EXCLUDE REGEX "/builtin_layers\\.[a-z]+$")
   list(APPEND shared ${host_files})
   foreach(src IN LISTS shared)
