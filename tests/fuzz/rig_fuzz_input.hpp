@@ -67,6 +67,17 @@ inline bool load_rig_input(const uint8_t* data, size_t size, LoadedInput* out) {
   return pipeline::layers_init(out->rig, bytes, size, layer_memory, layer_arena.capacity_bytes(), &out->layers).ok();
 }
 
+// Starts a pipeline with every layer `in` carries at `tick_hz` (0: the
+// rig's rate), in an arena kept across inputs. False when pipeline_init
+// refuses (a rate the layers cannot run at, say).
+inline bool start_pipeline(const LoadedInput& in, uint32_t tick_hz, pipeline::Pipeline* out) {
+  static Arena state_arena;
+  pipeline::PipelineOptions options;
+  options.tick_hz = tick_hz;
+  void* state = state_arena.take(pipeline::pipeline_state_bytes(in.rig, in.layers, options));
+  return pipeline::pipeline_init(in.rig, in.layers, options, state, state_arena.capacity_bytes(), out).ok();
+}
+
 // The two tick rates each input is started at: the rate the SPH gains were
 // built for (0), then another (the gains are converted from the section's
 // rate_hz, any u32; 13 Hz is the lowest SPH's substep limit allows).

@@ -12,13 +12,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   sinew::fuzz::LoadedInput in;
   if (!sinew::fuzz::load_rig_input(data, size, &in)) return 0;
-  static sinew::fuzz::Arena state_arena;
-  for (const uint32_t tick_hz : {0u, sinew::fuzz::other_tick_hz(size)}) {
-    sinew::pipeline::PipelineOptions options;
-    options.tick_hz = tick_hz;
-    void* state = state_arena.take(sinew::pipeline::pipeline_state_bytes(in.rig, in.layers, options));
-    static sinew::pipeline::Pipeline pipeline;
-    (void)sinew::pipeline::pipeline_init(in.rig, in.layers, options, state, state_arena.capacity_bytes(), &pipeline);
-  }
+  static sinew::pipeline::Pipeline pipeline;
+  for (const uint32_t tick_hz : {0u, sinew::fuzz::other_tick_hz(size)})
+    (void)sinew::fuzz::start_pipeline(in, tick_hz, &pipeline);
   return 0;
 }

@@ -14,15 +14,9 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   sinew::fuzz::LoadedInput in;
   if (!sinew::fuzz::load_rig_input(data, size, &in)) return 0;
-  static sinew::fuzz::Arena state_arena;
+  static sinew::pipeline::Pipeline pipeline;
   for (const uint32_t tick_hz : {0u, sinew::fuzz::other_tick_hz(size)}) {
-    sinew::pipeline::PipelineOptions options;
-    options.tick_hz = tick_hz;
-    void* state = state_arena.take(sinew::pipeline::pipeline_state_bytes(in.rig, in.layers, options));
-    static sinew::pipeline::Pipeline pipeline;
-    if (!sinew::pipeline::pipeline_init(in.rig, in.layers, options, state, state_arena.capacity_bytes(), &pipeline)
-             .ok())
-      continue;
+    if (!sinew::fuzz::start_pipeline(in, tick_hz, &pipeline)) continue;
     std::vector<int32_t> inputs(pipeline.input_count, 0);
     const int32_t extremes[] = {0, INT32_MAX, INT32_MIN, 0x40000000};
     for (int32_t v : extremes) {
