@@ -55,11 +55,21 @@ enum class NodeKind : uint8_t { kFree = 0, kFixed = 1 };
 
 // A node of the net, which is also a vertex of the control mesh. Its skinned
 // position is s = sum_k weight[k] * S(joint[k]) * rest, S = global x inverse
-// bind (the smooth skinning of the control mesh). Fixed nodes take x_f = s_f.
-// Free nodes are solved for (eq. (4)) under p = D s + D_f s_f + loads: the
-// first two terms are the load that holds the net at its skinned shape (so
-// with no load the net is the smoothly skinned control mesh, exactly), the
-// loads deform it from there.
+// bind (the smooth skinning of the control mesh). Fixed nodes take x_f = s_f:
+// the skeleton carries them. Free nodes take eq. (4)'s equilibrium
+// x = D^-1 (p - D_f x_f), so the fixed nodes pull them and the net takes its
+// form from its boundary. p is the node's rest load plus its loads. The rest
+// load p0 = D x0 + D_f x0_f (x0: the bind-pose positions `rest`, D and D_f
+// from the bars' compiled q) is the load under which the bind pose is the
+// net's equilibrium; the paper is silent on it (its nets are form-found from
+// loads alone, their geometry "independent of the geometry" of the mesh), and
+// without it a free node on a convex patch would sink into the convex hull of
+// its neighbours (with q > 0 an unloaded free node is a weighted mean of its
+// neighbours). Derived at init, not stored in the section. The step turns
+// p0 by the node's blended bones (sum_k weight[k] * S(joint[k]) p0,
+// renormalised to |p0|), so a bent joint turns the tissue's push without
+// weakening it. With q scaled by q_inputs, p0 stays the compiled one: a
+// softer net bulges further under it.
 struct NodeRecord {
   fx::Vec3 rest;                // Len, bind pose, model space
   uint8_t kind = 0;             // NodeKind

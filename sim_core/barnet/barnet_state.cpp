@@ -2,6 +2,8 @@
 
 #include "barnet_refactor.hpp"
 #include "barnet_validate.hpp"
+#include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
 #include "status_message.hpp"
 
 namespace sinew::barnet {
@@ -9,7 +11,8 @@ namespace {
 
 // Byte layout of the arena, every segment 8-byte aligned.
 struct Layout {
-  size_t first, offset, lower, recip, shift, q, skin, load, skinned, work, normal, scratch, total;
+  size_t first, offset, lower, recip, shift, q, skin, load, skinned, rest_direction, rest_magnitude, work, normal,
+      scratch, total;
 };
 
 size_t align8(size_t v) { return (v + 7) & ~size_t{7}; }
@@ -47,6 +50,8 @@ Layout layout(const BarnetModel& m, uint32_t free, uint64_t profile) {
   l.skin = take(m.joint_count * sizeof(fx::Mat34));
   l.load = take(3 * n * sizeof(int64_t));
   l.skinned = take(3 * n * sizeof(fx::Len));
+  l.rest_direction = take(n * sizeof(fx::Vec3));
+  l.rest_magnitude = take(n * sizeof(int64_t));
   l.work = take(n * sizeof(int64_t));
   l.normal = take(m.triangles.size() * sizeof(fx::Vec3));
   l.scratch = take(m.nodes.size() * sizeof(uint32_t));
@@ -68,6 +73,49 @@ uint32_t find(std::span<uint32_t> parent, uint32_t v) {
     v = parent[v];
   }
   return v;
+}
+
+// The rest load of every free node: p0 = D x0 + D_f x0_f (eq. (3)'s
+// matrices, the model's own force densities, the bind-pose positions x0), the
+// load under which the bind pose is the net's equilibrium (barnet_model.hpp).
+// Row i of D x0 + D_f x0_f is sum over the bars at i of q (x0_i - x0_j):
+// exact in Q.36 (q Q16.16 x Len Q12.20), each component below 16 x 2^24 x
+// 2^33 = 2^61. Kept as a direction and a magnitude so the step can turn it
+// with the node's blended bones without shrinking it.
+void derive_rest_loads(const BarnetModel& m, uint32_t free, std::span<int64_t> sum[3], BarnetState* st) {
+  for (size_t c = 0; c < 3; ++c)
+    for (uint32_t i = 0; i < free; ++i) sum[c][i] = 0;
+  for (const BarRecord& b : m.bars) {
+    const fx::Vec3 pa = m.nodes[b.a].rest, pb = m.nodes[b.b].rest;
+    const int64_t d[3] = {int64_t{pa.x} - pb.x, int64_t{pa.y} - pb.y, int64_t{pa.z} - pb.z};
+    for (size_t c = 0; c < 3; ++c) {
+      if (b.a < free) sum[c][b.a] += int64_t{b.q} * d[c];
+      if (b.b < free) sum[c][b.b] -= int64_t{b.q} * d[c];
+    }
+  }
+  for (uint32_t i = 0; i < free; ++i) {
+    const int64_t p[3] = {sum[0][i], sum[1][i], sum[2][i]};
+    uint64_t biggest = 0;
+    for (int64_t v : p) biggest |= fx::magnitude(v);
+    // |p| from components brought below 2^31 (floor shifts; a relative error
+    // below 2^-30), then scaled back.
+    int shift = 0;
+    while ((biggest >> shift) >= (uint64_t{1} << 31)) ++shift;
+    uint64_t squares = 0;
+    for (int64_t v : p) {
+      const uint64_t s = fx::magnitude(v) >> shift;
+      squares += s * s;  // < 3 x 2^62
+    }
+    st->rest_magnitude[i] = static_cast<int64_t>(uint64_t{fx::isqrt_u64(squares)} << shift);  // < 2^62
+    // The direction from components below 2^30 (normalize_to_unit's domain).
+    const int dir_shift = shift + 1;
+    fx::Vec3 unit{0, 0, 0};
+    fx::normalize_to_unit(
+        {static_cast<int32_t>(p[0] / (int64_t{1} << dir_shift)), static_cast<int32_t>(p[1] / (int64_t{1} << dir_shift)),
+         static_cast<int32_t>(p[2] / (int64_t{1} << dir_shift))},
+        &unit);
+    st->rest_direction[i] = unit;
+  }
 }
 
 LayerStatus check_graph(const BarnetModel& m, uint32_t free, std::span<uint32_t> scratch) {
@@ -134,12 +182,15 @@ LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_byte
     st.load[c] = carve<int64_t>(base, l.load + c * free * sizeof(int64_t), free);
     st.skinned[c] = carve<fx::Len>(base, l.skinned + c * free * sizeof(fx::Len), free);
   }
+  st.rest_direction = carve<fx::Vec3>(base, l.rest_direction, free);
+  st.rest_magnitude = carve<int64_t>(base, l.rest_magnitude, free);
   st.work = carve<int64_t>(base, l.work, free);
   st.normal = carve<fx::Vec3>(base, l.normal, model.triangles.size());
   const std::span<uint32_t> scratch = carve<uint32_t>(base, l.scratch, model.nodes.size());
 
   s = check_graph(model, free, scratch);
   if (!s.ok()) return s;
+  derive_rest_loads(model, free, st.load, &st);
 
   // Skyline rows: first[i] = lowest free neighbour (or i).
   for (uint32_t i = 0; i < free; ++i) st.factor.first[i] = i;

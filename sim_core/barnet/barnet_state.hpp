@@ -1,6 +1,8 @@
 // Runtime state of a bar-net, carved from caller memory at init: the LDL^T
-// factor of D (computed here, in fixed point, once), the per-step load and
-// solve vectors, the skinning matrices and the control-mesh normals. After
+// factor of D (computed here, in fixed point, once), the rest load of every
+// free node (derived here from the bind pose, see barnet_model.hpp), the
+// per-step load and solve vectors, the skinning matrices and the
+// control-mesh normals. After
 // init nothing allocates; a step's work is bounded by the model's counts.
 #pragma once
 
@@ -17,7 +19,8 @@ struct StepStats {
   uint64_t steps = 0;
   uint32_t saturated = 0;  // values clamped in the last step
   // Largest |solved - smoothly skinned| over the free nodes in the last step,
-  // per component (Len): how far the net moved the control mesh.
+  // per component (Len): how far the net's equilibrium lies from the
+  // smoothly skinned control mesh.
   fx::Len max_displacement = 0;
 };
 
@@ -25,13 +28,15 @@ struct BarnetState {
   const BarnetModel* model = nullptr;
   uint32_t free_count = 0;
   SkylineFactor factor;
-  std::span<ForceDensity> q;      // per bar, the force density of this step (the model's, scaled by q_inputs)
-  std::span<fx::Mat34> skin;      // per joint: global x inverse bind
-  std::span<int64_t> load[3];     // per free node, Force (Q.24), this step
-  std::span<fx::Len> skinned[3];  // per free node, smooth-skinned position
-  std::span<int64_t> work;        // per free node, solve vector
-  std::span<fx::Vec3> normal;     // per control triangle, Q2.30 unit normal
-  uint32_t profile = 0;           // entries of L
+  std::span<ForceDensity> q;           // per bar, the force density of this step (the model's, scaled by q_inputs)
+  std::span<fx::Mat34> skin;           // per joint: global x inverse bind
+  std::span<int64_t> load[3];          // per free node, p of eq. (4) this step: Q.36 force (rest load + loads)
+  std::span<fx::Len> skinned[3];       // per free node, smooth-skinned position
+  std::span<fx::Vec3> rest_direction;  // per free node, the rest load's unit direction in the bind pose, Q2.30
+  std::span<int64_t> rest_magnitude;   // per free node, |rest load|, Q.36 force (< 2^62)
+  std::span<int64_t> work;             // per free node, solve vector
+  std::span<fx::Vec3> normal;          // per control triangle, Q2.30 unit normal
+  uint32_t profile = 0;                // entries of L
   // Work of one factorisation of D (64x64-bit products, barnet_refactor.hpp):
   // paid at init, and at every step when the model has q_inputs.
   uint64_t refactor_products = 0;
@@ -43,7 +48,8 @@ size_t barnet_state_bytes(const BarnetModel& model);
 
 // Validates the model (barnet_validate plus: at most kMaxBarsPerNode bars on
 // a node, a path of bars from every free node to a fixed node, the profile
-// limit, positive pivots), carves the arena and factorises D. The model's
+// limit, positive pivots), carves the arena, derives the rest loads and
+// factorises D. The model's
 // spans must outlive the state.
 LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_bytes, BarnetState* out);
 

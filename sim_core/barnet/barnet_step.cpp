@@ -78,6 +78,8 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   for (uint32_t j = 0; j < m.joint_count; ++j) st->skin[j] = fx::mul(in.bones[j], m.inverse_bind[j]);
 
   // 1. Control mesh: smooth-skinned node positions (blend then round once).
+  //    Fixed nodes keep them (x_f, eq. (4)'s input); free nodes keep them as
+  //    the solve's starting point s.
   for (uint32_t i = 0; i < m.nodes.size(); ++i) {
     const NodeRecord& n = m.nodes[i];
     Blend pos;
@@ -85,23 +87,35 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
       pos.add(fx::transform_point(st->skin[n.joint[k]], n.rest), n.weight[k]);
     const fx::Vec3 p = pos.result(sat);
     for (size_t c = 0; c < 3; ++c) {
-      if (i < free) {
+      if (i < free)
         st->skinned[c][i] = component(p, c);
-        st->load[c][i] = 0;
-      } else {
+      else
         out.node[c][i] = component(p, c);
-      }
     }
   }
 
-  // 2. Loads bound to joint angles or external inputs, carried by their
-  //    bone (superposed).
+  // 2. The load p of eq. (4) on every free node, in Q.36 force: first its
+  //    rest load (barnet_state.cpp), turned by the node's blended bones and
+  //    kept at its bind-pose magnitude (a bend turns the tissue's push, it
+  //    does not weaken it), ...
+  for (uint32_t i = 0; i < free; ++i) {
+    const NodeRecord& n = m.nodes[i];
+    Blend turned;
+    for (uint32_t k = 0; k < n.influence_count; ++k)
+      turned.add(fx::transform_vector(st->skin[n.joint[k]], st->rest_direction[i]), n.weight[k]);
+    fx::Vec3 unit{0, 0, 0};
+    fx::normalize_to_unit(turned.result(sat), &unit);  // opposite bones cancelling: no rest load
+    for (size_t c = 0; c < 3; ++c)
+      st->load[c][i] = mul_shift_round_sat(st->rest_magnitude[i], component(unit, c), 30, sat);  // |.| <= 2^61
+  }
+  //    ... then the loads bound to joint angles or external inputs, carried
+  //    by their bone (superposed; Q.24 x 2^12, below 1024 x 2^43 on a node).
   for (const LoadRecord& l : m.loads) {
     const int32_t v = l.input < m.input_count ? in.joint_angles[l.input] : in.external[l.input - m.input_count];
     const fx::Unit t = activation(v, l.angle_lo, l.angle_hi);
     if (t == 0) continue;
     const fx::Vec3 f = fx::transform_vector(st->skin[l.joint], fx::scale(l.force, t));
-    for (size_t c = 0; c < 3; ++c) st->load[c][l.node] += component(f, c);
+    for (size_t c = 0; c < 3; ++c) st->load[c][l.node] += int64_t{component(f, c)} * (int64_t{1} << 12);
   }
 
   // Force densities from inputs: D = C^T Q C re-assembled from this step's
@@ -114,15 +128,24 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
     if (ldlt_factor(st->factor, st->work) < free) ++sat.events;
   }
 
-  // 3. Eq. (4), per axis: D x = p - D_f x_f, with p = D s + D_f s_f + loads
-  //    (the holding load of the skinned shape, then the loads) and x_f = s_f.
-  //    The holding load cancels exactly: D x = D s + loads, so the solve is
-  //    D (x - s) = loads and x = s + D^-1 loads. Solving for the move rather
-  //    than the position keeps the factor's relative error on the move alone
-  //    and needs no right-hand side from the bars. Force in Q.36 (Q.24 x 2^12).
+  // 3. Eq. (4), per axis: x = D^-1 (p - D_f x_f), x_f the fixed nodes'
+  //    skinned positions. Solved for the move d = x - s from the free nodes'
+  //    skinned positions: D d = p - (D s + D_f x_f), whose right-hand side
+  //    is formed exactly in Q.36 from the bars (row i of D s + D_f x_f is the
+  //    sum over the bars at i of q (s_i - y_j), y_j the other end's skinned
+  //    position), so the factor's relative error falls on the move alone.
+  //    |p| <= 2^61 + 2^53 and the bar sum stays below 16 x 2^24 x 2^32 = 2^60.
   fx::Len max_disp = 0;
   for (size_t c = 0; c < 3; ++c) {
-    for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->load[c][i] * (int64_t{1} << 12), sat);
+    const auto skinned = [&](uint32_t i) { return i < free ? st->skinned[c][i] : out.node[c][i]; };
+    for (uint32_t i = 0; i < free; ++i) st->work[i] = st->load[c][i];
+    for (size_t b = 0; b < m.bars.size(); ++b) {
+      const BarRecord& bar = m.bars[b];
+      const int64_t pull = int64_t{st->q[b]} * (int64_t{skinned(bar.a)} - skinned(bar.b));
+      if (bar.a < free) st->work[bar.a] -= pull;
+      if (bar.b < free) st->work[bar.b] += pull;
+    }
+    for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->work[i], sat);
     ldlt_solve(st->factor, st->work, sat);
     for (uint32_t i = 0; i < free; ++i) {
       const int64_t d = fx::round_shift(st->work[i], 20);  // Q.40 -> Len, |d| < 2^41

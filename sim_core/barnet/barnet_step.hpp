@@ -1,15 +1,15 @@
 // The bar-net step job (barnet-driven-skinning): bone global transforms and
 // joint angles in; node positions and wrapped fine-skin positions out.
 //   1. control mesh skinning: every node's smooth-skinned position s; fixed
-//      nodes keep it (x_f = s_f);
-//   2. loads: each LoadRecord adds t(angle or external input) * force,
-//      carried by its bone; with ForceDensityInputs, D is re-assembled
-//      from the scaled q and re-factorised (fixed work per step);
-//   3. eq. (4): D x = p - D_f x_f for x, y and z independently, with the
-//      factor computed at init and p = D s + D_f s_f + loads (the load
-//      holding the net at the skinned shape, plus the bound loads); with
-//      x_f = s_f the holding load cancels exactly, so the step solves
-//      D (x - s) = loads and returns x = s + D^-1 loads;
+//      nodes keep it (x_f = s_f, the skeleton carries them);
+//   2. loads p: each free node's rest load (the load under which the bind
+//      pose is the net's equilibrium, barnet_model.hpp), turned by the
+//      node's bones, plus each LoadRecord's t(angle or external input) *
+//      force, carried by its bone; with ForceDensityInputs, D is
+//      re-assembled from the scaled q and re-factorised (fixed work per
+//      step);
+//   3. eq. (4): x = D^-1 (p - D_f x_f) for x, y and z independently, with
+//      the factor computed at init (solved for x - s, barnet_step.cpp);
 //   4. wrap: each bound fine vertex = bary . triangle + offset * normal.
 #pragma once
 

@@ -20,7 +20,7 @@ bool joint_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const 
   const Vec3d c = bend.c, u = bend.u;
   const double radius = bend.radius;
   const double step = o.ring_step > 0 ? o.ring_step : 0.65 * radius;
-  const double force = o.force > 0 ? o.force : 1.1 * radius;
+  const double force = o.force > 0 ? o.force : 2.2 * radius;
   const Vec3d v = perpendicular(u), w = cross(u, v);
   const int mid = o.rings / 2;
 

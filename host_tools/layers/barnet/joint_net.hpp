@@ -6,7 +6,9 @@
 // volume smooth skinning loses. The fine skin between the end rings follows
 // the control mesh through a wrap binding. Every default derives from the
 // rig's geometry (layers/common/rig_geometry.hpp): the skin radius R around
-// the joint sets the ring spacing (0.65 R) and the load (1.1 R q).
+// the joint sets the ring spacing (0.65 R) and the load (2.2 R q, uniform
+// around the ring: on the built-in arm, R = 4.5 cm, about the arm net's
+// 0.1 q m of arm_net.hpp).
 #pragma once
 
 #include "host_tools/layers/common/rig_geometry.hpp"
@@ -19,8 +21,8 @@ struct JointNetOptions {
   int rings = 7;             // odd, 5..15; the middle ring sits on the joint
   double ring_step = 0;      // model units between rings; 0: 0.65 x skin radius
   double q = 1.0;            // uniform force density
-  double force = 0;          // q x model units at full flexion, inner side; 0: 1.1 x skin radius
-  double outer_share = 0.5;  // the outer side's share of the force (cosine profile between)
+  double force = 0;          // q x model units at full flexion, inner side; 0: 2.2 x skin radius
+  double outer_share = 1.0;  // the outer side's share of the force (cosine profile between)
   // Inputs (EXTI indices into external_count inputs; -1: none).
   uint32_t external_count = 0;
   int force_input = -1;                            // activates the loads instead of the flexion

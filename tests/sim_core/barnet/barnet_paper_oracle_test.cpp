@@ -4,14 +4,15 @@
 // C and C_f, D = C^t Q C and D_f = C^t Q C_f (eq. (3)), and the free nodes
 // x = D^-1 (p - D_f x_f) of eq. (4). The oracle partitions the nodes by
 // their kind only (no use of the runtime's node order, factor or holding
-// load), in double.
+// or rest load), in double.
 //
-// The runtime solves x = D^-1 (p_load + D s + D_f s_f - D_f x_f): the
-// holding load D s + D_f s_f keeps an unloaded net at its skinned shape s.
-// The nets below are paper nets whose free nodes rest where eq. (4) puts
-// them without load (D s + D_f s_f = 0 exactly, before rounding s to Len),
-// so the two agree up to:
-//   - the rounding of the free rest positions to Len:      0.5 LSB,
+// The runtime solves x = D^-1 (p_load + p0 - D_f x_f), p0 = D_0 x0 + D_f0 x0_f
+// the rest load of its bind pose (barnet_model.hpp, q_0 the compiled force
+// densities). The nets below are paper nets whose free nodes rest where
+// eq. (4) puts them without load, so p0 = D_0 e for e the rounding of the
+// free rest positions to Len (|e| <= 0.5 LSB), and the two agree up to:
+//   - D^-1 D_0 e:                                            0.5 LSB (0.5 / s
+//     when a q_input scales every q by s),
 //   - the solve before its final rounding (ldlt_skyline.hpp): < 2^-12 LSB,
 //   - the final rounding of x to Len:                       0.5 LSB.
 // Force densities, fixed positions and loads are dyadic, hence exact in
@@ -228,11 +229,12 @@ TEST(BarnetPaperOracle, MuscleTubeMatchesEquation4) {
   EXPECT_LE(worst, kOracleBoundLsb);
 }
 
-TEST(BarnetPaperOracle, FixedNodesPullTheFreeOnes) {
+TEST(BarnetPaperOracle, TranslatedFixedNodesCarryTheNet) {
   // Moving the fixed nodes (x_f) moves the free ones through - D_f x_f:
   // the bone's translation carries the fixed nodes, and eq. (4) with the
   // moved x_f must match (the rows of [D D_f] sum to 0, so it is the same
-  // translation of the loaded shape).
+  // translation of the loaded shape). The fixed nodes pulling the free ones
+  // when they move apart non-rigidly is BarnetArm.NetTakesItsFormFromTheFixedNodes.
   lb::NetSpec spec = muscle_tube(1.0);
   rest_at_unloaded_equilibrium(&spec);
   SyntheticNet net(spec);
@@ -295,10 +297,11 @@ TEST(BarnetPaperOracle, ForceDensityFromAnInputFollowsEquation4) {
     if (scale == 1.0) bulge_at_one = bulge;
     std::printf("muscle tube, q x %.2f from the input: bulge %.1f LSB, worst |runtime - eq. (4)| %.4f LSB\n", scale,
                 bulge, worst);
-    EXPECT_LE(worst, kOracleBoundLsb) << "scale " << scale;
+    const double bound = 0.5 / scale + 0.5 + 1.0 / 4096.0;  // header comment
+    EXPECT_LE(worst, bound) << "scale " << scale;
     // Eq. (4): the displacement is D^-1 p, D linear in Q, so the bulge is
     // bulge(1) / scale up to the oracle bound on each of the two runs.
-    EXPECT_NEAR(bulge, bulge_at_one / scale, 2 * kOracleBoundLsb / scale + 2 * kOracleBoundLsb) << "scale " << scale;
+    EXPECT_NEAR(bulge, bulge_at_one / scale, 2 * kOracleBoundLsb / scale + 2 * bound) << "scale " << scale;
   }
   EXPECT_GT(bulge_at_one, 6 * kOracleBoundLsb) << "the loads must bulge the tube beyond the solve's error";
 }

@@ -50,6 +50,15 @@ struct FirstNet {
     for (uint32_t i = 0; i < r.layers.barnet.net[0].nodes.size(); ++i)
       for (size_t c = 0; c < 3; ++c) same &= r.pipeline.node_outputs[c][i] == check.loaded.node(c, i);
   }
+  // Largest |loaded - unloaded| over the free nodes (Len LSB): the loads' move.
+  int32_t loads_move() const {
+    int32_t largest = 0;
+    for (uint32_t k = 0; k < check.sys.free_count; ++k)
+      for (size_t c = 0; c < 3; ++c)
+        largest = std::max(largest, std::abs(check.loaded.node(c, check.sys.free_nodes[k]) -
+                                             check.unloaded.node(c, check.sys.free_nodes[k])));
+    return largest;
+  }
   tb::NetCheck check;
   bool same = true;
 };
@@ -65,7 +74,7 @@ TEST(BarnetSpecKeys, PlainNetKeepsTheVersionOneSection) {
   ASSERT_EQ(r.layers.barnet.count, 1u);
   EXPECT_EQ(r.layers.barnet.net[0].external_count, 0u);
   EXPECT_TRUE(r.layers.barnet.net[0].q_inputs.empty());
-  EXPECT_EQ(r.step(0, {}), 0) << "no flexion, no load: the skinned control mesh";
+  EXPECT_LE(r.step(0, {}), 2) << "no flexion, no load: the bind pose within its rounding (any_rig test)";
   EXPECT_GT(r.step(90, {}), 0) << "the ring loads follow the flexion";
 }
 
@@ -88,9 +97,15 @@ TEST(BarnetSpecKeys, ForceAndForceDensityInputsDriveTheNet) {
 
   std::vector<int32_t> external(r.layers.external_count(), 0);
   external[tone] = kQ16;
-  // No grip, no load: the net is the skinned control mesh exactly (eq. (4)
-  // with p = D s + D_f s_f solves to s within 2^-12 LSB before rounding).
-  EXPECT_EQ(r.step(120, external), 0) << "flexion alone no longer loads the net";
+  // No grip, no load: flexion alone leaves the net at eq. (4)'s equilibrium
+  // under its rest load (the unloaded net, exactly).
+  r.step(120, external);
+  {
+    const FirstNet net(r);
+    ASSERT_TRUE(net.check.ok) << net.check.loaded.error();
+    EXPECT_EQ(net.loads_move(), 0) << "flexion alone no longer loads the net";
+    EXPECT_LE(tb::rest_worst(net.check), net.check.rest.bound);
+  }
   // Each state against eq. (4) on the pipeline's bones, inputs and q of the
   // step (scaled_q: q = 1 x 1 and x 1/2, dyadic, so exact), within the
   // rounding bound of net_oracle.hpp.
@@ -103,8 +118,9 @@ TEST(BarnetSpecKeys, ForceAndForceDensityInputsDriveTheNet) {
   for (State& st : states) {
     external[grip] = st.grip;
     external[tone] = st.tone;
-    st.moved = r.step(0, external);
+    r.step(0, external);
     const FirstNet net(r);
+    st.moved = net.loads_move();
     ASSERT_TRUE(net.check.ok) << net.check.loaded.error();
     EXPECT_TRUE(net.same) << "the pipeline steps the compiled net";
     const double worst = tb::eq4_worst(net.check);
@@ -169,9 +185,11 @@ TEST(BarnetSpecKeys, NetKeySelectsThePapersArmNets) {
     uint32_t free = 0;
     for (const sinew::barnet::NodeRecord& n : m.nodes) free += n.kind == 0 ? 1u : 0u;
     EXPECT_EQ(free, std::string(net) == "arm-muscles" ? 12u : 77u) << net;
-    EXPECT_EQ(r.step(0, {}), 0) << net << ": no flexion, no load";
-    const int32_t moved = r.step(150, {});
+    EXPECT_LE(r.step(0, {}), 2) << net << ": no flexion, no load: the bind pose within its rounding (any_rig test)";
+    r.step(150, {});
     const FirstNet check(r);
+    const int32_t moved = check.loads_move();
+    EXPECT_LE(tb::rest_worst(check.check), check.check.rest.bound) << net << ": the unloaded net";
     ASSERT_TRUE(check.check.ok) << check.check.loaded.error();
     EXPECT_TRUE(check.same) << net;
     const double worst = tb::eq4_worst(check.check);

@@ -1,15 +1,20 @@
 // Eq. (4) of barnet-driven-skinning as an oracle for any net on any rig, in
-// any pose: a net is stepped twice on the same bones, with its loads and
-// without (NetProbe). Without loads the runtime returns the smoothly skinned
-// control mesh s exactly (p = D s + D_f s_f, solved to < 2^-12 LSB, then
-// rounded), so the loaded net's move x - s is eq. (4)'s D^-1 p for the
-// loads p the bones carry (paper_eq4.hpp, in double), up to:
-//   - the solve before its final rounding (ldlt_skyline.hpp's analysis):
-//     kappa(D) 2^-29 |D^-1 p| + (n + profile) 2^-40 rig units (solve_bound),
-//   - the final rounding of x to Len:                           0.5 LSB,
-//   - the carried loads' rounding (eq4_bound: per load and component, the
-//     activation's Q2.30 rounding times the force, the scaling's and the
-//     bone transform's roundings), moved through ||D^-1||.
+// any pose, in double (paper_eq4.hpp), in two parts:
+//   - eq4_rest: the unloaded net, x = D^-1 (p0 - D_f x_f): the fixed nodes
+//     x_f smoothly skinned from the bones, p0 the rest load D x0 + D_f x0_f
+//     of the bind pose turned by each node's blended bones at its bind-pose
+//     magnitude (barnet_model.hpp). Bound: the fixed nodes' rounding in the
+//     runtime (1 LSB, moved through D^-1 D_f whose rows are convex weights),
+//     the rest load's roundings (relative 2^-26, moved through ||D^-1||),
+//     the solve before its final rounding (solve_bound, for the move x - s
+//     the runtime solves) and the final rounding (0.5 LSB).
+//   - eq4_move: a net stepped twice on the same bones, with its loads and
+//     without (NetProbe): by linearity the loaded net's move from the
+//     unloaded one is D^-1 p for the loads p the bones carry, up to both
+//     solves' errors (solve_bound for each run's x - s, two final roundings
+//     of 0.5 LSB) and the carried loads' rounding (eq4_bound: per load and
+//     component, the activation's Q2.30 rounding times the force, the
+//     scaling's and the bone transform's roundings), moved through ||D^-1||.
 // The fine skin is then the wrap of those nodes (wrap_oracle, in double).
 #pragma once
 
@@ -101,7 +106,9 @@ struct Eq4Move {
   double largest = 0;                  // max |d|
 };
 
-inline Eq4Move eq4_move(const bn::BarnetModel& m, const PaperSystem& sys, uint32_t profile,
+// solved: the largest |x - s| (Len LSB) either run solved for (the
+// runtime's max_displacement), which scales each solve's error.
+inline Eq4Move eq4_move(const bn::BarnetModel& m, const PaperSystem& sys, uint32_t profile, double solved,
                         std::span<const fx::Mat34> bones, std::span<const int32_t> angles,
                         std::span<const int32_t> external = {}) {
   Eq4Move r;
@@ -137,8 +144,83 @@ inline Eq4Move eq4_move(const bn::BarnetModel& m, const PaperSystem& sys, uint32
     }
   }
   const double worst_load = *std::max_element(error.begin(), error.end());  // Q8.24 LSB = 2^-4 Len LSB
-  r.bound = 0.5 + solve_bound(sys, r.largest, profile) + paper_inverse_norm(sys) * worst_load / 16;
+  const double solve = solve_bound(sys, std::max(r.largest, solved + 1), profile);
+  r.bound = 2 * (0.5 + solve) + paper_inverse_norm(sys) * worst_load / 16;
   return r;
+}
+
+// The unloaded net where eq. (4) puts it [c][free k] (Len LSB, unrounded),
+// with its bound against the runtime (header comment).
+struct Eq4Rest {
+  std::vector<std::vector<double>> x;  // [c][free k]
+  double bound = 0;                    // Len LSB, per free node and component
+  double from_skinning = 0;            // largest |x - s| over free nodes and axes, s smoothly skinned
+};
+
+// q_model: the bars' compiled force densities, which the rest load is
+// formed with; sys: this step's D and D_f (q scaled by its inputs).
+inline Eq4Rest eq4_rest(const bn::BarnetModel& m, const PaperSystem& sys, uint32_t profile,
+                        std::span<const fx::Mat34> bones) {
+  const size_t n = m.nodes.size();
+  std::vector<fx::Mat34> skin(m.joint_count);
+  for (uint32_t j = 0; j < m.joint_count; ++j) skin[j] = fx::mul(bones[j], m.inverse_bind[j]);
+  const auto linear = [&skin](uint32_t j, size_t r, size_t k) { return std::ldexp(skin[j].m[r][k], -24); };
+  // Smoothly skinned positions of every node (Len LSB).
+  std::vector<std::array<double, 3>> s(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const bn::NodeRecord& node = m.nodes[i];
+    const double rest[3] = {static_cast<double>(node.rest.x), static_cast<double>(node.rest.y),
+                            static_cast<double>(node.rest.z)};
+    s[i] = {0, 0, 0};
+    for (uint32_t k = 0; k < node.influence_count; ++k) {
+      const uint32_t j = node.joint[k];
+      const double w = std::ldexp(node.weight[k], -30);
+      for (size_t r = 0; r < 3; ++r) {
+        double v = skin[j].t[r];
+        for (size_t c = 0; c < 3; ++c) v += linear(j, r, c) * rest[c];
+        s[i][r] += w * v;
+      }
+    }
+  }
+  // Rest loads p0 (q x Len LSB) from the compiled q, turned by each free
+  // node's blended bones, kept at |p0|.
+  std::vector<std::array<double, 3>> p0(n, {0, 0, 0});
+  for (const bn::BarRecord& b : m.bars) {
+    const double q = std::ldexp(static_cast<double>(b.q), -16);
+    const fx::Vec3 a = m.nodes[b.a].rest, c = m.nodes[b.b].rest;
+    const double d[3] = {static_cast<double>(a.x) - c.x, static_cast<double>(a.y) - c.y,
+                         static_cast<double>(a.z) - c.z};
+    for (size_t r = 0; r < 3; ++r) {
+      p0[b.a][r] += q * d[r];
+      p0[b.b][r] -= q * d[r];
+    }
+  }
+  std::vector<std::vector<double>> p(3, std::vector<double>(sys.free_count, 0));
+  double largest_p0 = 0;
+  for (uint32_t k = 0; k < sys.free_count; ++k) {
+    const uint32_t i = sys.free_nodes[k];
+    const bn::NodeRecord& node = m.nodes[i];
+    double v[3] = {0, 0, 0};
+    for (uint32_t h = 0; h < node.influence_count; ++h)
+      for (size_t r = 0; r < 3; ++r)
+        for (size_t c = 0; c < 3; ++c) v[r] += std::ldexp(node.weight[h], -30) * linear(node.joint[h], r, c) * p0[i][c];
+    const double turned = std::hypot(v[0], v[1], v[2]), size = std::hypot(p0[i][0], p0[i][1], p0[i][2]);
+    largest_p0 = std::max(largest_p0, size);
+    for (size_t r = 0; r < 3; ++r) p[r][k] = turned > 0 ? v[r] / turned * size : 0;
+  }
+  Eq4Rest out;
+  out.x.assign(3, std::vector<double>(sys.free_count, 0));
+  for (size_t c = 0; c < 3; ++c) {
+    for (uint32_t r = 0; r < sys.free_count; ++r)
+      for (uint32_t k = 0; k < sys.fixed_count; ++k)
+        p[c][r] -= sys.d_f[r * sys.fixed_count + k] * s[sys.fixed_nodes[k]][c];  // - D_f x_f
+    out.x[c] = paper_solve(sys.d, p[c]);
+    for (uint32_t k = 0; k < sys.free_count; ++k)
+      out.from_skinning = std::max(out.from_skinning, std::abs(out.x[c][k] - s[sys.free_nodes[k]][c]));
+  }
+  out.bound =
+      0.5 + 1.0 + solve_bound(sys, out.from_skinning + 2, profile) + paper_inverse_norm(sys) * largest_p0 * 0x1p-26;
+  return out;
 }
 
 // The bars' force densities (Q16.16) under the net's q_inputs, as
@@ -156,19 +238,32 @@ inline std::vector<double> scaled_q(const bn::BarnetModel& m, std::span<const in
 }
 
 // A net on given bones and inputs: stepped with and without its loads, and
-// eq. (4) for its force densities of this step.
+// eq. (4) for its force densities of this step: the unloaded net's
+// positions and the loads' move.
 struct NetCheck {
   NetCheck(const bn::BarnetModel& m, std::span<const fx::Mat34> bones, std::span<const int32_t> angles,
            std::span<const int32_t> external)
       : loaded(m, true), unloaded(m, false), sys(paper_system(m, 1.0, scaled_q(m, external))) {
     ok = loaded.ok() && unloaded.ok() && loaded.step(bones, angles, external) && unloaded.step(bones, angles, external);
-    move = eq4_move(m, sys, loaded.state().profile, bones, angles, external);
+    const double solved = std::max(loaded.state().stats.max_displacement, unloaded.state().stats.max_displacement);
+    move = eq4_move(m, sys, loaded.state().profile, solved, bones, angles, external);
+    rest = eq4_rest(m, sys, loaded.state().profile, bones);
   }
   bool ok = false;
   NetProbe loaded, unloaded;
   PaperSystem sys;
   Eq4Move move;
+  Eq4Rest rest;
 };
+
+// Largest |unloaded - eq. (4)| over the free nodes and axes (Len LSB).
+inline double rest_worst(const NetCheck& n) {
+  double worst = 0;
+  for (uint32_t k = 0; k < n.sys.free_count; ++k)
+    for (size_t c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(n.unloaded.node(c, n.sys.free_nodes[k]) - n.rest.x[c][k]));
+  return worst;
+}
 
 // Largest |(loaded - unloaded) - D^-1 p| over the free nodes and axes.
 inline double eq4_worst(const NetProbe& loaded, const NetProbe& unloaded, const PaperSystem& sys, const Eq4Move& e) {
