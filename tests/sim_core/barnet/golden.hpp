@@ -5,19 +5,19 @@
 #include <cstdint>
 
 namespace sinew::test::barnet::golden {
-inline constexpr uint64_t kArmModel = 0x94806c551feb6e37u;
-inline constexpr uint64_t kArmOutputs = 0x858047153d96a248u;
+inline constexpr uint64_t kArmModel = 0x05bcfa9d403b7c89u;
+inline constexpr uint64_t kArmOutputs = 0x619290baf32bf1e9u;
 // The elbow net with q from an input (re-factorised every step) and with
 // its loads from a force input; the paper's Figure 3 and 6 nets on the arm;
 // the muscle and wrinkle nets of any rig on the built-in hand.
-inline constexpr uint64_t kArmQInput = 0x4991d8711fd8fbf8u;
-inline constexpr uint64_t kArmForceInput = 0x03c4025acee3aa23u;
-inline constexpr uint64_t kArmFigure3 = 0x96a8a912539aef35u;
-inline constexpr uint64_t kArmFigure6 = 0x2bb96f9e05a957beu;
-inline constexpr uint64_t kHandMuscles = 0xf038b50e453c2c3fu;
-inline constexpr uint64_t kHandWrinkles = 0xb95c856c841e8b81u;
+inline constexpr uint64_t kArmQInput = 0x84843139400b204au;
+inline constexpr uint64_t kArmForceInput = 0x46671bdc497ae79eu;
+inline constexpr uint64_t kArmFigure3 = 0xa1594a3f55618084u;
+inline constexpr uint64_t kArmFigure6 = 0x8d45a1b781f89c8du;
+inline constexpr uint64_t kHandMuscles = 0x40ba8f7b8e6d4e75u;
+inline constexpr uint64_t kHandWrinkles = 0x47bd034cdc47665bu;
 // The paper's nets on the shared glTF models (tests/sim_core/barnet/data/*.toml)
 // through the pipeline (barnet_any_rig_test.cpp; host builds only).
-inline constexpr uint64_t kRiggedFigureNets = 0x368d1f699386db4au;
-inline constexpr uint64_t kGenericHandNets = 0xe06b5cdd164ea2c7u;
+inline constexpr uint64_t kRiggedFigureNets = 0xba558ff8adb39e2au;
+inline constexpr uint64_t kGenericHandNets = 0x00d044cb63cff991u;
 }  // namespace sinew::test::barnet::golden

@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xe322104d09c54a42u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x8beec896e5a7c8f8u;
+inline constexpr uint64_t kArmLayersBlob = 0xeaf1f6e454d9e2bdu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0xd501cd7c8860e443u;
 }  // namespace sinew::test::golden
