@@ -69,7 +69,8 @@ class SyntheticNet {
   const bn::LayerStatus& last_status() const { return last_; }
 
   // Eq. (4) in double from the quantised model: D x = p - D_f x_f with
-  // p = D s + D_f s_f + loads and x_f = s_f = rest; returns free-node
+  // p = p0 + loads, p0 = D x0 + D_f x0_f the rest load (the bone is the
+  // identity, so it is not turned) and x_f = rest; returns free-node
   // positions in Len units (not rounded) [c][free node].
   std::vector<std::vector<double>> oracle(bool set0, bool set1) const {
     const uint32_t n = state_.free_count;
