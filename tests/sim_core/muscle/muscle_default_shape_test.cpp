@@ -82,28 +82,26 @@ TEST(MuscleDefaultShape, FusiformWiderThanThickAndWidestInTheMiddle) {
   for (size_t k = 4; k < 7; ++k) EXPECT_GT(s.half_width[k], s.half_width[k + 1]) << "slice " << k;
   const double belly = std::max(s.half_width[3], s.half_width[4]);
   EXPECT_GT(belly, std::max(s.half_width[0], s.half_width[7]));
-  // The profile between the ends (joint_anatomy.hpp): a spindle 4t(1 - t),
-  // t = k / 7, lifting the straight line between the end widths to a belly
-  // of B = 1.83 bone radii (the built-in arm's biceps: 22 mm on its 12 mm
-  // bone), the bone radius read off the origins' spacing (1.6 radii apart).
-  const double bone_radius = 2 * s.half_width[0] / 1.6;
-  const double belly_target = 1.83 * bone_radius;
-  const auto line = [&](size_t k) { return s.half_width[0] + (s.half_width[7] - s.half_width[0]) * k / 7.0; };
-  const auto spindle = [](size_t k) { return 4.0 * k / 7.0 * (1 - k / 7.0); };
-  for (size_t k = 1; k < 7; ++k)
-    EXPECT_NEAR(s.half_width[k], line(k) + (belly_target - line(k)) * spindle(k), 1e-12) << "slice " << k;
   // "larger across (in X) than in thickness (in Y)", every slice.
   for (size_t k = 0; k < 8; ++k) {
     EXPECT_GT(s.half_width[k], s.half_thickness[k]) << "slice " << k;
     EXPECT_GT(s.half_thickness[k], 0) << "slice " << k;
   }
-  // `thickness` scales the belly B, not the ends (they are set by the
-  // attachments): with 1.2, every slice widens by 0.2 B 4t(1 - t).
+  // `thickness` scales the belly, not the ends (§4.2 sets those from the
+  // attachments): with 1.2 the end slices keep their width, every inner
+  // slice widens, the middle ones the most. (The spindle profile itself is
+  // the builder's choice where the paper gives no formula: joint_anatomy.hpp.)
   const ab::AnatomySpec thicker = default_shape_biceps(1.2);
   ASSERT_EQ(thicker.muscles.size(), 1u);
   const ab::MuscleSpec& thick = thicker.muscles[0];
-  for (size_t k = 0; k < 8; ++k)
-    EXPECT_NEAR(thick.half_width[k] - s.half_width[k], 0.2 * belly_target * spindle(k), 1e-12) << "slice " << k;
+  EXPECT_EQ(thick.half_width[0], s.half_width[0]);
+  EXPECT_EQ(thick.half_width[7], s.half_width[7]);
+  double widest_gain = 0;
+  for (size_t k = 1; k < 7; ++k) {
+    EXPECT_GT(thick.half_width[k], s.half_width[k]) << "slice " << k;
+    widest_gain = std::max(widest_gain, thick.half_width[k] - s.half_width[k]);
+  }
+  EXPECT_EQ(widest_gain, std::max(thick.half_width[3] - s.half_width[3], thick.half_width[4] - s.half_width[4]));
 }
 
 TEST(MuscleDefaultShape, BulgeKeepsTheBoneSideFaceStraight) {

@@ -156,6 +156,105 @@ TEST_F(Muscle, PivotedMuscleVolumeStaysWithinItsSectionBounds) {
   for (int m = 0; m < 2; ++m) EXPECT_EQ(outside[m], 0) << "muscle " << m;
 }
 
+// Volume of section k (slices k and k + 1), closed by fans at both slices'
+// centres: the sections' volumes add up to the muscle's.
+double section_volume(ArmAnatomy& arm, uint32_t m, uint32_t k) {
+  const uint32_t ring = arm.muscles().ring_vertices;
+  const auto vert = [&](uint32_t s, uint32_t j) {
+    return P{arm.muscle_vertex(0, m, s, j), arm.muscle_vertex(1, m, s, j), arm.muscle_vertex(2, m, s, j)};
+  };
+  const auto centre = [&](uint32_t s) {
+    const muscle::SliceFrame& f = arm.muscles().frames[m * muscle::kSlices + s];
+    return P{arm.metres(f.centre.x), arm.metres(f.centre.y), arm.metres(f.centre.z)};
+  };
+  double v = 0;
+  for (uint32_t j = 0; j < ring; ++j) {
+    const uint32_t jn = (j + 1) % ring;
+    v += signed_tet(vert(k, j), vert(k, jn), vert(k + 1, jn));
+    v += signed_tet(vert(k, j), vert(k + 1, jn), vert(k + 1, j));
+    v += signed_tet(centre(k), vert(k, jn), vert(k, j));
+    v += signed_tet(centre(k + 1), vert(k + 1, j), vert(k + 1, jn));
+  }
+  return std::fabs(v);
+}
+
+// The shape a bare [[muscle]] ships with (joint_anatomy: end-slice Z from
+// the bones' surface normals, §4.2; no pivot unless asked). §4.4: the
+// inner slices scale by s = sqrt(rest / present length) and, on a straight
+// path, stay parallel and shorten alike, so a section between two of them
+// has area x r (r = s^2) and length along the path x 1 / r: its volume
+// ratio is 1 ("volume is preserved exactly in regions between parallel
+// slices"; without the scaling it would be 1 / r, 0.73 for the biceps at
+// 150 degrees). The two end sections, bounded by an end
+// slice that "does not change shape" and here turns with its bone, "will
+// normally vary in volume" (§4.4); the muscle's whole volume is printed.
+TEST_F(Muscle, BoneNormalEndAxesKeepTheInnerSectionsVolume) {
+  {
+    ArmAnatomy shipped([](sinew::anatomy_build::AnatomySpec& s) {
+      for (auto& m : s.muscles) {
+        m.end_axes_from_bones = true;
+        m.has_pivot = false;
+      }
+    });
+    ASSERT_TRUE(shipped.ok()) << shipped.error();
+    ASSERT_TRUE(shipped.step_muscles().ok());
+    const auto centre_gap = [&shipped](uint32_t m, uint32_t k) {
+      const muscle::SliceFrame& f0 = shipped.muscles().frames[m * muscle::kSlices + k];
+      const muscle::SliceFrame& f1 = shipped.muscles().frames[m * muscle::kSlices + k + 1];
+      return std::hypot(shipped.metres(f1.centre.x - f0.centre.x), shipped.metres(f1.centre.y - f0.centre.y),
+                        shipped.metres(f1.centre.z - f0.centre.z));
+    };
+    double rest[2][muscle::kSlices - 1], rest_gap[2][muscle::kSlices - 1], rest_total[2] = {0, 0};
+    for (uint32_t m = 0; m < 2; ++m)
+      for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k) {
+        rest[m][k] = section_volume(shipped, m, k);
+        rest_gap[m][k] = centre_gap(m, k);
+        rest_total[m] += rest[m][k];
+      }
+    int outside = 0;
+    double worst = 0;  // largest |ratio - 1| over its tolerance
+    double band[2][2] = {{1, 1}, {1, 1}};
+    for (int a = 10; a <= 150; a += 10) {
+      shipped.set("elbow.0", a);
+      ASSERT_TRUE(shipped.step_muscles().ok());
+      for (uint32_t m = 0; m < 2; ++m) {
+        const double scale = std::ldexp(shipped.muscles().scale[m], -30), r = scale * scale;
+        double total = 0;
+        for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k) {
+          const double v = section_volume(shipped, m, k);
+          total += v;
+          if (k == 0 || k + 2 == muscle::kSlices) continue;  // an end section
+          const double ratio = v / rest[m][k];
+          // Every vertex and centre is rounded to Len (sqrt(3)/2 LSB in
+          // distance): for a section of radius >= rho and length h,
+          // |dV| / V <= that x (2 / rho + 2 / h), once for the present
+          // volume and once for the rest one.
+          double rho = 1e300;
+          for (uint32_t e = k; e <= k + 1; ++e) {
+            const muscle::SliceFrame& f = shipped.muscles().frames[m * muscle::kSlices + e];
+            rho = std::min({rho, shipped.metres(f.radius_x), shipped.metres(f.radius_y)});
+          }
+          const double h = std::min(centre_gap(m, k), rest_gap[m][k]);
+          const double tolerance = 2 * std::sqrt(3.0) / 2 * shipped.metres(1) * (2 / rho + 2 / h);
+          if (std::abs(ratio - 1) > tolerance) {
+            ++outside;
+            std::printf("  elbow %3d deg: muscle %u section %u volume ratio %.6f (tolerance %.2g, 1 / r %.4f)\n", a, m,
+                        k, ratio, tolerance, 1 / r);
+          }
+          worst = std::max(worst, std::abs(ratio - 1) / tolerance);
+        }
+        band[m][0] = std::min(band[m][0], total / rest_total[m]);
+        band[m][1] = std::max(band[m][1], total / rest_total[m]);
+      }
+    }
+    std::printf(
+        "bone-normal end axes: inner sections' volume ratio within %.2f of its tolerance of 1; "
+        "whole-muscle volume over 10..150 deg: biceps [%.4f, %.4f], triceps [%.4f, %.4f]\n",
+        worst, band[0][0], band[0][1], band[1][0], band[1][1]);
+    EXPECT_EQ(outside, 0);
+  }
+}
+
 TEST_F(Muscle, BicepsWidthGrowsWithElbowFlexion) {
   double previous = 0, first = 0, last = 0;
   // Up to 135 deg: past it the folded forearm carries the insertion away
