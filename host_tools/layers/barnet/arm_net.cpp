@@ -4,7 +4,9 @@
 #include <set>
 #include <utility>
 
+#include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
+#include "volume_loads.hpp"
 
 namespace sinew::layers::barnet {
 namespace {
@@ -46,17 +48,38 @@ bool arm_elbow_net(const rigc::RigSpec& arm, const ArmNetOptions& o, NetSpec* ou
   // Radial loads on the loaded ring, heavier on the inner side (+y: the
   // elbow flexes about +z, folding the forearm towards +y), carried by the
   // upper arm and activated by elbow flexion.
+  RingLoadSchedule schedule;
   for (int k = 0; k < o.segments; ++k) {
     const NodeSpec& n = s.nodes[node(o.loaded_ring, k)];
     const double ry = n.rest[1], rz = n.rest[2], r = std::sqrt(ry * ry + rz * rz);
     const double cy = ry / r, cz = rz / r;
-    const double magnitude = o.force * (o.outer_share + (1 - o.outer_share) * (1 + cy) / 2);
-    s.loads.push_back({node(o.loaded_ring, k),
-                       shoulder,
-                       first_input_of(arm, elbow),
-                       o.flex_lo,
-                       o.flex_hi,
-                       {0, magnitude * cy, magnitude * cz}});
+    const double share = o.outer_share + (1 - o.outer_share) * (1 + cy) / 2;
+    if (o.force > 0) {
+      s.loads.push_back({node(o.loaded_ring, k),
+                         shoulder,
+                         first_input_of(arm, elbow),
+                         o.flex_lo,
+                         o.flex_hi,
+                         {0, o.force * share * cy, o.force * share * cz}});
+    } else {
+      schedule.nodes.push_back(node(o.loaded_ring, k));
+      schedule.push.push_back({0, r * share * cy, r * share * cz});
+    }
+  }
+  if (o.force <= 0) {
+    if (o.flex_lo != 0) return *error = "flexion: a volume-keeping push starts at 0 degrees", false;
+    schedule.rings = o.rings;
+    schedule.segments = o.segments;
+    schedule.carrier = shoulder;
+    schedule.input = first_input_of(arm, elbow);
+    schedule.joint = elbow;
+    RigGeometry g;
+    if (!rig_geometry(arm, &g, error)) return false;
+    schedule.centre = g.frame[static_cast<size_t>(elbow)].t;
+    schedule.axis =
+        dir_to_model(g.frame[static_cast<size_t>(elbow)], arm.joints[static_cast<size_t>(elbow)].dofs[0].axis);
+    schedule.flex_hi = o.flex_hi;
+    if (!add_volume_keeping_loads(arm, schedule, &s, error)) return false;
   }
   if (o.q_input) {
     s.external_count = 1;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "skin_tube.hpp"
+#include "volume_loads.hpp"
 
 namespace sinew::layers::barnet {
 
@@ -20,7 +21,7 @@ bool joint_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const 
   const Vec3d c = bend.c, u = bend.u;
   const double radius = bend.radius;
   const double step = o.ring_step > 0 ? o.ring_step : 0.65 * radius;
-  const double force = o.force > 0 ? o.force : 2.2 * radius;
+  const double force = o.force > 0 ? o.force : 2.2 * radius;  // a force input's push at full value
   const Vec3d v = perpendicular(u), w = cross(u, v);
   const int mid = o.rings / 2;
 
@@ -50,16 +51,36 @@ bool joint_net(const rigc::RigSpec& rig, const RigGeometry& g, int joint, const 
   auto node = [&](int ring, int k) { return static_cast<uint32_t>(ring * o.segments + (k % o.segments)); };
   add_tube_mesh(o.rings, o.segments, o.q, &s);
   // Radial loads on the middle ring, carried by the parent bone, heavier on
-  // the side a positive turn folds towards (Bend::inner).
+  // the side a positive turn folds towards (Bend::inner): scheduled over the
+  // flexion to keep the control tube's volume (volume_loads.hpp), unless a
+  // force or a force input asks for a linear push.
   const Vec3d inner = bend.inner;
   const double hi = bend.flex_hi;
+  const bool keep_volume = o.force <= 0 && o.force_input < 0;
+  RingLoadSchedule schedule;
   for (int k = 0; k < o.segments; ++k) {
     const NodeSpec& n = s.nodes[node(mid, k)];
     const Vec3d rel = sub(n.rest, c);
     const Vec3d radial = normalized(sub(rel, scaled(u, dot(rel, u))));
     const double cy = dot(radial, inner);
-    const double magnitude = force * (o.outer_share + (1 - o.outer_share) * (1 + cy) / 2);
-    s.loads.push_back({node(mid, k), parent, bend.input, 0.0, hi, scaled(radial, magnitude)});
+    const double share = o.outer_share + (1 - o.outer_share) * (1 + cy) / 2;
+    if (keep_volume) {
+      schedule.nodes.push_back(node(mid, k));
+      schedule.push.push_back(scaled(radial, radius * share));
+    } else {
+      s.loads.push_back({node(mid, k), parent, bend.input, 0.0, hi, scaled(radial, force * share)});
+    }
+  }
+  if (keep_volume) {
+    schedule.rings = o.rings;
+    schedule.segments = o.segments;
+    schedule.carrier = parent;
+    schedule.input = bend.input;
+    schedule.joint = joint;
+    schedule.centre = c;
+    schedule.axis = bend.axis;
+    schedule.flex_hi = hi;
+    if (!add_volume_keeping_loads(rig, schedule, &s, error)) return *error = name + ": " + *error, false;
   }
   drive_from_inputs({o.external_count, o.force_input, o.force_input_lo, o.force_input_hi, o.q_input}, &s);
   const double lo_t = -mid * step, hi_t = mid * step;

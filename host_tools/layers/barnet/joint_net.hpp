@@ -6,9 +6,8 @@
 // volume smooth skinning loses. The fine skin between the end rings follows
 // the control mesh through a wrap binding. Every default derives from the
 // rig's geometry (layers/common/rig_geometry.hpp): the skin radius R around
-// the joint sets the ring spacing (0.65 R) and the load (2.2 R q, uniform
-// around the ring: on the built-in arm, R = 4.5 cm, about the arm net's
-// 0.1 q m of arm_net.hpp).
+// the joint sets the ring spacing (0.65 R); the ring's push keeps the
+// control tube's rest volume over the flexion (volume_loads.hpp).
 #pragma once
 
 #include "host_tools/layers/common/rig_geometry.hpp"
@@ -17,11 +16,15 @@
 namespace sinew::layers::barnet {
 
 struct JointNetOptions {
-  int segments = 8;          // nodes per ring, 3..32
-  int rings = 7;             // odd, 5..15; the middle ring sits on the joint
-  double ring_step = 0;      // model units between rings; 0: 0.65 x skin radius
-  double q = 1.0;            // uniform force density
-  double force = 0;          // q x model units at full flexion, inner side; 0: 2.2 x skin radius
+  int segments = 8;      // nodes per ring, 3..32
+  int rings = 7;         // odd, 5..15; the middle ring sits on the joint
+  double ring_step = 0;  // model units between rings; 0: 0.65 x skin radius
+  double q = 1.0;        // uniform force density
+  // The ring's push. 0 with no force_input (the default): scheduled over the
+  // flexion so that the control tube keeps its rest volume
+  // (volume_loads.hpp). Otherwise q x model units at full activation,
+  // growing linearly; 0 then means 2.2 x skin radius.
+  double force = 0;
   double outer_share = 1.0;  // the outer side's share of the force (cosine profile between)
   // Inputs (EXTI indices into external_count inputs; -1: none).
   uint32_t external_count = 0;

@@ -25,7 +25,8 @@ bool joint_bend(const rigc::RigSpec& rig, const RigGeometry& g, int joint, Bend*
     if (g.skin_radius[k] > 0) b.radius += g.skin_radius[k], ++radii;
   if (radii == 0) return *error = name + ": no skin vertex is weighted to it or its parent", false;
   b.radius /= radii;
-  b.inner = normalized(cross(dir_to_model(g.frame[j], js.dofs[0].axis), b.u));
+  b.axis = dir_to_model(g.frame[j], js.dofs[0].axis);
+  b.inner = normalized(cross(b.axis, b.u));
   b.flex_hi = js.dofs[0].max > 0 ? js.dofs[0].max : js.dofs[0].min;
   if (b.flex_hi == 0) return *error = name + ": its first DOF has no range to flex through", false;
   b.fold = b.flex_hi > 0 ? b.inner : scaled(b.inner, -1);

@@ -22,6 +22,7 @@ struct Bend {
   Vec3d u{1, 0, 0};      // unit, parent's joint -> joint
   double length = 0;     // parent's joint -> joint
   double radius = 0;     // mean skin radius of the parent's bone and the joint's
+  Vec3d axis{0, 0, 1};   // unit, the first DOF's axis a in the model frame
   Vec3d inner{0, 1, 0};  // unit, a x u: the side a positive turn folds towards
   Vec3d fold{0, 1, 0};   // unit: the side full flexion folds towards (inner, or -inner)
   double flex_hi = 0;    // degrees: the end of the first DOF's range flexion runs to
