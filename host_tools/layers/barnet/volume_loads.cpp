@@ -244,25 +244,22 @@ bool volume_keeping_schedule(const rigc::RigSpec& rig, const RingLoadSchedule& r
     // until the sign of the error changes.
     const double at_zero = model.volume(a, 0) - rest;
     const double direction = at_zero < 0 ? 1 : -1;
-    // A bend so deep that no push within the limit restores the volume (a
-    // finger folded flat) takes the push that comes closest among those
-    // tried, and is counted in `short_steps`.
-    double near = 0, far = 0, closest = 0, closest_error = at_zero < 0 ? -at_zero : at_zero;
+    // A bend so deep that no push within the limit restores the volume (the
+    // tube folded onto itself) keeps the previous step's push rather than
+    // inflating the ring without end, and is counted in `short_steps`.
+    double near = 0, far = 0;
     bool bracketed = at_zero == 0;
     for (double step = 1.0 / 256; !bracketed && step <= kForceLimit; step *= 2) {
       far = direction * step;
-      const double e = model.volume(a, far) - rest;
-      if ((e < 0) != (at_zero < 0)) {
+      if ((model.volume(a, far) - rest < 0) != (at_zero < 0))
         bracketed = true;
-      } else {
+      else
         near = far;
-        if ((e < 0 ? -e : e) < closest_error) closest = far, closest_error = e < 0 ? -e : e;
-      }
     }
     if (!bracketed) {
       ++out->short_steps;
       out->angle.push_back(angle);
-      out->f.push_back(closest);
+      out->f.push_back(out->f.back());
       continue;
     }
     for (int it = 0; it < 80 && at_zero != 0; ++it) {

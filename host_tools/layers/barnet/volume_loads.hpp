@@ -41,7 +41,8 @@ struct RingLoadSchedule {
 // The schedule: f at each step's angle (degrees), f = 0 at 0 degrees.
 // f is searched within [-8, 8] (the push scaled to the tube's radius, f is
 // of the order of 1); a step where no f there restores the volume (a bend
-// that folds the tube flat) takes the f that came closest and is counted.
+// that folds the tube onto itself) keeps the previous step's f and is
+// counted.
 struct VolumeSchedule {
   std::vector<double> angle, f;
   int short_steps = 0;
