@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xeaf1f6e454d9e2bdu;
-inline constexpr uint64_t kPipelineArmAllLayers = 0xd501cd7c8860e443u;
+inline constexpr uint64_t kArmLayersBlob = 0x3da099c33ec18807u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0xc220f62e4a84ef1bu;
 }  // namespace sinew::test::golden
