@@ -3,6 +3,7 @@
 #include <cmath>
 #include <utility>
 
+#include "host_tools/layers/common/dense_solve.hpp"
 #include "host_tools/layers/common/rig_geometry.hpp"
 
 namespace sinew::layers::barnet {
@@ -52,33 +53,6 @@ struct NetAtAngle {
   std::vector<Vec3d> skinned;
   std::vector<Vec3d> base, per_push;  // per free node
 };
-
-// Solves the dense system a x = b (Gaussian elimination, partial pivoting).
-std::vector<double> solve(std::vector<double> a, std::vector<double> b) {
-  const size_t n = b.size();
-  for (size_t k = 0; k < n; ++k) {
-    size_t p = k;
-    for (size_t i = k + 1; i < n; ++i)
-      if (std::fabs(a[i * n + k]) > std::fabs(a[p * n + k])) p = i;
-    if (p != k) {
-      for (size_t j = 0; j < n; ++j) std::swap(a[k * n + j], a[p * n + j]);
-      std::swap(b[k], b[p]);
-    }
-    for (size_t i = k + 1; i < n; ++i) {
-      const double m = a[i * n + k] / a[k * n + k];
-      if (m == 0) continue;
-      for (size_t j = k; j < n; ++j) a[i * n + j] -= m * a[k * n + j];
-      b[i] -= m * b[k];
-    }
-  }
-  std::vector<double> x(n, 0);
-  for (size_t i = n; i-- > 0;) {
-    double v = b[i];
-    for (size_t j = i + 1; j < n; ++j) v -= a[i * n + j] * x[j];
-    x[i] = v / a[i * n + i];
-  }
-  return x;
-}
 
 class NetModel {
  public:
@@ -159,7 +133,7 @@ class NetModel {
     out.base.assign(n, {0, 0, 0});
     out.per_push.assign(n, {0, 0, 0});
     for (size_t c = 0; c < 3; ++c) {
-      const std::vector<double> xa = solve(d_, rhs_a[c]), xb = solve(d_, rhs_b[c]);
+      const std::vector<double> xa = solve_dense(d_, rhs_a[c]), xb = solve_dense(d_, rhs_b[c]);
       for (size_t k = 0; k < n; ++k) out.base[k][c] = xa[k], out.per_push[k][c] = xb[k];
     }
     return out;

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "host_tools/layers/common/dense_solve.hpp"
 #include "sim_core/barnet/barnet.hpp"
 
 namespace sinew::test::barnet {
@@ -65,31 +66,9 @@ inline PaperSystem paper_system(const bn::BarnetModel& m, double q_scale = 1.0,
   return s;
 }
 
-// Solves D x = b by Gaussian elimination with partial pivoting (D is SPD).
+// Solves D x = b (D is SPD): Gaussian elimination with partial pivoting.
 inline std::vector<double> paper_solve(std::vector<double> a, std::vector<double> b) {
-  const size_t n = b.size();
-  for (size_t k = 0; k < n; ++k) {
-    size_t p = k;
-    for (size_t i = k + 1; i < n; ++i)
-      if (std::abs(a[i * n + k]) > std::abs(a[p * n + k])) p = i;
-    if (p != k) {
-      for (size_t j = 0; j < n; ++j) std::swap(a[k * n + j], a[p * n + j]);
-      std::swap(b[k], b[p]);
-    }
-    for (size_t i = k + 1; i < n; ++i) {
-      const double f = a[i * n + k] / a[k * n + k];
-      if (f == 0) continue;
-      for (size_t j = k; j < n; ++j) a[i * n + j] -= f * a[k * n + j];
-      b[i] -= f * b[k];
-    }
-  }
-  std::vector<double> x(n, 0);
-  for (size_t i = n; i-- > 0;) {
-    double v = b[i];
-    for (size_t j = i + 1; j < n; ++j) v -= a[i * n + j] * x[j];
-    x[i] = v / a[i * n + i];
-  }
-  return x;
+  return layers::solve_dense(std::move(a), std::move(b));
 }
 
 // Largest row sum of D^-1 (D is an M-matrix, so D^-1 >= 0 and this is its

@@ -22,29 +22,48 @@ double signed_tet(const P& a, const P& b, const P& c) {
          6;
 }
 
-// Volume enclosed by the slice rings, closed by fans at the end slices.
-double muscle_volume(ArmAnatomy& arm, uint32_t m) {
+// Signed volumes (origin-based tetrahedra) of muscle m's band between
+// slices k and k + 1, and of the fan closing slice k from its centre,
+// oriented to close the band that slice starts; closed surfaces of them
+// give enclosed volumes.
+double band_volume(ArmAnatomy& arm, uint32_t m, uint32_t k) {
   const uint32_t ring = arm.muscles().ring_vertices;
-  const auto vert = [&](uint32_t k, uint32_t j) {
-    return P{arm.muscle_vertex(0, m, k, j), arm.muscle_vertex(1, m, k, j), arm.muscle_vertex(2, m, k, j)};
-  };
-  const auto centre = [&](uint32_t k) {
-    const muscle::SliceFrame& f = arm.muscles().frames[m * muscle::kSlices + k];
-    return P{arm.metres(f.centre.x), arm.metres(f.centre.y), arm.metres(f.centre.z)};
+  const auto vert = [&](uint32_t s, uint32_t j) {
+    return P{arm.muscle_vertex(0, m, s, j), arm.muscle_vertex(1, m, s, j), arm.muscle_vertex(2, m, s, j)};
   };
   double v = 0;
-  for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k)
-    for (uint32_t j = 0; j < ring; ++j) {
-      const uint32_t jn = (j + 1) % ring;
-      v += signed_tet(vert(k, j), vert(k, jn), vert(k + 1, jn));
-      v += signed_tet(vert(k, j), vert(k + 1, jn), vert(k + 1, j));
-    }
   for (uint32_t j = 0; j < ring; ++j) {
     const uint32_t jn = (j + 1) % ring;
-    v += signed_tet(centre(0), vert(0, jn), vert(0, j));
-    v += signed_tet(centre(7), vert(7, j), vert(7, jn));
+    v += signed_tet(vert(k, j), vert(k, jn), vert(k + 1, jn));
+    v += signed_tet(vert(k, j), vert(k + 1, jn), vert(k + 1, j));
   }
+  return v;
+}
+double cap_volume(ArmAnatomy& arm, uint32_t m, uint32_t k) {
+  const uint32_t ring = arm.muscles().ring_vertices;
+  const muscle::SliceFrame& f = arm.muscles().frames[m * muscle::kSlices + k];
+  const P centre{arm.metres(f.centre.x), arm.metres(f.centre.y), arm.metres(f.centre.z)};
+  double v = 0;
+  for (uint32_t j = 0; j < ring; ++j) {
+    const uint32_t jn = (j + 1) % ring;
+    v += signed_tet(centre,
+                    P{arm.muscle_vertex(0, m, k, jn), arm.muscle_vertex(1, m, k, jn), arm.muscle_vertex(2, m, k, jn)},
+                    P{arm.muscle_vertex(0, m, k, j), arm.muscle_vertex(1, m, k, j), arm.muscle_vertex(2, m, k, j)});
+  }
+  return v;
+}
+
+// Volume enclosed by the slice rings, closed by fans at the end slices.
+double muscle_volume(ArmAnatomy& arm, uint32_t m) {
+  double v = cap_volume(arm, m, 0) - cap_volume(arm, m, muscle::kSlices - 1);
+  for (uint32_t k = 0; k + 1 < muscle::kSlices; ++k) v += band_volume(arm, m, k);
   return std::fabs(v);
+}
+
+// Volume of section k (slices k and k + 1), closed by fans at both slices'
+// centres: the sections' volumes add up to the muscle's.
+double section_volume(ArmAnatomy& arm, uint32_t m, uint32_t k) {
+  return std::fabs(band_volume(arm, m, k) + cap_volume(arm, m, k) - cap_volume(arm, m, k + 1));
 }
 
 double widest_inner_slice(ArmAnatomy& arm, uint32_t m, bool thickness) {
@@ -154,28 +173,6 @@ TEST_F(Muscle, PivotedMuscleVolumeStaysWithinItsSectionBounds) {
   int outside[2] = {0, 0};
   volume_band(arm, "arm (pivots)", lo, hi, nullptr, outside);
   for (int m = 0; m < 2; ++m) EXPECT_EQ(outside[m], 0) << "muscle " << m;
-}
-
-// Volume of section k (slices k and k + 1), closed by fans at both slices'
-// centres: the sections' volumes add up to the muscle's.
-double section_volume(ArmAnatomy& arm, uint32_t m, uint32_t k) {
-  const uint32_t ring = arm.muscles().ring_vertices;
-  const auto vert = [&](uint32_t s, uint32_t j) {
-    return P{arm.muscle_vertex(0, m, s, j), arm.muscle_vertex(1, m, s, j), arm.muscle_vertex(2, m, s, j)};
-  };
-  const auto centre = [&](uint32_t s) {
-    const muscle::SliceFrame& f = arm.muscles().frames[m * muscle::kSlices + s];
-    return P{arm.metres(f.centre.x), arm.metres(f.centre.y), arm.metres(f.centre.z)};
-  };
-  double v = 0;
-  for (uint32_t j = 0; j < ring; ++j) {
-    const uint32_t jn = (j + 1) % ring;
-    v += signed_tet(vert(k, j), vert(k, jn), vert(k + 1, jn));
-    v += signed_tet(vert(k, j), vert(k + 1, jn), vert(k + 1, j));
-    v += signed_tet(centre(k), vert(k, jn), vert(k, j));
-    v += signed_tet(centre(k + 1), vert(k + 1, j), vert(k + 1, jn));
-  }
-  return std::fabs(v);
 }
 
 // The shape a bare [[muscle]] ships with (joint_anatomy: end-slice Z from
