@@ -11,7 +11,7 @@ enum JointStatus : uint8_t {
   kJointClampedStatus = 1u << 0,  // commanded beyond a limit, clamped
   kJointStale = 1u << 1,          // no valid sample within its timeout: holding the last good value
   kJointRejected = 1u << 2,       // a sample was rejected this tick (CRC, counter, range)
-  kJointYielded = 1u << 3,        // a physical layer's joint yielded (SPH Tresca yield, docs/sph.md)
+  kJointYielded = 1u << 3,        // a physical layer's joint yields this tick (SPH Tresca yield, docs/sph.md)
   // A source has delivered this input (since the run began): a measured DOF,
   // which the rig's synergies and SPH joints leave as measured
   // (docs/rig-format.md, docs/sph.md). Replays rebuild the run from it.

@@ -28,8 +28,6 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   s->yielded = c.take<uint8_t>(n);
   s->density = c.take<Dens>(n);
   s->rest_density = c.take<Dens>(n);
-  s->rho_min = c.take<Dens>(n);
-  s->rho_max = c.take<Dens>(n);
   s->inv_density = c.take<fx::Unit>(n);
   s->cell = c.take<uint32_t>(n);
   s->cell_start = c.take<uint32_t>(cells + 1);
@@ -153,7 +151,7 @@ LayerStatus sph_reset(SphState* st, std::span<const fx::Mat34> transforms) {
       st->velocity[a][i] = 0;
     }
   for (uint32_t i = 0; i < n; ++i) {
-    st->density[i] = st->rho_min[i] = st->rho_max[i] = st->rest_density[i];
+    st->density[i] = st->rest_density[i];
     st->pressure[i] = 0;
     st->yielded[i] = 0;
     st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, st->rest_density[i]));

@@ -41,12 +41,12 @@ struct SphState {
   // Outputs, one entry per particle (SoA). Positions in Len, model space.
   std::span<fx::Len> position[3];
   std::span<Dens> pressure;    // rho - rho0 (Q8.24, normalised density units; x k_p = pressure)
-  std::span<uint8_t> yielded;  // 1 once the particle met the Tresca condition, eq. (4)
-  // Outputs per joint.
-  fx::Angle bend = 0;          // flexion caused by the particles about the joint axis (signed view)
-  bool joint_yielded = false;  // at least yield_count particles yielded
-  uint32_t yielded_particles = 0;
-  fx::Mat34 distal_flexed{};  // distal joint's model transform with the bend applied
+  std::span<uint8_t> yielded;  // 1 while the particle meets the Tresca condition, eq. (4)
+  // Outputs per joint, as of the tick's last substep.
+  fx::Angle bend = 0;              // flexion caused by the particles about the joint axis (signed view)
+  bool joint_yielded = false;      // at least yield_count particles yield
+  uint32_t yielded_particles = 0;  // particles that yield
+  fx::Mat34 distal_flexed{};       // distal joint's model transform with the bend applied
   // Skin displacement of eq. (2) for model->skin_vertex[k], Len, model space.
   std::span<fx::Len> skin_offset[3];
 
@@ -55,9 +55,7 @@ struct SphState {
   std::span<fx::Len> ideal[3];     // skinned rest positions in the commanded pose
   std::span<fx::Len> scratch[3];   // accelerations, then displacements for eq. (2)
   std::span<Dens> density;
-  std::span<Dens> rest_density;
-  std::span<Dens> rho_min;
-  std::span<Dens> rho_max;
+  std::span<Dens> rest_density;           // rho_min of eq. (4): the unloaded, steady state
   std::span<fx::Unit> inv_density;        // 1 / rho, Q2.30 (rho >= 1)
   std::span<uint32_t> cell;               // linear cell index per particle
   std::span<uint32_t> cell_start;         // cells + 1
@@ -79,7 +77,7 @@ struct SphState {
   std::span<uint8_t> skin_count;
   uint32_t grid_dim = 0;
   int64_t inertia_q12 = 0;       // sum over distal particles of |r_perp|^2, rig units^2, Q12
-  int64_t yield_torque_q12 = 0;  // |torque| when the joint yielded (rig unit x N, Q12)
+  int64_t yield_torque_q12 = 0;  // while the joint yields: |torque| when it began (rig unit x N, Q12); else 0
   SphStats stats;
 };
 

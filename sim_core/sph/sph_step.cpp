@@ -5,6 +5,7 @@
 #include "sph_grid.hpp"
 #include "sph_kernels.hpp"
 #include "sph_pose.hpp"
+#include "sph_yield.hpp"
 
 namespace sinew::sph {
 namespace {
@@ -35,27 +36,30 @@ int64_t load_torque_q12(const JointFrame& f, const fx::Vec3& load_point, fx::Vec
   return torque;
 }
 
-// Tresca yield, eq. (4) of sph-elastic-joints-tresca: a particle yields once
-// half the spread of the densities it has seen reaches tau_f; from then on its
-// density no longer increases (§4.2: "we do not increase the density by more
-// than that") and it takes no external force.
+// Tresca yield, eq. (4) of sph-elastic-joints-tresca: a particle yields
+// while half the difference between its density and its unloaded one
+// (rho_min, the steady state of minimum principal stress: its rest density)
+// reaches tau_f. While it yields its density is not increased beyond that
+// (§4.2: "we do not increase the density by more than that") and it takes no
+// external force; it takes force again once its density falls back below
+// the limit.
 void density_and_yield(SphState* st, bool tresca) {
   const SphModel& m = *st->model;
   compute_density(st);
+  uint32_t yielded = 0;
   for (uint32_t i = 0; i < m.particle_count(); ++i) {
     Dens rho = st->density[i];
-    if (st->yielded[i] != 0 && rho > st->rho_max[i]) rho = st->rho_max[i];
-    if (rho > st->rho_max[i]) st->rho_max[i] = rho;
-    if (rho < st->rho_min[i]) st->rho_min[i] = rho;
-    if (tresca && st->yielded[i] == 0 && (int64_t{st->rho_max[i]} - st->rho_min[i]) >= 2 * int64_t{m.params.tau_f}) {
-      st->yielded[i] = 1;
-      ++st->yielded_particles;
-    }
+    const int64_t limit = int64_t{st->rest_density[i]} + 2 * int64_t{m.params.tau_f};
+    const bool yields = tresca && rho >= limit;
+    if (yields) rho = static_cast<Dens>(limit);  // limit <= the density, below 2^31
+    st->yielded[i] = yields ? 1 : 0;
+    yielded += yields ? 1u : 0u;
     st->density[i] = rho;
     // Equation of state p = k_p (rho - rho0), Mueller 2003; k_p is in pressure_gain.
     st->pressure[i] = fx::sat_i32(int64_t{rho} - st->rest_density[i]);
     st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, rho < kDensOne ? kDensOne : rho));
   }
+  st->yielded_particles = yielded;
 }
 
 // One side of a pair: the terms particle i takes from its neighbour j, with
@@ -296,12 +300,15 @@ LayerStatus sph_step(SphState* st, const SphInputs& in) {
   st->stats.max_neighbour_count = 0;
   st->stats.neighbour_pairs = 0;
 
-  // Once the joint has yielded it takes no further load (§4.2: "the object
-  // is no longer subjected to force"): the torque is capped at its value then.
-  // A measured joint already shows the load's flexion: it takes no torque.
-  int64_t torque =
-      in.joint_measured ? 0 : fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
-  if (in.tresca && st->joint_yielded) torque = fx::clamp_i64(torque, -st->yield_torque_q12, st->yield_torque_q12);
+  // Every distal particle that does not yield takes its share of the load
+  // (§4.2); a yielded one takes none until its density falls back. "When
+  // the density of a particle increases beyond the yield condition, the
+  // object is no longer subjected to force" (abstract): while the joint
+  // yields its load is held at the torque it had when the yield began
+  // (sph_yield.hpp). A measured joint's tissue takes the load too.
+  const int64_t requested = fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
+  const JointYield before{st->joint_yielded, st->yield_torque_q12};
+  const int64_t torque = held_load_torque(before, requested);
   // Angular acceleration x dt^2 of the distal bone: torque x load_gain / I.
   const fx::Unit beta = fx::sat_i32(
       fx::clamp_i64(fx::div_round(torque * m.params.load_gain, st->inertia_q12), -fx::kUnitOne, fx::kUnitOne), sat);
@@ -318,10 +325,10 @@ LayerStatus sph_step(SphState* st, const SphInputs& in) {
       accelerations<false>(st, f, beta, sat);
     integrate(st, sat);
   }
-  if (in.tresca && !st->joint_yielded && st->yielded_particles >= m.params.yield_count) {
-    st->joint_yielded = true;
-    st->yield_torque_q12 = torque < 0 ? -torque : torque;
-  }
+  const JointYield after =
+      next_joint_yield(before, in.tresca, st->yielded_particles, m.params.yield_count, requested, torque);
+  st->joint_yielded = after.yielded;
+  st->yield_torque_q12 = after.held_torque_q12;
   // A measured joint is not bent a second time: the particles' rotation
   // about it stays in the skin offsets below (anchored on the measured bone).
   st->bend = in.joint_measured ? fx::Angle{0} : measure_bend(*st, f);

@@ -2,8 +2,9 @@
 // rig's joints and the force sensor at the wrist ("elbow.force", an external
 // input the layer declares) arrive on the simulated CAN bus. Against the same
 // run without the layer: the force input is logged in every frame, the skin
-// changes in every frame, and once the growing force makes the joint yield
-// (Tresca) the elbow's input carries kJointYielded in every later frame.
+// changes in every frame, and while the force makes the joint yield (Tresca)
+// the elbow's input carries kJointYielded; the flag clears again once the
+// force swings back (the yield is not latched).
 // With the joints held, the bend stays within the force balance of the
 // elastic pull; over Modbus, the force is the simulated sensor's signal.
 #include <gtest/gtest.h>
@@ -65,7 +66,7 @@ TEST(SphEndToEnd, ForceInputBendsTheElbowUntilItYields) {
   EXPECT_NE(sph_out.find("8 inputs (1 external)"), std::string::npos) << sph_out;
 
   double force_min = 0, force_max = 0, largest_mm = 0;
-  size_t differing = 0, first_yield = sph.size();
+  size_t differing = 0, first_yield = sph.size(), cleared_after_yield = 0;
   for (size_t f = 0; f < sph.size(); ++f) {
     ASSERT_EQ(sph[f].input_count, kForce + 1u);
     ASSERT_EQ(plain[f].input_count, kForce + 1u) << "the rig declares elbow.force whether the layer runs or not";
@@ -75,7 +76,7 @@ TEST(SphEndToEnd, ForceInputBendsTheElbowUntilItYields) {
     force_max = std::max(force_max, newtons);
     const bool yielded = (sph[f].input_status[kElbow] & sinew::hal::kJointYielded) != 0;
     if (yielded && first_yield == sph.size()) first_yield = f;
-    if (first_yield < f) EXPECT_TRUE(yielded) << "frame " << f << ": the yield is latched";
+    cleared_after_yield += first_yield < f && !yielded ? 1 : 0;
     EXPECT_FALSE(plain[f].input_status[kElbow] & sinew::hal::kJointYielded);
     const double scale = std::ldexp(1.0, sph[f].length_exponent - 20);
     double frame_mm = 0;
@@ -88,10 +89,10 @@ TEST(SphEndToEnd, ForceInputBendsTheElbowUntilItYields) {
   }
   std::printf(
       "force input %.1f .. %.1f N; joint yielded at frame %zu (%.1f N); %zu of %zu frames differ from plain "
-      "skinning, largest vertex move %.2f mm\n",
+      "skinning, largest vertex move %.2f mm; %zu frames after the first yield do not yield\n",
       force_min, force_max, first_yield,
       first_yield < sph.size() ? sph[first_yield].input_value[kForce] / 65536.0 : 0.0, differing, sph.size(),
-      largest_mm);
+      largest_mm, cleared_after_yield);
   // 3 s of A sin(2 pi t / T): its peak (T / 4 = 1.15 s) is sampled within a
   // tick (10 ms), and it is still falling at the end (the trough is at
   // 3 T / 4 = 3.44 s): the last frames, within two ticks of 3 s, are lowest.
@@ -100,6 +101,7 @@ TEST(SphEndToEnd, ForceInputBendsTheElbowUntilItYields) {
   EXPECT_LE(force_max, kForceAmplitude + 32e-6);
   EXPECT_LE(force_min, kForceAmplitude * std::sin(two_pi * (3.0 - 0.020) / kForcePeriod));
   EXPECT_LT(first_yield, sph.size()) << "the force swing past the Tresca limit makes the elbow yield";
+  EXPECT_GT(cleared_after_yield, 0u) << "the force swings back below the limit: the yield must not be latched";
   // The force is A sin(2 pi t / 4.59 s), non-zero from the first tick, and
   // the elbow swings: the layer changes the skin in every frame.
   EXPECT_EQ(differing, sph.size());
@@ -122,10 +124,10 @@ TEST(SphEndToEnd, ForceInputBendsTheElbowUntilItYields) {
 // b holds while the pull's sin(theta) >= theta (1 - b^2 / 6) keeps it at
 // least (1 - b^2 / 6) as stiff: it is checked, divided by that, in the
 // frames where b <= 0.5 rad (beyond, the tension alone could not hold the
-// elbow at 42 N: the crease's pressure does). Until the yield |tau| is at
-// most the largest force so far times the lever; after it, capped there
-// (§4.2). The elbow rests at its lower limit (0 deg), so an extending force
-// is clamped: the bend seen is never negative; a flexing one bends it.
+// elbow at 42 N: the crease's pressure does). |tau| is at most the largest
+// force seen in a tick the joint entered unyielded, times the lever: while
+// it yields its load is held at its value when the yield began (§4.2). The elbow rests at its lower limit (0 deg), so
+// an extending force is clamped: the bend seen is never negative; a flexing one bends it.
 TEST(SphEndToEnd, BendStaysWithinTheForceBalance) {
   std::string plain_out, sph_out, hold;
   for (const char* joint :
@@ -189,10 +191,12 @@ TEST(SphEndToEnd, BendStaysWithinTheForceBalance) {
   constexpr double kSmallAngle = 0.5;  // rad
   double force_bound = 0, worst_ratio = 0, largest_deg = 0;
   size_t first_yield = sph.size(), flexing = 0, bent = 0, bounded = 0;
+  bool yielding = false;  // as the tick of frame f found the joint
   for (size_t f = 0; f < sph.size(); ++f) {
     const double newtons = sph[f].input_value[kForce] / 65536.0;
-    if (first_yield == sph.size()) force_bound = std::max(force_bound, std::abs(newtons));
-    if ((sph[f].input_status[kElbow] & sinew::hal::kJointYielded) != 0 && first_yield == sph.size()) first_yield = f;
+    if (!yielding) force_bound = std::max(force_bound, std::abs(newtons));
+    yielding = (sph[f].input_status[kElbow] & sinew::hal::kJointYielded) != 0;
+    if (yielding && first_yield == sph.size()) first_yield = f;
     double a[3], b[3];
     for (int k = 0; k < 3; ++k) {
       a[k] = plain[f].position[k][far] * scale - centre[k];

@@ -1,6 +1,8 @@
 // The first sph implementation, verbatim but for the state type (RefState,
-// vectors instead of a carved arena) and the public names (ref_*): see
-// sph_reference_v1.hpp. Do not optimise or reformat: it is the reference.
+// vectors instead of a carved arena), the public names (ref_*) and the
+// Tresca yield, which follows sph_step's per-substep rule and the joint's
+// sim_core/sph/sph_yield.hpp since the yield stopped latching for the run:
+// see sph_reference_v1.hpp. Do not optimise or reformat: it is the reference.
 #include "host_tools/layers/sph/sph_reference_v1.hpp"
 
 #include <array>
@@ -10,6 +12,7 @@
 #include "sim_core/fixed/scalar.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/rig/message.hpp"
+#include "sim_core/sph/sph_yield.hpp"
 
 namespace sinew::sph_reference_v1 {
 using namespace ::sinew::sph;  // the model, params and status types (unchanged)
@@ -253,8 +256,6 @@ void layout(const SphModel& m, RefState* s) {
   s->yielded.assign(n, 0);
   s->density.assign(n, 0);
   s->rest_density.assign(n, 0);
-  s->rho_min.assign(n, 0);
-  s->rho_max.assign(n, 0);
   s->inv_density.assign(n, 0);
   s->cell.assign(n, 0);
   s->cell_start.assign(cells + 1, 0);
@@ -355,7 +356,7 @@ LayerStatus ref_reset(RefState* st, std::span<const fx::Mat34> transforms) {
       st->velocity[a][i] = 0;
     }
   for (uint32_t i = 0; i < n; ++i) {
-    st->density[i] = st->rho_min[i] = st->rho_max[i] = st->rest_density[i];
+    st->density[i] = st->rest_density[i];
     st->pressure[i] = 0;
     st->yielded[i] = 0;
     st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, st->rest_density[i]));
@@ -398,24 +399,22 @@ int64_t load_torque_q12(const JointFrame& f, const fx::Vec3& load_point, fx::Vec
   return torque;
 }
 
-// Tresca yield, eq. (4) of sph-elastic-joints-tresca: a particle yields once
-// half the spread of the densities it has seen reaches tau_f; from then on its
-// density no longer increases (§4.2: "we do not increase the density by more
-// than that") and it takes no external force.
+// Tresca yield, eq. (4), per substep: the rule sph_step applies since the
+// yield stopped latching (a particle yields while its density is 2 tau_f
+// above its rest density, held there).
 void density_and_yield(SphState* st, bool tresca) {
   const SphModel& m = *st->model;
   compute_density(st);
+  st->yielded_particles = 0;
   for (uint32_t i = 0; i < m.particle_count(); ++i) {
     Dens rho = st->density[i];
-    if (st->yielded[i] != 0 && rho > st->rho_max[i]) rho = st->rho_max[i];
-    if (rho > st->rho_max[i]) st->rho_max[i] = rho;
-    if (rho < st->rho_min[i]) st->rho_min[i] = rho;
-    if (tresca && st->yielded[i] == 0 && (int64_t{st->rho_max[i]} - st->rho_min[i]) >= 2 * int64_t{m.params.tau_f}) {
-      st->yielded[i] = 1;
+    const int64_t limit = int64_t{st->rest_density[i]} + 2 * int64_t{m.params.tau_f};
+    st->yielded[i] = tresca && rho >= limit ? 1 : 0;
+    if (st->yielded[i] != 0) {
+      rho = static_cast<Dens>(limit);
       ++st->yielded_particles;
     }
     st->density[i] = rho;
-    // Equation of state p = k_p (rho - rho0), Mueller 2003; k_p is in pressure_gain.
     st->pressure[i] = fx::sat_i32(int64_t{rho} - st->rest_density[i]);
     st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, rho < kDensOne ? kDensOne : rho));
   }
@@ -556,10 +555,9 @@ LayerStatus ref_step(RefState* st, const SphInputs& in) {
   st->stats.max_neighbour_count = 0;
   st->stats.neighbour_pairs = 0;
 
-  // Once the joint has yielded it takes no further load (§4.2: "the object
-  // is no longer subjected to force"): the torque is capped at its value then.
-  int64_t torque = fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
-  if (in.tresca && st->joint_yielded) torque = fx::clamp_i64(torque, -st->yield_torque_q12, st->yield_torque_q12);
+  const int64_t requested = fx::clamp_i64(load_torque_q12(f, m.joint.load_point, in.force), INT32_MIN, INT32_MAX);
+  const JointYield before{st->joint_yielded, st->yield_torque_q12};
+  const int64_t torque = held_load_torque(before, requested);
   // Angular acceleration x dt^2 of the distal bone: torque x load_gain / I.
   const fx::Unit beta = fx::sat_i32(
       fx::clamp_i64(fx::div_round(torque * m.params.load_gain, st->inertia_q12), -fx::kUnitOne, fx::kUnitOne), sat);
@@ -571,10 +569,10 @@ LayerStatus ref_step(RefState* st, const SphInputs& in) {
     accelerations(st, f, beta, sat);
     integrate(st, sat);
   }
-  if (in.tresca && !st->joint_yielded && st->yielded_particles >= m.params.yield_count) {
-    st->joint_yielded = true;
-    st->yield_torque_q12 = torque < 0 ? -torque : torque;
-  }
+  const JointYield after =
+      next_joint_yield(before, in.tresca, st->yielded_particles, m.params.yield_count, requested, torque);
+  st->joint_yielded = after.yielded;
+  st->yield_torque_q12 = after.held_torque_q12;
   st->bend = measure_bend(*st, f);
   const fx::Mat34 flex = fx::mat34_from_quat(fx::quat_from_axis_angle(m.joint.axis, st->bend), {0, 0, 0});
   st->distal_flexed = fx::mul(*f.distal, flex);

@@ -37,8 +37,6 @@ struct RefState {
   std::vector<fx::Len> scratch[3];
   std::vector<sph::Dens> density;
   std::vector<sph::Dens> rest_density;
-  std::vector<sph::Dens> rho_min;
-  std::vector<sph::Dens> rho_max;
   std::vector<fx::Unit> inv_density;
   std::vector<uint32_t> cell;
   std::vector<uint32_t> cell_start;

@@ -2,13 +2,13 @@
 // sph_reference_v1 (per-particle neighbour lists, both sides of every pair):
 // same model, same inputs, and after every step every persistent state word
 // (positions, velocities, ideal positions, accelerations / displacements,
-// densities and their extremes, pressures, inverse densities, yield flags,
+// densities, pressures, inverse densities, yield flags,
 // skin weights and offsets, bend, joint yield, flexed transform, inertia,
-// yield torque and the step statistics) must be equal. Only the per-substep
+// and the step statistics) must be equal. Only the per-substep
 // scratch of the neighbour search (grid, lists) differs in layout and is not
 // compared. Cases: the arm's elbow, random tissues with dense clusters (lists
 // overflowing max_neighbours), particles on cell borders, a kernel radius
-// whose offsets round on exact halves (asymmetric pairs), yielded particles,
+// whose offsets round on exact halves (asymmetric pairs), particles that yield,
 // and the extremes sph_validate accepts.
 #include <gtest/gtest.h>
 
@@ -55,8 +55,6 @@ template <typename A, typename B>
   check(same_words("yielded", s.yielded, r.yielded));
   check(same_words("density", s.density, r.density));
   check(same_words("rest_density", s.rest_density, r.rest_density));
-  check(same_words("rho_min", s.rho_min, r.rho_min));
-  check(same_words("rho_max", s.rho_max, r.rho_max));
   check(same_words("inv_density", s.inv_density, r.inv_density));
   check(same_words("skin_particle", s.skin_particle, r.skin_particle));
   check(same_words("skin_weight", s.skin_weight, r.skin_weight));
@@ -156,6 +154,7 @@ void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, in
     const sph::LayerStatus b = ref::ref_step(&p.reference, in);
     ASSERT_EQ(a.ok(), b.ok());
     ASSERT_TRUE(equivalent_states(p.state, p.reference)) << "after step " << t;
+    *yielded = std::max(*yielded, p.state.yielded_particles);
     if (p.state.stats.neighbour_overflow != 0) ++*overflow_steps;
     if (half_pairs != nullptr)
       for (uint32_t k = 0; k < p.state.pair_count; ++k)
@@ -166,7 +165,6 @@ void run_both(const sph::SphModel& model, const std::vector<fx::Mat34>& rest, in
       ASSERT_TRUE(equivalent_states(p.state, p.reference)) << "after reset at step " << t;
     }
   }
-  *yielded = p.state.yielded_particles;
 }
 
 enum class Layout { kUniform, kClusters, kCellBorders };
@@ -240,6 +238,7 @@ TEST(SphEquivalence, ArmElbowMatchesReferenceEveryTick) {
     ASSERT_TRUE(equivalent_states(arm.state(), reference)) << "after init";
     const int elbow = arm.input("elbow.0");
     ASSERT_GE(elbow, 0);
+    uint32_t most_yielded = 0;
     for (int t = 0; t < 240; ++t) {
       const int32_t phase = t % 160;
       arm.inputs()[static_cast<size_t>(elbow)] = (phase < 80 ? phase : 160 - phase) * (int32_t{1} << 23);
@@ -251,8 +250,9 @@ TEST(SphEquivalence, ArmElbowMatchesReferenceEveryTick) {
       in.tresca = true;
       ASSERT_TRUE(ref::ref_step(&reference, in).ok());
       ASSERT_TRUE(equivalent_states(arm.state(), reference)) << particles << " particles, tick " << t;
+      most_yielded = std::max(most_yielded, arm.state().yielded_particles);
     }
-    EXPECT_GT(arm.state().yielded_particles, 0u) << "the workload should reach the Tresca yield";
+    EXPECT_GT(most_yielded, 0u) << "the workload should reach the Tresca yield";
   }
 }
 
