@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0x3da099c33ec18807u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0xc220f62e4a84ef1bu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x9d2ab5c861755c5eu;
 }  // namespace sinew::test::golden

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kSphArm = 0x4d1a17b3d80f8928u;
+inline constexpr uint64_t kSphArm = 0x2a15692baa72d32au;
 // The same workload with surface_tension = 1 N/m (SphDeterminism, second test).
-inline constexpr uint64_t kSphArmSurfaceTension = 0x51c6b09467abff5eu;
+inline constexpr uint64_t kSphArmSurfaceTension = 0x57603bad13161757u;
 }  // namespace sinew::test::golden
