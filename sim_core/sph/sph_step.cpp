@@ -132,7 +132,7 @@ void tension_of(const SphState& st, uint32_t i, fx::Unit gain, int64_t out[3], f
 // order), so a's sums stay in registers until a changes. kTension adds the
 // colour field's sums in the same pass over the pairs.
 template <bool kTension>
-void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturation& sat) {
+void accelerations(SphState* st, const JointFrame& f, const fx::Mat34& loaded, fx::Unit beta, fx::Saturation& sat) {
   const SphModel& m = *st->model;
   const SphParams& pr = m.params;
   const uint32_t n = m.particle_count();
@@ -188,11 +188,19 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
   sat.events += pair_sat.events;
   for (uint32_t i = 0; i < n; ++i) {
     const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
-    // Load carried by the distal bone, applied as the rigid-body acceleration
-    // beta (axis x r) of each particle bound to it, unless it yielded.
+    // Load carried by the distal bone, applied as its rigid-body angular
+    // acceleration beta (axis x r) at each particle bound to it, unless it
+    // yields, with r the particle's rest offset on the bone as the bone
+    // stands (flexed by the bend so far). Taken at the particle's own
+    // position the field would follow it (a circulatory force, whose damped
+    // oscillator flutters once beta > c sqrt(k_e)); taken unflexed it would
+    // shear the tissue instead of turning it (docs/sph.md).
     fx::Vec3 ext{0, 0, 0};
-    if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0)
-      ext = fx::scale(fx::cross(f.axis, fx::sub(xi, f.centre), 30), beta);
+    if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0) {
+      const fx::Vec3 on_bone =
+          fx::transform_point(loaded, {m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]});
+      ext = fx::scale(fx::cross(f.axis, fx::sub(on_bone, f.centre), 30), beta);
+    }
     int64_t tension[3] = {0, 0, 0};
     if constexpr (kTension) tension_of(*st, i, pr.tension_gain, tension, sat);
     const int32_t x[3] = {xi.x, xi.y, xi.z};
@@ -314,15 +322,18 @@ LayerStatus sph_step(SphState* st, const SphInputs& in) {
       fx::clamp_i64(fx::div_round(torque * m.params.load_gain, st->inertia_q12), -fx::kUnitOne, fx::kUnitOne), sat);
 
   compute_ideal(st, f);
+  // The distal bone as it stands: the tick's pose flexed by the bend so far.
+  const fx::Mat34 loaded =
+      fx::mul(*f.distal, fx::mat34_from_quat(fx::quat_from_axis_angle(m.joint.axis, st->bend), {0, 0, 0}));
   // Surface tension runs only with its gain and its sums carved (sph_state.cpp).
   const bool tension = m.params.tension_gain != 0 && !st->colour_laplacian_sum.empty();
   for (uint32_t s = 0; s < m.params.substeps; ++s) {
     build_neighbours(st, f.centre);
     density_and_yield(st, in.tresca);
     if (tension)
-      accelerations<true>(st, f, beta, sat);
+      accelerations<true>(st, f, loaded, beta, sat);
     else
-      accelerations<false>(st, f, beta, sat);
+      accelerations<false>(st, f, loaded, beta, sat);
     integrate(st, sat);
   }
   const JointYield after =

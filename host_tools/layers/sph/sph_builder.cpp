@@ -299,7 +299,7 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
     sph::LayerStatus is = sph::sph_init(m, rest, arena.data(), arena.size() * 8, &state);
     if (!is.ok()) return *error = is.message, false;
     std::vector<fx::Mat34> posed = rest;
-    const fx::Angle a = static_cast<fx::Angle>(rigc::to_angle(o.yield_angle_deg));
+    const fx::Angle a = static_cast<fx::Angle>(rigc::to_angle(calibration_angle_deg(spec, dist, o.yield_angle_deg)));
     const fx::Mat34 flex = fx::mat34_from_quat(fx::quat_from_axis_angle(b.joint.axis, a), {0, 0, 0});
     posed[static_cast<size_t>(dist)] = fx::mul(rest[static_cast<size_t>(dist)], flex);
     is = sph::sph_reset(&state, posed);
@@ -319,6 +319,13 @@ bool build_sph(const rigc::RigSpec& spec, const SphBuildOptions& o, SphBuilt* ou
   if (!st.ok()) return *error = st.message, false;
   *out = std::move(b);
   return true;
+}
+
+double calibration_angle_deg(const rigc::RigSpec& spec, int distal_joint, double yield_angle_deg) {
+  if (yield_angle_deg > 0) return yield_angle_deg;
+  const auto& dofs = spec.joints[static_cast<size_t>(distal_joint)].dofs;
+  const double most = dofs.empty() ? 0 : dofs[0].max;
+  return most > 0 && most < kMaxCalibrationDeg ? most : kMaxCalibrationDeg;
 }
 
 }  // namespace sinew::layers

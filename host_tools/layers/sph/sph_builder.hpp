@@ -21,6 +21,16 @@
 
 namespace sinew::layers {
 
+// The largest flexion a default calibration uses: the elastic pull's
+// restoring torque k_e I sin(theta) peaks at 90 degrees, so beyond it no
+// constant load has a static equilibrium and a limit placed there is never
+// reached statically (docs/sph.md, "Tresca").
+inline constexpr double kMaxCalibrationDeg = 90;
+
+// The calibration flexion a build uses: the option if > 0, else the joint's
+// maximum flexion capped at kMaxCalibrationDeg (90 if it has none above 0).
+double calibration_angle_deg(const rigc::RigSpec& spec, int distal_joint, double yield_angle_deg);
+
 struct SphBuildOptions {
   uint32_t particle_count = 1000;
   std::string proximal_joint = "shoulder";     // bone carrying the particles before the joint
@@ -41,9 +51,12 @@ struct SphBuildOptions {
   double damping = 40;               // c, 1/s
   double surface_tension = 0;        // sigma, N/m: colour-field tension (Mueller 2003 §4.4); 0 = off
   double load_distance = 0.25;       // metres from the joint along the distal bone (the wrist)
-  double yield_angle_deg = 60;       // flexion whose peak density spread defines tau_f
-  double yield_scale = 1.0;          // tau_f multiplier (1: the paper's calibration)
-  uint32_t yield_count = 0;          // 0: 1 % of the particles (at least 1)
+  // Flexion whose peak density spread defines tau_f (paper §5: the maximum
+  // bendable angle). 0: the distal joint's maximum flexion (its first DOF's
+  // upper limit), at most kMaxCalibrationDeg (docs/sph.md).
+  double yield_angle_deg = 0;
+  double yield_scale = 1.0;  // tau_f multiplier (1: the paper's calibration)
+  uint32_t yield_count = 0;  // 0: 1 % of the particles (at least 1)
   // Overrides for tests of the validator (applied after calibration); < 0: keep.
   int64_t override_h = -1;
   int64_t override_tau_f = -1;

@@ -13,10 +13,10 @@ namespace sinew::layers {
 struct SphTable {
   JointRef joint;  // the joint whose bend the tissue carries; its parent's bone is the other side
   uint32_t particles = 500;
-  double radius = 0;       // capsule radius; 0: 0.8 x the skin radius around the joint
-  double half_length = 0;  // capsule half length; 0: min(2.2 x radius, 0.4 x the shorter bone)
-  double tissue_mass = 0;  // kg; 0: 1000 kg/m^3 x the capsule volume (model units read as metres)
-  double yield_angle_deg = 60;
+  double radius = 0;           // capsule radius; 0: 0.8 x the skin radius around the joint
+  double half_length = 0;      // capsule half length; 0: min(2.2 x radius, 0.4 x the shorter bone)
+  double tissue_mass = 0;      // kg; 0: 1000 kg/m^3 x the capsule volume (model units read as metres)
+  double yield_angle_deg = 0;  // 0: the joint's maximum flexion, at most 90 degrees (SphBuildOptions)
   std::string force_input;     // external input of the force at the distal bone's end; "" -> "<joint>.force"
   double surface_tension = 0;  // sigma, N/m (0: off; docs/sph.md)
 };

@@ -421,7 +421,7 @@ void density_and_yield(SphState* st, bool tresca) {
 }
 
 // Per-substep velocity change (Len per substep) of every particle, into scratch.
-void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturation& sat) {
+void accelerations(SphState* st, const JointFrame& f, const fx::Mat34& loaded, fx::Unit beta, fx::Saturation& sat) {
   const SphModel& m = *st->model;
   const SphParams& pr = m.params;
   const InvH ih = make_inv_h(pr.h);
@@ -450,11 +450,19 @@ void accelerations(SphState* st, const JointFrame& f, fx::Unit beta, fx::Saturat
         visc[a] += fx::round_shift(dv * lw, 30);
       }
     }
-    // Load carried by the distal bone, applied as the rigid-body acceleration
-    // beta (axis x r) of each particle bound to it, unless it yielded.
+    // Load carried by the distal bone, applied as its rigid-body angular
+    // acceleration beta (axis x r) at each particle bound to it, unless it
+    // yields, with r the particle's rest offset on the bone as the bone
+    // stands (flexed by the bend so far). Taken at the particle's own
+    // position the field would follow it (a circulatory force, whose damped
+    // oscillator flutters once beta > c sqrt(k_e)); taken unflexed it would
+    // shear the tissue instead of turning it (docs/sph.md).
     fx::Vec3 ext{0, 0, 0};
-    if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0)
-      ext = fx::scale(fx::cross(f.axis, fx::sub(xi, f.centre), 30), beta);
+    if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0) {
+      const fx::Vec3 on_bone =
+          fx::transform_point(loaded, {m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]});
+      ext = fx::scale(fx::cross(f.axis, fx::sub(on_bone, f.centre), 30), beta);
+    }
     const int32_t x[3] = {xi.x, xi.y, xi.z};
     const int32_t e[3] = {ext.x, ext.y, ext.z};
     for (int a = 0; a < 3; ++a) {
@@ -563,10 +571,13 @@ LayerStatus ref_step(RefState* st, const SphInputs& in) {
       fx::clamp_i64(fx::div_round(torque * m.params.load_gain, st->inertia_q12), -fx::kUnitOne, fx::kUnitOne), sat);
 
   compute_ideal(st, f);
+  // The distal bone as it stands: the tick's pose flexed by the bend so far.
+  const fx::Mat34 loaded =
+      fx::mul(*f.distal, fx::mat34_from_quat(fx::quat_from_axis_angle(m.joint.axis, st->bend), {0, 0, 0}));
   for (uint32_t s = 0; s < m.params.substeps; ++s) {
     build_neighbours(st, f.centre);
     density_and_yield(st, in.tresca);
-    accelerations(st, f, beta, sat);
+    accelerations(st, f, loaded, beta, sat);
     integrate(st, sat);
   }
   const JointYield after =

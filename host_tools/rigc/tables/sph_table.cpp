@@ -31,10 +31,10 @@ bool RigcTable<pipeline::Stage::kSph>::read(const std::string& path, const toml:
             !read_number(path, e, n, "surface_tension", &x.surface_tension, error))
           return false;
         if (x.radius < 0 || x.half_length < 0 || x.tissue_mass < 0 || x.surface_tension < 0 ||
-            !(x.yield_angle_deg > 0 && x.yield_angle_deg < 180))
+            !(x.yield_angle_deg >= 0 && x.yield_angle_deg < 180))
           return *error = x.joint.where +
                           ": radius, half_length, tissue_mass, surface_tension must be >= 0 and yield_angle in "
-                          "(0, 180)",
+                          "[0, 180) (0: the joint's maximum flexion)",
                  false;
         out->push_back(x);
         return true;

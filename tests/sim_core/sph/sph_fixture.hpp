@@ -100,4 +100,40 @@ class SphArm {
   sph::SphState state_;
 };
 
+// Static bend (radians) of the distal tissue held by the elastic tension
+// alone under `fy_newtons` toward +y at the load point, at the rest pose:
+// each distal particle (mass m) takes the load as the rigid-body
+// acceleration tau r / (m I_sum) and the pull -k_e theta r, so they balance
+// at theta = tau / (k_e sum m r_perp^2) (docs/sph.md, "Gains"). Pressure
+// only adds stiffness against the crease's compression.
+inline double elastic_static_bend(SphArm& arm, double fy_newtons, const layers::SphBuildOptions& o) {
+  const sph::SphModel& m = arm.model();
+  const fx::Mat34& d = arm.engine().model[m.joint.distal_joint];
+  const double lin = 1.0 / 16777216.0;
+  double axis[3], load[3], centre[3];
+  const fx::Vec3 a = m.joint.axis, lp = m.joint.load_point;
+  const double al[3] = {a.x / 1073741824.0, a.y / 1073741824.0, a.z / 1073741824.0};
+  const double ll[3] = {arm.metres(lp.x), arm.metres(lp.y), arm.metres(lp.z)};
+  for (int r = 0; r < 3; ++r) {
+    axis[r] = (d.m[r][0] * al[0] + d.m[r][1] * al[1] + d.m[r][2] * al[2]) * lin;
+    load[r] = (d.m[r][0] * ll[0] + d.m[r][1] * ll[1] + d.m[r][2] * ll[2]) * lin;
+    centre[r] = arm.metres(d.t[r]);
+  }
+  const double norm = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  for (double& v : axis) v /= norm;
+  // tau = (r x F) . n with F = (0, fy, 0): (r_z * 0 - ...) = -r_z fy n_x + r_x fy n_z.
+  const double tau = fy_newtons * (load[0] * axis[2] - load[2] * axis[0]);
+  const double mass = o.tissue_mass / m.particle_count();
+  double inertia = 0;
+  for (uint32_t i = 0; i < m.particle_count(); ++i) {
+    if (m.bone[i] != static_cast<uint8_t>(sph::Bone::kDistal)) continue;
+    double r[3] = {arm.metres(m.rest_model[0][i]) - centre[0], arm.metres(m.rest_model[1][i]) - centre[1],
+                   arm.metres(m.rest_model[2][i]) - centre[2]};
+    const double along = r[0] * axis[0] + r[1] * axis[1] + r[2] * axis[2];
+    for (int c = 0; c < 3; ++c) r[c] -= along * axis[c];
+    inertia += mass * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  }
+  return tau / (o.elastic_stiffness * inertia);
+}
+
 }  // namespace sinew::test

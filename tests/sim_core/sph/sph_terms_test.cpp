@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -119,6 +120,53 @@ TEST(SphTerms, EachTermSwitchedOffChangesTheResult) {
   // Surface tension has no rest shape either (a droplet has no preferred
   // orientation): it does not replace the elastic pull.
   EXPECT_GT(std::abs(no_tension.released_bend), std::abs(all.released_bend));
+}
+
+// The pull alone against its closed form, and what the pressure adds. The
+// load acts as the distal bone's rigid-body angular acceleration at each
+// distal particle's rest offset on the bone as it stands (flexed by the
+// bend theta). With the pressure, viscosity and surface tension off each
+// particle is then an independent damped oscillator with the equilibrium
+// k_e (g - x) + beta n x R(theta) (g - c) = 0; in the plane of the bend, as
+// complex numbers about the axis, x = g (1 + i k e^(i theta)) with
+// k = beta / k_e = tau / (k_e I) (elastic_static_bend), and the best-fit
+// rotation sph_step measures is arg(1 + i k e^(i theta)) = theta exactly
+// when sin(theta) = k. So the pull alone holds a load up to k = 1 at
+// theta = asin(k) and none beyond (its capacity, the wrist force whose tau
+// is k_e I). At k = 0.8, ramped over 300 ticks and held 300 (the transient
+// decays as exp(-c t / 2), below 10^-4 after them), the bend must meet
+// asin(0.8) within the fixed-point rounding of the sums (0.05 degrees: the
+// inertia and the torque are rounded to Q12 of a rig unit). At k = 1.3 it
+// has no equilibrium and must run past 90 degrees. The tissue contracts
+// toward the axis by sqrt(1 - k^2) at the equilibrium, so the pressure
+// pushes back: with it the elbow bends less (printed).
+TEST(SphTerms, PullAloneMeetsItsClosedForm) {
+  double held[2] = {0, 0}, beyond = 0, oracle = 0, force = 0;
+  for (int pressure = 0; pressure < 2; ++pressure) {
+    sinew::layers::SphBuildOptions o;
+    o.particle_count = 500;
+    if (pressure == 0) o.pressure_stiffness = o.viscosity = 0;
+    SphArm arm(o);
+    ASSERT_TRUE(arm.ok()) << arm.error();
+    force = 0.8 / sinew::test::elastic_static_bend(arm, 1.0, o);
+    oracle = std::asin(sinew::test::elastic_static_bend(arm, force, o)) * 57.29577951308232;
+    for (int t = 0; t < 600; ++t) ASSERT_TRUE(arm.tick(0, force * std::min(t + 1, 300) / 300.0, 0, false).ok());
+    held[pressure] = arm.bend_degrees();
+    if (pressure != 0) continue;
+    SphArm over(o);
+    ASSERT_TRUE(over.ok()) << over.error();
+    for (int t = 0; t < 600 && beyond <= 90; ++t) {
+      ASSERT_TRUE(over.tick(0, force / 0.8 * 1.3 * std::min(t + 1, 300) / 300.0, 0, false).ok());
+      beyond = std::max(beyond, over.bend_degrees());
+    }
+  }
+  std::printf(
+      "pull: %.2f N at the wrist (k = 0.8): the pull alone holds %.3f deg (closed form asin(k) %.3f), with the "
+      "pressure %.3f deg; at k = 1.3 the pull alone reaches %.1f deg\n",
+      force, held[0], oracle, held[1], beyond);
+  EXPECT_NEAR(held[0], oracle, 0.05) << "the pull alone must meet its closed form";
+  EXPECT_GT(beyond, 90.0) << "beyond its capacity the pull alone has no equilibrium";
+  EXPECT_LT(held[1], held[0]) << "the contracted tissue's pressure must push back";
 }
 
 TEST(SphMeasuredJoint, TheMeasuredAngleIsNotBentTwice) {

@@ -119,3 +119,35 @@ TEST(SphValidation, StepRejectsBadInputsAndChangesNothing) {
   EXPECT_EQ(s.error, sph::LayerError::kArena);
   std::printf("rejected: %s\n", s.message);
 }
+
+// §5 calibrates tau_f at "the maximum bendable angle": by default the
+// builder flexes the tissue to the driven joint's upper limit, at most 90
+// degrees (beyond it the elastic pull has no static equilibrium; docs/sph.md).
+TEST(SphCalibration, DefaultIsTheJointsMaximumFlexionUpTo90Degrees) {
+  const auto tau_f = [](const sinew::rigc::RigSpec& spec, double yield_angle_deg) {
+    layers::SphBuildOptions o;
+    o.particle_count = 300;
+    o.yield_angle_deg = yield_angle_deg;
+    layers::SphBuilt b;
+    std::string error;
+    EXPECT_TRUE(layers::build_sph(spec, o, &b, &error)) << error;
+    return b.params.tau_f;
+  };
+  sinew::rigc::RigSpec arm = sinew::rigc::builtin_arm();
+  const int elbow = sinew::rigc::joint_index(arm, "elbow");
+  ASSERT_GE(elbow, 0);
+  ASSERT_EQ(arm.joints[static_cast<size_t>(elbow)].dofs[0].max, 150);
+  // The arm's elbow flexes to 150 degrees: capped at 90.
+  EXPECT_EQ(layers::calibration_angle_deg(arm, elbow, 0), 90);
+  EXPECT_EQ(tau_f(arm, 0), tau_f(arm, 90));
+  // A joint that stops at 45 degrees yields at its own limit, and less
+  // flexion compresses the crease less.
+  sinew::rigc::RigSpec stiff = arm;
+  stiff.joints[static_cast<size_t>(elbow)].dofs[0].max = 45;
+  EXPECT_EQ(layers::calibration_angle_deg(stiff, elbow, 0), 45);
+  EXPECT_EQ(tau_f(stiff, 0), tau_f(stiff, 45));
+  EXPECT_LT(tau_f(stiff, 0), tau_f(arm, 0));
+  // A rig's override wins.
+  EXPECT_EQ(layers::calibration_angle_deg(arm, elbow, 60), 60);
+  EXPECT_EQ(tau_f(arm, 60), tau_f(stiff, 60));
+}
