@@ -17,7 +17,7 @@ struct BuiltinJoints {
 
 LayerSpecs builtin_tables(const std::string& spec, const BuiltinJoints& j) {
   LayerSpecs s;
-  s.sph.push_back({{j.sph, -1, spec + ": [[sph]] joint"}, j.sph_particles, 0, 0, 0, 60, ""});
+  s.sph.push_back({{j.sph, -1, spec + ": [[sph]] joint"}, j.sph_particles, 0, 0, 0, 0, ""});
   s.metaballs = {true, spec + ": [metaballs]", 0, {}};
   s.anatomy.muscles.push_back({j.muscle,
                                {j.muscle_origin, -1, spec + ": [[muscle]] origin"},

@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0x3da099c33ec18807u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x9d2ab5c861755c5eu;
+inline constexpr uint64_t kArmLayersBlob = 0x9d18c76afea3c5ffu;
+inline constexpr uint64_t kPipelineArmAllLayers = 0xd85f8a23b19aee4bu;
 }  // namespace sinew::test::golden
