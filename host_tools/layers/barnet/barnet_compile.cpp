@@ -7,6 +7,21 @@
 #include "sim_core/barnet/barnet_section.hpp"
 
 namespace sinew::layers {
+namespace {
+
+// The volume-keeping push's outcome, for the report: a step no push in
+// reach restores (the bend folds the tube) holds the previous push.
+std::string volume_note(const barnet::NetSpec& net) {
+  if (net.volume_steps == 0) return "";
+  std::string note = "; the push keeps the tube's volume at " +
+                     std::to_string(net.volume_steps - net.volume_short_steps) + " of " +
+                     std::to_string(net.volume_steps) + " scheduled bends";
+  if (net.volume_short_steps != 0)
+    note += " (" + std::to_string(net.volume_short_steps) + " beyond any push in reach hold the previous one)";
+  return note;
+}
+
+}  // namespace
 
 void HostLayer<pipeline::Stage::kBarnet>::bent_joints(const Tables& tables, std::vector<const JointRef*>* joints) {
   for (const BarnetTable& t : tables) joints->push_back(&t.joint);
@@ -60,7 +75,7 @@ bool HostLayer<pipeline::Stage::kBarnet>::compile(const LayerCompile& c, const T
     c.report->push_back("barnet[" + std::to_string(i) + "] " + spec.joints[static_cast<size_t>(j)].name + ": " +
                         std::to_string(built.nodes.size()) + " nodes, " + std::to_string(built.bars.size()) +
                         " bars, " + std::to_string(built.loads.size()) + " loads, " +
-                        std::to_string(built.wrap.size()) + " wrapped vertices");
+                        std::to_string(built.wrap.size()) + " wrapped vertices" + volume_note(net));
   }
   return true;
 }

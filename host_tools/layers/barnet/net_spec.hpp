@@ -62,6 +62,12 @@ struct NetSpec {
   // same net's; only its rounding (<= 1 Len LSB) differs, so a net built
   // before keeps its outputs unless it asks for this.
   bool profile_order = false;
+  // The volume-keeping push (volume_loads.hpp), when the net has one: the
+  // schedule's steps and those no push in reach could restore (they hold
+  // the previous step's push); reported by rigc. Offline only: not in the
+  // blob.
+  int volume_steps = 0;
+  int volume_short_steps = 0;
 };
 
 // The quantised model and the arrays it points into.

@@ -253,6 +253,8 @@ bool volume_keeping_schedule(const rigc::RigSpec& rig, const RingLoadSchedule& r
 bool add_volume_keeping_loads(const rigc::RigSpec& rig, const RingLoadSchedule& r, NetSpec* net, std::string* error) {
   VolumeSchedule s;
   if (!volume_keeping_schedule(rig, r, *net, &s, error)) return false;
+  net->volume_steps = static_cast<int>(s.angle.size()) - 1;
+  net->volume_short_steps = s.short_steps;
   // Piecewise linear in the angle: step k's loads ramp in over
   // [angle_{k-1}, angle_k] and add f_k - f_{k-1} (activation is 0 below the
   // step and 1 above it, barnet_model.hpp).
