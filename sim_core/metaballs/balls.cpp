@@ -1,6 +1,7 @@
 // Stages 1-2: bone deformations, normal-ball kinematics (eq. 2) and bulging.
 #include "kernels.hpp"
 #include "rotation.hpp"
+#include "sim_core/fixed/dual_quat.hpp"
 #include "sim_core/skeleton/pose.hpp"
 
 namespace sinew::metaballs::detail {
@@ -42,27 +43,60 @@ void compute_bones(const MetaballModel& m, std::span<const fx::Mat34> joint_mode
   }
 }
 
+namespace {
+
+// Eq. (2) for a ball of two bones, as one rigid motion: the dual-quaternion
+// blend of the bones' deformations by the ball's weights (docs/metaballs.md,
+// "Balls of two bones"). Its rotation is the normalised blend of the bones'
+// rotations (the paper's Slerp, on the same arc), and a ball at the joint the
+// two bones share turns about it, on the arc: the linear blend of eq. (2) as
+// written moves the ball along the chord, shortening the tube at a bent
+// joint (0.71 of the bone spacing at 90 degrees and equal weights).
+fx::DualQuat blended_bones(const MetaballState& s, const uint16_t joints[2], const fx::Unit weights[2]) {
+  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0};
+  const fx::Quat& pivot = s.bone_rotation[joints[0]];
+  for (int k = 0; k < 2; ++k) {
+    const fx::Mat34& t = s.bone[joints[k]];
+    const fx::Quat& q = s.bone_rotation[joints[k]];
+    const fx::DualQuat d = fx::dual_quat_from_rt(q, {t.t[0], t.t[1], t.t[2]});
+    // Both on the pivot's hemisphere: a unit rotation's components are at
+    // most 2^30, so the dot and the weighted sums stay far from 2^63.
+    const int64_t dot =
+        int64_t{pivot.w} * q.w + int64_t{pivot.x} * q.x + int64_t{pivot.y} * q.y + int64_t{pivot.z} * q.z;
+    const int64_t w = dot < 0 ? -int64_t{weights[k]} : int64_t{weights[k]};
+    const int32_t r[4] = {d.real.w, d.real.x, d.real.y, d.real.z}, u[4] = {d.dual.w, d.dual.x, d.dual.y, d.dual.z};
+    for (int c = 0; c < 4; ++c) {
+      real[c] += w * r[c];
+      dual[c] += w * u[c];
+    }
+  }
+  const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
+  fx::DualQuat dq{{q30(real[0]), q30(real[1]), q30(real[2]), q30(real[3])},
+                  {q30(dual[0]), q30(dual[1]), q30(dual[2]), q30(dual[3])}};
+  fx::normalize_fast(&dq);
+  return dq;
+}
+
+}  // namespace
+
 void compute_balls(const MetaballModel& m, MetaballState* s) {
   for (uint32_t b = 0; b < m.ball_count(); ++b) {
-    // Eq. (2): c = sum_j w_bj T_j c0, a convex blend of transformed points.
-    int64_t acc[3] = {0, 0, 0};
     const uint16_t* joints = &m.ball_joint[size_t{b} * kBallInfluences];
     const fx::Unit* weights = &m.ball_weight[size_t{b} * kBallInfluences];
-    for (uint32_t k = 0; k < kBallInfluences; ++k) {
-      if (weights[k] == 0) continue;
-      const fx::Vec3 p = fx::transform_point(s->bone[joints[k]], m.ball_rest[b]);
-      acc[0] += int64_t{weights[k]} * p.x;
-      acc[1] += int64_t{weights[k]} * p.y;
-      acc[2] += int64_t{weights[k]} * p.z;
+    static_assert(kBallInfluences == 2);
+    if (weights[0] != 0 && weights[1] != 0) {
+      const fx::DualQuat dq = blended_bones(*s, joints, weights);
+      s->ball_target[b] = fx::transform_point(dq, m.ball_rest[b]);
+      s->ball_quat[b] = dq.real;
+      s->ball_rotation[b] = fx::rot3_of_unit(dq.real);
+      s->ball_scale[b] = fx::kUnitOne;
+      continue;
     }
-    s->ball_target[b] = {fx::sat_i32(fx::round_shift(acc[0], fx::kUnitFracBits)),
-                         fx::sat_i32(fx::round_shift(acc[1], fx::kUnitFracBits)),
-                         fx::sat_i32(fx::round_shift(acc[2], fx::kUnitFracBits))};
-    // The ball's own rotation: the bones' rotations blended by the same
-    // weights.
-    const fx::Quat q = nlerp_fast(s->bone_rotation[joints[0]], s->bone_rotation[joints[1]], weights[1]);
-    s->ball_quat[b] = q;
-    s->ball_rotation[b] = fx::rot3_of_unit(q);
+    // One bone: eq. (2) is that bone's deformation of the rest centre.
+    const uint32_t k = weights[0] != 0 ? 0 : 1;
+    s->ball_target[b] = fx::transform_point(s->bone[joints[k]], m.ball_rest[b]);
+    s->ball_quat[b] = s->bone_rotation[joints[k]];
+    s->ball_rotation[b] = fx::rot3_of_unit(s->ball_quat[b]);
     s->ball_scale[b] = fx::kUnitOne;
   }
   if (!s->features.bulge) return;

@@ -3,6 +3,7 @@
 // displacement (docs/metaballs.md, "Rotations blended before they act").
 #include "kernels.hpp"
 #include "rotation.hpp"
+#include "sim_core/fixed/dual_quat.hpp"
 
 namespace sinew::metaballs::detail {
 
@@ -105,6 +106,67 @@ DeformKernel deform_kernel_default() {
   return deform_kernel_supported(DeformKernel::kAvx2) ? DeformKernel::kAvx2 : DeformKernel::kScalar;
 }
 
+namespace {
+
+// Eq. (4) for a joint-region vertex as one rigid motion on the arc: the
+// dual-quaternion blend of its balls' frames F_j(x) = c_j + R_j (x - c0_j)
+// by the vertex's weights, applied to sum_j w_j (c0_j + s_j d_ij). Equal to
+// eq. (4) wherever the balls turn alike; where they do not, eq. (4) as
+// written (and the nlerp frame of normal_ball_frame) blends their centres
+// along the chord, which near a bent joint shortens the tube
+// (docs/metaballs.md, "Balls of two bones"). Written as a frame: the
+// displacement D = sum_j w_j s_j d_ij of normal_ball_frame, the rotation the
+// blend's, and the centre the blend applied to sum_j w_j c0_j.
+NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
+  NormalBallFrame f = normal_ball_frame(m, s, v);
+  const size_t base = size_t{v} * kVertexBalls;
+  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0}, rest[3] = {0, 0, 0};
+  fx::Quat pivot{};
+  bool any = false;
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    const int64_t weight = m.vertex_weight[base + k];
+    if (weight == 0) continue;
+    const uint16_t b = m.vertex_ball[base + k];
+    const fx::Quat& q = s.ball_quat[b];
+    if (!any) pivot = q, any = true;
+    // The frame's translation c_j - R_j c0_j (|c0| <= 2^30: exact in Q50).
+    int64_t rc[3];
+    rotate_q50(s.ball_rotation[b], m.ball_rest[b], rc);
+    const fx::Vec3 c = s.ball_center[b];
+    const fx::Vec3 t{fx::sat_i32(int64_t{c.x} - fx::round_shift(rc[0], fx::kUnitFracBits)),
+                     fx::sat_i32(int64_t{c.y} - fx::round_shift(rc[1], fx::kUnitFracBits)),
+                     fx::sat_i32(int64_t{c.z} - fx::round_shift(rc[2], fx::kUnitFracBits))};
+    const fx::DualQuat d = fx::dual_quat_from_rt(q, t);
+    // On the first ball's hemisphere (unit quaternions: the dot < 2^62).
+    const int64_t dot =
+        int64_t{pivot.w} * q.w + int64_t{pivot.x} * q.x + int64_t{pivot.y} * q.y + int64_t{pivot.z} * q.z;
+    const int64_t w = dot < 0 ? -weight : weight;
+    const int32_t r[4] = {d.real.w, d.real.x, d.real.y, d.real.z}, u[4] = {d.dual.w, d.dual.x, d.dual.y, d.dual.z};
+    for (int a = 0; a < 4; ++a) {
+      real[a] += w * r[a];
+      dual[a] += w * u[a];
+    }
+    const fx::Vec3 c0 = m.ball_rest[b];
+    rest[0] += weight * c0.x;
+    rest[1] += weight * c0.y;
+    rest[2] += weight * c0.z;
+  }
+  if (!any) return f;
+  const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
+  fx::DualQuat dq{{q30(real[0]), q30(real[1]), q30(real[2]), q30(real[3])},
+                  {q30(dual[0]), q30(dual[1]), q30(dual[2]), q30(dual[3])}};
+  fx::normalize_fast(&dq);
+  const fx::Vec3 centre = fx::transform_point(dq, {q30(rest[0]), q30(rest[1]), q30(rest[2])});
+  f.centre[0] = centre.x;
+  f.centre[1] = centre.y;
+  f.centre[2] = centre.z;
+  f.quat = dq.real;
+  f.rotation = fx::rot3_of_unit(dq.real);
+  return f;
+}
+
+}  // namespace
+
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
                      const skin::SkinnedVertices& out, DeformKernel kernel) {
   // Eq. (1) below computes the joint-region vertices from their own frames.
@@ -117,6 +179,26 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
   (void)kernel;
 #endif
   if (!done) deform_normal_balls_scalar(m, *s, out, skip);
+  // A vertex whose balls turn differently (balls of two bones near a joint)
+  // takes eq. (4) on the arc (joint_region_frame) instead of the kernels'
+  // nlerp frame, whose centre blends along the chord.
+  {
+    size_t next = 0;
+    for (uint32_t v = 0; v < m.vertex_count; ++v) {
+      if (next < skip.size() && skip[next] == v) {
+        ++next;
+        continue;
+      }
+      fx::Quat q;
+      fx::Rot3 r;
+      if (vertex_rotation(m, *s, v, &q, &r) != kNoBall) continue;
+      const NormalBallFrame f = joint_region_frame(m, *s, v);
+      int64_t rd[3];
+      rotate_q50(f.rotation, f.disp, rd);
+      for (int a = 0; a < 3; ++a)
+        out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+    }
+  }
   if (!s->features.joint_balls) {
     for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
     return;
@@ -144,7 +226,7 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
     // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
     // keeps the ring's section where they differ (a linear blend of two
     // rotations by an angle apart shrinks it by cos(angle / 2)).
-    const NormalBallFrame f = normal_ball_frame(m, *s, v);
+    const NormalBallFrame f = joint_region_frame(m, *s, v);
     const int64_t alpha = m.jv_alpha[i];
     const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
     const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};

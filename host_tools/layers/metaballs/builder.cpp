@@ -341,7 +341,14 @@ void make_pairs(const rigc::RigSpec& spec, const Options& o, const std::vector<d
       const double reach = o.pair_reach * (radius[i] + radius[k]);
       if (rest == 0 || std::ldexp(static_cast<double>(rest), g.e - 20) >= reach) continue;
       const bool ji = b->ball_jiggle[i] > 0, jk = b->ball_jiggle[k] > 0;
-      if ((ji || jk) && o.jiggle_frequency > 0) continue;  // the rate-free spring carries the region
+      // The paper's S_out balls "are computed when the skeleton pose
+      // changes", and only "the balls in S_in are modified through the
+      // elasticity of springs": a pair of two skeleton-driven balls is no
+      // constraint. Kept, its springs push the balls that the chord of eq.
+      // (2) brings closer near a bent joint outward along the bones, and the
+      // tube telescopes (2.7 points of the elbow's volume at 90 degrees).
+      if (!ji && !jk) continue;
+      if (o.jiggle_frequency > 0) continue;  // the rate-free spring carries the region
       mb::BallPair p{static_cast<uint16_t>(i),
                      static_cast<uint16_t>(k),
                      static_cast<fx::Len>(rest),
