@@ -6,9 +6,9 @@
 
 namespace sinew::test::golden {
 
-inline constexpr uint64_t kMetaballsModel = 0x43f3aceefacdc74aull;
-inline constexpr uint64_t kMetaballsArm = 0xe0cbcfe8286f4ff0ull;
-inline constexpr uint64_t kMetaballsPhysicalModel = 0xbac13f6bf63b76fcull;
-inline constexpr uint64_t kMetaballsPhysicalArm = 0x3b14bfd15db261e9ull;
+inline constexpr uint64_t kMetaballsModel = 0xcca36821757762b4ull;
+inline constexpr uint64_t kMetaballsArm = 0x81aec268a771d33cull;
+inline constexpr uint64_t kMetaballsPhysicalModel = 0x61cddae4061258d4ull;
+inline constexpr uint64_t kMetaballsPhysicalArm = 0x6914dc4ba04b60b1ull;
 
 }  // namespace sinew::test::golden

@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0x9d18c76afea3c5ffu;
-inline constexpr uint64_t kPipelineArmAllLayers = 0xd85f8a23b19aee4bu;
+inline constexpr uint64_t kArmLayersBlob = 0xe5c393054aa92a72u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x3ccdc59abec8348fu;
 }  // namespace sinew::test::golden
