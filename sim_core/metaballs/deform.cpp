@@ -108,50 +108,76 @@ DeformKernel deform_kernel_default() {
 
 namespace {
 
-// Eq. (4) for a joint-region vertex as one rigid motion on the arc: the
-// dual-quaternion blend of its balls' frames F_j(x) = c_j + R_j (x - c0_j)
-// by the vertex's weights, applied to sum_j w_j (c0_j + s_j d_ij). Equal to
-// eq. (4) wherever the balls turn alike; where they do not, eq. (4) as
-// written (and the nlerp frame of normal_ball_frame) blends their centres
-// along the chord, which near a bent joint shortens the tube
-// (docs/metaballs.md, "Balls of two bones"). Written as a frame: the
-// displacement D = sum_j w_j s_j d_ij of normal_ball_frame, the rotation the
-// blend's, and the centre the blend applied to sum_j w_j c0_j.
-NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
-  NormalBallFrame f = normal_ball_frame(m, s, v);
+// Each ball's frame F_b(x) = c_b + R_b (x - c0_b) as a dual quaternion:
+// rotation R_b, translation c_b - R_b c0_b (|c0| <= 2^30: exact in Q50).
+void make_ball_frames(const MetaballModel& m, MetaballState* s) {
+  for (uint32_t b = 0; b < m.ball_count(); ++b) {
+    int64_t rc[3];
+    rotate_q50(s->ball_rotation[b], m.ball_rest[b], rc);
+    const fx::Vec3 c = s->ball_center[b];
+    const fx::Vec3 t{fx::sat_i32(int64_t{c.x} - fx::round_shift(rc[0], fx::kUnitFracBits)),
+                     fx::sat_i32(int64_t{c.y} - fx::round_shift(rc[1], fx::kUnitFracBits)),
+                     fx::sat_i32(int64_t{c.z} - fx::round_shift(rc[2], fx::kUnitFracBits))};
+    s->ball_frame[b] = fx::dual_quat_from_rt(s->ball_quat[b], t);
+  }
+}
+
+// True when every ball of vertex v turns alike (the vector kernels' frame
+// is then the rigid motion itself).
+bool balls_turn_alike(const MetaballModel& m, const MetaballState& s, uint32_t v) {
   const size_t base = size_t{v} * kVertexBalls;
-  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0}, rest[3] = {0, 0, 0};
-  fx::Quat pivot{};
-  bool any = false;
+  const fx::Quat* first = nullptr;
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    if (m.vertex_weight[base + k] == 0) continue;
+    const fx::Quat& q = s.ball_quat[m.vertex_ball[base + k]];
+    if (first == nullptr) {
+      first = &q;
+    } else if (!(q == *first)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Eq. (4) as one rigid motion on the arc: the dual-quaternion blend of the
+// vertex's balls' frames by its weights, applied to sum_j w_j (c0_j + s_j
+// d_ij). Equal to eq. (4) wherever the balls turn alike; where they do not,
+// eq. (4) as written (and the nlerp frame of normal_ball_frame) blends
+// their centres along the chord, which near a bent joint shortens the tube
+// (docs/metaballs.md, "Balls of two bones"). Written as a frame: the
+// displacement D = sum_j w_j s_j d_ij, the rotation the blend's, and the
+// centre the blend applied to sum_j w_j c0_j.
+NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
+  const size_t base = size_t{v} * kVertexBalls;
+  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0}, rest[3] = {0, 0, 0}, disp[3] = {0, 0, 0};
+  const fx::Quat* pivot = nullptr;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
     const int64_t weight = m.vertex_weight[base + k];
     if (weight == 0) continue;
     const uint16_t b = m.vertex_ball[base + k];
-    const fx::Quat& q = s.ball_quat[b];
-    if (!any) pivot = q, any = true;
-    // The frame's translation c_j - R_j c0_j (|c0| <= 2^30: exact in Q50).
-    int64_t rc[3];
-    rotate_q50(s.ball_rotation[b], m.ball_rest[b], rc);
-    const fx::Vec3 c = s.ball_center[b];
-    const fx::Vec3 t{fx::sat_i32(int64_t{c.x} - fx::round_shift(rc[0], fx::kUnitFracBits)),
-                     fx::sat_i32(int64_t{c.y} - fx::round_shift(rc[1], fx::kUnitFracBits)),
-                     fx::sat_i32(int64_t{c.z} - fx::round_shift(rc[2], fx::kUnitFracBits))};
-    const fx::DualQuat d = fx::dual_quat_from_rt(q, t);
+    const fx::DualQuat& d = s.ball_frame[b];
+    if (pivot == nullptr) pivot = &d.real;
     // On the first ball's hemisphere (unit quaternions: the dot < 2^62).
-    const int64_t dot =
-        int64_t{pivot.w} * q.w + int64_t{pivot.x} * q.x + int64_t{pivot.y} * q.y + int64_t{pivot.z} * q.z;
+    const int64_t dot = int64_t{pivot->w} * d.real.w + int64_t{pivot->x} * d.real.x + int64_t{pivot->y} * d.real.y +
+                        int64_t{pivot->z} * d.real.z;
     const int64_t w = dot < 0 ? -weight : weight;
     const int32_t r[4] = {d.real.w, d.real.x, d.real.y, d.real.z}, u[4] = {d.dual.w, d.dual.x, d.dual.y, d.dual.z};
     for (int a = 0; a < 4; ++a) {
       real[a] += w * r[a];
       dual[a] += w * u[a];
     }
-    const fx::Vec3 c0 = m.ball_rest[b];
-    rest[0] += weight * c0.x;
-    rest[1] += weight * c0.y;
-    rest[2] += weight * c0.z;
+    const fx::Vec3 c0 = m.ball_rest[b], d0 = m.vertex_disp[base + k];
+    const int64_t scale = s.ball_scale[b];
+    const int64_t c[3] = {c0.x, c0.y, c0.z};
+    int64_t dd[3] = {d0.x, d0.y, d0.z};
+    for (int a = 0; a < 3; ++a) {
+      if (scale != fx::kUnitOne) dd[a] = fx::round_shift(dd[a] * scale, fx::kUnitFracBits);  // |s d| < 2^32
+      rest[a] += weight * c[a];
+      disp[a] += weight * dd[a];
+    }
   }
-  if (!any) return f;
+  NormalBallFrame f{};
+  if (pivot == nullptr) return f;  // no weight (not a validated model): the origin
   const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
   fx::DualQuat dq{{q30(real[0]), q30(real[1]), q30(real[2]), q30(real[3])},
                   {q30(dual[0]), q30(dual[1]), q30(dual[2]), q30(dual[3])}};
@@ -160,6 +186,7 @@ NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& 
   f.centre[0] = centre.x;
   f.centre[1] = centre.y;
   f.centre[2] = centre.z;
+  f.disp = {q30(disp[0]), q30(disp[1]), q30(disp[2])};
   f.quat = dq.real;
   f.rotation = fx::rot3_of_unit(dq.real);
   return f;
@@ -182,6 +209,7 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
   // A vertex whose balls turn differently (balls of two bones near a joint)
   // takes eq. (4) on the arc (joint_region_frame) instead of the kernels'
   // nlerp frame, whose centre blends along the chord.
+  make_ball_frames(m, s);
   {
     size_t next = 0;
     for (uint32_t v = 0; v < m.vertex_count; ++v) {
@@ -189,9 +217,7 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
         ++next;
         continue;
       }
-      fx::Quat q;
-      fx::Rot3 r;
-      if (vertex_rotation(m, *s, v, &q, &r) != kNoBall) continue;
+      if (balls_turn_alike(m, *s, v)) continue;
       const NormalBallFrame f = joint_region_frame(m, *s, v);
       int64_t rd[3];
       rotate_q50(f.rotation, f.disp, rd);

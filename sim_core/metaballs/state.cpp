@@ -26,6 +26,7 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->action_point = c.take<fx::Vec3>(m.action_balls.size());
   s->ball_rotation = c.take<fx::Rot3>(nb);
   s->ball_quat = c.take<fx::Quat>(nb);
+  s->ball_frame = c.take<fx::DualQuat>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
   s->jv_scratch = c.take<fx::Vec3>(m.jv_count());

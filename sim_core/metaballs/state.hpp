@@ -8,6 +8,7 @@
 #include <span>
 
 #include "model.hpp"
+#include "sim_core/fixed/dual_quat.hpp"
 #include "status.hpp"
 
 namespace sinew::metaballs {
@@ -57,7 +58,10 @@ struct MetaballState {
   std::span<fx::Vec3> action_point;
   std::span<fx::Rot3> ball_rotation;  // R^lambda
   std::span<fx::Quat> ball_quat;      // R^lambda as a unit quaternion (blended per vertex)
-  std::span<fx::Unit> ball_scale;     // r / r0 in [1, 2), Q2.30
+  // Each ball's frame x -> c + R (x - c0) as a dual quaternion, made once a
+  // step for the vertices whose balls turn differently (deform.cpp).
+  std::span<fx::DualQuat> ball_frame;
+  std::span<fx::Unit> ball_scale;  // r / r0 in [1, 2), Q2.30
   // Per joint-region vertex.
   std::span<fx::Vec3> jv_posed_laplacian;  // rest Laplacian rotated with the vertex
   std::span<fx::Vec3> jv_scratch;          // Jacobi smoothing buffer
