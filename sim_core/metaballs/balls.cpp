@@ -1,7 +1,6 @@
 // Stages 1-2: bone deformations, normal-ball kinematics (eq. 2) and bulging.
 #include "kernels.hpp"
 #include "rotation.hpp"
-#include "sim_core/fixed/dual_quat.hpp"
 #include "sim_core/skeleton/pose.hpp"
 
 namespace sinew::metaballs::detail {
@@ -53,28 +52,12 @@ namespace {
 // written moves the ball along the chord, shortening the tube at a bent
 // joint (0.71 of the bone spacing at 90 degrees and equal weights).
 fx::DualQuat blended_bones(const MetaballState& s, const uint16_t joints[2], const fx::Unit weights[2]) {
-  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0};
-  const fx::Quat& pivot = s.bone_rotation[joints[0]];
+  DualQuatBlend blend;
   for (int k = 0; k < 2; ++k) {
     const fx::Mat34& t = s.bone[joints[k]];
-    const fx::Quat& q = s.bone_rotation[joints[k]];
-    const fx::DualQuat d = fx::dual_quat_from_rt(q, {t.t[0], t.t[1], t.t[2]});
-    // Both on the pivot's hemisphere: a unit rotation's components are at
-    // most 2^30, so the dot and the weighted sums stay far from 2^63.
-    const int64_t dot =
-        int64_t{pivot.w} * q.w + int64_t{pivot.x} * q.x + int64_t{pivot.y} * q.y + int64_t{pivot.z} * q.z;
-    const int64_t w = dot < 0 ? -int64_t{weights[k]} : int64_t{weights[k]};
-    const int32_t r[4] = {d.real.w, d.real.x, d.real.y, d.real.z}, u[4] = {d.dual.w, d.dual.x, d.dual.y, d.dual.z};
-    for (int c = 0; c < 4; ++c) {
-      real[c] += w * r[c];
-      dual[c] += w * u[c];
-    }
+    blend.add(fx::dual_quat_from_rt(s.bone_rotation[joints[k]], {t.t[0], t.t[1], t.t[2]}), weights[k]);
   }
-  const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
-  fx::DualQuat dq{{q30(real[0]), q30(real[1]), q30(real[2]), q30(real[3])},
-                  {q30(dual[0]), q30(dual[1]), q30(dual[2]), q30(dual[3])}};
-  fx::normalize_fast(&dq);
-  return dq;
+  return blend.unit();
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 // displacement (docs/metaballs.md, "Rotations blended before they act").
 #include "kernels.hpp"
 #include "rotation.hpp"
-#include "sim_core/fixed/dual_quat.hpp"
 
 namespace sinew::metaballs::detail {
 
@@ -149,39 +148,27 @@ bool balls_turn_alike(const MetaballModel& m, const MetaballState& s, uint32_t v
 // centre the blend applied to sum_j w_j c0_j.
 NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& s, uint32_t v) {
   const size_t base = size_t{v} * kVertexBalls;
-  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0}, rest[3] = {0, 0, 0}, disp[3] = {0, 0, 0};
-  const fx::Quat* pivot = nullptr;
+  DualQuatBlend blend;
+  int64_t rest[3] = {0, 0, 0}, disp[3] = {0, 0, 0};
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    const int64_t weight = m.vertex_weight[base + k];
+    const fx::Unit weight = m.vertex_weight[base + k];
     if (weight == 0) continue;
     const uint16_t b = m.vertex_ball[base + k];
-    const fx::DualQuat& d = s.ball_frame[b];
-    if (pivot == nullptr) pivot = &d.real;
-    // On the first ball's hemisphere (unit quaternions: the dot < 2^62).
-    const int64_t dot = int64_t{pivot->w} * d.real.w + int64_t{pivot->x} * d.real.x + int64_t{pivot->y} * d.real.y +
-                        int64_t{pivot->z} * d.real.z;
-    const int64_t w = dot < 0 ? -weight : weight;
-    const int32_t r[4] = {d.real.w, d.real.x, d.real.y, d.real.z}, u[4] = {d.dual.w, d.dual.x, d.dual.y, d.dual.z};
-    for (int a = 0; a < 4; ++a) {
-      real[a] += w * r[a];
-      dual[a] += w * u[a];
-    }
+    blend.add(s.ball_frame[b], weight);
     const fx::Vec3 c0 = m.ball_rest[b], d0 = m.vertex_disp[base + k];
     const int64_t scale = s.ball_scale[b];
     const int64_t c[3] = {c0.x, c0.y, c0.z};
     int64_t dd[3] = {d0.x, d0.y, d0.z};
     for (int a = 0; a < 3; ++a) {
       if (scale != fx::kUnitOne) dd[a] = fx::round_shift(dd[a] * scale, fx::kUnitFracBits);  // |s d| < 2^32
-      rest[a] += weight * c[a];
-      disp[a] += weight * dd[a];
+      rest[a] += int64_t{weight} * c[a];
+      disp[a] += int64_t{weight} * dd[a];
     }
   }
   NormalBallFrame f{};
-  if (pivot == nullptr) return f;  // no weight (not a validated model): the origin
+  if (!blend.any) return f;  // no weight (not a validated model): the origin
   const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
-  fx::DualQuat dq{{q30(real[0]), q30(real[1]), q30(real[2]), q30(real[3])},
-                  {q30(dual[0]), q30(dual[1]), q30(dual[2]), q30(dual[3])}};
-  fx::normalize_fast(&dq);
+  const fx::DualQuat dq = blend.unit();
   const fx::Vec3 centre = fx::transform_point(dq, {q30(rest[0]), q30(rest[1]), q30(rest[2])});
   f.centre[0] = centre.x;
   f.centre[1] = centre.y;

@@ -9,6 +9,7 @@
 // the path.
 #pragma once
 
+#include "sim_core/fixed/dual_quat.hpp"
 #include "sim_core/fixed/mat34.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 
@@ -53,6 +54,35 @@ struct QuatBlend {
     const int shift = 31 - r.half_shift;
     const auto n = [&](int64_t v) { return fx::sat_i32(shift > 0 ? fx::round_shift(v * r.y, shift) : v * r.y); };
     return {n(q[0]), n(q[1]), n(q[2]), n(q[3])};
+  }
+};
+
+// Weighted rigid motions blended as dual quaternions (Kavan et al.), each on
+// the first's hemisphere, normalised: the rigid motion on the arc that eq.
+// (2) and eq. (4) take where their rotations differ (docs/metaballs.md,
+// "Balls of two bones"). Weights Q2.30 summing to 1; unit quaternions, so
+// every weighted sum stays far below 2^63.
+struct DualQuatBlend {
+  int64_t real[4] = {0, 0, 0, 0}, dual[4] = {0, 0, 0, 0};  // Q60, Q50
+  fx::Quat first{};
+  bool any = false;
+
+  void add(const fx::DualQuat& d, fx::Unit w) {
+    if (!any) first = d.real, any = true;
+    const int64_t u = dot_negative(first, d.real) ? -int64_t{w} : int64_t{w};
+    const int32_t r[4] = {d.real.w, d.real.x, d.real.y, d.real.z}, e[4] = {d.dual.w, d.dual.x, d.dual.y, d.dual.z};
+    for (int c = 0; c < 4; ++c) {
+      real[c] += u * r[c];
+      dual[c] += u * e[c];
+    }
+  }
+
+  fx::DualQuat unit() const {
+    const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
+    fx::DualQuat dq{{q30(real[0]), q30(real[1]), q30(real[2]), q30(real[3])},
+                    {q30(dual[0]), q30(dual[1]), q30(dual[2]), q30(dual[3])}};
+    fx::normalize_fast(&dq);
+    return dq;
   }
 };
 
