@@ -146,6 +146,30 @@ uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleSta
   return moved;
 }
 
+uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates, SkinState* s) {
+  uint32_t inside = 0;
+  const int steps = static_cast<int>(model.params.newton_steps);
+  PrimitiveBound bounds[kBoundedPrimitives];
+  bound_primitives(muscles, bounds);
+  for (uint32_t k = 0; k < candidates; ++k) {
+    const uint32_t v = static_cast<uint32_t>(s->weight[k]);
+    fx::Vec3 n{};
+    const fx::Vec3 start = fat_point(model, *s, v, &n);
+    fx::Vec3 p = start;
+    for (size_t i = 0; i < muscles.primitives.size(); ++i) {
+      const muscle::PrimitiveFrame& f = muscles.primitives[i];
+      if (f.active == 0 || far_from(bounds, i, p)) continue;
+      p = muscle::primitive_push_out(f, p, n, steps);
+    }
+    const fx::Vec3 d = fx::sub(p, start);
+    s->reaction_normal[0][v] = d.x;
+    s->reaction_normal[1][v] = d.y;
+    s->reaction_normal[2][v] = d.z;
+    if (!(d == fx::Vec3{0, 0, 0})) ++inside;
+  }
+  return inside;
+}
+
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
                                     SkinState* s) {
   uint32_t moved = 0;

@@ -35,6 +35,15 @@ uint32_t list_reaction_candidates(const SkinModel& model, const muscle::MuscleSt
 uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates,
                                  SkinState* s);
 
+// Relaxation integrator (surface_relaxation.hpp): for each of the first
+// `candidates` vertices listed in s->weight, the move that takes its fat
+// point (from s->position) out of every active primitive, primitives in
+// order, each from where the last left it (LEMAN §6.11's constraint
+// gradient array), written as Len vectors into s->reaction_normal (zero:
+// outside every primitive); the caller turns them into directions. Returns
+// the number of vertices inside some primitive.
+uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates, SkinState* s);
+
 // Fat thickness of vertex v: its own plus the solver's global one (Len).
 fx::Len fat_of(const SkinModel& model, uint32_t v);
 

@@ -164,6 +164,46 @@ struct SkinSolverParams {
   Q16 edge_damping = 0;
 };
 
+// How the dynamic mode advances the skin in time.
+enum class SkinIntegrator : uint8_t {
+  // Explicit symplectic Euler in fixed substeps (SkinSolverParams), the
+  // reactions as position projections: the integrator before LEMAN's, kept
+  // as an option (every rig built before SKIN version 6 runs it).
+  kExplicit = 0,
+  // LEMAN §6.11: one implicit (backward Euler) step per tick, its equation
+  // of motion solved by `relaxation_iterations` Gauss-Seidel sweeps over the
+  // vertices; the §3 surface (stretch: the edge springs; bend: the umbrella
+  // term below), Platt-Barr reaction constraints and air pressure
+  // (surface_relaxation.hpp).
+  kRelaxation = 1,
+};
+inline constexpr uint32_t kMaxRelaxationIterations = 8;
+inline constexpr int32_t kMaxReactionFrequency = 10000 << 16;  // Hz, Q16.16
+
+// LEMAN's elastic surface (§3, §5.3, §6.11) in dynamic mode; read only with
+// integrator = kRelaxation. Units as SkinSolverParams (rig units, s, kg).
+struct SkinSurfaceParams {
+  uint8_t integrator = 0;             // SkinIntegrator
+  uint8_t relaxation_iterations = 3;  // Gauss-Seidel sweeps per step (§6.11: "typically two to four"), 1..8
+  uint8_t reserved[2] = {};
+  // Bend (Terzopoulos' second-order term of the §3 surface): the energy
+  // 1/2 k_b sum_i |L(x - a)_i|^2, L the umbrella operator (mean of the edge
+  // neighbours minus the vertex), a the virtual anchors: the skin keeps the
+  // curvature its anchors carry. k_b = bend * stiffness_scale, Q16.16 model
+  // stiffness [0, kMaxStiffness].
+  Stiffness bend = 0;
+  // §5.3 uniform internal air pressure, kg / (rig unit s^2) (N/m^2 with
+  // metres), Q16.16, signed (negative: suction); the force on a vertex is
+  // pressure times a third of its faces' area, along their outward normal.
+  // Needs SkinModel::triangles.
+  int32_t pressure = 0;
+  // Platt-Barr reaction constraint (§3): a fat point inside a primitive
+  // returns to its surface with critically damped motion of this natural
+  // frequency (Hz, Q16.16, (0, kMaxReactionFrequency]); the force along the
+  // surface normal is replaced, the tangential force left alone.
+  int32_t reaction_frequency = 100 << 16;
+};
+
 struct SkinModel {
   uint32_t joint_count = 0;  // joints of the rig the model was built for
   uint32_t vertex_count = 0;
@@ -178,6 +218,7 @@ struct SkinModel {
   // skin's vertices are the rig's). Read only with solver.fat_normal =
   // kSurface; empty then leaves every vertex on its anchor normal.
   std::span<const uint32_t> triangles{};
+  SkinSurfaceParams surface{};  // dynamic mode's integrator and LEMAN's surface terms
 };
 
 }  // namespace sinew::elastic_skin

@@ -19,7 +19,11 @@
 // normal). Version 5: the version 3 record followed by the three external
 // inputs (EXTI indices, or kNoExternalInput) that measure the acceleration
 // of the frame the bones are given in, x, y, z in the rig's axes: the
-// dynamic skin feels -a_base (LEMAN §3). Writers emit the lowest version
+// dynamic skin feels -a_base (LEMAN §3). Version 6: the version 5 record
+// followed by SkinSurfaceParams (the dynamic mode's integrator: LEMAN
+// §6.11's relaxation with the §3 surface's bend, §5.3's air pressure and
+// Platt-Barr reactions); older versions load with SkinSurfaceParams{} (the
+// explicit integrator). Writers emit the lowest version
 // that holds the model, so rigs keep their bytes; a loader refuses a version
 // it does not know (kBadVersion). The skin's faces are the rig's triangles
 // (SkinModel::triangles), not stored again.
@@ -59,10 +63,16 @@ struct SkinSectionParamsV5 {
 inline constexpr uint32_t kSkinSectionVersion2 = 2;
 inline constexpr uint32_t kSkinSectionVersion3 = 3;
 inline constexpr uint32_t kSkinSectionVersion4 = 4;
+struct SkinSectionParamsV6 {
+  SkinSectionParamsV5 v5;
+  SkinSurfaceParams surface;
+};
 inline constexpr uint32_t kSkinSectionVersion5 = 5;
+inline constexpr uint32_t kSkinSectionVersion6 = 6;
 static_assert(sizeof(SkinParams) == 28 && sizeof(Anchor) == 80 && sizeof(Edge) == 16 && sizeof(RubberBand) == 20 &&
               sizeof(SkinSolverParams) == 56 && sizeof(SkinSectionParamsV2) == 88 &&
               sizeof(SkinSectionParamsV3) == 92 && sizeof(SkinSectionParamsV5) == 108 &&
+              sizeof(SkinSurfaceParams) == 16 && sizeof(SkinSectionParamsV6) == 124 &&
               offsetof(SkinSolverParams, edge_damping) == kSkinSolverBytesV2);
 inline constexpr uint32_t kSkinArrays = 7;
 
@@ -78,6 +88,7 @@ inline constexpr layer::SectionVersion kSkinSectionVersions[] = {
     {kSkinSectionVersion3, sizeof(SkinSectionParamsV3), kSkinArrays},
     {kSkinSectionVersion4, sizeof(SkinSectionParamsV3), kSkinArrays},
     {kSkinSectionVersion5, sizeof(SkinSectionParamsV5), kSkinArrays},
+    {kSkinSectionVersion6, sizeof(SkinSectionParamsV6), kSkinArrays},
 };
 inline constexpr layer::SectionDescriptor kSkinSection = {kSectionElasticSkin,  "SKIN", kSkinSectionArrays,
                                                           kSkinSectionVersions, 1,      muscle::kSectionMuscles};

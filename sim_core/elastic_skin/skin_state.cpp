@@ -1,6 +1,7 @@
 #include "skin_state.hpp"
 
 #include "sim_core/fixed/arena.hpp"
+#include "sim_core/fixed/scalar.hpp"
 
 namespace sinew::elastic_skin {
 namespace {
@@ -25,7 +26,43 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   for (int a = 0; a < 3; ++a) s->band_end[a] = c.take<fx::Len>(bands);
   const bool surface = model.solver.fat_normal == static_cast<uint8_t>(FatNormal::kSurface);
   for (int a = 0; a < 3; ++a) s->surface_normal[a] = c.take<fx::Unit>(surface ? n : 0);
+  const bool relaxation = dynamic && model.surface.integrator == static_cast<uint8_t>(SkinIntegrator::kRelaxation);
+  const size_t rn = relaxation ? n : 0;
+  for (int a = 0; a < 3; ++a) s->step_start[a] = c.take<int64_t>(rn);
+  for (int a = 0; a < 3; ++a) s->bend[a] = c.take<int64_t>(rn);
+  s->inverse_diagonal = c.take<int64_t>(rn);
+  s->linear_gain = c.take<int64_t>(rn);
+  for (int a = 0; a < 3; ++a) s->reaction_normal[a] = c.take<fx::Unit>(rn);
+  s->reaction_floor = c.take<int64_t>(rn);
+  s->incident_offset = c.take<uint32_t>(relaxation ? n + 1 : 0);
+  s->incident_edge = c.take<uint32_t>(relaxation ? 2 * model.edges.size() : 0);
+  s->inverse_degree = c.take<int32_t>(rn);
   return c;
+}
+
+// The edges' CSR by vertex (a counting sort: deterministic, no
+// allocation) and each vertex's 1 / degree. Edge endpoints are checked by
+// the caller.
+void fill_incidence(const SkinModel& model, SkinState* s) {
+  if (s->incident_offset.empty()) return;
+  const uint32_t n = model.vertex_count;
+  for (uint32_t& o : s->incident_offset) o = 0;
+  for (const Edge& e : model.edges) {
+    ++s->incident_offset[e.a + 1];
+    ++s->incident_offset[e.b + 1];
+  }
+  for (uint32_t v = 0; v < n; ++v) s->incident_offset[v + 1] += s->incident_offset[v];
+  // A running cursor per vertex in its own start slot, shifted back after.
+  for (uint32_t e = 0; e < model.edges.size(); ++e) {
+    s->incident_edge[s->incident_offset[model.edges[e].a]++] = e;
+    s->incident_edge[s->incident_offset[model.edges[e].b]++] = e;
+  }
+  for (uint32_t v = n; v > 0; --v) s->incident_offset[v] = s->incident_offset[v - 1];
+  s->incident_offset[0] = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    const uint32_t degree = s->incident_offset[v + 1] - s->incident_offset[v];
+    s->inverse_degree[v] = degree == 0 ? 0 : static_cast<int32_t>(fx::div_round(fx::kUnitOne, degree));
+  }
 }
 
 }  // namespace
@@ -47,6 +84,10 @@ LayerStatus skin_init(const SkinModel& model, void* memory, size_t bytes, SkinSt
     return muscle::layer_fail(LayerError::kArena, "skin state", -1, "bytes", "smaller than skin_state_bytes",
                               static_cast<int64_t>(bytes), true);
   s.vertex_count = model.vertex_count;
+  for (const Edge& e : model.edges)
+    if (e.a >= model.vertex_count || e.b >= model.vertex_count)
+      return muscle::layer_fail(LayerError::kBadValue, "skin edge", -1, "a/b", "endpoint out of range");
+  fill_incidence(model, &s);
   *out = s;
   return {};
 }

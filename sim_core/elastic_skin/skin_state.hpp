@@ -53,6 +53,20 @@ struct SkinState {
   // solver.fat_normal = kSurface only (else empty): the skin mesh's vertex
   // normals of the last estimate, Q2.30 (zero: none, the anchor normal rules).
   std::span<fx::Unit> surface_normal[3];
+  // Dynamic mode with SkinIntegrator::kRelaxation only (else empty),
+  // surface_relaxation.hpp:
+  std::span<int64_t> step_start[3];        // positions at the step's start, Q28.36
+  std::span<int64_t> bend[3];              // u = L(x - a), the umbrella vectors, Q28.36
+  std::span<int64_t> inverse_diagonal;     // 1 / D of each vertex's row, Q30
+  std::span<int64_t> linear_gain;          // K of the row's terms linear in x_i alone (inertia, anchor, bands), Q30
+  std::span<fx::Unit> reaction_normal[3];  // the step's reaction direction, Q2.30 (zero: no reaction)
+  std::span<int64_t> reaction_floor;       // lowest n . x the reaction lets the vertex take, Q28.36
+  // The edges at each vertex (CSR, filled at init from the model's edges,
+  // in edge order): vertex v's are the edge indices
+  // incident_edge[incident_offset[v] .. incident_offset[v + 1]).
+  std::span<uint32_t> incident_offset;  // vertex_count + 1
+  std::span<uint32_t> incident_edge;    // 2 edges
+  std::span<int32_t> inverse_degree;    // 1 / (edges at the vertex), Q2.30 (0 for none)
   uint8_t started = 0;
   uint32_t step_rate = 0;  // dynamic: the substep rate (1/s) anchor_step is per
   SkinStats stats;

@@ -64,6 +64,19 @@ LayerStatus check_solver(const SkinSolverParams& p) {
   return {};
 }
 
+LayerStatus check_surface(const SkinSurfaceParams& p, bool dynamic) {
+  if (!dynamic) return {};
+  if (p.integrator > static_cast<uint8_t>(SkinIntegrator::kRelaxation))
+    return bad("skin surface", -1, "integrator", "unknown", p.integrator, true);
+  if (p.integrator != static_cast<uint8_t>(SkinIntegrator::kRelaxation)) return {};
+  if (p.relaxation_iterations < 1 || p.relaxation_iterations > kMaxRelaxationIterations)
+    return bad("skin surface", -1, "relaxation_iterations", "must be 1..8", p.relaxation_iterations, true);
+  if (p.bend > kMaxStiffness) return bad("skin surface", -1, "bend", "above 256", p.bend, true);
+  if (p.reaction_frequency <= 0 || p.reaction_frequency > kMaxReactionFrequency)
+    return bad("skin surface", -1, "reaction_frequency", "outside (0, 10000] Hz", p.reaction_frequency, true);
+  return {};
+}
+
 }  // namespace
 
 LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel& muscles, uint32_t joints) {
@@ -81,7 +94,12 @@ LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel
       return bad("skin edge", e, "a/b", "endpoint out of range or repeated", ed.a, true);
   }
   const uint32_t ring = muscles.ring_vertices;
-  if (model.solver.fat_normal == static_cast<uint8_t>(FatNormal::kSurface)) {
+  const bool dynamic = model.solver.mode == static_cast<uint8_t>(SkinMode::kDynamic);
+  const bool pressure = dynamic && model.surface.integrator == static_cast<uint8_t>(SkinIntegrator::kRelaxation) &&
+                        model.surface.pressure != 0;
+  if (pressure && model.triangles.empty())
+    return bad("skin surface", -1, "pressure", "needs the skin's triangles (none given)", model.surface.pressure, true);
+  if (model.solver.fat_normal == static_cast<uint8_t>(FatNormal::kSurface) || pressure) {
     if (model.triangles.size() % 3 != 0)
       return bad("skin model", -1, "triangles", "not 3 indices per face", static_cast<int64_t>(model.triangles.size()),
                  true);
@@ -105,7 +123,9 @@ LayerStatus skin_check_indices(const SkinModel& model, const muscle::MuscleModel
     if (model.fat[v] < 0) return bad("skin fat", v, "thickness", "negative", model.fat[v], true);
   }
   const LayerStatus params = check_params(model.params);
-  return params.ok() ? check_solver(model.solver) : params;
+  if (!params.ok()) return params;
+  const LayerStatus solver = check_solver(model.solver);
+  return solver.ok() ? check_surface(model.surface, dynamic) : solver;
 }
 
 LayerStatus skin_validate(const SkinModel& model, const rig::Rig& rig, const muscle::MuscleModel& muscles) {

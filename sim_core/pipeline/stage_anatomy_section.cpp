@@ -37,10 +37,16 @@ LoadStatus load_muscles(const SectionView& v, const rig::Rig& rig, muscle::Muscl
 // The skin's params record, from any version: older ones get the fields
 // they lack at their defaults.
 LoadStatus skin_params(const SectionView& v, std::span<const ExternalInputRecord> external, LayerSet* set,
-                       elastic_skin::SkinSectionParamsV3* out) {
+                       elastic_skin::SkinSectionParamsV3* out, elastic_skin::SkinSurfaceParams* surface) {
   elastic_skin::SkinSectionParamsV3& p = *out;
-  if (v.header.layer_version == elastic_skin::kSkinSectionVersion5) {
-    const elastic_skin::SkinSectionParamsV5 p5 = params_of<elastic_skin::SkinSectionParamsV5>(v);
+  *surface = {};
+  if (v.header.layer_version == elastic_skin::kSkinSectionVersion5 ||
+      v.header.layer_version == elastic_skin::kSkinSectionVersion6) {
+    const elastic_skin::SkinSectionParamsV5 p5 = v.header.layer_version == elastic_skin::kSkinSectionVersion6
+                                                     ? params_of<elastic_skin::SkinSectionParamsV6>(v).v5
+                                                     : params_of<elastic_skin::SkinSectionParamsV5>(v);
+    if (v.header.layer_version == elastic_skin::kSkinSectionVersion6)
+      *surface = params_of<elastic_skin::SkinSectionParamsV6>(v).surface;
     p = p5.v3;
     for (int c = 0; c < 3; ++c) {
       const uint32_t k = p5.base_acceleration_input[c];
@@ -72,7 +78,8 @@ LoadStatus skin_params(const SectionView& v, std::span<const ExternalInputRecord
 
 LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
   elastic_skin::SkinSectionParamsV3 p{};
-  LoadStatus ps = skin_params(v, set->external, set, &p);
+  elastic_skin::SkinSurfaceParams surface{};
+  LoadStatus ps = skin_params(v, set->external, set, &p, &surface);
   if (!ps.ok()) return ps;
   elastic_skin::SkinModel* out = &set->anatomy.skin;
   std::span<const uint32_t>* region = &set->anatomy.skin_region;
@@ -86,7 +93,8 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
           named<elastic_skin::RubberBand, skin_array("bands")>(v),
           p.params,
           p.solver,
-          rig.triangles};
+          rig.triangles,
+          surface};
   // fat_normal is a version 4 field (kept in 5): older sections keep the
   // anchor normal whatever their reserved byte holds.
   if (v.header.layer_version < elastic_skin::kSkinSectionVersion4) out->solver.fat_normal = 0;

@@ -649,6 +649,17 @@ class Builder {
       const auto accel = [&](double a) { return rigc::to_fixed(std::ldexp(a, -e_), es::kAccelFracBits); };
       o.gravity = {accel(d.gravity[0]), accel(d.gravity[1]), accel(d.gravity[2])};
       o.edge_damping = rigc::to_fixed(d.edge_damping, es::kQ16FracBits);
+      if (d.relaxation) {
+        es::SkinSurfaceParams& f = out_.surface;
+        f.integrator = static_cast<uint8_t>(es::SkinIntegrator::kRelaxation);
+        f.relaxation_iterations = static_cast<uint8_t>(std::clamp(d.relaxation_iterations, 0, 255));
+        f.bend = static_cast<es::Stiffness>(rigc::to_fixed(d.bend, es::kStiffnessFracBits));
+        // N/m^2 = kg / (m s^2): per rig unit of 2^e m, times 2^e.
+        f.pressure = rigc::to_fixed(std::ldexp(d.pressure, e_), es::kQ16FracBits);
+        const double reaction = d.reaction_frequency > 0 ? d.reaction_frequency : 10 * d.frequency;
+        f.reaction_frequency = rigc::to_fixed(reaction, es::kQ16FracBits);
+        if (d.pressure != 0) out_.triangles.assign(rig_.triangles.begin(), rig_.triangles.end());
+      }
     }
     return true;
   }
@@ -693,7 +704,7 @@ class Builder {
     if (d.substep_hz > 0) {
       t->substep_hz = static_cast<uint32_t>(d.substep_hz);
       t->max_substeps = static_cast<uint32_t>(std::max(0, d.max_substeps));
-      if (omega_max > t->substep_hz)
+      if (!d.relaxation && omega_max > t->substep_hz)
         return fail("anatomy: [skin] substep_hz = " + std::to_string(d.substep_hz) +
                     " is too low for the skin's stiffest mode (omega_max " + std::to_string(omega_max) +
                     " rad/s needs h omega <= 1: at least " + std::to_string(static_cast<long>(std::ceil(omega_max))) +

@@ -45,10 +45,11 @@ struct AnatomyModel {
   std::vector<fx::Len> fat;
   std::vector<elastic_skin::Edge> edges;
   std::vector<elastic_skin::RubberBand> bands;
-  std::vector<uint32_t> triangles;  // the rig's faces, when the fat follows the mesh normal
+  std::vector<uint32_t> triangles;  // the rig's faces, when the fat follows the mesh normal or the skin is inflated
   uint32_t joint_count = 0, ring_vertices = 8;
   elastic_skin::SkinParams params;
   elastic_skin::SkinSolverParams solver;
+  elastic_skin::SkinSurfaceParams surface;
   BuildReport report;
 
   muscle::MuscleModel muscle_model() const {
@@ -59,7 +60,8 @@ struct AnatomyModel {
             anchors,     anchor_stiffness,
             fat,         edges,
             bands,       params,
-            solver,      triangles};
+            solver,      triangles,
+            surface};
   }
 };
 

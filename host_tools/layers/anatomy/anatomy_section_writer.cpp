@@ -37,7 +37,8 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
   // Version 1 while the solver record is the default (the bytes of rigs
   // without the new settings do not change); version 2 otherwise.
   // Version 3 only with edge dashpots (the record's last member), 4 with
-  // the fat along the surface normal, 5 with base-acceleration inputs.
+  // the fat along the surface normal, 5 with base-acceleration inputs, 6
+  // with LEMAN's relaxation integrator (SkinSurfaceParams not the default).
   // Every version has the same arrays.
   auto with_skin_arrays = [&](SectionBuilder& b) {
     b.array("anchors", m.anchors)
@@ -52,10 +53,19 @@ LayerSection skin_section(const ::sinew::elastic_skin::SkinModel& m, std::span<c
   const bool v5 = base_acceleration[0] != pipeline::kNoExternalInput ||
                   base_acceleration[1] != pipeline::kNoExternalInput ||
                   base_acceleration[2] != pipeline::kNoExternalInput;
-  if (v5) {
-    ::sinew::elastic_skin::SkinSectionParamsV5 p5{};
+  const elastic_skin::SkinSurfaceParams surface_defaults{};
+  const bool v6 = std::memcmp(&m.surface, &surface_defaults, sizeof surface_defaults) != 0;
+  if (v5 || v6) {
+    ::sinew::elastic_skin::SkinSectionParamsV6 p6{};
+    ::sinew::elastic_skin::SkinSectionParamsV5& p5 = p6.v5;
     p5.v3 = {m.joint_count, m.vertex_count, m.params, m.solver};
     for (int c = 0; c < 3; ++c) p5.base_acceleration_input[c] = base_acceleration[c];
+    p6.surface = m.surface;
+    if (v6) {
+      SectionBuilder b =
+          section_builder(elastic_skin::kSkinSection, ::sinew::elastic_skin::kSkinSectionVersion6, 0, p6);
+      return with_skin_arrays(b);
+    }
     SectionBuilder b = section_builder(elastic_skin::kSkinSection, ::sinew::elastic_skin::kSkinSectionVersion5, 0, p5);
     return with_skin_arrays(b);
   }

@@ -126,6 +126,13 @@ struct SkinSolverSpec {
   double band_damping = -1;       // N s per model unit; < 0: the anchor's
   double gravity[3] = {0, 0, 0};  // model units / s^2
   double edge_damping = 0;        // N s per model unit, dashpot along each skin edge (SKIN v3), >= 0
+  // Dynamic: LEMAN §6.11's relaxation (one implicit step per tick, solved by
+  // Gauss-Seidel sweeps; SKIN v6) rather than explicit substeps.
+  bool relaxation = true;
+  int relaxation_iterations = 3;  // sweeps per step (§6.11: "two to four"), 1..8
+  double bend = 0.1;              // model stiffness of the surface's bend term (x stiffness_scale), [0, 256]
+  double pressure = 0;            // §5.3 internal air pressure, N/m^2 (model units as metres)
+  double reaction_frequency = 0;  // Hz of the critically damped reaction; 0: 10 x frequency
 };
 
 struct SkinSpec {

@@ -159,7 +159,12 @@ bool RigcTable<pipeline::Stage::kAnatomy>::read(const std::string& path, const t
                                 "surface_density",
                                 "frequency",
                                 "damping_ratio",
-                                "fat_vertices"},
+                                "fat_vertices",
+                                "integrator",
+                                "relaxation_iterations",
+                                "bend",
+                                "pressure",
+                                "reaction_frequency"},
                                error) ||
                    !read_int(path, e, n, "iterations", 1, 256, &out->skin.iterations, error) ||
                    !read_bool(path, e, n, "warm_start", &out->skin.warm_start, error) ||
@@ -177,8 +182,23 @@ bool RigcTable<pipeline::Stage::kAnatomy>::read(const std::string& path, const t
                    !read_number(path, e, n, "frequency", &d.frequency, error) ||
                    !read_number(path, e, n, "damping_ratio", &d.damping_ratio, error) ||
                    !read_number(path, e, n, "edge_damping", &d.edge_damping, error) ||
-                   !in_range(path, e, n, "edge_damping", d.edge_damping >= 0, ">= 0 (N s per model unit)", error))
+                   !in_range(path, e, n, "edge_damping", d.edge_damping >= 0, ">= 0 (N s per model unit)", error) ||
+                   !read_int(path, e, n, "relaxation_iterations", 1, 8, &d.relaxation_iterations, error) ||
+                   !read_number(path, e, n, "bend", &d.bend, error) ||
+                   !in_range(path, e, n, "bend", d.bend >= 0 && d.bend <= 256, "in [0, 256] (model stiffness)",
+                             error) ||
+                   !read_number(path, e, n, "pressure", &d.pressure, error) ||
+                   !in_range(path, e, n, "pressure", d.pressure > -1e6 && d.pressure < 1e6, "within +-1e6 N/m^2",
+                             error) ||
+                   !read_number(path, e, n, "reaction_frequency", &d.reaction_frequency, error) ||
+                   !in_range(path, e, n, "reaction_frequency",
+                             d.reaction_frequency >= 0 && d.reaction_frequency <= 10000, "in (0, 10000] Hz", error))
                  return false;
+               std::string integrator = "relaxation";
+               if (!read_string(path, e, n, "integrator", &integrator, error)) return false;
+               if (integrator != "relaxation" && integrator != "explicit")
+                 return *error = at(path, &e, n) + " integrator must be \"relaxation\" or \"explicit\"", false;
+               d.relaxation = integrator == "relaxation";
                if (!read_vec3(path, e, n, "gravity", d.gravity, error)) return false;
                if (const toml::node* b = e.get("base_acceleration")) {
                  const toml::array* a = b->as_array();

@@ -179,6 +179,7 @@ TEST(SkinDynamicArmOracle, StoppingElbowFollowsThroughAndSettlesLikeAnIndependen
   ab::SkinSolverSpec solver;
   ArmAnatomy arm([&](ab::AnatomySpec& s) {
     s.skin.solver.dynamic = true;
+    s.skin.solver.relaxation = false;  // the explicit integrator, which this oracle integrates
     for (ab::PrimitiveSpec& p : s.primitives) p.active = false;
     solver = s.skin.solver;
   });

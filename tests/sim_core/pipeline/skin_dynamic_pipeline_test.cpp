@@ -23,6 +23,7 @@ std::unique_ptr<sinew::test::LoadedLayers> arm_with_dynamic_skin(std::string* er
       !sinew::layers::builtin_layers("arm", &layers))
     return nullptr;
   layers.anatomy.skin.solver.dynamic = true;
+  layers.anatomy.skin.solver.relaxation = false;  // the explicit integrator's substeps and section versions
   tweak(layers);
   return sinew::test::compiled_with_layers(std::move(spec), layers, error);
 }

@@ -408,7 +408,8 @@ TEST(RigSpecs, DynamicSkinTissueDefaultsFollowThePhysics) {
   EXPECT_GE(s.max_substeps * 100u, s.substep_hz);  // a 100 Hz loop fits
 
   const std::string refused =
-      spec_error("skin_slow_substeps.toml", arm_spec_with_skin_keys("mode = \"dynamic\"\nsubstep_hz = 100\n"));
+      spec_error("skin_slow_substeps.toml",
+                 arm_spec_with_skin_keys("mode = \"dynamic\"\nintegrator = \"explicit\"\nsubstep_hz = 100\n"));
   EXPECT_NE(refused.find("[skin] substep_hz = 100 is too low for the skin's stiffest mode"), std::string::npos)
       << refused;
 }
