@@ -110,6 +110,41 @@ TEST(AnatomyDeterminism, ArmDynamicSkinMatchesGolden) {
   EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmDynamic) << "dynamic anatomy outputs changed";
 }
 
+// The same workload with LEMAN's surface by relaxation (the builder's
+// default for a dynamic skin: bend, Platt-Barr reactions, one implicit step
+// a tick) and some air pressure.
+TEST(AnatomyDeterminism, ArmRelaxationSkinMatchesGolden) {
+  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+    s.skin.solver.dynamic = true;
+    s.skin.solver.gravity[1] = -9.81;
+    s.skin.solver.pressure = 20.0;
+  });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  ASSERT_EQ(arm.skin_model().surface.integrator,
+            static_cast<uint8_t>(sinew::elastic_skin::SkinIntegrator::kRelaxation));
+  det::OutputHash h;
+  uint32_t reactions = 0;
+  for (int s = 0; s < kSteps; ++s) {
+    for (uint32_t i = 0; i < arm.rig().input_count; ++i) arm.inputs()[i] = trajectory(i, static_cast<uint32_t>(s));
+    ASSERT_TRUE(arm.step().ok());
+    const sinew::elastic_skin::SkinState& sk = arm.skin();
+    for (int c = 0; c < 3; ++c) {
+      for (sinew::fx::Len v : sk.position[c]) h.add_i32(v);
+      for (int64_t v : sk.velocity[c]) h.add_i64(v);
+    }
+    h.add_u32(sk.stats.reactions);
+    h.add_u32(sk.stats.inside_after);
+    h.add_i32(sk.stats.max_relax_last);
+    reactions += sk.stats.reactions;
+  }
+  const uint64_t digest = h.digest();
+  det::print_determinism_line("anatomy-arm-relaxation", digest);
+  std::printf("anatomy-arm-relaxation: %d steps, %u reactions, last sweep's largest move %.4f mm\n", kSteps, reactions,
+              arm.metres(arm.skin().stats.max_relax_last) * 1e3);
+  EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
+  EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmRelaxation) << "relaxation skin outputs changed";
+}
+
 // The arm with both bellies general superquadrics (p_xy 3, p_z 2.5: the
 // log-domain kernel, sim_core/fixed/log_exp): the exponents, the muscle
 // frames and the static skin hash to the committed value on every build.
