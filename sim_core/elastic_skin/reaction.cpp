@@ -1,5 +1,6 @@
 #include "reaction.hpp"
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/muscle/primitive.hpp"
 #include "sim_core/muscle/primitive_deform.hpp"
@@ -155,17 +156,26 @@ uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscl
     const uint32_t v = static_cast<uint32_t>(s->weight[k]);
     fx::Vec3 n{};
     const fx::Vec3 start = fat_point(model, *s, v, &n);
-    fx::Vec3 p = start;
+    fx::Vec3 p = start, direction{0, 0, 0};
     for (size_t i = 0; i < muscles.primitives.size(); ++i) {
       const muscle::PrimitiveFrame& f = muscles.primitives[i];
       if (f.active == 0 || far_from(bounds, i, p)) continue;
+      if (direction == fx::Vec3{0, 0, 0}) {
+        // §6.11: the constraint gradient, of the first primitive the point
+        // is inside, at the point (Q2.30 whatever the depth).
+        const muscle::PrimitiveSample here = muscle::primitive_sample(f, p);
+        if (here.inside) direction = here.normal == fx::Vec3{0, 0, 0} ? n : here.normal;
+      }
       p = muscle::primitive_push_out(f, p, n, steps);
     }
     const fx::Vec3 d = fx::sub(p, start);
-    s->reaction_normal[0][v] = d.x;
-    s->reaction_normal[1][v] = d.y;
-    s->reaction_normal[2][v] = d.z;
-    if (!(d == fx::Vec3{0, 0, 0})) ++inside;
+    const bool in = !(d == fx::Vec3{0, 0, 0}) && !(direction == fx::Vec3{0, 0, 0});
+    s->reaction_normal[0][v] = in ? direction.x : 0;
+    s->reaction_normal[1][v] = in ? direction.y : 0;
+    s->reaction_normal[2][v] = in ? direction.z : 0;
+    const uint64_t d2 = uint64_t(int64_t{d.x} * d.x) + uint64_t(int64_t{d.y} * d.y) + uint64_t(int64_t{d.z} * d.z);
+    s->reaction_floor[v] = in ? int64_t{fx::isqrt_fast(d2)} * (int64_t{1} << 16) : 0;  // depth, Q28.36
+    if (in) ++inside;
   }
   return inside;
 }

@@ -36,12 +36,13 @@ uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleSta
                                  SkinState* s);
 
 // Relaxation integrator (surface_relaxation.hpp): for each of the first
-// `candidates` vertices listed in s->weight, the move that takes its fat
-// point (from s->position) out of every active primitive, primitives in
-// order, each from where the last left it (LEMAN §6.11's constraint
-// gradient array), written as Len vectors into s->reaction_normal (zero:
-// outside every primitive); the caller turns them into directions. Returns
-// the number of vertices inside some primitive.
+// `candidates` vertices listed in s->weight, LEMAN §6.11's constraint
+// gradient and depth: s->reaction_normal the unit gradient (Q2.30) of the
+// first active primitive its fat point (from s->position) is inside, at
+// that point, and s->reaction_floor the length of the move that takes the
+// point out of every primitive (primitives in order, each from where the
+// last left it), Q28.36; both zero outside every primitive. Returns the
+// number of vertices inside.
 uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates, SkinState* s);
 
 // Fat thickness of vertex v: its own plus the solver's global one (Len).

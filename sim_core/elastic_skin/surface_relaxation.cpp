@@ -130,29 +130,23 @@ void umbrella_vectors(const SkinModel& model, SkinState* s) {
 }
 
 // The Platt-Barr floor of each reaction candidate (surface_relaxation.hpp),
-// from the moves reaction_moves left in s->reaction_normal.
+// from the gradients and depths reaction_moves leaves in s->reaction_normal
+// and s->reaction_floor.
 uint32_t reaction_floors(const SkinModel& model, const muscle::MuscleState& muscles, const SurfaceGains& sg,
                          SkinState* s) {
   for (int c = 0; c < 3; ++c)
     for (uint32_t v = 0; v < model.vertex_count; ++v) s->reaction_normal[c][v] = 0;
+  for (uint32_t v = 0; v < model.vertex_count; ++v) s->reaction_floor[v] = 0;
   if (muscles.primitives.empty()) return 0;
   estimate_surface_normals(model, s);  // kSurface only: the fat along the predicted skin's normal (§5.6)
   const uint32_t candidates = list_reaction_candidates(model, muscles, s);
-  reaction_moves(model, muscles, candidates, s);
+  const uint32_t active = reaction_moves(model, muscles, candidates, s);
   const int64_t omega2 = mul_shift_sat(sg.omega_h, sg.omega_h, kGainFracBits);
-  uint32_t active = 0;
   for (uint32_t k = 0; k < candidates; ++k) {
     const uint32_t v = static_cast<uint32_t>(s->weight[k]);
-    const fx::Vec3 move{s->reaction_normal[0][v], s->reaction_normal[1][v], s->reaction_normal[2][v]};
-    fx::Vec3 dir{};
-    if (!fx::normalize_to_unit(move, &dir)) {
-      for (int c = 0; c < 3; ++c) s->reaction_normal[c][v] = 0;
-      continue;
-    }
-    const int64_t n[3] = {dir.x, dir.y, dir.z};
-    const int64_t depth = fine_of(
-        fx::sat_i32(int64_t{fx::isqrt_fast(uint64_t(int64_t{move.x} * move.x) + uint64_t(int64_t{move.y} * move.y) +
-                                           uint64_t(int64_t{move.z} * move.z))}));
+    const int64_t n[3] = {s->reaction_normal[0][v], s->reaction_normal[1][v], s->reaction_normal[2][v]};
+    if (n[0] == 0 && n[1] == 0 && n[2] == 0) continue;
+    const int64_t depth = s->reaction_floor[v];
     // h w_n: the predicted move relative to the anchor, along n.
     int64_t relative[3], predicted[3];
     for (int c = 0; c < 3; ++c) {
@@ -165,8 +159,6 @@ uint32_t reaction_floors(const SkinModel& model, const muscle::MuscleState& musc
                                           sg.inverse_damped, kGainFracBits);
     const int64_t e_end = fx::add_sat_i64(e_start, h_rate);
     s->reaction_floor[v] = fx::add_sat_i64(dot_unit(n, predicted), depth - e_end);
-    for (int c = 0; c < 3; ++c) s->reaction_normal[c][v] = static_cast<fx::Unit>(n[c]);
-    ++active;
   }
   s->stats.reactions = active;
   return candidates;

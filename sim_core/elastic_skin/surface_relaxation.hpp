@@ -29,7 +29,10 @@
 //
 // Reaction constraints (§3, Platt-Barr): once per step (§6.11: the mesh is
 // inside-tested, the gradients passed on) each fat point at x~ is pushed out
-// of the active primitives; a point inside by e0 along n gets a floor on
+// of the active primitives; a point inside by e0 (the push-out's length),
+// n the unit gradient at the point of the first primitive it is inside
+// (§6.11's constraint gradient: a direction taken from a move of a few LSB
+// would be off by tens of degrees), gets a floor on
 // its normal coordinate: its penetration follows the critically damped law
 // e'' + 2 w e' + w^2 e = 0 (w = 2 pi reaction_frequency), discretised by
 // backward Euler over the step from e(x0) = e0 + h w_n, e'(x0) = -w_n (w_n

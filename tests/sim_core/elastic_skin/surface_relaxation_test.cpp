@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tests/sim_core/elastic_skin/dynamic_skin_fixture.hpp"
+#include "tests/sim_core/elastic_skin/relaxation_oracle.hpp"
 #include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
 namespace es = sinew::elastic_skin;
@@ -59,213 +60,48 @@ Sheet add_sheet(DynamicSkin* s, uint32_t count, double height, double anchor_k, 
   return sheet;
 }
 
-using V3 = std::array<double, 3>;
-V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const V3& a) { return std::sqrt(dot(a, a)); }
-V3 cross(const V3& a, const V3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+using sinew::test::OraclePrimitive;
+using sinew::test::RelaxationOracle;
+using sinew::test::V3;
+V3 sub(const V3& a, const V3& b) { return sinew::test::sub3(a, b); }
+double dot(const V3& a, const V3& b) { return sinew::test::dot3(a, b); }
+double norm(const V3& a) { return sinew::test::norm3(a); }
 
-// The relaxation step of surface_relaxation.hpp in double, from its
-// equations, for the fixture's skins: anchors on one translating bone,
-// bands to fixed targets, spheres. Positions and velocities in rig units.
-struct RelaxationOracle {
-  // The model, in SI-like units (rig units, s, kg).
-  size_t n = 0;
-  double mass = 0, scale = 0, anchor_c = 0, band_c = 0, bend = 0, pressure = 0, omega = 0;
-  std::vector<double> anchor_k, fat;
-  std::vector<V3> anchor_rest, anchor_normal;
-  std::vector<uint32_t> ea, eb;
-  std::vector<double> ek, erest;
-  std::vector<uint32_t> band_vertex;
-  std::vector<double> band_k;
-  std::vector<V3> band_target;
-  std::vector<uint32_t> triangles;
-  std::vector<std::vector<uint32_t>> neighbours;
-  V3 gravity{};
-  struct Sphere {
-    V3 centre;
-    double radius;
-  };
-  std::vector<Sphere> spheres;
-  int sweeps = 3;
-  // State.
-  std::vector<V3> x, v, anchor_then;
-
-  explicit RelaxationOracle(const DynamicSkin& s) {
-    const es::SkinModel& m = s.model;
-    n = m.vertex_count;
-    mass = std::ldexp(double(m.solver.vertex_mass), -24);
-    scale = std::ldexp(double(m.solver.stiffness_scale), -16);
-    anchor_c = std::ldexp(double(m.solver.anchor_damping), -16);
-    band_c = std::ldexp(double(m.solver.band_damping), -16);
-    bend = std::ldexp(double(m.surface.bend), -16) * scale;
-    pressure = std::ldexp(double(m.surface.pressure), -16);
-    omega = 2 * M_PI * std::ldexp(double(m.surface.reaction_frequency), -16);
-    sweeps = m.surface.relaxation_iterations;
-    for (int c = 0; c < 3; ++c) gravity[c] = std::ldexp(double((&m.solver.gravity.x)[c]), -8);
-    neighbours.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      anchor_k.push_back(std::ldexp(double(m.anchor_stiffness[i]), -16) * scale);
-      fat.push_back(from_len(m.fat[i]));
-      const es::Anchor& a = m.anchors[i];
-      anchor_rest.push_back({from_len(a.local_a.x), from_len(a.local_a.y), from_len(a.local_a.z)});
-      anchor_normal.push_back({std::ldexp(double(a.normal_a.x), -30), std::ldexp(double(a.normal_a.y), -30),
-                               std::ldexp(double(a.normal_a.z), -30)});
-    }
-    for (const es::Edge& e : m.edges) {
-      ea.push_back(e.a), eb.push_back(e.b);
-      ek.push_back(std::ldexp(double(e.k), -16) * scale);
-      erest.push_back(from_len(e.rest));
-      neighbours[e.a].push_back(e.b), neighbours[e.b].push_back(e.a);
-    }
-    for (const es::RubberBand& b : m.bands) {
-      band_vertex.push_back(b.vertex);
-      band_k.push_back(std::ldexp(double(b.k), -16) * scale);
-      const sinew::fx::Vec3 t = s.band_target[b.ring_vertex];
-      band_target.push_back({from_len(t.x), from_len(t.y), from_len(t.z)});
-    }
-    triangles.assign(m.triangles.begin(), m.triangles.end());
-    for (const auto& f : s.frames)
-      spheres.push_back({{from_len(f.centre.x), from_len(f.centre.y), from_len(f.centre.z)}, from_len(f.extent[0])});
-  }
-  // Starts from the runtime's state after its first step (which settles
-  // the skin statically on the first pose, then takes a step).
-  void start(const es::SkinState& st, const V3& bone) {
-    x.resize(n), v.assign(n, V3{}), anchor_then.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      for (int c = 0; c < 3; ++c) {
-        x[i][c] = std::ldexp(double(st.fine[c][i]), -36);
-        v[i][c] = std::ldexp(double(st.velocity[c][i]), -20);
-      }
-      anchor_then[i] = {anchor_rest[i][0] + bone[0], anchor_rest[i][1] + bone[1], anchor_rest[i][2] + bone[2]};
-    }
-  }
-  std::vector<V3> umbrella(const std::vector<V3>& p, const std::vector<V3>& a) const {
-    std::vector<V3> u(n, V3{});
-    for (size_t i = 0; i < n; ++i) {
-      if (neighbours[i].empty()) continue;
-      for (uint32_t j : neighbours[i])
-        for (int c = 0; c < 3; ++c) u[i][c] += (p[j][c] - a[j][c]) / double(neighbours[i].size());
-      for (int c = 0; c < 3; ++c) u[i][c] -= p[i][c] - a[i][c];
-    }
-    return u;
-  }
-  void step(double h, const V3& bone) {
-    std::vector<V3> a(n), x0 = x, pred(n), force(n, V3{});
-    for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) a[i][c] = anchor_rest[i][c] + bone[c];
-    // Explicit: gravity, pressure from x0 (faces turned to their corners'
-    // anchor normals), as forces.
-    for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) force[i][c] = mass * gravity[c];
-    for (size_t f = 0; pressure != 0 && f + 2 < triangles.size(); f += 3) {
-      const uint32_t p0 = triangles[f], p1 = triangles[f + 1], p2 = triangles[f + 2];
-      V3 area = cross(sub(x0[p1], x0[p0]), sub(x0[p2], x0[p0]));
-      V3 side{};
-      for (uint32_t k : {p0, p1, p2})
-        for (int c = 0; c < 3; ++c) side[c] += anchor_normal[k][c];
-      if (dot(area, side) < 0)
-        for (double& w : area) w = -w;
-      for (uint32_t k : {p0, p1, p2})
-        for (int c = 0; c < 3; ++c) force[k][c] += pressure * area[c] / 6;
-    }
-    for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) pred[i][c] = x0[i][c] + h * v[i][c];
-    x = pred;
-    // Platt-Barr floors from the prediction.
-    std::vector<V3> normal(n, V3{});
-    std::vector<double> floor(n, 0);
-    std::vector<bool> active(n, false);
-    const double oh = omega * h;
-    for (size_t i = 0; i < n; ++i) {
-      V3 p{}, move{};
-      for (int c = 0; c < 3; ++c) p[c] = x[i][c] - fat[i] * anchor_normal[i][c];
-      const V3 start = p;
-      for (const Sphere& s : spheres) {
-        const V3 d = sub(p, s.centre);
-        const double r = norm(d);
-        if (r < s.radius && r > 0)
-          for (int c = 0; c < 3; ++c) p[c] = s.centre[c] + d[c] * s.radius / r;
-      }
-      move = sub(p, start);
-      const double e0 = norm(move);
-      if (e0 == 0) continue;
-      for (int c = 0; c < 3; ++c) normal[i][c] = move[c] / e0;
-      V3 rel{};
-      for (int c = 0; c < 3; ++c) rel[c] = (pred[i][c] - x0[i][c]) - (a[i][c] - anchor_then[i][c]);
-      const double hw = dot(normal[i], rel), e_start = e0 + hw;
-      const double h_rate = -(hw + oh * oh * e_start) / ((1 + oh) * (1 + oh));
-      const double e_end = e_start + h_rate;
-      floor[i] = dot(normal[i], pred[i]) + e0 - e_end;
-      active[i] = true;
-    }
-    // The sweeps start from each vertex's own terms solved for the step's
-    // change: K (x - x~) = (k + c)(anchor move - predicted move), anchor
-    // and bands, K = 1 + the same k and c (h^2 / m and h / m units).
-    for (size_t i = 0; i < n; ++i) {
-      const double g2s = h * h / mass, g1s = h / mass;
-      double k = 1 + g1s * anchor_c + g2s * anchor_k[i];
-      V3 b{};
-      for (int c = 0; c < 3; ++c)
-        b[c] = (g2s * anchor_k[i] + g1s * anchor_c) * ((a[i][c] - anchor_then[i][c]) - (pred[i][c] - x0[i][c]));
-      for (size_t q = 0; q < band_vertex.size(); ++q) {
-        if (band_vertex[q] != i) continue;
-        for (int c = 0; c < 3; ++c) b[c] += (g2s * band_k[q] + g1s * band_c) * (0 - (pred[i][c] - x0[i][c]));
-        k += g2s * band_k[q] + g1s * band_c;
-      }
-      for (int c = 0; c < 3; ++c) x[i][c] = pred[i][c] + b[c] / k;
-    }
-    // The sweeps: x_i += r_i / D_i, r and D from the equation of motion
-    // times h^2 / m.
-    const double g2 = h * h / mass, g1 = h / mass;
-    std::vector<V3> u = umbrella(x, a);
-    for (int sweep = 0; sweep < sweeps; ++sweep) {
-      for (size_t i = 0; i < n; ++i) {
-        V3 r{};
-        double d = 1 + g1 * anchor_c + g2 * anchor_k[i];
-        for (int c = 0; c < 3; ++c)
-          r[c] = (pred[i][c] - x[i][c]) + g2 * force[i][c] + g2 * anchor_k[i] * (a[i][c] - x[i][c]) +
-                 g1 * anchor_c * ((a[i][c] - anchor_then[i][c]) - (x[i][c] - x0[i][c]));
-        for (size_t e = 0; e < ea.size(); ++e) {
-          if (ea[e] != i && eb[e] != i) continue;
-          const size_t j = ea[e] == i ? eb[e] : ea[e];
-          const V3 w = sub(x[j], x[i]);
-          const double len = norm(w);
-          for (int c = 0; c < 3; ++c) r[c] += g2 * ek[e] * (1 - erest[e] / len) * w[c];
-          d += g2 * ek[e];
-        }
-        for (size_t b = 0; b < band_vertex.size(); ++b) {
-          if (band_vertex[b] != i) continue;
-          for (int c = 0; c < 3; ++c)
-            r[c] += g2 * band_k[b] * (band_target[b][c] - x[i][c]) - g1 * band_c * (x[i][c] - x0[i][c]);
-          d += g2 * band_k[b] + g1 * band_c;
-        }
-        if (bend != 0 && !neighbours[i].empty()) {
-          double diag = 1;
-          for (uint32_t j : neighbours[i]) {
-            diag += 1.0 / (double(neighbours[j].size()) * double(neighbours[j].size()));
-            for (int c = 0; c < 3; ++c) r[c] -= g2 * bend * u[j][c] / double(neighbours[j].size());
-          }
-          for (int c = 0; c < 3; ++c) r[c] += g2 * bend * u[i][c];
-          d += g2 * bend * diag;
-        }
-        V3 move{};
-        for (int c = 0; c < 3; ++c) move[c] = r[c] / d, x[i][c] += move[c];
-        if (active[i]) {
-          const double lift = floor[i] - dot(normal[i], x[i]);
-          if (lift > 0)
-            for (int c = 0; c < 3; ++c) x[i][c] += lift * normal[i][c], move[c] += lift * normal[i][c];
-        }
-        u = umbrella(x, a);  // exact after every move
-      }
-    }
-    for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) v[i][c] = (x[i][c] - x0[i][c]) / h;
-    anchor_then = a;
-  }
+// The fixture's inputs to the oracle: anchors on the one bone at `bone`,
+// their rest normals, the bands' fixed targets, its spheres.
+struct FixtureInputs {
+  std::vector<V3> anchors, normals, targets;
+  std::vector<OraclePrimitive> prims;
 };
+FixtureInputs inputs_of(const DynamicSkin& s, const V3& bone) {
+  FixtureInputs in;
+  for (const es::Anchor& a : s.anchors) {
+    in.anchors.push_back(
+        {from_len(a.local_a.x) + bone[0], from_len(a.local_a.y) + bone[1], from_len(a.local_a.z) + bone[2]});
+    in.normals.push_back(sinew::test::unit_of(a.normal_a));
+  }
+  for (const es::RubberBand& b : s.bands) {
+    const sinew::fx::Vec3 t = s.band_target[b.ring_vertex];
+    in.targets.push_back({from_len(t.x), from_len(t.y), from_len(t.z)});
+  }
+  for (const auto& f : s.frames) {
+    OraclePrimitive p;
+    p.centre = {from_len(f.centre.x), from_len(f.centre.y), from_len(f.centre.z)};
+    for (int i = 0; i < 3; ++i) p.axis[i] = sinew::test::unit_of(f.axis[i]), p.extent[i] = from_len(f.extent[i]);
+    p.exponent = 2;
+    in.prims.push_back(p);
+  }
+  return in;
+}
+size_t oracle_step(RelaxationOracle* o, const DynamicSkin& s, double h, const V3& bone) {
+  const FixtureInputs in = inputs_of(s, bone);
+  return o->step(h, in.anchors, in.normals, in.targets, in.prims);
+}
+// The umbrella vectors L(x - a) of positions x over anchors a.
+std::vector<V3> umbrella_of(RelaxationOracle o, const std::vector<V3>& x, const std::vector<V3>& a) {
+  o.x = x;
+  return o.umbrella(a);
+}
 
 double largest_gap(const DynamicSkin& s, const RelaxationOracle& o) {
   double worst = 0;
@@ -294,8 +130,8 @@ TEST(SurfaceRelaxation, StepsLikeADoubleOracleOfTheEquationOfMotion) {
     ASSERT_TRUE(s.finish());
     const sinew::muscle::LayerStatus first = s.step(tick_hz);  // settles at rest on the first pose
     ASSERT_TRUE(first.ok()) << first.message;
-    RelaxationOracle o(s);
-    o.start(s.state, {0, 0, 0});
+    RelaxationOracle o(s.model);
+    o.start(s.state);
     const int ticks = int(tick_hz / 2);  // half a second
     double worst = 0, moved = 0;
     uint32_t reacting = 0;
@@ -305,7 +141,7 @@ TEST(SurfaceRelaxation, StepsLikeADoubleOracleOfTheEquationOfMotion) {
       s.move_bone(bone[0], bone[1], bone[2]);
       ASSERT_TRUE(s.step(tick_hz).ok());
       // The oracle takes the anchors the runtime rounded.
-      o.step(1.0 / tick_hz, {from_len(to_len(bone[0])), from_len(to_len(bone[1])), 0});
+      oracle_step(&o, s, 1.0 / tick_hz, {from_len(to_len(bone[0])), from_len(to_len(bone[1])), 0});
       worst = std::max(worst, largest_gap(s, o));
       reacting += s.state.stats.reactions;
       for (size_t i = 0; i < o.n; ++i) moved = std::max(moved, std::fabs(o.x[i][1]));
@@ -489,10 +325,10 @@ TEST(SurfaceRelaxation, BendDescendsTheSecondOrderEnergyAndTheSkinRestsAtItsMini
   use_relaxation(&s, 2.0, 0, 100, 3);
   ASSERT_TRUE(s.finish());
   for (int k = 0; k < 3000; ++k) ASSERT_TRUE(s.step(1000).ok());
-  RelaxationOracle o(s);
-  o.start(s.state, {0, 0, 0});
-  std::vector<V3> a(o.n);
-  for (size_t i = 0; i < o.n; ++i) a[i] = o.anchor_rest[i];
+  RelaxationOracle o(s.model);
+  o.start(s.state);
+  const FixtureInputs in = inputs_of(s, {0, 0, 0});
+  const std::vector<V3>& a = in.anchors;
   const auto energy = [&](const std::vector<V3>& x) {
     double e = 0;
     for (size_t i = 0; i < o.n; ++i) e += 0.5 * o.anchor_k[i] * dot(sub(x[i], a[i]), sub(x[i], a[i]));
@@ -501,10 +337,10 @@ TEST(SurfaceRelaxation, BendDescendsTheSecondOrderEnergyAndTheSkinRestsAtItsMini
       e += 0.5 * o.ek[k] * d * d;
     }
     for (size_t b = 0; b < o.band_vertex.size(); ++b) {
-      const V3 d = sub(x[o.band_vertex[b]], o.band_target[b]);
+      const V3 d = sub(x[o.band_vertex[b]], in.targets[b]);
       e += 0.5 * o.band_k[b] * dot(d, d);
     }
-    for (const V3& u : o.umbrella(x, a)) e += 0.5 * o.bend * dot(u, u);
+    for (const V3& u : umbrella_of(o, x, a)) e += 0.5 * o.bend * dot(u, u);
     return e;
   };
   // (1) the bend force of the oracle (and the runtime) against -dE/dx of the
@@ -512,18 +348,18 @@ TEST(SurfaceRelaxation, BendDescendsTheSecondOrderEnergyAndTheSkinRestsAtItsMini
   std::vector<V3> x = o.x;
   for (size_t i = 0; i < o.n; ++i)
     for (int c = 0; c < 3; ++c) x[i][c] += 0.05 * std::sin(7.0 * double(i) + 3.0 * c);
-  const std::vector<V3> u = o.umbrella(x, a);
+  const std::vector<V3> u = umbrella_of(o, x, a);
   double force_gap = 0, force_scale = 0;
   for (size_t i = 0; i < o.n; ++i)
     for (int c = 0; c < 3; ++c) {
       double formula = o.bend * u[i][c];
-      for (uint32_t j : o.neighbours[i]) formula -= o.bend * u[j][c] / double(o.neighbours[j].size());
+      for (uint32_t e : o.incident[i]) formula -= o.bend * u[o.other(e, i)][c] / o.degree(o.other(e, i));
       const double step = 1e-6;
       std::vector<V3> up = x, down = x;
       up[i][c] += step, down[i][c] -= step;
       double bend_up = 0, bend_down = 0;
-      for (const V3& w : o.umbrella(up, a)) bend_up += 0.5 * o.bend * dot(w, w);
-      for (const V3& w : o.umbrella(down, a)) bend_down += 0.5 * o.bend * dot(w, w);
+      for (const V3& w : umbrella_of(o, up, a)) bend_up += 0.5 * o.bend * dot(w, w);
+      for (const V3& w : umbrella_of(o, down, a)) bend_down += 0.5 * o.bend * dot(w, w);
       const double numeric = -(bend_up - bend_down) / (2 * step);
       force_gap = std::max(force_gap, std::fabs(formula - numeric));
       force_scale = std::max(force_scale, std::fabs(numeric));
@@ -542,7 +378,7 @@ TEST(SurfaceRelaxation, BendDescendsTheSecondOrderEnergyAndTheSkinRestsAtItsMini
     }
   double pull = 0, stiffest = 0;
   for (size_t b = 0; b < o.band_vertex.size(); ++b)
-    pull = std::max(pull, o.band_k[b] * norm(sub(o.x[o.band_vertex[b]], o.band_target[b])));
+    pull = std::max(pull, o.band_k[b] * norm(sub(o.x[o.band_vertex[b]], in.targets[b])));
   for (size_t i = 0; i < o.n; ++i) {
     double row = o.anchor_k[i] + o.bend * 3;
     for (size_t k = 0; k < o.ea.size(); ++k) row += (o.ea[k] == i || o.eb[k] == i) ? 2 * o.ek[k] : 0;
