@@ -88,13 +88,13 @@ struct RelaxationOracle {
   void start(const elastic_skin::SkinState& st) {
     x.resize(n), v.resize(n), anchor_then.resize(n), band_then.resize(band_vertex.size());
     for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) {
+      for (size_t c = 0; c < 3; ++c) {
         x[i][c] = std::ldexp(double(st.fine[c][i]), -36);
         v[i][c] = std::ldexp(double(st.velocity[c][i]), -20);
         anchor_then[i][c] = len_units(st.anchor[c][i]);
       }
     for (size_t b = 0; b < band_vertex.size(); ++b)
-      for (int c = 0; c < 3; ++c) band_then[b][c] = len_units(st.band_end[c][b]);
+      for (size_t c = 0; c < 3; ++c) band_then[b][c] = len_units(st.band_end[c][b]);
   }
 
   // §5.2: a compressed edge's stiffness multiplier.
@@ -109,11 +109,11 @@ struct RelaxationOracle {
     const V3 d = sub3(p, s.centre);
     double f = 0;
     *grad = V3{};
-    for (int i = 0; i < 3; ++i) {
+    for (size_t i = 0; i < 3; ++i) {
       const double q = dot3(d, s.axis[i]) / s.extent[i];
       f += std::pow(std::fabs(q), s.exponent);
       const double g = s.exponent * std::pow(std::fabs(q), s.exponent - 1) * (q < 0 ? -1 : 1) / s.extent[i];
-      for (int c = 0; c < 3; ++c) (*grad)[c] += g * s.axis[i][c];
+      for (size_t c = 0; c < 3; ++c) (*grad)[c] += g * s.axis[i][c];
     }
     return f;
   }
@@ -129,7 +129,7 @@ struct RelaxationOracle {
       const double g = norm3(grad), r = std::pow(f, 1.0 / s.exponent);
       if (g == 0 || r == 0) break;
       const double delta = s.exponent * (1 - r) * f / (r * g);
-      for (int c = 0; c < 3; ++c) (*p)[c] += delta * grad[c] / g;
+      for (size_t c = 0; c < 3; ++c) (*p)[c] += delta * grad[c] / g;
     }
     return inside;
   }
@@ -140,9 +140,9 @@ struct RelaxationOracle {
       if (incident[i].empty()) continue;
       for (uint32_t e : incident[i]) {
         const uint32_t j = other(e, i);
-        for (int c = 0; c < 3; ++c) u[i][c] += (x[j][c] - a[j][c]) / degree(i);
+        for (size_t c = 0; c < 3; ++c) u[i][c] += (x[j][c] - a[j][c]) / degree(i);
       }
-      for (int c = 0; c < 3; ++c) u[i][c] -= x[i][c] - a[i][c];
+      for (size_t c = 0; c < 3; ++c) u[i][c] -= x[i][c] - a[i][c];
     }
     return u;
   }
@@ -163,7 +163,7 @@ struct RelaxationOracle {
     const double g2 = h * h / mass, g1 = h / mass;
     std::vector<V3> x0 = x, pred(n), force(n, V3{});
     for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) force[i][c] = mass * gravity[c];
+      for (size_t c = 0; c < 3; ++c) force[i][c] = mass * gravity[c];
     // §5.3: P times a third of each face's area vector, turned to its
     // corners' anchor normals, from x0.
     for (size_t f = 0; pressure != 0 && f + 2 < triangles.size(); f += 3) {
@@ -171,14 +171,14 @@ struct RelaxationOracle {
       V3 area = cross3(sub3(x0[p1], x0[p0]), sub3(x0[p2], x0[p0]));
       V3 side{};
       for (uint32_t k : {p0, p1, p2})
-        for (int c = 0; c < 3; ++c) side[c] += normals[k][c];
+        for (size_t c = 0; c < 3; ++c) side[c] += normals[k][c];
       if (dot3(area, side) < 0)
         for (double& w : area) w = -w;
       for (uint32_t k : {p0, p1, p2})
-        for (int c = 0; c < 3; ++c) force[k][c] += pressure * area[c] / 6;
+        for (size_t c = 0; c < 3; ++c) force[k][c] += pressure * area[c] / 6;
     }
     for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) pred[i][c] = x0[i][c] + h * v[i][c];
+      for (size_t c = 0; c < 3; ++c) pred[i][c] = x0[i][c] + h * v[i][c];
     // Platt-Barr floors at the prediction: backward Euler of the critically
     // damped law over the step.
     std::vector<V3> normal(n, V3{});
@@ -189,7 +189,7 @@ struct RelaxationOracle {
     depth.assign(n, 0);
     for (size_t i = 0; i < n; ++i) {
       V3 p{};
-      for (int c = 0; c < 3; ++c) p[c] = pred[i][c] - fat[i] * normals[i][c];
+      for (size_t c = 0; c < 3; ++c) p[c] = pred[i][c] - fat[i] * normals[i][c];
       const V3 start = p;
       double nearest = HUGE_VAL;  // |F - 1| of the primitive whose surface is nearest in F
       V3 nearest_grad{}, first_grad{};
@@ -211,10 +211,10 @@ struct RelaxationOracle {
         continue;
       }
       const double g = norm3(direction);
-      for (int c = 0; c < 3; ++c) normal[i][c] = direction[c] / g;
+      for (size_t c = 0; c < 3; ++c) normal[i][c] = direction[c] / g;
       depth[i] = e0;
       V3 rel{};
-      for (int c = 0; c < 3; ++c) rel[c] = (pred[i][c] - x0[i][c]) - (a[i][c] - anchor_then[i][c]);
+      for (size_t c = 0; c < 3; ++c) rel[c] = (pred[i][c] - x0[i][c]) - (a[i][c] - anchor_then[i][c]);
       const double hw = dot3(normal[i], rel), e_start = e0 + hw;
       const double e_end = e_start - (hw + oh * oh * e_start) / ((1 + oh) * (1 + oh));
       floor[i] = dot3(normal[i], pred[i]) + e0 - e_end;
@@ -226,14 +226,14 @@ struct RelaxationOracle {
     for (size_t i = 0; i < n; ++i) {
       double k = 1 + g1 * anchor_c + g2 * anchor_k[i];
       V3 b{};
-      for (int c = 0; c < 3; ++c)
+      for (size_t c = 0; c < 3; ++c)
         b[c] = (g2 * anchor_k[i] + g1 * anchor_c) * ((a[i][c] - anchor_then[i][c]) - (pred[i][c] - x0[i][c]));
       for (uint32_t q : bands_at[i]) {
-        for (int c = 0; c < 3; ++c)
+        for (size_t c = 0; c < 3; ++c)
           b[c] += (g2 * band_k[q] + g1 * band_c) * ((t[q][c] - band_then[q][c]) - (pred[i][c] - x0[i][c]));
         k += g2 * band_k[q] + g1 * band_c;
       }
-      for (int c = 0; c < 3; ++c) x[i][c] = pred[i][c] + b[c] / k;
+      for (size_t c = 0; c < 3; ++c) x[i][c] = pred[i][c] + b[c] / k;
     }
     // The sweeps: x_i += r_i / D_i, the equation of motion times h^2 / m;
     // the umbrella vectors follow every move exactly.
@@ -242,18 +242,18 @@ struct RelaxationOracle {
       for (size_t i = 0; i < n; ++i) {
         V3 r{};
         double d = 1 + g1 * anchor_c + g2 * anchor_k[i];
-        for (int c = 0; c < 3; ++c)
+        for (size_t c = 0; c < 3; ++c)
           r[c] = (pred[i][c] - x[i][c]) + g2 * force[i][c] + g2 * anchor_k[i] * (a[i][c] - x[i][c]) +
                  g1 * anchor_c * ((a[i][c] - anchor_then[i][c]) - (x[i][c] - x0[i][c]));
         for (uint32_t e : incident[i]) {
           const V3 w = sub3(x[other(e, i)], x[i]);
           const double len = norm3(w);
           const double k = ek[e] * push_back_factor(len - erest[e], erest[e]);
-          for (int c = 0; c < 3; ++c) r[c] += g2 * k * (1 - erest[e] / len) * w[c];
+          for (size_t c = 0; c < 3; ++c) r[c] += g2 * k * (1 - erest[e] / len) * w[c];
           d += g2 * ek[e];
         }
         for (uint32_t q : bands_at[i]) {
-          for (int c = 0; c < 3; ++c)
+          for (size_t c = 0; c < 3; ++c)
             r[c] += g2 * band_k[q] * (t[q][c] - x[i][c]) +
                     g1 * band_c * ((t[q][c] - band_then[q][c]) - (x[i][c] - x0[i][c]));
           d += g2 * band_k[q] + g1 * band_c;
@@ -263,19 +263,19 @@ struct RelaxationOracle {
           for (uint32_t e : incident[i]) {
             const uint32_t j = other(e, i);
             diag += 1.0 / (degree(j) * degree(j));
-            for (int c = 0; c < 3; ++c) r[c] -= g2 * bend * u[j][c] / degree(j);
+            for (size_t c = 0; c < 3; ++c) r[c] -= g2 * bend * u[j][c] / degree(j);
           }
-          for (int c = 0; c < 3; ++c) r[c] += g2 * bend * u[i][c];
+          for (size_t c = 0; c < 3; ++c) r[c] += g2 * bend * u[i][c];
           d += g2 * bend * diag;
         }
         V3 move{};
-        for (int c = 0; c < 3; ++c) move[c] = r[c] / d, x[i][c] += move[c];
+        for (size_t c = 0; c < 3; ++c) move[c] = r[c] / d, x[i][c] += move[c];
         if (active[i]) {
           const double lift = floor[i] - dot3(normal[i], x[i]);
           if (lift > 0)
-            for (int c = 0; c < 3; ++c) x[i][c] += lift * normal[i][c], move[c] += lift * normal[i][c];
+            for (size_t c = 0; c < 3; ++c) x[i][c] += lift * normal[i][c], move[c] += lift * normal[i][c];
         }
-        for (int c = 0; c < 3; ++c) {
+        for (size_t c = 0; c < 3; ++c) {
           u[i][c] -= move[c];
           for (uint32_t e : incident[i]) {
             const uint32_t j = other(e, i);
@@ -285,7 +285,7 @@ struct RelaxationOracle {
       }
     }
     for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) v[i][c] = (x[i][c] - x0[i][c]) / h;
+      for (size_t c = 0; c < 3; ++c) v[i][c] = (x[i][c] - x0[i][c]) / h;
     anchor_then = a;
     band_then = t;
     return reacting;

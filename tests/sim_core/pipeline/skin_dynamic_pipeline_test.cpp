@@ -4,10 +4,15 @@
 // rig keeps its version 1 section.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdio>
 
 #include "host_tools/layers/rig_layers.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
+#include "sim_core/muscle/primitive_deform.hpp"
+#include "tests/sim_core/elastic_skin/relaxation_oracle.hpp"
 #include "tests/sim_core/pipeline/pipeline_fixture.hpp"
 
 namespace pl = sinew::pipeline;
@@ -132,6 +137,92 @@ TEST(SkinDynamicPipeline, BaseAccelerationInputsReachTheSkinAsAnInertialField) {
   auto resting = arm_on_a_moving_base(&error);
   ASSERT_NE(resting, nullptr) << error;
   EXPECT_NE(run_skin(resting.get(), extra, 300), accelerated);
+}
+
+// The same claim against an independent implementation: the arm's LEMAN
+// skin (the relaxation integrator) through the pipeline, its base
+// accelerating at +4 m/s^2 along y through the three inputs, steps like the
+// double oracle of the step (relaxation_oracle.hpp) whose field is
+// gravity - a_base = -4 m/s^2, from the runtime's state each tick. An
+// oracle with no field parts from it by far more: the inputs must act.
+TEST(SkinDynamicPipeline, BaseAccelerationActsInTheEquationOfMotionAsTheOracleSays) {
+  std::string error;
+  auto arm = arm_with_dynamic_skin(&error, [](sinew::layers::LayerSpecs& l) {
+    l.anatomy.skin.solver.relaxation = true;
+    l.anatomy.skin.base_acceleration = {"base.ax", "base.ay", "base.az"};
+  });
+  ASSERT_NE(arm, nullptr) << error;
+  const sinew::elastic_skin::SkinModel& model = arm->layers.anatomy.skin;
+  ASSERT_EQ(model.surface.integrator, static_cast<uint8_t>(sinew::elastic_skin::SkinIntegrator::kRelaxation));
+  pl::PipelineOptions options;
+  options.tick_hz = 1000;
+  *pl::anatomy_skin_max_anchor_acceleration_option(&options) = 0;  // no carrying: the oracle has none
+  ASSERT_TRUE(arm->start(options, &error)) << error;
+  std::vector<int32_t> inputs(arm->pipeline.input_count, 0);
+  const uint32_t ay = arm->layers.anatomy.skin_base_acceleration[1];
+  inputs[arm->rig.input_count + ay] = 4 << 16;  // m/s^2, Q16.16
+  sinew::test::RelaxationOracle with_field(model), without(model);
+  // Rig units / s^2: one rig unit is 2^e metres.
+  with_field.gravity = {0, -4.0 * std::ldexp(1.0, -arm->rig.length_exponent), 0};
+  without.gravity = {0, 0, 0};
+  const sinew::elastic_skin::SkinState& s = arm->pipeline.anatomy.skin;
+  const auto& m = arm->pipeline.anatomy.muscles;
+  double worst = 0, apart = 0;
+  for (int k = 0; k < 150; ++k) {
+    inputs[0] = sinew::test::degrees(k < 100 ? k * 0.4 : 40.0);
+    const bool compare = k > 0;  // the first step settles the skin statically
+    if (compare) with_field.start(s), without.start(s);
+    const pl::PipelineStatus st = pl::pipeline_step(&arm->pipeline, inputs);
+    ASSERT_TRUE(st.ok()) << st.message;
+    if (!compare) continue;
+    std::vector<sinew::test::V3> anchors(with_field.n), normals(with_field.n), targets(with_field.band_vertex.size());
+    for (size_t i = 0; i < with_field.n; ++i)
+      for (size_t c = 0; c < 3; ++c) {
+        anchors[i][c] = sinew::test::len_units(s.anchor[c][i]);
+        normals[i][c] = std::ldexp(double(s.normal[c][i]), -30);
+      }
+    for (size_t b = 0; b < targets.size(); ++b)
+      for (size_t c = 0; c < 3; ++c) targets[b][c] = sinew::test::len_units(s.band_end[c][b]);
+    std::vector<sinew::test::OraclePrimitive> prims;
+    double smallest = HUGE_VAL;
+    int largest_p = 2;
+    for (const sinew::muscle::PrimitiveFrame& f : m.primitives) {
+      if (f.active == 0) continue;
+      ASSERT_FALSE(sinew::muscle::is_deformed(f.deformation));
+      sinew::test::OraclePrimitive p;
+      p.centre = {sinew::test::len_units(f.centre.x), sinew::test::len_units(f.centre.y),
+                  sinew::test::len_units(f.centre.z)};
+      for (size_t i = 0; i < 3; ++i)
+        p.axis[i] = sinew::test::unit_of(f.axis[i]), p.extent[i] = sinew::test::len_units(f.extent[i]);
+      p.exponent = f.kind == static_cast<uint8_t>(sinew::muscle::PrimitiveKind::kSphere) ? 2 : f.exponent;
+      for (double e : p.extent) smallest = std::min(smallest, e);
+      largest_p = std::max(largest_p, p.exponent);
+      prims.push_back(p);
+    }
+    std::vector<int8_t> decided(with_field.n);
+    for (size_t i = 0; i < with_field.n; ++i)
+      decided[i] = s.reaction_normal[0][i] != 0 || s.reaction_normal[1][i] != 0 || s.reaction_normal[2][i] != 0;
+    const double threshold = largest_p * 2 * std::ldexp(1.0, -20) / smallest;  // as the arm oracle test
+    with_field.step(1e-3, anchors, normals, targets, prims, &decided, threshold);
+    without.step(1e-3, anchors, normals, targets, prims, &decided, threshold);
+    for (size_t i = 0; i < with_field.n; ++i) {
+      sinew::test::V3 d{}, e{};
+      for (size_t c = 0; c < 3; ++c) {
+        d[c] = sinew::test::len_units(s.position[c][i]) - with_field.x[i][c];
+        e[c] = sinew::test::len_units(s.position[c][i]) - without.x[i][c];
+      }
+      worst = std::max(worst, sinew::test::norm3(d));
+      apart = std::max(apart, sinew::test::norm3(e));
+    }
+  }
+  // The one-step bound of the arm oracle test (2 LSB a sweep + 2), plus
+  // the field's rounding to Q24.8 rig units / s^2 (half of 2^-8, times h^2:
+  // far below an LSB).
+  const double lsb = std::ldexp(1.0, -20), bound = (2.0 * with_field.sweeps + 2) * lsb;
+  std::printf("base at +4 m/s^2: one-step gap to the oracle %.1f LSB (bound %.0f), to one without the field %.0f LSB\n",
+              worst / lsb, bound / lsb, apart / lsb);
+  EXPECT_LE(worst, bound);
+  EXPECT_GT(apart, 100 * bound) << "the base's acceleration must act on the skin";
 }
 
 TEST(SkinDynamicPipeline, BaseAccelerationMustNameAccelerationInputs) {
