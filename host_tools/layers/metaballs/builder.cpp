@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/quantize.hpp"
 #include "sim_core/fixed/sqrt.hpp"
@@ -112,6 +113,10 @@ struct Geometry {
   std::vector<fx::Vec3> vertex_len;
   std::vector<std::vector<double>> weight;  // [vertex][joint], normalised skin weights
   std::vector<int> dominant;
+  // The skeleton as the skin sees it (layers::anatomical_parent): a joint's
+  // parent is the bone it meets, even in a flat skeleton (every joint a
+  // child of one unskinned root, as WebXR and many glTF hands); -1 for none.
+  std::vector<int> parent, child;  // child: the first joint whose parent this is
 };
 
 struct BallSeed {
@@ -135,16 +140,14 @@ bool place_balls(const rigc::RigSpec& spec, const Geometry& g, const Options& o,
   double total = 0;
   for (size_t j = 0; j < nj; ++j) {
     if (verts[j].empty()) continue;
-    int child = -1;
-    for (size_t c = j + 1; c < nj && child < 0; ++c)
-      if (spec.joints[c].parent == static_cast<int>(j)) child = static_cast<int>(c);
+    const int child = g.child[j];
     Segment& s = seg[j];
     s.start = g.joint_pos[j];
     if (child >= 0) {
       s.end = g.joint_pos[static_cast<size_t>(child)];
     } else {
       Vec3d dir{0, 0, 0};
-      const int parent = spec.joints[j].parent;
+      const int parent = g.parent[j];
       if (parent >= 0) dir = sub(g.joint_pos[j], g.joint_pos[static_cast<size_t>(parent)]);
       if (!(norm(dir) > 1e-12)) {
         Vec3d centroid{0, 0, 0};
@@ -268,12 +271,10 @@ bool apply_jiggle_gains(const Options& o, Build* b, std::string* error) {
 // A point `at` of the way along bone j: from its joint to its first child
 // (or, for a leaf, the joint itself).
 Vec3d along_bone(const rigc::RigSpec& spec, const Geometry& g, int j, double at) {
-  for (size_t c = static_cast<size_t>(j) + 1; c < spec.joints.size(); ++c)
-    if (spec.joints[c].parent == j) {
-      const Vec3d& a = g.joint_pos[static_cast<size_t>(j)];
-      return add(a, mul(sub(g.joint_pos[c], a), at));
-    }
-  return g.joint_pos[static_cast<size_t>(j)];
+  (void)spec;
+  const int c = g.child[static_cast<size_t>(j)];
+  const Vec3d& a = g.joint_pos[static_cast<size_t>(j)];
+  return c < 0 ? a : add(a, mul(sub(g.joint_pos[static_cast<size_t>(c)], a), at));
 }
 
 // Action lines: the segment's rest ends, and the balls of its two bones
@@ -320,16 +321,14 @@ bool make_action_lines(const rigc::RigSpec& spec, const Geometry& g, const Optio
   return true;
 }
 
-void make_pairs(const rigc::RigSpec& spec, const Options& o, const std::vector<double>& radius, const Geometry& g,
-                Build* b) {
+void make_pairs(const Options& o, const std::vector<double>& radius, const Geometry& g, Build* b) {
   const size_t n = b->ball_rest.size();
   // Eq. (3) keeps a pair at its rest distance, which the skeleton's motion
   // keeps only for balls of one bone or of two bones sharing a joint; balls
   // of unrelated bones (two fingers side by side) would drag each other.
   const auto related = [&](size_t i, size_t k) {
     const int bi = b->ball_bone[i], bk = b->ball_bone[k];
-    return bi == bk || spec.joints[static_cast<size_t>(bi)].parent == bk ||
-           spec.joints[static_cast<size_t>(bk)].parent == bi;
+    return bi == bk || g.parent[static_cast<size_t>(bi)] == bk || g.parent[static_cast<size_t>(bk)] == bi;
   };
   for (size_t i = 0; i < n; ++i)
     for (size_t k = i + 1; k < n; ++k) {
@@ -478,12 +477,12 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
   std::vector<int> joints;
   if (o.joint_balls.empty()) {
     for (size_t j = 0; j < nj; ++j)
-      if (spec.joints[j].parent >= 0 && !spec.joints[j].dofs.empty()) joints.push_back(static_cast<int>(j));
+      if (g.parent[j] >= 0 && !spec.joints[j].dofs.empty()) joints.push_back(static_cast<int>(j));
   } else {
     for (size_t i = 0; i < o.joint_balls.size(); ++i) {
       const int j = find_bone(spec, o.joint_balls[i]);
       if (j < 0) return *error = named("joint_balls", i, "name", "no joint named '" + o.joint_balls[i] + "'"), false;
-      if (spec.joints[static_cast<size_t>(j)].parent < 0)
+      if (g.parent[static_cast<size_t>(j)] < 0)
         return *error = named("joint_balls", i, "name", "'" + o.joint_balls[i] + "' is a root: no second bone"), false;
       joints.push_back(j);
     }
@@ -494,7 +493,7 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
   };
   std::vector<Region> regions;
   for (int j : joints) {
-    const int a = spec.joints[static_cast<size_t>(j)].parent;
+    const int a = g.parent[static_cast<size_t>(j)];
     double surface = 1e300;
     for (size_t v = 0; v < nv; ++v)
       if (g.dominant[v] == a || g.dominant[v] == j)
@@ -768,12 +767,23 @@ bool build(const rigc::RigSpec& spec, const Options& o, Build* out, std::string*
     g.dominant.push_back(dom);
   }
   b.vertex_bone = g.dominant;
+  {
+    layers::RigGeometry rg;
+    if (!layers::rig_geometry(spec, &rg, error)) return false;
+    g.parent.assign(nj, -1);
+    g.child.assign(nj, -1);
+    for (size_t j = 0; j < nj; ++j) g.parent[j] = layers::anatomical_parent(spec, rg, static_cast<int>(j));
+    for (size_t j = 0; j < nj; ++j) {
+      const int p = g.parent[j];
+      if (p >= 0 && g.child[static_cast<size_t>(p)] < 0) g.child[static_cast<size_t>(p)] = static_cast<int>(j);
+    }
+  }
   std::vector<BallSeed> seeds;
   std::vector<double> radius;
   if (!place_balls(spec, g, o, &seeds, error) || !make_balls(g, seeds, &b, &radius, error) ||
       !apply_regions(spec, o, &b, error))
     return false;
-  make_pairs(spec, o, radius, g, &b);
+  make_pairs(o, radius, g, &b);
   if (!make_action_lines(spec, g, o, &b, error)) return false;
   if (b.pairs.size() > mb::kMaxPairs) return *error = "pair_reach: more than 32768 stretch pairs (lower it)", false;
   b.pbd_iterations = static_cast<uint32_t>(o.pbd_iterations);
