@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "sim_core/elastic_skin/skin_step.hpp"
+#include "sim_core/muscle/primitive_deform.hpp"
 #include "tests/sim_core/elastic_skin/relaxation_oracle.hpp"
 #include "tests/sim_core/muscle/anatomy_fixture.hpp"
 
