@@ -15,6 +15,8 @@
 #include <climits>
 #include <functional>
 
+#include "host_tools/layers/rig_layers.hpp"
+#include "host_tools/rigc/builtin_rigs.hpp"
 #include "sim_core/pipeline/stage_sph_rate.hpp"
 #include "tests/sim_core/pipeline/pipeline_fixture.hpp"
 #include "tests/support/soak.hpp"
@@ -127,6 +129,38 @@ TEST(ExtremeLayers, EverythingAtItsLimitRunsDefined) {
     t::push_core_transforms(b, rig);
     push_layers(b, true, 64);
   });
+}
+
+// The dynamic skin as rigc builds it by default (LEMAN's relaxation), its
+// surface terms at their limits (bend 256, 10 kHz reactions, 10^5 N/m^2 of
+// air pressure, 200 m/s^2 of gravity), driven by every extreme input and
+// pose with every other layer on: defined, and the same from a second load.
+TEST(ExtremeLayers, RelaxationSkinWithItsTermsAtTheirLimitsRunsDefined) {
+  sinew::rigc::RigSpec spec;
+  sinew::layers::LayerSpecs tables;
+  ASSERT_TRUE(sinew::rigc::builtin_rig("arm", sinew::rigc::SkinChoice::kDualQuaternion, &spec));
+  ASSERT_TRUE(sinew::layers::builtin_layers("arm", &tables));
+  auto& solver = tables.anatomy.skin.solver;
+  solver.dynamic = true;
+  solver.relaxation = true;
+  solver.relaxation_iterations = 8;
+  solver.bend = 256;
+  solver.reaction_frequency = 10000;
+  solver.pressure = 1e5;
+  solver.gravity[1] = -200;
+  std::string error;
+  auto arm = t::compiled_with_layers(spec, tables, &error);
+  ASSERT_NE(arm, nullptr) << error;
+  ASSERT_EQ(arm->layers.anatomy.skin.surface.integrator,
+            static_cast<uint8_t>(sinew::elastic_skin::SkinIntegrator::kRelaxation));
+  t::LoadedLayers first, second;
+  first.bytes = second.bytes = arm->bytes;
+  ASSERT_TRUE(first.load(&error)) << error;
+  ASSERT_TRUE(second.load(&error)) << error;
+  const std::vector<int32_t> a = run_all_layers(&first);
+  const std::vector<int32_t> b = run_all_layers(&second);
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, b);
 }
 
 TEST(ExtremeLayers, RateConversionOfGainsAtTheirLimitsIsDefined) {
