@@ -7,12 +7,15 @@
 // outputs); positions in rig units, time in s, mass in kg.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "sim_core/elastic_skin/skin_state.hpp"
+#include "sim_core/muscle/muscle_state.hpp"
+#include "sim_core/muscle/primitive_deform.hpp"
 
 namespace sinew::test {
 
@@ -291,5 +294,53 @@ struct RelaxationOracle {
     return reacting;
   }
 };
+
+// What the upstream layers handed the runtime's skin in its last step, as
+// the oracle takes it: the anchors and their normals, the band targets, the
+// active primitives (spheres and single-exponent superellipsoids), the
+// runtime's contact decisions and the contact threshold (a fat point within
+// rounding of a surface: its position is rounded by half an LSB and its fat
+// offset by one, dF/dx at the surface is at most p / (smallest extent), so
+// |F - 1| below p 2 LSB / extent). `supported` is false for a primitive the
+// oracle does not model (deformed, a cylinder, general exponents).
+struct OracleInputs {
+  std::vector<V3> anchors, normals, targets;
+  std::vector<OraclePrimitive> prims;
+  std::vector<int8_t> decided;
+  double threshold = 0;
+  bool supported = true;
+};
+inline OracleInputs oracle_inputs(const elastic_skin::SkinState& s, const muscle::MuscleState& m, size_t bands) {
+  OracleInputs in;
+  const size_t n = s.vertex_count;
+  in.anchors.resize(n), in.normals.resize(n), in.targets.resize(bands), in.decided.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t c = 0; c < 3; ++c) {
+      in.anchors[i][c] = len_units(s.anchor[c][i]);
+      in.normals[i][c] = std::ldexp(double(s.normal[c][i]), -30);
+    }
+    in.decided[i] = s.reaction_normal[0][i] != 0 || s.reaction_normal[1][i] != 0 || s.reaction_normal[2][i] != 0;
+  }
+  for (size_t b = 0; b < bands; ++b)
+    for (size_t c = 0; c < 3; ++c) in.targets[b][c] = len_units(s.band_end[c][b]);
+  double smallest = HUGE_VAL;
+  int largest_p = 2;
+  for (const muscle::PrimitiveFrame& f : m.primitives) {
+    if (f.active == 0) continue;
+    const bool sphere = f.kind == static_cast<uint8_t>(muscle::PrimitiveKind::kSphere);
+    const bool exact = f.kind == static_cast<uint8_t>(muscle::PrimitiveKind::kSuperellipsoid) &&
+                       (f.exponent == 2 || f.exponent == 4 || f.exponent == 8);
+    if (muscle::is_deformed(f.deformation) || !(sphere || exact)) in.supported = false;
+    OraclePrimitive p;
+    p.centre = {len_units(f.centre.x), len_units(f.centre.y), len_units(f.centre.z)};
+    for (size_t i = 0; i < 3; ++i) p.axis[i] = unit_of(f.axis[i]), p.extent[i] = len_units(f.extent[i]);
+    p.exponent = sphere ? 2 : f.exponent;
+    for (double e : p.extent) smallest = std::min(smallest, e);
+    largest_p = std::max(largest_p, p.exponent);
+    in.prims.push_back(p);
+  }
+  in.threshold = largest_p * 2 * std::ldexp(1.0, -20) / smallest;
+  return in;
+}
 
 }  // namespace sinew::test

@@ -55,50 +55,16 @@ TEST(SkinRelaxationArmOracle, TheArmWithItsPrimitivesStepsLikeTheOracle) {
       o.start(arm.skin());  // step for step: from the runtime's state
       step(k);
       const es::SkinState& s = arm.skin();
-      std::vector<V3> anchors(o.n), normals(o.n), targets(o.band_vertex.size());
-      for (size_t i = 0; i < o.n; ++i)
-        for (int c = 0; c < 3; ++c) {
-          anchors[i][c] = len_units(s.anchor[c][i]);
-          normals[i][c] = std::ldexp(double(s.normal[c][i]), -30);
-        }
-      for (size_t b = 0; b < targets.size(); ++b)
-        for (int c = 0; c < 3; ++c) targets[b][c] = len_units(s.band_end[c][b]);
-      std::vector<OraclePrimitive> prims;
-      active = 0;
-      for (const mu::PrimitiveFrame& f : arm.muscles().primitives) {
-        if (f.active == 0) continue;
-        ++active;
-        ASSERT_FALSE(mu::is_deformed(f.deformation));
-        ASSERT_TRUE(f.kind == static_cast<uint8_t>(mu::PrimitiveKind::kSuperellipsoid) ||
-                    f.kind == static_cast<uint8_t>(mu::PrimitiveKind::kSphere));
-        OraclePrimitive p;
-        p.centre = {len_units(f.centre.x), len_units(f.centre.y), len_units(f.centre.z)};
-        for (int i = 0; i < 3; ++i) p.axis[i] = unit_of(f.axis[i]), p.extent[i] = len_units(f.extent[i]);
-        p.exponent = f.kind == static_cast<uint8_t>(mu::PrimitiveKind::kSphere) ? 2 : f.exponent;
-        ASSERT_TRUE(p.exponent == 2 || p.exponent == 4 || p.exponent == 8);
-        prims.push_back(p);
-      }
-      // The contact threshold: a fat point within rounding of a surface.
-      // Its position is rounded by half an LSB and its fat offset by one,
-      // and dF/dx at the surface is at most p / (smallest extent): points
-      // with |F - 1| below p 2 LSB / extent are at the threshold.
-      double smallest = HUGE_VAL;
-      int largest_p = 2;
-      for (const OraclePrimitive& p : prims) {
-        for (double e : p.extent) smallest = std::min(smallest, e);
-        largest_p = std::max(largest_p, p.exponent);
-      }
-      const double threshold = largest_p * 2 * std::ldexp(1.0, -20) / smallest;
-      std::vector<int8_t> decided(o.n);
-      for (size_t i = 0; i < o.n; ++i)
-        decided[i] = s.reaction_normal[0][i] != 0 || s.reaction_normal[1][i] != 0 || s.reaction_normal[2][i] != 0;
-      reacting += o.step(1.0 / hz, anchors, normals, targets, prims, &decided, threshold);
+      const sinew::test::OracleInputs in = sinew::test::oracle_inputs(s, arm.muscles(), o.band_vertex.size());
+      ASSERT_TRUE(in.supported) << "a primitive the oracle does not model";
+      active = static_cast<uint32_t>(in.prims.size());
+      reacting += o.step(1.0 / hz, in.anchors, in.normals, in.targets, in.prims, &in.decided, in.threshold);
       runtime_reacting += s.stats.reactions;
       for (size_t i = 0; i < o.n; ++i) {
         V3 d{};
         for (int c = 0; c < 3; ++c) d[c] = len_units(s.position[c][i]) - o.x[i][c];
         worst = std::max(worst, sinew::test::norm3(d));
-        moved = std::max(moved, sinew::test::norm3(sinew::test::sub3(o.x[i], anchors[i])));
+        moved = std::max(moved, sinew::test::norm3(sinew::test::sub3(o.x[i], in.anchors[i])));
       }
     }
     // The bound, per step (each step starts from the runtime's state): a

@@ -11,7 +11,6 @@
 
 #include "host_tools/layers/rig_layers.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
-#include "sim_core/muscle/primitive_deform.hpp"
 #include "tests/sim_core/elastic_skin/relaxation_oracle.hpp"
 #include "tests/sim_core/pipeline/pipeline_fixture.hpp"
 
@@ -175,36 +174,10 @@ TEST(SkinDynamicPipeline, BaseAccelerationActsInTheEquationOfMotionAsTheOracleSa
     const pl::PipelineStatus st = pl::pipeline_step(&arm->pipeline, inputs);
     ASSERT_TRUE(st.ok()) << st.message;
     if (!compare) continue;
-    std::vector<sinew::test::V3> anchors(with_field.n), normals(with_field.n), targets(with_field.band_vertex.size());
-    for (size_t i = 0; i < with_field.n; ++i)
-      for (size_t c = 0; c < 3; ++c) {
-        anchors[i][c] = sinew::test::len_units(s.anchor[c][i]);
-        normals[i][c] = std::ldexp(double(s.normal[c][i]), -30);
-      }
-    for (size_t b = 0; b < targets.size(); ++b)
-      for (size_t c = 0; c < 3; ++c) targets[b][c] = sinew::test::len_units(s.band_end[c][b]);
-    std::vector<sinew::test::OraclePrimitive> prims;
-    double smallest = HUGE_VAL;
-    int largest_p = 2;
-    for (const sinew::muscle::PrimitiveFrame& f : m.primitives) {
-      if (f.active == 0) continue;
-      ASSERT_FALSE(sinew::muscle::is_deformed(f.deformation));
-      sinew::test::OraclePrimitive p;
-      p.centre = {sinew::test::len_units(f.centre.x), sinew::test::len_units(f.centre.y),
-                  sinew::test::len_units(f.centre.z)};
-      for (size_t i = 0; i < 3; ++i)
-        p.axis[i] = sinew::test::unit_of(f.axis[i]), p.extent[i] = sinew::test::len_units(f.extent[i]);
-      p.exponent = f.kind == static_cast<uint8_t>(sinew::muscle::PrimitiveKind::kSphere) ? 2 : f.exponent;
-      for (double e : p.extent) smallest = std::min(smallest, e);
-      largest_p = std::max(largest_p, p.exponent);
-      prims.push_back(p);
-    }
-    std::vector<int8_t> decided(with_field.n);
-    for (size_t i = 0; i < with_field.n; ++i)
-      decided[i] = s.reaction_normal[0][i] != 0 || s.reaction_normal[1][i] != 0 || s.reaction_normal[2][i] != 0;
-    const double threshold = largest_p * 2 * std::ldexp(1.0, -20) / smallest;  // as the arm oracle test
-    with_field.step(1e-3, anchors, normals, targets, prims, &decided, threshold);
-    without.step(1e-3, anchors, normals, targets, prims, &decided, threshold);
+    const sinew::test::OracleInputs in = sinew::test::oracle_inputs(s, m, with_field.band_vertex.size());
+    ASSERT_TRUE(in.supported) << "a primitive the oracle does not model";
+    with_field.step(1e-3, in.anchors, in.normals, in.targets, in.prims, &in.decided, in.threshold);
+    without.step(1e-3, in.anchors, in.normals, in.targets, in.prims, &in.decided, in.threshold);
     for (size_t i = 0; i < with_field.n; ++i) {
       sinew::test::V3 d{}, e{};
       for (size_t c = 0; c < 3; ++c) {
