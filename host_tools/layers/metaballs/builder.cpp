@@ -270,8 +270,7 @@ bool apply_jiggle_gains(const Options& o, Build* b, std::string* error) {
 
 // A point `at` of the way along bone j: from its joint to its first child
 // (or, for a leaf, the joint itself).
-Vec3d along_bone(const rigc::RigSpec& spec, const Geometry& g, int j, double at) {
-  (void)spec;
+Vec3d along_bone(const Geometry& g, int j, double at) {
   const int c = g.child[static_cast<size_t>(j)];
   const Vec3d& a = g.joint_pos[static_cast<size_t>(j)];
   return c < 0 ? a : add(a, mul(sub(g.joint_pos[static_cast<size_t>(c)], a), at));
@@ -287,8 +286,7 @@ bool make_action_lines(const rigc::RigSpec& spec, const Geometry& g, const Optio
     if (jo < 0) return *error = named("action_lines", i, "origin", "no bone named '" + l.origin + "'"), false;
     if (ji < 0) return *error = named("action_lines", i, "insertion", "no bone named '" + l.insertion + "'"), false;
     const Vec3d side{l.side[0], l.side[1], l.side[2]};
-    const Vec3d po = add(along_bone(spec, g, jo, l.origin_at), side),
-                pi = add(along_bone(spec, g, ji, l.insertion_at), side);
+    const Vec3d po = add(along_bone(g, jo, l.origin_at), side), pi = add(along_bone(g, ji, l.insertion_at), side);
     mb::ActionLine rec{static_cast<uint16_t>(jo), static_cast<uint16_t>(ji), 0, to_len3(po, g.e), to_len3(pi, g.e)};
     if (!within_coords(rec.origin_rest) || !within_coords(rec.insertion_rest))
       return *error = named("action_lines", i, "side", "an end lies outside +-1024 rig units"), false;

@@ -29,7 +29,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -213,7 +212,6 @@ double area(const Triangles& tris, const Position& p) {
 // Flexes every finger's MCP and PIP, prints the three volume ratios and
 // asserts the paper's claim against DQS where LBS collapses.
 void compare(double mcp, double pip) {
-  const auto started = std::chrono::steady_clock::now();
   Hand dqs, lbs;
   std::string error;
   ASSERT_TRUE(dqs.build(true, &error)) << error;
@@ -246,11 +244,10 @@ void compare(double mcp, double pip) {
   // x edge lengths) are ~1e-9 of that.
   const double s_posed = std::max(area(tris, p_dqs), area(tris, p_mb));
   const double tol = (2.5 + 4.0) * std::sqrt(3.0) * dqs.lsb() * s_posed / v_rest;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::printf(
       "glTF hand, four fingers MCP %.0f / PIP %.0f deg: whole-skin volume / rest LBS %.6f DQS %.6f metaballs %.6f "
-      "(metaballs - DQS %+.3e, rounding tolerance %.2e; rest %.4g m^3, %zu triangles welded; %.3f s)\n",
-      mcp, pip, r_lbs, r_dqs, r_mb, r_mb - r_dqs, tol, v_rest, tris.size(), seconds);
+      "(metaballs - DQS %+.3e, rounding tolerance %.2e; rest %.4g m^3, %zu triangles welded)\n",
+      mcp, pip, r_lbs, r_dqs, r_mb, r_mb - r_dqs, tol, v_rest, tris.size());
 
   if (mcp == 0 && pip == 0) {
     // The rest pose: all three skins give the rest mesh's volume.
