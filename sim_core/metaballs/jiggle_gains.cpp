@@ -99,4 +99,28 @@ bool jiggle_gains_for_rate(JiggleGains built, uint32_t built_hz, uint32_t tick_h
   return gains_from_roots(theta_new, static_cast<int64_t>(sigma_new), out);
 }
 
+fx::Unit coupling_stiffness(int32_t frequency_q16, uint32_t tick_hz) {
+  if (frequency_q16 <= 0 || tick_hz == 0) return 0;
+  // omega h = 2 pi f / tick_hz: f / tick_hz turns as a binary angle (2^32 a
+  // turn), times 2 pi / 2^32 into Q2.30 (pi in Q2.30 is 3373259426).
+  const uint64_t turns = (static_cast<uint64_t>(frequency_q16) << 16) / tick_hz;
+  if (turns >= (uint64_t{1} << 32)) return 0;
+  const int64_t omega_h = static_cast<int64_t>((turns * 3373259426u + (uint64_t{1} << 30)) >> 31);
+  if (omega_h > fx::kUnitOne) return 0;
+  return static_cast<fx::Unit>(fx::round_shift(omega_h * omega_h, fx::kUnitFracBits));
+}
+
+bool coupling_for_rate(fx::Unit coupling, uint32_t built_hz, uint32_t tick_hz, fx::Unit* out) {
+  if (coupling <= 0 || coupling > fx::kUnitOne || built_hz == 0 || tick_hz == 0) return false;
+  if (tick_hz == built_hz) return *out = coupling, true;
+  // x (built_hz / tick_hz)^2 in two rounded steps; the first product is
+  // below 2^62. If the second would pass 2^64, x' > 2^64 / tick_hz >= 2^32.
+  uint64_t x = (static_cast<uint64_t>(coupling) * built_hz + tick_hz / 2) / tick_hz;
+  if (x > (UINT64_MAX - tick_hz) / built_hz) return false;
+  x = (x * built_hz + tick_hz / 2) / tick_hz;
+  if (x >= (uint64_t{2} << fx::kUnitFracBits) || x == 0) return false;
+  *out = static_cast<fx::Unit>(x);
+  return true;
+}
+
 }  // namespace sinew::metaballs

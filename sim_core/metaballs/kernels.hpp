@@ -15,6 +15,10 @@ void compute_balls(const MetaballModel& m, MetaballState* s);
 
 // pbd.cpp: stage 3.
 void solve_pbd(const MetaballModel& m, MetaballState* s);
+// Whether physical jiggle's coupling springs (jiggle_gains.hpp) are stable
+// with the swing at tick_hz (Gershgorin and Jury bounds; uses s->ball_pull
+// as scratch). True for a model without them.
+bool coupling_stable(const MetaballModel& m, MetaballState* s, uint32_t tick_hz);
 
 // deform.cpp: stage 4, eq. (4) over every vertex by the chosen kernel, then
 // the joint balls (eq. 5) blended by eq. (1). Every kernel writes the same

@@ -7,7 +7,11 @@
 // appends two: action_lines (ActionLine) and action_balls (ActionBall).
 // Writers emit version 1 whenever the model has no action line, so rigs
 // without them keep their bytes; a loader that knows only version 1 refuses
-// a version 2 section (kBadVersion).
+// a version 2 section (kBadVersion). Layer version 3 has version 2's arrays
+// and meanings a version 2 reader would take wrongly: a model with
+// jiggle_rate_hz > 0 carries stretch pairs whose stiffness is the coupling
+// (omega_c / rate)^2 of metaballs::coupling_gains. Writers emit it only for
+// such a model.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +36,7 @@ static_assert(sizeof(ActionLine) == 32 && sizeof(ActionBall) == 16);
 inline constexpr uint32_t kMetaballsArrays = 25;
 inline constexpr uint32_t kMetaballsSectionVersion2 = 2;
 inline constexpr uint32_t kMetaballsArraysV2 = 27;
+inline constexpr uint32_t kMetaballsSectionVersion3 = 3;
 
 inline constexpr layer::SectionArray kMetaballsSectionArrays[kMetaballsArraysV2] = {
     {"inverse_bind", sizeof(fx::Mat34), kMaxJoints},
@@ -66,6 +71,7 @@ inline constexpr layer::SectionArray kMetaballsSectionArrays[kMetaballsArraysV2]
 inline constexpr layer::SectionVersion kMetaballsSectionVersions[] = {
     {layer::kLayerSectionVersion, sizeof(MetaballsSectionParams), kMetaballsArrays},
     {kMetaballsSectionVersion2, sizeof(MetaballsSectionParams), kMetaballsArraysV2},
+    {kMetaballsSectionVersion3, sizeof(MetaballsSectionParams), kMetaballsArraysV2},
 };
 inline constexpr layer::SectionDescriptor kMetaballsSection = {kSectionMetaballs, "MBAL", kMetaballsSectionArrays,
                                                                kMetaballsSectionVersions, 1};

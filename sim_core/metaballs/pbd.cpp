@@ -1,10 +1,17 @@
 // Stage 3: position-based dynamics on the normal balls.
+#include "jiggle_gains.hpp"
 #include "kernels.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
+#include "sim_core/fixed/wide.hpp"
 
 namespace sinew::metaballs::detail {
 namespace {
+
+// The swing and the coupling springs' pull are carried this many bits below
+// the Len step (MetaballState::swing_fraction, swing_previous, ball_pull).
+constexpr int kSwingFracBits = 24;
+constexpr int64_t kSwingOne = int64_t{1} << kSwingFracBits;
 
 // Projects one stretch constraint, eq. (3): C = |c_a - c_b| - d, moving each
 // ball along the pair's direction by its share of stiffness * C.
@@ -61,6 +68,13 @@ void project_action(const ActionBall& a, fx::Vec3 point, std::span<fx::Vec3> c) 
 // tick: the free swing is exact, and with g = r = sqrt((1 - k) d) a sudden
 // change of the bone's velocity starts the swing of the continuous impulse
 // response to within theta / sin(theta) (second order in dt).
+//
+// The swing is carried kSwingFracBits below the Len step (swing_fine,
+// swing_previous) and rounded once into the centre: at 1 kHz the spring's
+// k e and the damping's (1 - d)(e_n - e_{n-1}) are below 1/2 LSB for swings
+// under a millimetre, and rounded every tick they would stall the swing
+// there. A centre moved after the swing (action lines, per-step pairs)
+// moves the carried swing by the same whole steps.
 void swing_relative(MetaballState* s, uint32_t b) {
   const fx::Vec3 target = s->ball_target[b];
   // The gains at the state's tick rate (set_tick_rate; the model's at its own).
@@ -68,26 +82,111 @@ void swing_relative(MetaballState* s, uint32_t b) {
   const fx::Unit kept = fx::kUnitOne - s->jiggle_stiffness[b];
   const fx::Unit drive = static_cast<fx::Unit>(fx::isqrt_u64(static_cast<uint64_t>(int64_t{kept} * damping)));
   const fx::Vec3 e = fx::sub(s->ball_center[b], s->ball_last_target[b]);
-  const fx::Vec3 e_previous = s->ball_previous[b];
   const fx::Vec3 step = fx::sub(target, s->ball_last_target[b]);
   const fx::Vec3 accel = fx::sub(step, s->ball_last_step[b]);
-  const fx::Vec3 free = fx::scale(fx::add(e, fx::scale(fx::sub(e, e_previous), damping)), kept);
-  s->ball_previous[b] = e;
-  s->ball_center[b] = fx::add(target, fx::sub(free, fx::scale(accel, drive)));
+  const int32_t e3[3] = {e.x, e.y, e.z}, accel3[3] = {accel.x, accel.y, accel.z};
+  const int32_t target3[3] = {target.x, target.y, target.z};
+  int32_t centre[3];
+  for (size_t i = 0; i < 3; ++i) {
+    const size_t k = 3 * size_t{b} + i;
+    // e_n: the centre's whole steps and the carried fraction; |e| < 2^32.
+    const int64_t en = fx::add_sat_i64(int64_t{e3[i]} * kSwingOne, s->swing_fraction[k]);
+    const int64_t en_1 = s->swing_previous[k];
+    const int64_t inner = fx::add_sat_i64(en, fx::mul_shift_round(en - en_1, damping, fx::kUnitFracBits));
+    const int64_t free = fx::mul_shift_round(inner, kept, fx::kUnitFracBits);
+    // The coupling springs' pull enters as the bone's acceleration does.
+    const int64_t pull = s->ball_pull.empty() ? 0 : s->ball_pull[k];
+    const int64_t forced = fx::add_sat_i64(int64_t{accel3[i]} * kSwingOne, -pull);
+    const int64_t next = fx::add_sat_i64(free, -fx::mul_shift_round(forced, drive, fx::kUnitFracBits));
+    const int64_t whole = fx::round_shift(next, kSwingFracBits);
+    centre[i] = fx::sat_i32(int64_t{target3[i]} + whole);
+    s->swing_fraction[k] = next - whole * kSwingOne;  // in [-2^23, 2^23)
+    s->swing_previous[k] = en;
+  }
+  s->ball_center[b] = {centre[0], centre[1], centre[2]};
   s->ball_last_target[b] = target;
   s->ball_last_step[b] = step;
 }
 
+// The pull h^2 F of the coupling springs (jiggle_gains.hpp) on each jiggle
+// ball, from the centres at the start of the tick: F = -omega_c^2 C grad C
+// with eq. (3)'s C = |c_a - c_b| - d, so each unit-mass jiggle ball of a
+// pair takes x C along the pair (a kinematic ball does not move).
+void coupling_pull(const MetaballModel& m, MetaballState* s) {
+  for (int64_t& p : s->ball_pull) p = 0;
+  for (size_t k = 0; k < m.pairs.size(); ++k) {
+    const BallPair& p = m.pairs[k];
+    const fx::Vec3 diff = fx::sub(s->ball_center[p.a], s->ball_center[p.b]);
+    const uint64_t n2 = static_cast<uint64_t>(int64_t{diff.x} * diff.x) +
+                        static_cast<uint64_t>(int64_t{diff.y} * diff.y) +
+                        static_cast<uint64_t>(int64_t{diff.z} * diff.z);
+    if (n2 == 0) {  // coincident balls: no direction to pull along
+      ++s->stats.skipped_pairs;
+      continue;
+    }
+    fx::Vec3 dir;
+    fx::normalize_fast(diff, &dir);
+    // x C kSwingFracBits below the Len step: |C| < 2^33, x < 2^31, so
+    // |x C| < 2^(34 + kSwingFracBits) = 2^58 and each component and each
+    // ball's sum (at most kMaxPairs terms, saturated) fit in int64.
+    const int64_t c = int64_t{fx::isqrt_fast(n2)} - p.rest;
+    const int64_t pull = fx::mul_shift_round(c, s->pair_coupling[k], fx::kUnitFracBits - kSwingFracBits);
+    const int32_t d[3] = {dir.x, dir.y, dir.z};
+    for (size_t i = 0; i < 3; ++i) {
+      const int64_t f = fx::mul_shift_round(pull, d[i], fx::kUnitFracBits);
+      if (m.ball_jiggle[p.a] != 0)
+        s->ball_pull[3 * size_t{p.a} + i] = fx::add_sat_i64(s->ball_pull[3 * size_t{p.a} + i], -f);
+      if (m.ball_jiggle[p.b] != 0)
+        s->ball_pull[3 * size_t{p.b} + i] = fx::add_sat_i64(s->ball_pull[3 * size_t{p.b} + i], f);
+    }
+  }
+}
+
 }  // namespace
+
+bool coupling_stable(const MetaballModel& m, MetaballState* s, uint32_t tick_hz) {
+  if (m.jiggle_rate_hz == 0 || m.pairs.empty()) return true;
+  // Gershgorin: the coupling matrix's largest eigenvalue is at most the
+  // largest row sum, sum over a ball's pairs of 2 x (ball_pull.x is the
+  // scratch). The recurrence e' = (1 - k)((1 + d) e - d e_) - r lambda e is
+  // stable (Jury) while r lambda < (1 - k)(1 + d) + 1 + (1 - k) d.
+  for (int64_t& p : s->ball_pull) p = 0;
+  for (size_t k = 0; k < m.pairs.size(); ++k) {
+    fx::Unit x = 0;
+    if (!coupling_for_rate(m.pairs[k].stiffness, m.jiggle_rate_hz, tick_hz, &x)) return false;
+    for (const uint16_t b : {m.pairs[k].a, m.pairs[k].b})
+      if (m.ball_jiggle[b] != 0) s->ball_pull[3 * size_t{b}] += 2 * int64_t{x};  // < kMaxPairs 2^32
+  }
+  for (uint32_t b = 0; b < m.ball_count(); ++b) {
+    if (m.ball_jiggle[b] == 0) continue;
+    JiggleGains g;
+    if (!jiggle_gains_for_rate({m.ball_jiggle[b], m.jiggle_damping}, m.jiggle_rate_hz, tick_hz, &g)) return false;
+    const int64_t kept = fx::kUnitOne - g.stiffness;
+    const int64_t r = fx::isqrt_u64(static_cast<uint64_t>(kept * g.damping));
+    const int64_t limit =
+        fx::round_shift(kept * (fx::kUnitOne + 2 * int64_t{g.damping}), fx::kUnitFracBits) + fx::kUnitOne;
+    if (fx::mul_shift_round(r, s->ball_pull[3 * size_t{b}], fx::kUnitFracBits) >= limit) return false;
+  }
+  return true;
+}
 
 void solve_pbd(const MetaballModel& m, MetaballState* s) {
   const uint32_t nb = m.ball_count();
   const bool relative = m.jiggle_rate_hz != 0;
+  // Physical jiggle's pairs are springs in the swing (coupling_pull), not
+  // projections; with jiggle off the jiggle balls follow their centres alone.
+  const bool coupled = !s->pair_coupling.empty();
+  if (coupled) {
+    s->stats.skipped_pairs = 0;
+    if (s->primed && s->features.pbd && s->features.jiggle) coupling_pull(m, s);
+  }
   for (uint32_t b = 0; b < nb; ++b) {
     const fx::Vec3 target = s->ball_target[b];
     const fx::Unit k = m.ball_jiggle[b];
     if (k == 0 || !s->primed || !s->features.pbd || !s->features.jiggle) {
       s->ball_previous[b] = relative ? fx::Vec3{0, 0, 0} : target;
+      if (relative)
+        for (size_t i = 0; i < 3; ++i) s->swing_fraction[3 * size_t{b} + i] = s->swing_previous[3 * size_t{b} + i] = 0;
       s->ball_center[b] = target;
       s->ball_last_target[b] = target;
       s->ball_last_step[b] = {0, 0, 0};
@@ -107,13 +206,14 @@ void solve_pbd(const MetaballModel& m, MetaballState* s) {
     s->ball_center[b] = fx::add(predicted, fx::scale(fx::sub(target, predicted), k));
   }
   s->primed = true;
-  s->stats.skipped_pairs = 0;
+  if (!coupled) s->stats.skipped_pairs = 0;
   if (!s->features.pbd) return;
   const bool actions = s->features.action_lines && !m.action_balls.empty();
   if (actions)
     for (size_t k = 0; k < m.action_balls.size(); ++k) s->action_point[k] = action_line_point(m, *s, m.action_balls[k]);
+  const std::span<const BallPair> projected = coupled ? std::span<const BallPair>{} : m.pairs;
   for (uint32_t it = 0; it < m.pbd_iterations; ++it) {
-    for (const BallPair& p : m.pairs) s->stats.skipped_pairs += project(p, s->ball_center) ? 0u : 1u;
+    for (const BallPair& p : projected) s->stats.skipped_pairs += project(p, s->ball_center) ? 0u : 1u;
     if (actions)
       for (size_t k = 0; k < m.action_balls.size(); ++k)
         project_action(m.action_balls[k], s->action_point[k], s->ball_center);

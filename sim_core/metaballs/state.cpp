@@ -1,6 +1,7 @@
 #include "state.hpp"
 
 #include "jiggle_gains.hpp"
+#include "kernels.hpp"
 #include "sim_core/fixed/arena.hpp"
 #include "sim_core/rig/message.hpp"
 #include "validate.hpp"
@@ -23,6 +24,10 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   const size_t jiggle = m.jiggle_rate_hz != 0 ? nb : 0;
   s->jiggle_stiffness = c.take<fx::Unit>(jiggle);
   s->jiggle_damping = c.take<fx::Unit>(jiggle);
+  s->pair_coupling = c.take<fx::Unit>(m.jiggle_rate_hz != 0 ? m.pairs.size() : 0);
+  s->ball_pull = c.take<int64_t>(3 * jiggle);
+  s->swing_fraction = c.take<int64_t>(3 * jiggle);
+  s->swing_previous = c.take<int64_t>(3 * jiggle);
   s->action_point = c.take<fx::Vec3>(m.action_balls.size());
   s->ball_rotation = c.take<fx::Rot3>(nb);
   s->ball_quat = c.take<fx::Quat>(nb);
@@ -61,11 +66,18 @@ LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t byte
     st.ball_scale[b] = fx::kUnitOne;
     st.ball_quat[b] = fx::quat_identity();
   }
+  for (size_t i = 0; i < st.swing_fraction.size(); ++i) st.swing_fraction[i] = st.swing_previous[i] = 0;
   for (size_t b = 0; b < st.jiggle_stiffness.size(); ++b) {
     st.jiggle_stiffness[b] = model.ball_jiggle[b];
     st.jiggle_damping[b] = model.jiggle_damping;
   }
+  for (size_t p = 0; p < st.pair_coupling.size(); ++p) st.pair_coupling[p] = model.pairs[p].stiffness;
   st.tick_hz = model.jiggle_rate_hz;
+  if (!detail::coupling_stable(model, &st, model.jiggle_rate_hz)) {
+    s.error = LayerError::kBadValue;
+    rig::MessageBuilder(s.message, sizeof(s.message)).text("pairs: coupling springs unstable at the model's rate");
+    return s;
+  }
   *out = st;
   return s;
 }
@@ -91,10 +103,10 @@ LayerStatus set_tick_rate(MetaballState* s, uint32_t tick_hz) {
     return st;
   };
   if (tick_hz == 0) return refuse("no rate");
-  s->primed = false;
-  if (m.jiggle_rate_hz == 0) return st;
-  // Convert every ball first, then commit: a refusal leaves the state as it was.
-  for (uint32_t pass = 0; pass < 2; ++pass)
+  if (m.jiggle_rate_hz == 0) return s->primed = false, st;
+  // Convert every ball and pair first, then commit: a refusal leaves the
+  // state as it was.
+  for (uint32_t pass = 0; pass < 2; ++pass) {
     for (size_t b = 0; b < s->jiggle_stiffness.size(); ++b) {
       if (m.ball_jiggle[b] == 0) continue;
       JiggleGains g;
@@ -102,7 +114,16 @@ LayerStatus set_tick_rate(MetaballState* s, uint32_t tick_hz) {
         return refuse("cannot carry the jiggle swing");
       if (pass == 1) s->jiggle_stiffness[b] = g.stiffness, s->jiggle_damping[b] = g.damping;
     }
+    for (size_t p = 0; p < s->pair_coupling.size(); ++p) {
+      fx::Unit x = 0;
+      if (!coupling_for_rate(m.pairs[p].stiffness, m.jiggle_rate_hz, tick_hz, &x))
+        return refuse("cannot carry the coupling springs");
+      if (pass == 1) s->pair_coupling[p] = x;
+    }
+    if (pass == 0 && !detail::coupling_stable(m, s, tick_hz)) return refuse("coupling springs unstable at this rate");
+  }
   s->tick_hz = tick_hz;
+  s->primed = false;
   return st;
 }
 

@@ -44,15 +44,25 @@ struct MetaballState {
   std::span<fx::Vec3> ball_previous;  // jiggle balls: centre one step earlier
   std::span<fx::Vec3> ball_target;    // kinematic centre of eq. (2), Len
   // Jiggle balls of a model with jiggle_rate_hz > 0: the kinematic centre one
-  // step earlier and its last step (ball_previous then holds the swing
-  // c - c_target one step earlier).
+  // step earlier and its last step.
   std::span<fx::Vec3> ball_last_target;
   std::span<fx::Vec3> ball_last_step;
+  // ... and the swing carried below the Len step ([ball * 3 + axis], Len
+  // with 24 more fraction bits): the fraction the centre did not take, and
+  // the whole swing one step earlier.
+  std::span<int64_t> swing_fraction;
+  std::span<int64_t> swing_previous;
   // Per ball of a model with jiggle_rate_hz > 0 (empty otherwise): its
   // jiggle gains k and d at the rate the state runs at (tick_hz; init: the
   // model's gains and rate, set_tick_rate converts them).
   std::span<fx::Unit> jiggle_stiffness;
   std::span<fx::Unit> jiggle_damping;
+  // Per stretch pair of a model with jiggle_rate_hz > 0 (empty otherwise):
+  // its coupling x = (omega_c h)^2 at the state's rate (jiggle_gains.hpp,
+  // coupling_for_rate); per ball, the springs' pull h^2 F of this tick
+  // ([ball * 3 + axis], Len with 24 more fraction bits).
+  std::span<fx::Unit> pair_coupling;
+  std::span<int64_t> ball_pull;
   uint32_t tick_hz = 0;
   // Per action ball: its point of the line this step (the line is kinematic).
   std::span<fx::Vec3> action_point;
@@ -76,7 +86,8 @@ LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t byte
 
 // Runs a model with physical jiggle (jiggle_rate_hz > 0) at tick_hz: every
 // jiggle ball's gains are converted from the model's rate
-// (jiggle_gains_for_rate), so the swing keeps its frequency and window.
+// (jiggle_gains_for_rate), so the swing keeps its frequency and window, and
+// every stretch pair's coupling (coupling_gains), so the springs keep theirs.
 // A model without physical jiggle, or tick_hz equal to the model's rate,
 // keeps the model's gains. kBadValue (state unchanged) if tick_hz is 0 or
 // cannot carry the swing. Also forgets the jiggle history.

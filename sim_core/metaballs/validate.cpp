@@ -94,6 +94,11 @@ void check_balls(const MetaballModel& m, Checker& c) {
     if (int64_t{q.share_a} + q.share_b != kOne)
       c.fail(LayerError::kBadValue, "pairs.share_b", static_cast<int64_t>(p), "shares do not sum to 2^30");
     c.range("pairs.stiffness", p, q.stiffness, 0, kOne);
+    if (m.jiggle_rate_hz == 0 || c.failed()) continue;
+    // A coupled pair (jiggle_gains.hpp): a spring that pulls its jiggle balls.
+    if (q.stiffness == 0) c.fail(LayerError::kBadValue, "pairs.stiffness", static_cast<int64_t>(p), "no coupling");
+    if (m.ball_jiggle[q.a] == 0 && m.ball_jiggle[q.b] == 0)
+      c.fail(LayerError::kBadValue, "pairs.a", static_cast<int64_t>(p), "a coupled pair without a jiggle ball");
   }
   if (!c.limit("action_lines", m.action_lines.size(), kMaxActionLines)) return;
   for (size_t i = 0; i < m.action_lines.size() && !c.failed(); ++i) {

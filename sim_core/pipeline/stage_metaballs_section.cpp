@@ -46,10 +46,15 @@ LoadStatus load_section(const SectionView& v, const rig::Rig& rig, metaballs::Me
   m.overlaps = named<metaballs::OverlapRecord, mb_array("overlaps")>(v);
   m.overlap_vertices = named<uint32_t, mb_array("overlap_vertices")>(v);
   m.overlap_balls = named<uint16_t, mb_array("overlap_balls")>(v);
-  if (v.header.layer_version == metaballs::kMetaballsSectionVersion2) {  // action lines
+  if (v.header.layer_version >= metaballs::kMetaballsSectionVersion2) {  // action lines
     m.action_lines = named<metaballs::ActionLine, mb_array("action_lines")>(v);
     m.action_balls = named<metaballs::ActionBall, mb_array("action_balls")>(v);
   }
+  // Before version 3 no writer paired jiggle balls under physical jiggle; a
+  // section that does would have its per-step stiffness read as a coupling.
+  if (v.header.layer_version < metaballs::kMetaballsSectionVersion3 && m.jiggle_rate_hz != 0 && !m.pairs.empty())
+    return section_layer_fail(LoadError::kBadValue, v,
+                              "pairs: stretch pairs with physical jiggle need layer version 3");
   const metaballs::LayerStatus st = metaballs::metaballs_validate(m, rig);
   if (!st.ok()) return section_layer_fail(LoadError::kBadValue, v, st.message);
   return {};

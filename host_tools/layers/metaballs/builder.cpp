@@ -321,6 +321,8 @@ bool make_action_lines(const rigc::RigSpec& spec, const Geometry& g, const Optio
 
 void make_pairs(const Options& o, const std::vector<double>& radius, const Geometry& g, Build* b) {
   const size_t n = b->ball_rest.size();
+  const fx::Unit coupling =
+      o.jiggle_coupling > 0 ? mb::coupling_stiffness(rigc::to_fixed(o.jiggle_coupling, 16), o.rate_hz) : 0;
   // Eq. (3) keeps a pair at its rest distance, which the skeleton's motion
   // keeps only for balls of one bone or of two bones sharing a joint; balls
   // of unrelated bones (two fingers side by side) would drag each other.
@@ -345,13 +347,17 @@ void make_pairs(const Options& o, const std::vector<double>& radius, const Geome
       // (2) brings closer near a bent joint outward along the bones, and the
       // tube telescopes (2.7 points of the elbow's volume at 90 degrees).
       if (!ji && !jk) continue;
-      if (o.jiggle_frequency > 0) continue;  // the rate-free spring carries the region
+      // Physical jiggle: springs of jiggle_coupling Hz per unit mass, solved
+      // by XPBD (metaballs::coupling_gains); the stiffness field carries
+      // (omega_c / rate_hz)^2.
+      const bool physical = o.jiggle_frequency > 0;
+      if (physical && coupling == 0) continue;
       mb::BallPair p{static_cast<uint16_t>(i),
                      static_cast<uint16_t>(k),
                      static_cast<fx::Len>(rest),
                      1 << 29,
                      1 << 29,
-                     rigc::to_fixed(ji || jk ? o.jiggle_stretch_stiffness : o.stretch_stiffness, 30)};
+                     physical ? coupling : rigc::to_fixed(o.jiggle_stretch_stiffness, 30)};
       if (ji != jk) {  // the kinematic ball anchors the jiggle region
         p.share_a = ji ? fx::kUnitOne : 0;
         p.share_b = ji ? 0 : fx::kUnitOne;

@@ -10,11 +10,14 @@ LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
   const ::sinew::metaballs::MetaballsSectionParams p{m.joint_count,    m.vertex_count,     m.pbd_iterations,
                                                      m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
   // Version 1 without action lines (the bytes of rigs without them do not
-  // change); version 2 appends them.
-  const bool v2 = !m.action_lines.empty();
-  SectionBuilder b = section_builder(
-      metaballs::kMetaballsSection, v2 ? ::sinew::metaballs::kMetaballsSectionVersion2 : pipeline::kLayerSectionVersion,
-      m.jiggle_rate_hz, p);
+  // change); version 2 appends them; version 3 when physical jiggle has
+  // coupled pairs (the arrays of version 2).
+  const bool v3 = m.jiggle_rate_hz != 0 && !m.pairs.empty();
+  const bool v2 = v3 || !m.action_lines.empty();
+  const uint32_t version = v3   ? ::sinew::metaballs::kMetaballsSectionVersion3
+                           : v2 ? ::sinew::metaballs::kMetaballsSectionVersion2
+                                : pipeline::kLayerSectionVersion;
+  SectionBuilder b = section_builder(metaballs::kMetaballsSection, version, m.jiggle_rate_hz, p);
   b.array("inverse_bind", m.inverse_bind)
       .array("ball_rest", m.ball_rest)
       .array("ball_radius", m.ball_radius)

@@ -36,6 +36,8 @@ std::string check_options(const Options& o) {
   if (!in(o.jiggle_frequency, 0, 1000)) return "jiggle_frequency: must be in [0, 1000] Hz";
   if (o.jiggle_frequency > 0 && !in(o.jiggle_window, 0.001, 1000)) return "jiggle_window: must be in [0.001, 1000] s";
   if (o.rate_hz == 0) return "rate_hz: must be > 0";
+  if (o.jiggle_frequency > 0 && !in(o.jiggle_coupling, 0, static_cast<double>(o.rate_hz) / (2 * 3.14159265358979)))
+    return "jiggle_coupling: must be in [0, rate_hz / (2 pi)] Hz";
   for (size_t i = 0; i < o.jiggle.size(); ++i) {
     const JiggleRegion& r = o.jiggle[i];
     if (std::string p = region_problem("jiggle", i, r.bone, r.from, r.to); !p.empty()) return p;

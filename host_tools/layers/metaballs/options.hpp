@@ -65,14 +65,19 @@ struct Options {
   // jiggle ball swings at jiggle_frequency (Hz) and its swing falls to 5 %
   // within the time window jiggle_window (W_t, seconds) at any tick rate;
   // the per-step stiffness and damping are computed for rate_hz, and the
-  // regions' `stiffness`, jiggle_damping and the stretch pairs of jiggle
-  // balls (whose per-step projection would tie the swing to the rate) are
-  // not used. The paper names no values: 4 Hz within 0.4 s is an
+  // regions' `stiffness`, jiggle_damping and jiggle_stretch_stiffness are
+  // not used (jiggle_coupling sets the springs instead). The paper names no values: 4 Hz within 0.4 s is an
   // underdamped swing (damping ratio sigma / omega0 = 0.29, 1.6 periods in
   // W_t) that a stop of u m/s starts at u / (2 pi f), 2 cm at 0.5 m/s. A
   // model without jiggle regions is the same either way.
   double jiggle_frequency = 4;
   double jiggle_window = 0.4;
+  // With physical jiggle, the paper's springs (eq. (3)) between a jiggle ball
+  // and its neighbouring balls are springs of this frequency (Hz) per unit
+  // mass, solved as XPBD constraints so they too act alike at any rate
+  // (metaballs::coupling_gains); 0 leaves the jiggle balls uncoupled. At
+  // most rate_hz / (2 pi). The default is the swing's own frequency.
+  double jiggle_coupling = 4;
   uint32_t rate_hz = 1000;
   std::vector<JiggleRegion> jiggle;
   std::vector<BulgeRegion> bulge;

@@ -19,8 +19,8 @@ bool read_metaballs(const std::string& path, const toml::table& e, layers::Metab
   const std::string n = "[metaballs]";
   if (!known_keys(path, e, n,
                   {"ball_spacing", "pbd_iterations", "stretch_stiffness", "jiggle_damping", "jiggle_stretch_stiffness",
-                   "jiggle_frequency", "jiggle_window", "overlap_reach", "smoothing_passes", "smoothing_rate",
-                   "joint_inner", "joint_outer", "jiggle", "bulge", "action_line"},
+                   "jiggle_frequency", "jiggle_window", "jiggle_coupling", "overlap_reach", "smoothing_passes",
+                   "smoothing_rate", "joint_inner", "joint_outer", "jiggle", "bulge", "action_line"},
                   error) ||
       !read_number(path, e, n, "ball_spacing", &out->ball_spacing, error) ||
       !read_int(path, e, n, "pbd_iterations", 0, 16, &o.pbd_iterations, error) ||
@@ -29,6 +29,7 @@ bool read_metaballs(const std::string& path, const toml::table& e, layers::Metab
       !read_number(path, e, n, "jiggle_stretch_stiffness", &o.jiggle_stretch_stiffness, error) ||
       !read_number(path, e, n, "jiggle_frequency", &o.jiggle_frequency, error) ||
       !read_number(path, e, n, "jiggle_window", &o.jiggle_window, error) ||
+      !read_number(path, e, n, "jiggle_coupling", &o.jiggle_coupling, error) ||
       !read_number(path, e, n, "overlap_reach", &o.overlap_reach, error) ||
       !read_int(path, e, n, "smoothing_passes", 0, 8, &o.smoothing_passes, error) ||
       !read_number(path, e, n, "smoothing_rate", &o.smoothing_rate, error) ||

@@ -27,11 +27,14 @@ constexpr double kSpeed = 0.5;      // m/s, sideways (+y)
 constexpr double kMoveTime = 4 * kWindow;
 constexpr double kWatchTime = 3 * kWindow;
 
-mbb::Options jiggle_window_options(uint32_t rate_hz) {
+// coupling: the springs between the region's balls and their neighbours
+// (Hz, the builder's default; 0: each ball swings alone, the closed form).
+mbb::Options jiggle_window_options(uint32_t rate_hz, double coupling) {
   mbb::Options o = sinew::test::arm_options();
   o.jiggle.push_back({"shoulder", 0.3, 0.7, 0.2});
   o.jiggle_frequency = kFrequency;
   o.jiggle_window = kWindow;
+  o.jiggle_coupling = coupling;
   o.rate_hz = rate_hz;
   return o;
 }
@@ -47,9 +50,10 @@ struct Swing {
 // Carries the arm at kSpeed for kMoveTime, stops it, records e_y of one
 // jiggle ball for kWatchTime. The model is built for built_hz (0: rate_hz)
 // and its gains converted to rate_hz at run time (set_tick_rate).
-Swing run_swing(uint32_t rate_hz, bool jiggle_on, uint32_t built_hz = 0) {
+Swing run_swing(uint32_t rate_hz, bool jiggle_on, uint32_t built_hz = 0,
+                double coupling = mbb::Options{}.jiggle_coupling) {
   Swing out;
-  ArmScene s(rigc::SkinChoice::kDualQuaternion, jiggle_window_options(built_hz != 0 ? built_hz : rate_hz));
+  ArmScene s(rigc::SkinChoice::kDualQuaternion, jiggle_window_options(built_hz != 0 ? built_hz : rate_hz, coupling));
   EXPECT_TRUE(s.ok()) << s.error();
   if (!s.ok()) return out;
   EXPECT_TRUE(sinew::metaballs::set_tick_rate(&s.state(), rate_hz).ok());
@@ -87,8 +91,9 @@ double omega() { return 2 * kPi * kFrequency; }
 // quarter period in: (u / omega) exp(-sigma pi / (2 omega)).
 double least_first_swing() { return kSpeed / omega() * std::exp(-sigma() * kPi / (2 * omega())); }
 
+// Each ball alone (no coupling springs): its swing is the closed form.
 TEST(MetaballsJiggleWindow, SwingFallsBelowTheCriterionWithinTheWindow) {
-  const Swing s = run_swing(1000, true);
+  const Swing s = run_swing(1000, true, 0, 0.0);
   ASSERT_GT(s.after.size(), 10u);
   // Extrema of |e| after the stop; a damped sinusoid's extrema all lie on
   // A exp(-sigma t), so those W_t after the first are <= 5 % of it.

@@ -5,6 +5,7 @@
 // that rate.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -215,9 +216,17 @@ uint32_t metaballs_section_version(const std::vector<uint8_t>& bytes) {
   return lh.layer_version;
 }
 
+// kSpec without the coupling springs of its jiggle region.
+std::string uncoupled_spec() {
+  std::string text = kSpec;
+  const std::string key = "jiggle_window = 0.5\n";
+  text.insert(text.find(key) + key.size(), "jiggle_coupling = 0\n");
+  return text;
+}
+
 TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
   const std::string text =
-      std::string(kSpec) +
+      uncoupled_spec() +
       "\n[[metaballs.action_line]]\norigin = \"shoulder\"\ninsertion = \"elbow\"\nside = [0, 0.03, 0]\n";
   std::vector<uint8_t> bytes, plain;
   sinew::layers::LayerSpecs layers, plain_layers;
@@ -227,7 +236,7 @@ TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
   EXPECT_EQ(layers.metaballs.options.action_lines[0].side[1], 0.03);
   // Without action lines the section stays version 1 (the bytes of existing
   // rigs); with them it is version 2.
-  ASSERT_TRUE(compile("sinew_metaballs_plain.toml", kSpec, &plain, &plain_layers, &error)) << error;
+  ASSERT_TRUE(compile("sinew_metaballs_plain.toml", uncoupled_spec(), &plain, &plain_layers, &error)) << error;
   EXPECT_EQ(metaballs_section_version(plain), 1u);
   EXPECT_EQ(metaballs_section_version(bytes), sinew::metaballs::kMetaballsSectionVersion2);
 
@@ -248,6 +257,52 @@ TEST(MetaballsSpecKeys, ActionLinesGoIntoTheRigFormatAsLayerVersion2) {
   std::printf("action lines in the rig format: %zu line, %zu action balls, MBAL version %u (%u without lines)\n",
               m.action_lines.size(), m.action_balls.size(), metaballs_section_version(bytes),
               metaballs_section_version(plain));
+}
+
+// Physical jiggle couples its balls to their neighbours by springs of
+// jiggle_coupling Hz (default: the builder's), which only layer version 3
+// carries: a version 2 reader would take their stiffness per step.
+TEST(MetaballsSpecKeys, CoupledJiggleGoesIntoTheRigFormatAsLayerVersion3) {
+  std::string coupled = kSpec;
+  const std::string key = "jiggle_window = 0.5\n";
+  coupled.insert(coupled.find(key) + key.size(), "jiggle_coupling = 2.5\n");
+  std::vector<uint8_t> bytes;
+  sinew::layers::LayerSpecs layers;
+  std::string error;
+  ASSERT_TRUE(compile("sinew_metaballs_coupled.toml", coupled, &bytes, &layers, &error)) << error;
+  EXPECT_EQ(layers.metaballs.options.jiggle_coupling, 2.5);
+  EXPECT_EQ(metaballs_section_version(bytes), sinew::metaballs::kMetaballsSectionVersion3);
+  LoadedLayers loaded;
+  loaded.bytes = bytes;
+  ASSERT_TRUE(loaded.load(&error)) << error;
+  const auto& m = loaded.layers.metaballs.model;
+  ASSERT_FALSE(m.pairs.empty());
+  // x = (2 pi 2.5 / 500)^2 for every pair, each with a jiggle ball.
+  const sinew::fx::Unit x = sinew::metaballs::coupling_stiffness(static_cast<int32_t>(2.5 * 65536), 500);
+  EXPECT_NEAR(std::ldexp(x, -30), std::pow(2 * 3.141592653589793 * 2.5 / 500, 2), 1e-8);
+  for (const auto& p : m.pairs) {
+    EXPECT_EQ(p.stiffness, x);
+    EXPECT_TRUE(m.ball_jiggle[p.a] != 0 || m.ball_jiggle[p.b] != 0);
+  }
+  // The same section stamped version 2 would have its couplings read as
+  // per-step gains by an older reader's rules: refused naming the pairs.
+  std::vector<uint8_t> relabelled = bytes;
+  const size_t at = sinew::test::section_offset(relabelled, sinew::metaballs::kSectionMetaballs);
+  ASSERT_NE(at, 0u);
+  sinew::pipeline::LayerSectionHeader lh;
+  std::memcpy(&lh, relabelled.data() + at, sizeof(lh));
+  lh.layer_version = sinew::metaballs::kMetaballsSectionVersion2;
+  std::memcpy(relabelled.data() + at, &lh, sizeof(lh));
+  sinew::test::fix_crc(&relabelled);
+  LoadedLayers old_reader;
+  old_reader.bytes = relabelled;
+  EXPECT_FALSE(old_reader.load(&error));
+  EXPECT_NE(error.find("layer version 3"), std::string::npos) << error;
+  // Too stiff for the rate: refused naming the key.
+  std::string stiff = kSpec;
+  stiff.insert(stiff.find(key) + key.size(), "jiggle_coupling = 90\n");
+  EXPECT_FALSE(compile("sinew_metaballs_stiff.toml", stiff, &bytes, &layers, &error));
+  EXPECT_NE(error.find("jiggle_coupling"), std::string::npos) << error;
 }
 
 }  // namespace
