@@ -10,8 +10,9 @@
 // a version 2 section (kBadVersion). Layer version 3 has version 2's arrays
 // and meanings a version 2 reader would take wrongly: a model with
 // jiggle_rate_hz > 0 carries stretch pairs whose stiffness is the coupling
-// (omega_c / rate)^2 of metaballs::coupling_gains. Writers emit it only for
-// such a model.
+// (omega_c / rate)^2 of metaballs::coupling_stiffness, and overlap records
+// may join two bones that share no joint (OverlapRecord, joint ==
+// kNoJoint). Writers emit it only for such a model.
 #pragma once
 
 #include <cstdint>
@@ -61,9 +62,9 @@ inline constexpr layer::SectionArray kMetaballsSectionArrays[kMetaballsArraysV2]
     {"jv_neighbour_begin", 4, kMaxVertices + 1},
     {"jv_neighbours", 4, kMaxVertices* kMaxNeighbours},
     {"jv_inv_count", 4, kMaxVertices},
-    {"overlaps", sizeof(OverlapRecord), kMaxJointBalls},
+    {"overlaps", sizeof(OverlapRecord), kMaxOverlaps},
     {"overlap_vertices", 4, kMaxVertices},
-    {"overlap_balls", 2, kMaxBalls},
+    {"overlap_balls", 2, kMaxOverlapBalls},
     // Version 2 only.
     {"action_lines", sizeof(ActionLine), kMaxActionLines},
     {"action_balls", sizeof(ActionBall), kMaxActionBalls},

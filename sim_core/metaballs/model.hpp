@@ -35,6 +35,9 @@ inline constexpr uint32_t kMaxOverlapWork = 1u << 24;  // vertex-ball tests per 
 inline constexpr uint32_t kBallInfluences = 2;         // bones per normal ball (w^beta)
 inline constexpr uint32_t kVertexBalls = 4;            // normal balls per vertex (w^gamma)
 inline constexpr uint16_t kNoBall = 0xFFFF;
+inline constexpr uint16_t kNoJoint = 0xFFFF;  // an overlap record of two bones sharing no joint
+inline constexpr uint32_t kMaxOverlaps = 8 * kMaxJoints;
+inline constexpr uint32_t kMaxOverlapBalls = 8 * kMaxBalls;
 
 // A stretch constraint between two normal balls, eq. (3): C = |c_a - c_b| - d.
 // share_a + share_b = 1 split the correction (0 pins a ball: a kinematic
@@ -94,6 +97,15 @@ struct JointBall {
 // The plane passes through the joint with normal R_a dir_a - R_b dir_b
 // (the bisector of the two bone directions; bone a's side is positive).
 // Candidate lists are ranges of overlap_vertices / overlap_balls.
+//
+// Two bones that share no joint and can meet (fingers side by side, a
+// fingertip and the palm): joint == kNoJoint, dir_a and dir_b zero. Each
+// step the two ball lists detect their collision: a pair of balls (one of
+// each list) that overlaps now but not at rest (where it is one tissue).
+// A listed vertex of one bone inside a colliding ball of the other is then
+// projected onto the interior plane between that ball and the vertex's own
+// ball (its first of eq. (4)): normal from the other ball's centre to its
+// own, through the middle of the two balls' overlap.
 struct OverlapRecord {
   uint16_t joint, bone_a, bone_b, reserved;
   fx::Vec3 dir_a, dir_b;  // Unit, rest directions from the joint into each bone

@@ -33,6 +33,7 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->ball_quat = c.take<fx::Quat>(nb);
   s->ball_frame = c.take<fx::DualQuat>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
+  s->ball_touching = c.take<uint8_t>(nb);
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
   s->jv_scratch = c.take<fx::Vec3>(m.jv_count());
   return c;
@@ -64,6 +65,7 @@ LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t byte
     st.ball_center[b] = st.ball_previous[b] = st.ball_target[b] = st.ball_last_target[b] = model.ball_rest[b];
     st.ball_last_step[b] = {0, 0, 0};
     st.ball_scale[b] = fx::kUnitOne;
+    st.ball_touching[b] = 0;
     st.ball_quat[b] = fx::quat_identity();
   }
   for (size_t i = 0; i < st.swing_fraction.size(); ++i) st.swing_fraction[i] = st.swing_previous[i] = 0;

@@ -72,6 +72,9 @@ struct MetaballState {
   // step for the vertices whose balls turn differently (deform.cpp).
   std::span<fx::DualQuat> ball_frame;
   std::span<fx::Unit> ball_scale;  // r / r0 in [1, 2), Q2.30
+  // Overlap between bones sharing no joint: 1 for a listed ball that collides
+  // with a ball of the other bone this step (scratch of overlap.cpp).
+  std::span<uint8_t> ball_touching;
   // Per joint-region vertex.
   std::span<fx::Vec3> jv_posed_laplacian;  // rest Laplacian rotated with the vertex
   std::span<fx::Vec3> jv_scratch;          // Jacobi smoothing buffer

@@ -196,7 +196,9 @@ void check_joint_region(const MetaballModel& m, Checker& c) {
 void check_overlaps(const MetaballModel& m, Checker& c) {
   const size_t nj = m.joint_count, nv = m.vertex_count, nb = m.ball_count();
   const size_t ov = m.overlap_vertices.size(), ob = m.overlap_balls.size();
-  if (!c.limit("overlaps", m.overlaps.size(), kMaxJoints)) return;
+  if (!c.limit("overlaps", m.overlaps.size(), kMaxOverlaps) ||
+      !c.limit("overlap_balls", m.overlap_balls.size(), kMaxOverlapBalls))
+    return;
   for (size_t i = 0; i < ov && !c.failed(); ++i)
     c.index("overlap_vertices", i, m.overlap_vertices[i], static_cast<int64_t>(nv));
   for (size_t i = 0; i < ob && !c.failed(); ++i)
@@ -204,19 +206,24 @@ void check_overlaps(const MetaballModel& m, Checker& c) {
   uint64_t work = 0;
   for (size_t i = 0; i < m.overlaps.size() && !c.failed(); ++i) {
     const OverlapRecord& r = m.overlaps[i];
-    c.index("overlaps.joint", i, r.joint, static_cast<int64_t>(nj));
+    const bool bone_pair = r.joint == kNoJoint;
+    if (!bone_pair) c.index("overlaps.joint", i, r.joint, static_cast<int64_t>(nj));
     c.index("overlaps.bone_a", i, r.bone_a, static_cast<int64_t>(nj));
     c.index("overlaps.bone_b", i, r.bone_b, static_cast<int64_t>(nj));
-    c.unit_dir("overlaps.dir_a", i, r.dir_a);
-    c.unit_dir("overlaps.dir_b", i, r.dir_b);
+    if (r.bone_a == r.bone_b) c.fail(LayerError::kBadIndex, "overlaps.bone_b", static_cast<int64_t>(i), "bone_a again");
+    if (!bone_pair) {
+      c.unit_dir("overlaps.dir_a", i, r.dir_a);
+      c.unit_dir("overlaps.dir_b", i, r.dir_b);
+    }
     if (r.vertices_a_begin > r.vertices_a_end || r.vertices_a_end > ov || r.vertices_b_begin > r.vertices_b_end ||
         r.vertices_b_end > ov)
       c.fail(LayerError::kBadIndex, "overlaps.vertices", static_cast<int64_t>(i), "range outside overlap_vertices");
     if (r.balls_a_begin > r.balls_a_end || r.balls_a_end > ob || r.balls_b_begin > r.balls_b_end || r.balls_b_end > ob)
       c.fail(LayerError::kBadIndex, "overlaps.balls", static_cast<int64_t>(i), "range outside overlap_balls");
     if (c.failed()) return;
-    work += uint64_t{r.vertices_a_end - r.vertices_a_begin} * (r.balls_b_end - r.balls_b_begin) +
-            uint64_t{r.vertices_b_end - r.vertices_b_begin} * (r.balls_a_end - r.balls_a_begin);
+    const uint64_t va = r.vertices_a_end - r.vertices_a_begin, vb = r.vertices_b_end - r.vertices_b_begin;
+    const uint64_t ba = r.balls_a_end - r.balls_a_begin, bb = r.balls_b_end - r.balls_b_begin;
+    work += va * bb + vb * ba + (bone_pair ? ba * bb : 0);  // a record of two bones tests its ball pairs too
   }
   if (!c.failed() && work > kMaxOverlapWork)
     c.fail(LayerError::kBadCount, "overlaps", -1, "vertex-ball tests per step beyond the maximum",

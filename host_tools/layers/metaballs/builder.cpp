@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "bone_pair_overlap.hpp"
 #include "host_tools/layers/common/rig_geometry.hpp"
 #include "host_tools/rigc/builtin_rigs.hpp"
 #include "host_tools/rigc/quantize.hpp"
@@ -645,6 +646,27 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
   }
   if (work > mb::kMaxOverlapWork)
     return *error = "overlap_reach: too many vertex-ball tests per step (lower it)", false;
+  // Bones that share no joint but can meet (fingers side by side).
+  BonePairInput pairs_in;
+  pairs_in.spec = &spec;
+  pairs_in.anatomical_parent = g.parent;
+  pairs_in.dominant = g.dominant;
+  pairs_in.vertex_len = g.vertex_len;
+  pairs_in.largest_radius.resize(largest_radius.size());
+  for (size_t k = 0; k < largest_radius.size(); ++k) pairs_in.largest_radius[k] = std::ldexp(largest_radius[k], -g.e);
+  const size_t joint_records = b->overlaps.size();
+  if (o.overlap_between_bones && !add_bone_pair_overlaps(pairs_in, b, error)) return false;
+  for (size_t r = joint_records; r < b->overlaps.size(); ++r) {
+    const mb::OverlapRecord& rec = b->overlaps[r];
+    const uint64_t ba = rec.balls_a_end - rec.balls_a_begin, bb = rec.balls_b_end - rec.balls_b_begin;
+    work += uint64_t{rec.vertices_a_end - rec.vertices_a_begin} * bb +
+            uint64_t{rec.vertices_b_end - rec.vertices_b_begin} * ba + ba * bb;
+  }
+  if (work > mb::kMaxOverlapWork)
+    return *error =
+               "metaballs: too many vertex-ball tests per step between bones that can meet (coarser "
+               "ball_spacing)",
+           false;
   return true;
 }
 

@@ -1,5 +1,6 @@
 #include "metaballs_section_writer.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "host_tools/layers/sections/section_builder.hpp"
@@ -11,8 +12,11 @@ LayerSection metaballs_section(const ::sinew::metaballs::MetaballModel& m) {
                                                      m.jiggle_damping, m.smoothing_passes, m.smoothing_rate};
   // Version 1 without action lines (the bytes of rigs without them do not
   // change); version 2 appends them; version 3 when physical jiggle has
-  // coupled pairs (the arrays of version 2).
-  const bool v3 = m.jiggle_rate_hz != 0 && !m.pairs.empty();
+  // coupled pairs or overlap records of bones sharing no joint (the arrays of
+  // version 2).
+  const bool bone_pairs = std::any_of(m.overlaps.begin(), m.overlaps.end(),
+                                      [](const metaballs::OverlapRecord& r) { return r.joint == metaballs::kNoJoint; });
+  const bool v3 = (m.jiggle_rate_hz != 0 && !m.pairs.empty()) || bone_pairs;
   const bool v2 = v3 || !m.action_lines.empty();
   const uint32_t version = v3   ? ::sinew::metaballs::kMetaballsSectionVersion3
                            : v2 ? ::sinew::metaballs::kMetaballsSectionVersion2

@@ -96,6 +96,10 @@ struct Options {
   // lists are complete"); > 0: the vertices and balls within that many
   // surface radii of the joint, which can miss overlaps at deep flexion.
   double overlap_reach = 0;
+  // Overlap between bones that share no joint but can meet (fingers side by
+  // side, a fingertip and the palm), candidates from the joints' ranges
+  // (bone_pair_overlap.hpp); false: between the two bones of a joint only.
+  bool overlap_between_bones = true;
 };
 
 // Empty if the options are usable, else a message naming the field.

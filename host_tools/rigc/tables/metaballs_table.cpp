@@ -17,11 +17,12 @@ namespace {
 bool read_metaballs(const std::string& path, const toml::table& e, layers::MetaballsTable* out, std::string* error) {
   metaballs_build::Options& o = out->options;
   const std::string n = "[metaballs]";
-  if (!known_keys(path, e, n,
-                  {"ball_spacing", "pbd_iterations", "stretch_stiffness", "jiggle_damping", "jiggle_stretch_stiffness",
-                   "jiggle_frequency", "jiggle_window", "jiggle_coupling", "overlap_reach", "smoothing_passes",
-                   "smoothing_rate", "joint_inner", "joint_outer", "jiggle", "bulge", "action_line"},
-                  error) ||
+  if (!known_keys(
+          path, e, n,
+          {"ball_spacing", "pbd_iterations", "stretch_stiffness", "jiggle_damping", "jiggle_stretch_stiffness",
+           "jiggle_frequency", "jiggle_window", "jiggle_coupling", "overlap_reach", "overlap_between_bones",
+           "smoothing_passes", "smoothing_rate", "joint_inner", "joint_outer", "jiggle", "bulge", "action_line"},
+          error) ||
       !read_number(path, e, n, "ball_spacing", &out->ball_spacing, error) ||
       !read_int(path, e, n, "pbd_iterations", 0, 16, &o.pbd_iterations, error) ||
       !read_number(path, e, n, "stretch_stiffness", &o.stretch_stiffness, error) ||
@@ -31,6 +32,7 @@ bool read_metaballs(const std::string& path, const toml::table& e, layers::Metab
       !read_number(path, e, n, "jiggle_window", &o.jiggle_window, error) ||
       !read_number(path, e, n, "jiggle_coupling", &o.jiggle_coupling, error) ||
       !read_number(path, e, n, "overlap_reach", &o.overlap_reach, error) ||
+      !read_bool(path, e, n, "overlap_between_bones", &o.overlap_between_bones, error) ||
       !read_int(path, e, n, "smoothing_passes", 0, 8, &o.smoothing_passes, error) ||
       !read_number(path, e, n, "smoothing_rate", &o.smoothing_rate, error) ||
       !read_number(path, e, n, "joint_inner", &o.joint_inner, error) ||

@@ -183,6 +183,7 @@ int overlapping(ArmScene& s) {
   const auto& st = s.state();
   int count = 0;
   for (const auto& r : m.overlaps) {
+    if (r.joint == sinew::metaballs::kNoJoint) continue;  // bones sharing no joint: their own test
     const auto dir = [&](uint16_t bone, sinew::fx::Vec3 d, double out[3]) {
       for (int i = 0; i < 3; ++i)
         out[i] = (st.bone[bone].m[i][0] * static_cast<double>(d.x) + st.bone[bone].m[i][1] * static_cast<double>(d.y) +

@@ -36,6 +36,7 @@ void count_pose(ArmScene& s, RangeCount* counts) {
   const auto& vb = s.build().vertex_bone;
   ++counts->poses;
   for (const auto& r : m.overlaps) {
+    if (r.joint == sinew::metaballs::kNoJoint) continue;  // bones sharing no joint: their own test
     double da[3], db[3], n[3];
     const auto dir = [&](uint16_t bone, const sinew::fx::Vec3& d, double* o) {
       const auto& t = st.bone[bone];

@@ -216,11 +216,12 @@ uint32_t metaballs_section_version(const std::vector<uint8_t>& bytes) {
   return lh.layer_version;
 }
 
-// kSpec without the coupling springs of its jiggle region.
+// kSpec without what only layer version 3 carries: the coupling springs of
+// its jiggle region and overlap between bones that share no joint.
 std::string uncoupled_spec() {
   std::string text = kSpec;
   const std::string key = "jiggle_window = 0.5\n";
-  text.insert(text.find(key) + key.size(), "jiggle_coupling = 0\n");
+  text.insert(text.find(key) + key.size(), "jiggle_coupling = 0\noverlap_between_bones = false\n");
   return text;
 }
 

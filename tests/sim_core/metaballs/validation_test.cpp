@@ -102,6 +102,14 @@ TEST(MetaballsValidate, RejectsEachKindOfBadData) {
       E::kBadValue, "overlaps.dir_a[0]");
   expect_rejected(
       "overlap range", [](mbb::Build& b) { b.overlaps[0].balls_b_end = 1u << 20; }, E::kBadIndex, "overlaps.balls[0]");
+  expect_rejected(
+      "overlap of a bone with itself",
+      [](mbb::Build& b) {
+        mb::OverlapRecord r{};
+        r.joint = mb::kNoJoint;
+        b.overlaps.push_back(r);  // bone_a == bone_b == 0
+      },
+      E::kBadIndex, "bone_a again");
 }
 
 TEST(MetaballsValidate, InitRejectsBadMemory) {
