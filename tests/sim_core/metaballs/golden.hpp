@@ -6,9 +6,9 @@
 
 namespace sinew::test::golden {
 
-inline constexpr uint64_t kMetaballsModel = 0xcca36821757762b4ull;
+inline constexpr uint64_t kMetaballsModel = 0xa44bae9d74d4b2bcull;
 inline constexpr uint64_t kMetaballsArm = 0x81aec268a771d33cull;
-inline constexpr uint64_t kMetaballsPhysicalModel = 0xd137989fdfa45042ull;
-inline constexpr uint64_t kMetaballsPhysicalArm = 0xdeb7691daad16e11ull;
+inline constexpr uint64_t kMetaballsPhysicalModel = 0x594e54f392db4e4cull;
+inline constexpr uint64_t kMetaballsPhysicalArm = 0x3eadb1bd73328490ull;
 
 }  // namespace sinew::test::golden

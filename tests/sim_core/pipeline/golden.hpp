@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0xe5c393054aa92a72u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x3ccdc59abec8348fu;
+inline constexpr uint64_t kArmLayersBlob = 0x6765619d024149e9u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x3d1e819ac6433568u;
 }  // namespace sinew::test::golden
