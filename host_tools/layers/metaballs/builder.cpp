@@ -618,9 +618,9 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
     const uint32_t v0 = static_cast<uint32_t>(b->overlap_vertices.size()),
                    b0 = static_cast<uint32_t>(b->overlap_balls.size());
     add_vertices(reg.a, 0);
-    const uint32_t v1 = static_cast<uint32_t>(b->overlap_vertices.size());
+    uint32_t v1 = static_cast<uint32_t>(b->overlap_vertices.size());
     add_vertices(reg.c, 1);
-    const uint32_t v2 = static_cast<uint32_t>(b->overlap_vertices.size());
+    uint32_t v2 = static_cast<uint32_t>(b->overlap_vertices.size());
     add_balls(reg.a, 1);
     const uint32_t b1 = static_cast<uint32_t>(b->overlap_balls.size());
     add_balls(reg.c, 0);
@@ -639,6 +639,38 @@ bool make_joint_balls(const rigc::RigSpec& spec, const Geometry& g, const Option
     }
     rec.dir_a = unit3(dir[0]);
     rec.dir_b = unit3(dir[1]);
+    // A vertex already inside a ball of the other bone and beyond the
+    // interior plane at rest lies where the two tissues meet in the rest
+    // mesh (a knuckle inside the palm's balls): the paper's overlap is a
+    // collision of the posed ball sets, and projecting it would deform the
+    // rest pose, so it leaves the lists. A millimetre's thousandth of slack
+    // covers the run time's rounding of the rest pose.
+    const Vec3d normal = sub(dir[0], dir[1]);
+    const double normal_len = norm(normal);
+    const auto meets_at_rest = [&](uint32_t v, int side, uint32_t balls_begin, uint32_t balls_end) {
+      if (!(normal_len > 1e-12)) return false;
+      const double slack = 1e-6 * reg.surface;
+      const double along = dot(sub(g.vertex[v], pj), normal) / normal_len;
+      if (side == 0 ? along >= slack : along <= -slack) return false;
+      for (uint32_t k = balls_begin; k < balls_end; ++k) {
+        const uint16_t ball = b->overlap_balls[k];
+        const fx::Vec3 c = b->ball_rest[ball];
+        const Vec3d cd{std::ldexp(static_cast<double>(c.x), g.e - 20), std::ldexp(static_cast<double>(c.y), g.e - 20),
+                       std::ldexp(static_cast<double>(c.z), g.e - 20)};
+        if (dist(g.vertex[v], cd) < std::ldexp(static_cast<double>(b->ball_radius[ball]), g.e - 20) + slack)
+          return true;
+      }
+      return false;
+    };
+    uint32_t kept = v0;
+    for (uint32_t k = v0; k < v1; ++k)
+      if (!meets_at_rest(b->overlap_vertices[k], 0, b1, b2)) b->overlap_vertices[kept++] = b->overlap_vertices[k];
+    const uint32_t kept_a = kept;
+    for (uint32_t k = v1; k < v2; ++k)
+      if (!meets_at_rest(b->overlap_vertices[k], 1, b0, b1)) b->overlap_vertices[kept++] = b->overlap_vertices[k];
+    b->overlap_vertices.resize(kept);
+    v1 = kept_a;
+    v2 = kept;
     rec.vertices_a_begin = v0, rec.vertices_a_end = v1, rec.vertices_b_begin = v1, rec.vertices_b_end = v2;
     rec.balls_a_begin = b0, rec.balls_a_end = b1, rec.balls_b_begin = b1, rec.balls_b_end = b2;
     work += uint64_t{v1 - v0} * (b2 - b1) + uint64_t{v2 - v1} * (b1 - b0);

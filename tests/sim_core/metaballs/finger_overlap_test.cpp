@@ -126,5 +126,30 @@ TEST(MetaballsFingerOverlap, SpreadFingersMeetOnTheInteriorPlane) {
   EXPECT_GT(s.state().stats.projected_vertices, 0u);
 }
 
+// The rest pose is the rest mesh: overlap is a collision of the posed ball
+// sets, so at rest the stage moves nothing, on the arm and on the hand
+// (whose knuckles start inside the palm's balls).
+TEST(MetaballsFingerOverlap, RestPoseIsLeftAlone) {
+  for (const bool hand : {false, true}) {
+    ArmScene s(hand ? rigc::builtin_hand() : rigc::builtin_arm(rigc::SkinChoice::kDualQuaternion),
+               hand ? hand_options() : sinew::test::arm_options());
+    ASSERT_TRUE(s.ok()) << s.error();
+    ASSERT_TRUE(s.pose_dofs({}));
+    const uint32_t projected = s.state().stats.projected_vertices;
+    std::vector<int32_t> with[3];
+    for (int a = 0; a < 3; ++a)
+      for (uint32_t v = 0; v < s.model().vertex_count; ++v) with[a].push_back(s.output().position[a][v]);
+    s.state().features.overlap = false;
+    ASSERT_TRUE(s.pose_dofs({}));
+    uint32_t moved = 0;
+    for (int a = 0; a < 3; ++a)
+      for (uint32_t v = 0; v < s.model().vertex_count; ++v) moved += with[a][v] != s.output().position[a][v] ? 1u : 0u;
+    std::printf("%s at rest: %u vertices projected, %u coordinates moved by the overlap stage\n", hand ? "hand" : "arm",
+                projected, moved);
+    EXPECT_EQ(projected, 0u);
+    EXPECT_EQ(moved, 0u);
+  }
+}
+
 }  // namespace
 }  // namespace finger_overlap_test
