@@ -24,7 +24,10 @@
 #                lists it), host_tools/layers/ at its top (but the built-in
 #                rigs' recipe, builtin_layers.*), common/ and sections/,
 #                rigc's toml_layers.*, toml_reader.* and tables/rigc_table.hpp,
-#                and the viewer's frame_message.* and overlays/overlay.hpp:
+#                the viewer's frame_message.* and overlays/overlay.hpp, and
+#                the CMakeLists.txt of sim_core/, sim_core/pipeline/,
+#                host_tools/layers/, rigc and the viewer, which find a
+#                layer's files from the stage list (cmake/sinew_stages.cmake):
 #                a layer lives in its own files;
 #   tests layout the tests tree stops mirroring the modules: a folder
 #                tests/{sim_core,hal,host_tools}/<m> with no module <m> beside
@@ -134,7 +137,10 @@ function(scan_shared_names)
        "${ROOT}/host_tools/layers/sections/*.hpp" "${ROOT}/host_tools/layers/sections/*.cpp"
        "${ROOT}/host_tools/rigc/toml_layers.*" "${ROOT}/host_tools/rigc/toml_reader.*"
        "${ROOT}/host_tools/rigc/tables/rigc_table.hpp" "${ROOT}/host_tools/view/frame_message.*"
-       "${ROOT}/host_tools/view/overlays/overlay.hpp")
+       "${ROOT}/host_tools/view/overlays/overlay.hpp" "${ROOT}/sim_core/CMakeLists.txt"
+       "${ROOT}/sim_core/pipeline/CMakeLists.txt" "${ROOT}/host_tools/layers/CMakeLists.txt"
+       "${ROOT}/host_tools/rigc/CMakeLists.txt" "${ROOT}/host_tools/view/CMakeLists.txt"
+       "${ROOT}/cmake/sinew_stages.cmake")
   list(FILTER host_files EXCLUDE REGEX "/builtin_layers\\.[a-z]+$")
   list(APPEND shared ${host_files})
   foreach(src IN LISTS shared)
