@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "config_keys.hpp"
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/pipeline/stage_table.hpp"
 #include "sinks.hpp"
 #include "sources.hpp"
@@ -265,10 +266,10 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     }
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
-    if (!known_keys_only(
-            *rt, "realtime",
-            {"fifo_priority", "cpu", "lock_memory", "io_fifo_priority", "io_cpu", "sink_ring_frames", "io_poll_us"},
-            origin, error))
+    if (!known_keys_only(*rt, "realtime",
+                         {"fifo_priority", "cpu", "lock_memory", "io_fifo_priority", "io_cpu", "sink_ring_frames",
+                          "io_poll_us", "workers", "worker_cpu"},
+                         origin, error))
       return false;
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;
@@ -277,6 +278,9 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*rt, "io_cpu", -1, 1023, &c.realtime.io_cpu, origin, error)) return false;
     if (!read_number(*rt, "sink_ring_frames", 1, 65536, &c.realtime.sink_ring_frames, origin, error)) return false;
     if (!read_number(*rt, "io_poll_us", 0, 100000, &c.realtime.io_poll_us, origin, error)) return false;
+    if (!read_number(*rt, "workers", 0, static_cast<int>(layer::kMaxParts), &c.realtime.workers, origin, error))
+      return false;
+    if (!read_number(*rt, "worker_cpu", -1, 1023, &c.realtime.worker_cpu, origin, error)) return false;
     // A polled I/O thread must come round at least twice while its ring
     // fills, or a full ring drops frames however fast the sink is.
     const uint64_t ring_us = static_cast<uint64_t>(c.realtime.sink_ring_frames) * 1'000'000u / c.rate_hz;

@@ -17,6 +17,7 @@
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_clock.hpp"
 #include "firmware/runtime/tick_trigger.hpp"
+#include "firmware/runtime/worker_pool.hpp"
 #include "run_setup.hpp"
 #include "sim_core/pipeline/stage_table.hpp"
 #include "sinks.hpp"
@@ -79,12 +80,23 @@ int run(int argc, char** argv) {
   // Live ticks start 50 ms from now: opening sources and sinks must not make
   // the first tick late (a late tick is skipped, not burst).
   const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() + 50000000u : 0;
+  // The workers outlive the runtime, whose pipeline holds them.
+  WorkerPool workers;
   Runtime runtime;
   sinew::pipeline::PipelineOptions options;
   if (!layer_options(config, rig, &options, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }
+  const bool live = config.mode == RunMode::kLive;
+  std::string worker_report;
+  if (!workers.start(static_cast<uint32_t>(resolved_workers(config.realtime.workers)),
+                     live ? config.realtime.fifo_priority : 0, live ? config.realtime.worker_cpu : -1, &worker_report,
+                     &error)) {
+    std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+    return 2;
+  }
+  options.workers = workers.workers();
   const std::vector<InputLimits> limits = input_limits(rig, config, period);
   if (!runtime.init(rig.rig, rig.layers, options, limits, start, &error) ||
       !add_sources(config, rig, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
@@ -128,6 +140,11 @@ int run(int argc, char** argv) {
     const std::string rt = apply_realtime(config.realtime);
     if (!rt.empty()) std::printf("%s", rt.c_str());
   }
+  std::string parallel;
+  for (const sinew::pipeline::StageInfo& s : sinew::pipeline::kStages)
+    if (s.parallel && options.stages.has(s.stage) && s.compiled(rig.layers) > 0) parallel += std::string(" ") + s.name;
+  std::printf("sinewd: workers %u (the tick thread and %u more) for:%s\n%s", workers.threads(), workers.threads() - 1,
+              parallel.empty() ? " no stage that runs" : parallel.c_str(), worker_report.c_str());
   std::string layers;
   for (const sinew::pipeline::StageInfo& s : sinew::pipeline::kStages)
     if (s.stage != sinew::pipeline::Stage::kSkinning && options.stages.has(s.stage) && s.compiled(rig.layers) > 0)
@@ -146,7 +163,6 @@ int run(int argc, char** argv) {
   TickClock clock(period, start + period);
   // [loop] trigger: a live tick may start before its deadline, as soon as
   // its inputs (or a sync frame) have arrived; the deadline stays the fallback.
-  const bool live = config.mode == RunMode::kLive;
   const bool triggered = live && config.trigger != TickTrigger::kPeriodic;
   MonotonicWaitClock wall;
   TriggeredTickClock trigger_clock(config.trigger, period, start + period,
@@ -181,6 +197,7 @@ int run(int argc, char** argv) {
   const uint64_t skipped = clock.skipped_ticks() + trigger_clock.skipped_ticks();
   if (skipped > 0)
     std::printf("skipped ticks (more than a period late): %llu\n", static_cast<unsigned long long>(skipped));
+  if (live) std::printf("%s\n", run_verdict(runtime, skipped).c_str());
   if (triggered)
     std::printf("trigger %s: %llu ticks on arrival, %llu at the deadline (fallback)\n",
                 tick_trigger_name(config.trigger), static_cast<unsigned long long>(on_arrival),

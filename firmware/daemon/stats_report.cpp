@@ -70,4 +70,25 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
   std::fflush(stdout);
 }
 
+std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks) {
+  const uint64_t ticks = runtime.ticks(), misses = runtime.timing().deadline_misses();
+  const StageTimes& t = runtime.stage_times();
+  uint32_t slowest = 0;
+  for (uint32_t s = 1; s < pipeline::kStageCount; ++s)
+    if (t.total_ns[s] > t.total_ns[slowest]) slowest = s;
+  const double share = ticks > 0 ? 100.0 * static_cast<double>(misses) / static_cast<double>(ticks) : 0.0;
+  // Budget: at most 0.1 % of ticks late (1 in 1000) and no tick skipped.
+  const bool kept = misses * 1000 <= ticks && skipped_ticks == 0;
+  char line[320];
+  std::snprintf(
+      line, sizeof(line),
+      "verdict: %llu ticks, %llu deadline misses (%.2f %%), %llu skipped; slowest stage %s (%.1f us mean); %s",
+      static_cast<unsigned long long>(ticks), static_cast<unsigned long long>(misses), share,
+      static_cast<unsigned long long>(skipped_ticks), pipeline::stage_name(static_cast<pipeline::Stage>(slowest)),
+      t.ticks > 0 ? static_cast<double>(t.total_ns[slowest]) / static_cast<double>(t.ticks) / 1000.0 : 0.0,
+      kept ? "within the budget (<= 0.1 % late, none skipped)"
+           : "over the budget (<= 0.1 % late, none skipped): lower [loop] rate_hz or switch a layer off");
+  return line;
+}
+
 }  // namespace sinew::firmware

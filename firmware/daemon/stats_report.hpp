@@ -1,6 +1,8 @@
 // The daemon's periodic and final statistics lines (stdout).
 #pragma once
 
+#include <string>
+
 #include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/runtime.hpp"
 
@@ -10,5 +12,9 @@ namespace sinew::firmware {
 // mean and worst time of every pipeline stage that runs; the final report
 // adds the rejections by reason and the inputs left stale.
 void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report);
+// The live run's one-line verdict: ticks, deadline misses and their share,
+// skipped ticks, the slowest stage by mean time, and whether the run kept
+// within the budget of at most 0.1 % of ticks late and none skipped.
+std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks);
 
 }  // namespace sinew::firmware

@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -28,6 +29,17 @@ std::string apply_thread_realtime(pthread_t thread, int fifo_priority, int cpu, 
               (rc == 0 ? "on" : std::string("not applied (") + std::strerror(rc) + ")") + "\n";
   }
   return report;
+}
+
+int resolved_workers(int workers) {
+  if (workers > 0) return workers;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  const int cpus = sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 1;
+  // One CPU stays with the sources' and sinks' I/O threads: on this
+  // project's 2-core CI machine a second worker slowed the daemon's tick
+  // (docs/performance.md, "Workers").
+  return std::clamp(cpus - 1, 1, 4);
 }
 
 std::string apply_realtime(const RealtimeOptions& o) {

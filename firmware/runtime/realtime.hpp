@@ -12,6 +12,13 @@ struct RealtimeOptions {
   int fifo_priority = 0;  // 1..99 for SCHED_FIFO; 0 keeps the default policy
   int cpu = -1;           // pin the calling thread to this CPU; -1 = no affinity
   bool lock_memory = false;
+  // Threads the tick's parallel stages run over, the tick thread included
+  // (firmware/runtime/worker_pool.hpp); 0: the CPUs the process may run on
+  // but one (left to the I/O threads), 1 to 4. The output is the same for every count. The workers take the
+  // tick's fifo_priority; worker_cpu >= 0 pins worker i (1..workers-1) to
+  // CPU worker_cpu + i - 1.
+  int workers = 0;
+  int worker_cpu = -1;
   // The sinks' I/O threads (firmware/runtime/async_sink.hpp): one per sink,
   // fed through a ring of `sink_ring_frames` frames. Below the tick thread's
   // priority, so a write never preempts a tick; on a 4-core board, pin the
@@ -32,5 +39,8 @@ std::string apply_realtime(const RealtimeOptions& options);
 // The same for another thread (an I/O thread): SCHED_FIFO priority (0: keep
 // the default policy) and CPU (-1: none). Lines start with `label`.
 std::string apply_thread_realtime(pthread_t thread, int fifo_priority, int cpu, const std::string& label);
+// The worker count `workers` asks for: itself when > 0, else the CPUs this
+// process may run on (sched_getaffinity) but one, 1 to 4.
+int resolved_workers(int workers);
 
 }  // namespace sinew::firmware

@@ -75,10 +75,24 @@ void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, u
   for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
 }
 
+size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin) {
+  size_t lo = 0, hi = skip.size();
+  while (lo < hi) {
+    const size_t mid = lo + (hi - lo) / 2;
+    if (skip[mid] < begin) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                                std::span<const uint32_t> skip) {
-  size_t next = 0;
-  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+                                std::span<const uint32_t> skip, uint32_t begin, uint32_t end) {
+  if (end > m.vertex_count) end = m.vertex_count;
+  size_t next = first_skip_at(skip, begin);
+  for (uint32_t v = begin; v < end; ++v) {
     if (next < skip.size() && skip[next] == v) {
       ++next;
       continue;
@@ -181,54 +195,69 @@ NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& 
 
 }  // namespace
 
-void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
-                     const skin::SkinnedVertices& out, DeformKernel kernel) {
-  // Eq. (1) below computes the joint-region vertices from their own frames.
-  const std::span<const uint32_t> skip = s->features.joint_balls ? m.jv_vertex : std::span<const uint32_t>{};
+namespace {
+
+struct DeformJob {
+  const MetaballModel* m;
+  std::span<const fx::Mat34> joint_model;
+  MetaballState* s;
+  const skin::SkinnedVertices* out;
+  std::span<const uint32_t> skip;
+  DeformKernel kernel;
+};
+
+// Vertices [begin, end) outside the joint regions: eq. (4) by the kernel,
+// then, where the vertex's balls turn differently (balls of two bones near a
+// joint), eq. (4) on the arc (joint_region_frame) instead of the kernels'
+// nlerp frame, whose centre blends along the chord. Writes only these
+// vertices' positions.
+void deform_outside_joint_regions(void* context, uint32_t begin, uint32_t end) {
+  const DeformJob& j = *static_cast<const DeformJob*>(context);
+  const MetaballModel& m = *j.m;
+  const MetaballState& s = *j.s;
+  const skin::SkinnedVertices& out = *j.out;
   bool done = false;
 #if defined(__x86_64__)
-  if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
-    done = deform_normal_balls_avx2(m, *s, out, skip);
-#else
-  (void)kernel;
+  if (j.kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
+    done = deform_normal_balls_avx2(m, s, out, j.skip, begin, end);
 #endif
-  if (!done) deform_normal_balls_scalar(m, *s, out, skip);
-  // A vertex whose balls turn differently (balls of two bones near a joint)
-  // takes eq. (4) on the arc (joint_region_frame) instead of the kernels'
-  // nlerp frame, whose centre blends along the chord.
-  make_ball_frames(m, s);
-  {
-    size_t next = 0;
-    for (uint32_t v = 0; v < m.vertex_count; ++v) {
-      if (next < skip.size() && skip[next] == v) {
-        ++next;
-        continue;
-      }
-      if (balls_turn_alike(m, *s, v)) continue;
-      const NormalBallFrame f = joint_region_frame(m, *s, v);
-      int64_t rd[3];
-      rotate_q50(f.rotation, f.disp, rd);
-      for (int a = 0; a < 3; ++a)
-        out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+  if (!done) deform_normal_balls_scalar(m, s, out, j.skip, begin, end);
+  size_t next = first_skip_at(j.skip, begin);
+  for (uint32_t v = begin; v < end; ++v) {
+    if (next < j.skip.size() && j.skip[next] == v) {
+      ++next;
+      continue;
     }
+    if (balls_turn_alike(m, s, v)) continue;
+    const NormalBallFrame f = joint_region_frame(m, s, v);
+    int64_t rd[3];
+    rotate_q50(f.rotation, f.disp, rd);
+    for (int a = 0; a < 3; ++a)
+      out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
   }
-  if (!s->features.joint_balls) {
-    for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
-    return;
-  }
+}
+
+// Joint-region entries [begin, end) (jv_*): eq. (5) blended by eq. (1).
+// Writes only these entries' vertices and jv_posed_laplacian.
+void deform_joint_regions(void* context, uint32_t begin, uint32_t end) {
+  const DeformJob& j = *static_cast<const DeformJob*>(context);
+  const MetaballModel& m = *j.m;
+  MetaballState* s = j.s;
+  const skin::SkinnedVertices& out = *j.out;
   // The vertices of one ring share their joint ball and blend, so eta is
-  // made once per ring (kept with what it was made from).
+  // made once per ring (kept with what it was made from; a range starts
+  // afresh, so eta is the same function of its ring in every range).
   uint16_t eta_ball = kNoBall;
   fx::Unit eta_blend = 0;
   fx::Quat eta{};
-  for (uint32_t i = 0; i < m.jv_count(); ++i) {
+  for (uint32_t i = begin; i < end; ++i) {
     const JointBall& jb = m.joint_balls[m.jv_ball[i]];
     const uint32_t v = m.jv_vertex[i];
     // Eq. (5): v_eta = c_eta + R_eta d_eta. The centre is the skeleton joint;
     // the ball is carried equally by both bones, and each vertex turns with
     // the bones' rotations blended by its own weight of the child bone, so
     // vertices attached to different bones get different transformations.
-    const fx::Mat34& joint = joint_model[jb.joint];
+    const fx::Mat34& joint = j.joint_model[jb.joint];
     if (m.jv_ball[i] != eta_ball || m.jv_blend[i] != eta_blend) {
       eta_ball = m.jv_ball[i];
       eta_blend = m.jv_blend[i];
@@ -261,6 +290,22 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
                                 fx::sat_i32(fx::round_shift(rl[1], fx::kUnitFracBits)),
                                 fx::sat_i32(fx::round_shift(rl[2], fx::kUnitFracBits))};
   }
+}
+
+}  // namespace
+
+void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
+                     const skin::SkinnedVertices& out, DeformKernel kernel, const layer::Workers* workers) {
+  // The balls' frames first (serial, one per ball): both vertex loops read them.
+  make_ball_frames(m, s);
+  // Eq. (1) below computes the joint-region vertices from their own frames.
+  DeformJob job{&m, joint_model, s, &out, s->features.joint_balls ? m.jv_vertex : std::span<const uint32_t>{}, kernel};
+  layer::run_ranges(workers, m.vertex_count, deform_outside_joint_regions, &job);
+  if (!s->features.joint_balls) {
+    for (uint32_t i = 0; i < m.jv_count(); ++i) s->jv_posed_laplacian[i] = m.jv_laplacian[i];
+    return;
+  }
+  layer::run_ranges(workers, m.jv_count(), deform_joint_regions, &job);
 }
 
 }  // namespace sinew::metaballs::detail

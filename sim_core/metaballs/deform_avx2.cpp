@@ -135,13 +135,14 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
 }  // namespace
 
 bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                              std::span<const uint32_t> skip) {
+                              std::span<const uint32_t> skip, uint32_t begin, uint32_t end) {
   const uint32_t count = m.ball_count();
   if (count > kMaxWideBalls) return false;
+  if (end > m.vertex_count) end = m.vertex_count;
   WideBall balls[kMaxWideBalls];
   for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
-  size_t next = 0;
-  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+  size_t next = first_skip_at(skip, begin);
+  for (uint32_t v = begin; v < end; ++v) {
     if (next < skip.size() && skip[next] == v) {
       ++next;
       continue;

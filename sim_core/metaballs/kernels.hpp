@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <span>
 
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/skin/skinning.hpp"
 #include "state.hpp"
 
@@ -27,7 +28,8 @@ enum class DeformKernel : uint8_t { kScalar, kAvx2 };
 bool deform_kernel_supported(DeformKernel kernel);
 DeformKernel deform_kernel_default();
 void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_model, MetaballState* s,
-                     const skin::SkinnedVertices& out, DeformKernel kernel = deform_kernel_default());
+                     const skin::SkinnedVertices& out, DeformKernel kernel = deform_kernel_default(),
+                     const layer::Workers* workers = nullptr);
 
 // The rotation of a vertex's normal balls (deform.cpp): the shared ball's own
 // when every weighted ball has the same one (returns that ball), else their
@@ -51,16 +53,20 @@ NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s
 // (deform_avx2.cpp), which declines (returns false, writes nothing) when the
 // model has more balls than it widens on its stack. Both leave the vertices
 // of `skip` (ascending) unwritten: the joint-region vertices, which eq. (1)
-// computes from their frames anyway.
+// computes from their frames anyway. [begin, end): the vertices written
+// (every vertex by default).
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                                std::span<const uint32_t> skip = {});
+                                std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX);
 // One vertex of the specification (the vector kernel's fallback).
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
                                const skin::SkinnedVertices& out);
 #if defined(__x86_64__)
 bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                              std::span<const uint32_t> skip = {});
+                              std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX);
 #endif
+
+// The first index of `skip` (ascending) at or after vertex `begin`.
+size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin);
 
 // smoothing.cpp: stage 5.
 void smooth_joint_region(const MetaballModel& m, MetaballState* s, const skin::SkinnedVertices& out);

@@ -21,7 +21,7 @@ LayerStatus fail(LayerError e, const char* field, size_t got, size_t want) {
 }  // namespace
 
 LayerStatus metaballs_step(MetaballState* state, std::span<const fx::Mat34> joint_model,
-                           const skin::SkinnedVertices& out) {
+                           const skin::SkinnedVertices& out, const layer::Workers* workers) {
   if (state == nullptr || state->model == nullptr || state->bone.size() != state->model->joint_count) {
     LayerStatus s;
     s.error = LayerError::kNotReady;
@@ -39,7 +39,7 @@ LayerStatus metaballs_step(MetaballState* state, std::span<const fx::Mat34> join
   detail::compute_bones(m, joint_model, state);
   detail::compute_balls(m, state);
   detail::solve_pbd(m, state);
-  detail::deform_vertices(m, joint_model, state, out);
+  detail::deform_vertices(m, joint_model, state, out, detail::deform_kernel_default(), workers);
   detail::smooth_joint_region(m, state, out);
   state->stats.projected_vertices = state->features.overlap ? detail::resolve_overlaps(m, joint_model, *state, out) : 0;
   ++state->stats.steps;

@@ -24,14 +24,17 @@
 
 #include <span>
 
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/skin/skinning.hpp"
 #include "state.hpp"
 
 namespace sinew::metaballs {
 
 // Returns an error (and changes nothing) if the state is not initialised or a
-// span's size disagrees with the model.
+// span's size disagrees with the model. workers (optional): the per-vertex
+// deformation (stage 4) runs over them; the words written are the same for
+// any number of workers (sim_core/layer/workers.hpp).
 LayerStatus metaballs_step(MetaballState* state, std::span<const fx::Mat34> joint_model,
-                           const skin::SkinnedVertices& out);
+                           const skin::SkinnedVertices& out, const layer::Workers* workers = nullptr);
 
 }  // namespace sinew::metaballs

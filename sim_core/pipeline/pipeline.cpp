@@ -166,17 +166,44 @@ void stage_done(const StepProbe* probe, StepReport* report, Stage s, uint64_t st
 }
 
 // Stages first..last that are on, in order; the first failure ends the tick.
+// When a stage that is on is parallel, the workers are told a step using
+// them runs (begin_step / end_step, sim_core/layer/workers.hpp) from the
+// start of the stage before the first parallel one, so they are awake when
+// its first loop comes, to the end of the last parallel one.
 PipelineStatus run_stages(Pipeline* p, std::span<const int32_t> inputs, Stage first, const StepProbe* probe,
                           StepReport* report) {
-  for (uint32_t i = static_cast<uint32_t>(first); i < kStageCount; ++i) {
+  const layer::Workers* w = p->options.workers;
+  const bool pool = w != nullptr && w->parts > 1 && w->begin_step != nullptr && w->end_step != nullptr;
+  uint32_t wake_at = kStageCount, last_parallel = kStageCount, previous_on = kStageCount;
+  if (pool) {
+    for (uint32_t i = static_cast<uint32_t>(first); i < kStageCount; ++i) {
+      if (!p->on.has(static_cast<Stage>(i))) continue;
+      if (kStages[i].parallel) {
+        if (wake_at == kStageCount) wake_at = previous_on != kStageCount ? previous_on : i;
+        last_parallel = i;
+      }
+      previous_on = i;
+    }
+  }
+  bool awake = false;
+  PipelineStatus st;
+  for (uint32_t i = static_cast<uint32_t>(first); i < kStageCount && st.ok(); ++i) {
     const auto s = static_cast<Stage>(i);
     if (!p->on.has(s)) continue;
+    if (i == wake_at) {
+      w->begin_step(w->pool);
+      awake = true;
+    }
     const uint64_t started = probe_now(probe);
-    const PipelineStatus st = kStages[i].step(p, inputs);
+    st = kStages[i].step(p, inputs);
     stage_done(probe, report, s, started, *p);
-    if (!st.ok()) return st;
+    if (awake && i == last_parallel) {
+      w->end_step(w->pool);
+      awake = false;
+    }
   }
-  return {};
+  if (awake) w->end_step(w->pool);
+  return st;
 }
 
 void begin_report(StepReport* report) {

@@ -27,6 +27,7 @@
 #include "layer_set.hpp"
 #include "sim_core/engine/engine.hpp"
 #include "sim_core/fixed/status.hpp"
+#include "sim_core/layer/workers.hpp"
 #include "stage.hpp"
 
 namespace sinew::pipeline {
@@ -42,6 +43,11 @@ struct PipelineOptions {
   // were compiled for. Stages convert their rate-dependent gains at init
   // (stage_<name>.hpp says how; 1 kHz when neither says).
   uint32_t tick_hz = 0;
+  // Threads the stages' per-element loops may run over (caller-owned, must
+  // outlive the pipeline); null: the calling thread alone. The output words
+  // are the same for any number of workers (sim_core/layer/workers.hpp);
+  // the stage table's `parallel` says which stages use them.
+  const layer::Workers* workers = nullptr;
   // Each stage's own options (StageData<stage>::Options, stage_<name>.hpp),
   // one member per line of stage_list.hpp named as the stage
   // (options.<stage>.<option>). The stage table's kStageOptions names each

@@ -82,6 +82,7 @@ struct StageData<Stage::kAnatomy> {
   // The skin needs the muscles (its descriptor says so).
   static constexpr std::array<const layer::SectionDescriptor*, 2> sections = {&muscle::kMusclesSection,
                                                                               &elastic_skin::kSkinSection};
+  static constexpr bool parallel = false;
 };
 
 }  // namespace sinew::pipeline

@@ -32,6 +32,7 @@ struct StageData<Stage::kBarnet> {
   using Options = BarnetOptions;
   static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&barnet::kBarnetSection};
   static constexpr std::array<StageOption, 0> options = {};  // none
+  static constexpr bool parallel = false;
 };
 
 }  // namespace sinew::pipeline

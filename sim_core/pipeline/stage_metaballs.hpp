@@ -27,6 +27,7 @@ struct StageData<Stage::kMetaballs> {
   using Options = MetaballsOptions;
   static constexpr std::array<const layer::SectionDescriptor*, 1> sections = {&metaballs::kMetaballsSection};
   static constexpr std::array<StageOption, 0> options = {};  // none
+  static constexpr bool parallel = true;                     // per-vertex deformation over the workers
 };
 
 }  // namespace sinew::pipeline

@@ -95,6 +95,7 @@ struct StageData<Stage::kSph> {
                   "an SPH joint whose driven DOF a source measures runs measured; false: simulated whatever its "
                   "sources (docs/sph.md)"},
   };
+  static constexpr bool parallel = false;
 };
 
 }  // namespace sinew::pipeline

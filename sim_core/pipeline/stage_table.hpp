@@ -56,6 +56,9 @@ struct StageInfo {
   // After a step: ORs the stage's InputFlag bits into flags (one byte per
   // input, rig inputs then external inputs; may be shorter than the inputs).
   void (*flag_inputs)(const Pipeline& p, std::span<uint8_t> flags);
+  // Whether its step spreads its per-element loops over
+  // PipelineOptions::workers (StageData::parallel, stage_<name>.hpp).
+  bool parallel;
 };
 
 // In Stage order, one row per line of stage_list.hpp (a static_assert in
@@ -73,7 +76,8 @@ struct StageInfo {
    stages::name##_state_bytes,                           \
    stages::name##_init,                                  \
    stages::name##_step,                                  \
-   stages::name##_flag_inputs},
+   stages::name##_flag_inputs,                           \
+   StageData<Stage::enumerator>::parallel},
 inline constexpr StageInfo kStages[kStageCount] = {SINEW_STAGE_LIST(SINEW_STAGE_ROW)};
 #undef SINEW_STAGE_ROW
 
