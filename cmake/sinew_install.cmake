@@ -39,6 +39,11 @@ if(TARGET sinewd)
   install(TARGETS sinewd RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
   install(FILES ${PROJECT_SOURCE_DIR}/firmware/config/default.toml
           DESTINATION ${CMAKE_INSTALL_DATADIR}/sinew COMPONENT runtime)
+  # The service (docs/service.md): its unit, its user, its documentation.
+  install(FILES ${PROJECT_SOURCE_DIR}/firmware/systemd/sinewd.service DESTINATION lib/systemd/system COMPONENT runtime)
+  install(FILES ${PROJECT_SOURCE_DIR}/firmware/systemd/sinew.sysusers DESTINATION lib/sysusers.d RENAME sinew.conf
+          COMPONENT runtime)
+  install(FILES ${PROJECT_SOURCE_DIR}/docs/service.md DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 endif()
 foreach(tool rigc sinew-run sinew-export sinew-log rigsim sinew-pose sinew-receive)
   if(TARGET ${tool})

@@ -14,7 +14,7 @@ profile="${1:-test}"
 runtime_pkgs=(
   build-essential cmake ninja-build pkgconf git
   libtomlplusplus-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
-  libgpiod-dev libmodbus-dev libzstd-dev
+  libgpiod-dev libmodbus-dev libzstd-dev libsystemd-dev
 )
 test_pkgs=(
   "${runtime_pkgs[@]}"

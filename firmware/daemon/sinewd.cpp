@@ -19,6 +19,7 @@
 #include "firmware/runtime/tick_trigger.hpp"
 #include "firmware/runtime/worker_pool.hpp"
 #include "run_setup.hpp"
+#include "service_notify.hpp"
 #include "sim_core/pipeline/stage_table.hpp"
 #include "sinks.hpp"
 #include "sources.hpp"
@@ -153,6 +154,13 @@ int run(int argc, char** argv) {
               layers.empty() ? "skinning only" : layers.c_str() + 1);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // Under systemd (Type=notify): ready now that the sources and sinks are
+  // open; the watchdog is kicked only by completed ticks.
+  ServiceNotifier service;
+  if (service.watchdog_interval_ns() != 0)
+    std::printf("sinewd: systemd watchdog: WATCHDOG=1 after completed ticks, at most every %llu ms\n",
+                static_cast<unsigned long long>(service.watchdog_interval_ns() / 2000000u));
+  service.ready("running: " + std::to_string(config.rate_hz) + " Hz");
 
   const uint64_t total_ticks =
       config.duration_s > 0 ? static_cast<uint64_t>(config.duration_s * config.rate_hz) : UINT64_MAX;
@@ -189,8 +197,10 @@ int run(int argc, char** argv) {
     const uint64_t t1 = monotonic_ns();
     if (status) status->publish(runtime, frame, t1 - t0);
     runtime.timing().record(t1 - t0, live && (triggered ? trigger_clock.finished_late(t1) : clock.finished_late(t1)));
-    if ((tick + 1) % stats_every == 0) print_stats(runtime, rig, false);
+    service.tick_completed(t1);
+    if ((tick + 1) % stats_every == 0) service.status(print_stats(runtime, rig, false));
   }
+  service.stopping();
   const uint64_t lost_frames = runtime.close_sinks();  // writes what the sinks' queues hold
   print_stats(runtime, rig, true);
   if (status) std::printf("  %s\n", status->status_line().c_str());

@@ -25,7 +25,7 @@ void print_layer_costs(const Runtime& runtime) {
 
 }  // namespace
 
-void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
+std::string print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
   StepTiming& t = runtime.timing();
   const InputHealth& h = runtime.health();
   uint64_t rejected = 0, accepted = 0;
@@ -34,14 +34,16 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
     for (uint64_t r : h.counters(i).rejected) rejected += r;
   }
   for (uint64_t r : h.unassigned().rejected) rejected += r;
-  std::printf(
-      "%s tick %llu: step p50 %.1f us p99 %.1f us max %.1f us, deadline misses %llu, inputs stale %zu/%u, "
-      "samples accepted %llu rejected %llu, frames dropped %llu\n",
-      final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
-      static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
-      static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()), h.stale_count(),
-      rig.input_count(), static_cast<unsigned long long>(accepted), static_cast<unsigned long long>(rejected),
-      static_cast<unsigned long long>(runtime.dropped_frames()));
+  char headline[320];
+  std::snprintf(headline, sizeof(headline),
+                "%s tick %llu: step p50 %.1f us p99 %.1f us max %.1f us, deadline misses %llu, inputs stale %zu/%u, "
+                "samples accepted %llu rejected %llu, frames dropped %llu",
+                final_report ? "final" : "stats", static_cast<unsigned long long>(runtime.ticks()),
+                static_cast<double>(t.percentile_ns(0.5)) / 1000.0, static_cast<double>(t.percentile_ns(0.99)) / 1000.0,
+                static_cast<double>(t.max_ns()) / 1000.0, static_cast<unsigned long long>(t.deadline_misses()),
+                h.stale_count(), rig.input_count(), static_cast<unsigned long long>(accepted),
+                static_cast<unsigned long long>(rejected), static_cast<unsigned long long>(runtime.dropped_frames()));
+  std::printf("%s\n", headline);
   for (const auto& s : runtime.sources())
     std::printf("  source %-10s %-8s %s\n", s->name(), source_state_name(s->state()), s->status_line().c_str());
   print_layer_costs(runtime);
@@ -68,6 +70,7 @@ void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report) {
       if (h.status()[i] & hal::kJointStale) std::printf("  stale input %s\n", rig.input_names[i].c_str());
   }
   std::fflush(stdout);
+  return headline;
 }
 
 std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks) {

@@ -11,7 +11,8 @@ namespace sinew::firmware {
 // Step times, deadline misses, input health, each source and sink, and the
 // mean and worst time of every pipeline stage that runs; the final report
 // adds the rejections by reason and the inputs left stale.
-void print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report);
+// Returns the first line (the step times and counters), without its newline.
+std::string print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report);
 // The live run's one-line verdict: ticks, deadline misses and their share,
 // skipped ticks, the slowest stage by mean time, and whether the run kept
 // within the budget of at most 0.1 % of ticks late and none skipped.
