@@ -8,7 +8,8 @@
  * Memory: each handle lives at the start of a block the caller provides,
  * 8-byte aligned, of the size the matching *_bytes function reports; a
  * handle is valid while its block is, and needs no release. A blob must be
- * 8-byte aligned (malloc'd memory is) and may be freed once loaded.
+ * 8-byte aligned (the C allocator's blocks are) and may be released once
+ * loaded.
  *
  * Units: inputs are the rig's DOF values in its input order, then its
  * external inputs: a rotational DOF as a binary angle (2^32 = one turn,
