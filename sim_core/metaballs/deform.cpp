@@ -75,6 +75,21 @@ void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, u
   for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
 }
 
+bool balls_turn_alike(const MetaballModel& m, const MetaballState& s, uint32_t v) {
+  const size_t base = size_t{v} * kVertexBalls;
+  const fx::Quat* first = nullptr;
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    if (m.vertex_weight[base + k] == 0) continue;
+    const fx::Quat& q = s.ball_quat[m.vertex_ball[base + k]];
+    if (first == nullptr) {
+      first = &q;
+    } else if (!(q == *first)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin) {
   size_t lo = 0, hi = skip.size();
   while (lo < hi) {
@@ -89,7 +104,7 @@ size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin) {
 }
 
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                                std::span<const uint32_t> skip, uint32_t begin, uint32_t end) {
+                                std::span<const uint32_t> skip, uint32_t begin, uint32_t end, bool rigid_only) {
   if (end > m.vertex_count) end = m.vertex_count;
   size_t next = first_skip_at(skip, begin);
   for (uint32_t v = begin; v < end; ++v) {
@@ -97,6 +112,7 @@ void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, 
       ++next;
       continue;
     }
+    if (rigid_only && !balls_turn_alike(m, s, v)) continue;
     deform_normal_ball_vertex(m, s, v, out);
   }
 }
@@ -135,21 +151,26 @@ void make_ball_frames(const MetaballModel& m, MetaballState* s) {
   }
 }
 
-// True when every ball of vertex v turns alike (the vector kernels' frame
-// is then the rigid motion itself).
-bool balls_turn_alike(const MetaballModel& m, const MetaballState& s, uint32_t v) {
-  const size_t base = size_t{v} * kVertexBalls;
-  const fx::Quat* first = nullptr;
-  for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    if (m.vertex_weight[base + k] == 0) continue;
-    const fx::Quat& q = s.ball_quat[m.vertex_ball[base + k]];
-    if (first == nullptr) {
-      first = &q;
-    } else if (!(q == *first)) {
-      return false;
-    }
+// fx::transform_point(dq, p) word for word, for the dq that DualQuatBlend::unit
+// returns, with its rotation matrix r = rot3_of_unit(dq.real) made once by the
+// caller (rot3_of_unit equals fx::rotate's rot3_from_quat on near-unit
+// quaternions, where no saturation can occur). No sum below can saturate:
+// |r_ij| <= 2^30 + 16 and |p| < 2^31 give |R p| sums < 2^63, and by
+// Cauchy-Schwarz |dual . real| <= 2^32 (2^30 + 8) < 2^63 for every partial sum.
+fx::Vec3 transform_point_unit(const fx::DualQuat& dq, const fx::Rot3& r, fx::Vec3 p) {
+  const int64_t a[4] = {dq.dual.w, dq.dual.x, dq.dual.y, dq.dual.z};
+  const int64_t w = dq.real.w, x = -int64_t{dq.real.x}, y = -int64_t{dq.real.y}, z = -int64_t{dq.real.z};
+  // translation_of: 2 (dual * conjugate(real)).xyz, each rounded from Q50 once.
+  const int64_t t[3] = {a[0] * x + a[1] * w + (a[2] * z - a[3] * y), a[0] * y - a[1] * z + (a[2] * w + a[3] * x),
+                        a[0] * z + a[1] * y + (-(a[2] * x) + a[3] * w)};
+  int32_t out[3];
+  for (int i = 0; i < 3; ++i) {
+    const int64_t rp = int64_t{r.m[i][0]} * p.x + int64_t{r.m[i][1]} * p.y + int64_t{r.m[i][2]} * p.z;
+    const int32_t rotated = fx::sat_i32(fx::round_shift(rp, fx::kUnitFracBits));
+    const int32_t moved = fx::sat_i32(int64_t{fx::sat_i32(fx::round_shift(t[i], fx::kUnitFracBits))} * 2);
+    out[i] = fx::add_sat(rotated, moved);
   }
-  return true;
+  return {out[0], out[1], out[2]};
 }
 
 // Eq. (4) as one rigid motion on the arc: the dual-quaternion blend of the
@@ -183,13 +204,13 @@ NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& 
   if (!blend.any) return f;  // no weight (not a validated model): the origin
   const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
   const fx::DualQuat dq = blend.unit();
-  const fx::Vec3 centre = fx::transform_point(dq, {q30(rest[0]), q30(rest[1]), q30(rest[2])});
+  f.quat = dq.real;
+  f.rotation = fx::rot3_of_unit(dq.real);
+  const fx::Vec3 centre = transform_point_unit(dq, f.rotation, {q30(rest[0]), q30(rest[1]), q30(rest[2])});
   f.centre[0] = centre.x;
   f.centre[1] = centre.y;
   f.centre[2] = centre.z;
   f.disp = {q30(disp[0]), q30(disp[1]), q30(disp[2])};
-  f.quat = dq.real;
-  f.rotation = fx::rot3_of_unit(dq.real);
   return f;
 }
 
@@ -206,10 +227,11 @@ struct DeformJob {
   DeformKernel kernel;
 };
 
-// Vertices [begin, end) outside the joint regions: eq. (4) by the kernel,
-// then, where the vertex's balls turn differently (balls of two bones near a
-// joint), eq. (4) on the arc (joint_region_frame) instead of the kernels'
-// nlerp frame, whose centre blends along the chord. Writes only these
+// Vertices [begin, end) outside the joint regions: eq. (4) by the kernel
+// where the vertex's balls turn alike (a rigid motion), and where they turn
+// differently (balls of two bones near a joint) eq. (4) on the arc
+// (joint_region_frame) instead of the kernels' nlerp frame, whose centre
+// blends along the chord. Each vertex is computed once. Writes only these
 // vertices' positions.
 void deform_outside_joint_regions(void* context, uint32_t begin, uint32_t end) {
   const DeformJob& j = *static_cast<const DeformJob*>(context);
@@ -219,9 +241,9 @@ void deform_outside_joint_regions(void* context, uint32_t begin, uint32_t end) {
   bool done = false;
 #if defined(__x86_64__)
   if (j.kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
-    done = deform_normal_balls_avx2(m, s, out, j.skip, begin, end);
+    done = deform_normal_balls_avx2(m, s, out, j.skip, begin, end, true);
 #endif
-  if (!done) deform_normal_balls_scalar(m, s, out, j.skip, begin, end);
+  if (!done) deform_normal_balls_scalar(m, s, out, j.skip, begin, end, true);
   size_t next = first_skip_at(j.skip, begin);
   for (uint32_t v = begin; v < end; ++v) {
     if (next < j.skip.size() && j.skip[next] == v) {
@@ -268,8 +290,10 @@ void deform_joint_regions(void* context, uint32_t begin, uint32_t end) {
     // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
     // keeps the ring's section where they differ (a linear blend of two
     // rotations by an angle apart shrinks it by cos(angle / 2)).
-    const NormalBallFrame f = joint_region_frame(m, *s, v);
+    // At w_alpha = 1 eq. (1) is eq. (5) alone, word for word (the blends
+    // below return their second term exactly), so v_lambda is not made.
     const int64_t alpha = m.jv_alpha[i];
+    const NormalBallFrame f = alpha == fx::kUnitOne ? NormalBallFrame{} : joint_region_frame(m, *s, v);
     const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
     const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
     const fx::Vec3 de = m.jv_disp[i];

@@ -54,16 +54,24 @@ NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s
 // model has more balls than it widens on its stack. Both leave the vertices
 // of `skip` (ascending) unwritten: the joint-region vertices, which eq. (1)
 // computes from their frames anyway. [begin, end): the vertices written
-// (every vertex by default).
+// (every vertex by default). rigid_only: leave unwritten, too, the vertices
+// whose balls turn differently (balls_turn_alike false), which the step
+// computes on the arc instead (deform.cpp, joint_region_frame).
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                                std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX);
+                                std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX,
+                                bool rigid_only = false);
 // One vertex of the specification (the vector kernel's fallback).
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
                                const skin::SkinnedVertices& out);
 #if defined(__x86_64__)
 bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                              std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX);
+                              std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX,
+                              bool rigid_only = false);
 #endif
+
+// True when every weighted ball of vertex v has the same rotation (the
+// kernels' frame is then the rigid motion itself).
+bool balls_turn_alike(const MetaballModel& m, const MetaballState& s, uint32_t v);
 
 // The first index of `skip` (ascending) at or after vertex `begin`.
 size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin);
