@@ -224,8 +224,9 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
            false;
   if (const toml::table* loop = t["loop"].as_table()) {
     if (!known_keys_only(*loop, "loop",
-                         {"rate_hz", "duration_s", "stats_interval_s", "mode", "trigger", "trigger_poll_us"}, origin,
-                         error))
+                         {"rate_hz", "duration_s", "stats_interval_s", "mode", "trigger", "trigger_poll_us",
+                          "step_budget", "over_budget"},
+                         origin, error))
       return false;
     if (!read_number(*loop, "rate_hz", 1u, 20000u, &c.rate_hz, origin, error)) return false;
     if (!read_number(*loop, "duration_s", 0.0, 1e7, &c.duration_s, origin, error)) return false;
@@ -252,6 +253,18 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
       c.trigger = *it;
     }
     if (!read_number(*loop, "trigger_poll_us", 1.0, 1000.0, &c.trigger_poll_us, origin, error)) return false;
+    if (!read_number(*loop, "step_budget", 0.0, 1.0, &c.step_budget, origin, error)) return false;
+    if (const toml::node* over = loop->get("over_budget")) {
+      const std::optional<std::string> name = over->value_exact<std::string>();
+      if (name == "warn")
+        c.over_budget = OverBudget::kWarn;
+      else if (name == "slow")
+        c.over_budget = OverBudget::kSlow;
+      else if (name == "refuse")
+        c.over_budget = OverBudget::kRefuse;
+      else
+        return *error = at(origin, over, "[loop] over_budget") + ": must be \"warn\", \"slow\" or \"refuse\"", false;
+    }
   }
   if (const toml::table* layers = t["layers"].as_table())
     if (!read_layers(*layers, origin, &c.layers, error)) return false;

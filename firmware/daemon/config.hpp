@@ -16,6 +16,10 @@ namespace sinew::firmware {
 
 enum class RunMode { kLive, kReplay, kOffline };
 
+// [loop] over_budget: what a live run does when the step measured at
+// start-up takes more than step_budget of the period (step_fit.hpp).
+enum class OverBudget { kWarn, kSlow, kRefuse };
+
 struct SourceConfig {
   std::string type;  // a type of the source registry (sources.cpp): "trajectory", "can", "candump", ...
   std::string name;
@@ -39,6 +43,11 @@ struct DaemonConfig {
   // deadline is always the fallback. Offline and replay runs ignore it.
   TickTrigger trigger = TickTrigger::kPeriodic;
   double trigger_poll_us = 20.0;  // how often the sources are asked while a triggered tick waits
+  // [loop] step_budget: the share of the period the step's p99, measured
+  // before a live run starts, may take (0: not measured); over_budget: what
+  // happens when it takes more.
+  double step_budget = 0.5;
+  OverBudget over_budget = OverBudget::kWarn;
   RealtimeOptions realtime;
   // [status]: the daemon's health as Modbus TCP registers for a PLC or HMI
   // (hal/modbus/status_server.hpp, docs/modbus.md "Status registers").

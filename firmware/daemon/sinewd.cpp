@@ -25,6 +25,7 @@
 #include "sources.hpp"
 #include "stats_report.hpp"
 #include "status_publisher.hpp"
+#include "step_fit.hpp"
 
 namespace {
 
@@ -77,10 +78,6 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
     return 2;
   }
-  const uint64_t period = 1000000000u / config.rate_hz;
-  // Live ticks start 50 ms from now: opening sources and sinks must not make
-  // the first tick late (a late tick is skipped, not burst).
-  const uint64_t start = config.mode == RunMode::kLive ? monotonic_ns() + 50000000u : 0;
   // The workers outlive the runtime, whose pipeline holds them.
   WorkerPool workers;
   Runtime runtime;
@@ -98,7 +95,19 @@ int run(int argc, char** argv) {
     return 2;
   }
   options.workers = workers.workers();
-  const std::vector<InputLimits> limits = input_limits(rig, config, period);
+  const std::vector<InputLimits> limits = input_limits(rig, config, 1000000000u / config.rate_hz);
+  // A live run first times its own step on this machine ([loop] step_budget,
+  // over_budget): it may warn, refuse, or run at a slower rate that fits.
+  StepFit fit{config.rate_hz, config.rate_hz, {}};
+  if (live && config.step_budget > 0 && !fit_step_to_budget(&config, rig, limits, &options, &fit, &error)) {
+    std::printf("%s", fit.report.c_str());
+    std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+    return 2;
+  }
+  const uint64_t period = 1000000000u / config.rate_hz;
+  // Live ticks start 50 ms from now: opening sources and sinks must not make
+  // the first tick late (a late tick is skipped, not burst).
+  const uint64_t start = live ? monotonic_ns() + 50000000u : 0;
   if (!runtime.init(rig.rig, rig.layers, options, limits, start, &error) ||
       !add_sources(config, rig, start, &runtime, &error) || !add_sinks(config, rig, &runtime, &error)) {
     std::fprintf(stderr, "sinewd: %s\n", error.c_str());
@@ -132,6 +141,7 @@ int run(int argc, char** argv) {
               rig.input_count(), rig.external.size(), rig.rig.vertex_count(), config.rate_hz,
               config.mode == RunMode::kLive ? "live" : (config.mode == RunMode::kReplay ? "replay" : "offline"),
               config.mode == RunMode::kLive ? tick_trigger_name(config.trigger) : "nominal times");
+  std::printf("%s", fit.report.c_str());
   if (!rig.unused_inputs.empty()) {
     std::string names;
     for (uint32_t k : rig.unused_inputs) names += (names.empty() ? "" : ", ") + rig.input_names[k];
@@ -207,7 +217,7 @@ int run(int argc, char** argv) {
   const uint64_t skipped = clock.skipped_ticks() + trigger_clock.skipped_ticks();
   if (skipped > 0)
     std::printf("skipped ticks (more than a period late): %llu\n", static_cast<unsigned long long>(skipped));
-  if (live) std::printf("%s\n", run_verdict(runtime, skipped).c_str());
+  if (live) std::printf("%s\n", run_verdict(runtime, skipped, fit.rate_hz, fit.configured_hz).c_str());
   if (triggered)
     std::printf("trigger %s: %llu ticks on arrival, %llu at the deadline (fallback)\n",
                 tick_trigger_name(config.trigger), static_cast<unsigned long long>(on_arrival),

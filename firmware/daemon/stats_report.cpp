@@ -73,7 +73,7 @@ std::string print_stats(Runtime& runtime, const LoadedRig& rig, bool final_repor
   return headline;
 }
 
-std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks) {
+std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks, uint32_t rate_hz, uint32_t configured_hz) {
   const uint64_t ticks = runtime.ticks(), misses = runtime.timing().deadline_misses();
   const StageTimes& t = runtime.stage_times();
   uint32_t slowest = 0;
@@ -82,15 +82,23 @@ std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks) {
   const double share = ticks > 0 ? 100.0 * static_cast<double>(misses) / static_cast<double>(ticks) : 0.0;
   // Budget: at most 0.1 % of ticks late (1 in 1000) and no tick skipped.
   const bool kept = misses * 1000 <= ticks && skipped_ticks == 0;
-  char line[320];
+  char rate[64];
+  if (rate_hz == configured_hz)
+    std::snprintf(rate, sizeof(rate), "%u Hz", rate_hz);
+  else
+    std::snprintf(rate, sizeof(rate), "%u Hz (slowed from %u Hz to fit)", rate_hz, configured_hz);
+  char line[400];
   std::snprintf(
       line, sizeof(line),
-      "verdict: %llu ticks, %llu deadline misses (%.2f %%), %llu skipped; slowest stage %s (%.1f us mean); %s",
-      static_cast<unsigned long long>(ticks), static_cast<unsigned long long>(misses), share,
+      "verdict: %llu ticks at %s, %llu deadline misses (%.2f %%), %llu skipped; slowest stage %s (%.1f us mean); %s",
+      static_cast<unsigned long long>(ticks), rate, static_cast<unsigned long long>(misses), share,
       static_cast<unsigned long long>(skipped_ticks), pipeline::stage_name(static_cast<pipeline::Stage>(slowest)),
       t.ticks > 0 ? static_cast<double>(t.total_ns[slowest]) / static_cast<double>(t.ticks) / 1000.0 : 0.0,
-      kept ? "within the budget (<= 0.1 % late, none skipped)"
-           : "over the budget (<= 0.1 % late, none skipped): lower [loop] rate_hz or switch a layer off");
+      kept                       ? "within the budget (<= 0.1 % late, none skipped)"
+      : rate_hz != configured_hz ? "over the budget (<= 0.1 % late, none skipped): lower [loop] step_budget for more "
+                                   "margin, or switch a layer off"
+                                 : "over the budget (<= 0.1 % late, none skipped): set [loop] over_budget = \"slow\", "
+                                   "lower [loop] rate_hz or switch a layer off");
   return line;
 }
 

@@ -15,7 +15,8 @@ namespace sinew::firmware {
 std::string print_stats(Runtime& runtime, const LoadedRig& rig, bool final_report);
 // The live run's one-line verdict: ticks, deadline misses and their share,
 // skipped ticks, the slowest stage by mean time, and whether the run kept
-// within the budget of at most 0.1 % of ticks late and none skipped.
-std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks);
+// within the budget of at most 0.1 % of ticks late and none skipped; the
+// rate the run used, and the configured one when [loop] over_budget slowed it.
+std::string run_verdict(Runtime& runtime, uint64_t skipped_ticks, uint32_t rate_hz, uint32_t configured_hz);
 
 }  // namespace sinew::firmware

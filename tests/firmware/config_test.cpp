@@ -307,6 +307,34 @@ TEST(DaemonConfig, TriggerAndSyncIdAreTypedAndRangeChecked) {
   EXPECT_EQ(defaults.trigger, sinew::firmware::TickTrigger::kPeriodic);
 }
 
+// [loop] step_budget is a share of the period and over_budget one of three
+// names; the defaults measure and warn, never change the rate.
+TEST(DaemonConfig, StepBudgetAndOverBudgetAreTypedAndRangeChecked) {
+  const std::string rig = "[rig]\nbuiltin = \"arm\"\n";
+  const std::string must = "[loop] over_budget: must be \"warn\", \"slow\" or \"refuse\"";
+  EXPECT_NE(error_of(rig + "[loop]\nover_budget = \"drop\"\n").find("test.toml:4: " + must), std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\nover_budget = true\n").find("test.toml:4: " + must), std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\nstep_budget = 1.5\n").find("test.toml:4: step_budget: must be a number in [0, 1]"),
+            std::string::npos);
+  EXPECT_NE(error_of(rig + "[loop]\nstep_budget = \"half\"\n").find("test.toml:4: step_budget"), std::string::npos);
+  for (const auto& [name, over] :
+       {std::pair{"warn", sinew::firmware::OverBudget::kWarn}, std::pair{"slow", sinew::firmware::OverBudget::kSlow},
+        std::pair{"refuse", sinew::firmware::OverBudget::kRefuse}}) {
+    DaemonConfig c;
+    std::string error;
+    ASSERT_TRUE(
+        parse_config(rig + "[loop]\nstep_budget = 0.25\nover_budget = \"" + name + "\"\n", "t.toml", &c, &error))
+        << error;
+    EXPECT_EQ(c.over_budget, over);
+    EXPECT_DOUBLE_EQ(c.step_budget, 0.25);
+  }
+  DaemonConfig defaults;
+  std::string error;
+  ASSERT_TRUE(parse_config(rig, "t.toml", &defaults, &error)) << error;
+  EXPECT_EQ(defaults.over_budget, sinew::firmware::OverBudget::kWarn);
+  EXPECT_DOUBLE_EQ(defaults.step_budget, 0.5);
+}
+
 // Sources and sinks are reported and their errors given by name: two with
 // one name would be indistinguishable.
 TEST(DaemonConfig, DuplicateSourceAndSinkNamesAreRefused) {

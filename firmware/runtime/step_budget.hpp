@@ -1,0 +1,59 @@
+// The tick's step measured before a live run starts, so the daemon knows
+// whether its configuration fits the machine it runs on and can say so, or
+// slow its rate to fit ([loop] step_budget and over_budget; docs/pipeline.md,
+// "Fitting the tick to the machine").
+//
+// The probe steps a pipeline of its own (the run's rig, layers, options and
+// worker threads) while every input sweeps its accepted range, so the layers
+// work as they do on a moving rig rather than at rest, where several take
+// shortcuts. It allocates (its arena), so it runs at start-up only.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "runtime.hpp"
+#include "sim_core/pipeline/pipeline.hpp"
+
+namespace sinew::firmware {
+
+struct StepProbeResult {
+  uint32_t steps = 0;  // steps timed (after the warm-up)
+  uint64_t p50_ns = 0, p99_ns = 0, max_ns = 0;
+  pipeline::Stage slowest = pipeline::Stage::kSkinning;  // the stage with the largest mean
+  uint64_t slowest_mean_ns = 0;
+};
+
+// Times `steps` steps (after a few untimed warm-up steps) or as many as fit
+// in wall_limit_ns, whichever ends first; at least 8 are timed. limits: one
+// per rig input then per external input (the daemon's accepted ranges).
+// False with `error` when the pipeline refuses the options.
+bool probe_step(const rig::Rig& rig, const pipeline::LayerSet& layers, const pipeline::PipelineOptions& options,
+                std::span<const InputLimits> limits, uint32_t steps, uint64_t wall_limit_ns, StepProbeResult* out,
+                std::string* error);
+
+// The probe's input k at step s: a triangle wave over [lo, hi] with a
+// period of 128 steps, each input at its own phase so the joints do not all
+// move together (layers that couple two joints see them differ).
+int32_t swept_input(int32_t lo, int32_t hi, uint64_t step, size_t input);
+
+struct WakeProbeResult {
+  uint32_t wakeups = 0;
+  uint64_t p50_ns = 0, p99_ns = 0, max_ns = 0;  // how late the thread woke after each deadline
+};
+
+// Sleeps to `count` absolute deadlines (CLOCK_MONOTONIC, TIMER_ABSTIME)
+// interval_ns apart and records how late each wake-up was: the machine's
+// timer and scheduling latency, as cyclictest measures it, which every live
+// tick adds to its step. A virtual machine's vCPU stalls show here.
+WakeProbeResult probe_wakeups(uint64_t interval_ns, uint32_t count);
+
+// The largest rate rate_hz / k (k = 1, 2, ...; only exact divisors, so the
+// slower ticks keep the configured schedule's slots) whose period P holds a
+// typical tick within `share` of it (typical_ns <= share P, 0 < share <= 1)
+// and the worst tick seen within it (worst_ns <= P); 0 when not even 1 Hz
+// does.
+uint32_t fitting_rate(uint32_t rate_hz, uint64_t typical_ns, double share, uint64_t worst_ns);
+
+}  // namespace sinew::firmware
