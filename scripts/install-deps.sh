@@ -15,6 +15,8 @@ runtime_pkgs=(
   build-essential cmake ninja-build pkgconf git
   libtomlplusplus-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
   libgpiod-dev libmodbus-dev libzstd-dev libsystemd-dev
+  # ROS 2 over DDS: Cyclone DDS, and idlc to generate the message types at build time
+  cyclonedds-dev cyclonedds-tools
 )
 test_pkgs=(
   "${runtime_pkgs[@]}"

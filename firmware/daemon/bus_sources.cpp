@@ -307,23 +307,6 @@ std::unique_ptr<hal::InputSource> modbus(const SourceConfig& s, const LoadedRig&
   return source;
 }
 
-// A rig input named "<joint>.<dof>" or given by index.
-bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& rig, const char* what, uint16_t* input,
-                std::string* error) {
-  if (const auto name = t["input"].value<std::string>()) {
-    const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), *name);
-    if (it == rig.input_names.end())
-      return *error = where(s, std::string(what) + ".input") + " '" + *name + "' is no rig input", false;
-    *input = static_cast<uint16_t>(it - rig.input_names.begin());
-    return true;
-  }
-  const int64_t index = t["input"].value_or(int64_t{-1});
-  if (index < 0 || index >= static_cast<int64_t>(rig.input_count()))
-    return *error = where(s, std::string(what) + ".input") + " must name a rig input", false;
-  *input = static_cast<uint16_t>(index);
-  return true;
-}
-
 #if SINEW_SIMULATED_DEVICES
 // A GPIO source on the simulated rig's chip: each latch first plays the
 // encoders' motion up to the tick onto the lines, then reads them as the
@@ -467,6 +450,23 @@ std::unique_ptr<hal::InputSource> gpio(const SourceConfig& s, const LoadedRig& r
 }
 
 }  // namespace
+
+// A rig input named "<joint>.<dof>" or given by index.
+bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& rig, const char* what, uint16_t* input,
+                std::string* error) {
+  if (const auto name = t["input"].value<std::string>()) {
+    const auto it = std::find(rig.input_names.begin(), rig.input_names.end(), *name);
+    if (it == rig.input_names.end())
+      return *error = where(s, std::string(what) + ".input") + " '" + *name + "' is no rig input", false;
+    *input = static_cast<uint16_t>(it - rig.input_names.begin());
+    return true;
+  }
+  const int64_t index = t["input"].value_or(int64_t{-1});
+  if (index < 0 || index >= static_cast<int64_t>(rig.input_count()))
+    return *error = where(s, std::string(what) + ".input") + " must name a rig input", false;
+  *input = static_cast<uint16_t>(index);
+  return true;
+}
 
 std::unique_ptr<hal::InputSource> open_can_source(const SourceConfig& s, const SourceSetup& setup, std::string* error) {
   return socketcan(s, setup.rig, setup.config, setup.start_ns, error);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "dds_endpoints.hpp"
 #include "firmware/runtime/async_sink.hpp"
 #include "firmware/runtime/recording.hpp"
 #include "firmware/sinks/decimating_sink.hpp"
@@ -178,11 +179,23 @@ std::unique_ptr<OutputSink> open_can(const SinkConfig& s, const SinkSetup& setup
   return std::make_unique<InputsOnlySink>(queued(setup.config, std::move(can), inputs_dims), "");
 }
 
+constexpr ConfigKey kDdsKeys[] = {
+    {"type", KeyKind::kString},           {"name", KeyKind::kString},  {"domain_id", KeyKind::kInteger, 0, 232},
+    {"namespace", KeyKind::kString},      {"topic", KeyKind::kString}, {"frame_id", KeyKind::kString},
+    {"depth", KeyKind::kInteger, 1, 1000}};
+
+// The applied inputs as ROS 2's sensor_msgs/msg/JointState on DDS every tick
+// (dds_endpoints.hpp, docs/ros2.md), from the sink's I/O thread.
+std::unique_ptr<OutputSink> open_dds(const SinkConfig& s, const SinkSetup& setup, std::string* error) {
+  std::unique_ptr<OutputSink> dds = open_dds_joint_state_sink(s, setup, error);
+  if (!dds) return nullptr;
+  const FrameDims inputs_dims{0, setup.rig.input_count(), false};
+  return std::make_unique<InputsOnlySink>(queued(setup.config, std::move(dds), inputs_dims), "");
+}
+
 constexpr SinkType kSinkTypes[] = {
-    {"log", kLogKeys, open_log},
-    {"record", kRecordKeys, open_record},
-    {"udp", kUdpKeys, open_udp},
-    {"can", kCanKeys, open_can},
+    {"log", kLogKeys, open_log}, {"record", kRecordKeys, open_record}, {"udp", kUdpKeys, open_udp},
+    {"can", kCanKeys, open_can}, {"dds", kDdsKeys, open_dds},
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "sources.hpp"
 
 #include "bus_sources.hpp"
+#include "dds_endpoints.hpp"
 #include "firmware/sources/trajectory_source.hpp"
 
 namespace sinew::firmware {
@@ -82,6 +83,15 @@ constexpr ConfigKey kGpioKeys[] = {{"type", KeyKind::kString},
                                    {"fault_line", KeyKind::kTable, 0, 0, kLineKeys},
                                    {"fault", KeyKind::kTables, 0, 0, kFaultKeys}};
 
+constexpr ConfigKey kDdsJointKeys[] = {{"name", KeyKind::kString}, {"input", KeyKind::kInput}};
+constexpr ConfigKey kDdsKeys[] = {{"type", KeyKind::kString},
+                                  {"name", KeyKind::kString},
+                                  {"domain_id", KeyKind::kInteger, 0, 232},
+                                  {"namespace", KeyKind::kString},
+                                  {"topic", KeyKind::kString},
+                                  {"depth", KeyKind::kInteger, 1, 1000},
+                                  {"joint", KeyKind::kTables, 0, 0, kDdsJointKeys}};
+
 // The deterministic sweep of every rig input (hal/sim/sweep.hpp), for runs
 // without hardware.
 std::unique_ptr<hal::InputSource> open_trajectory(const SourceConfig& s, const SourceSetup& setup, std::string* error) {
@@ -101,9 +111,13 @@ std::unique_ptr<hal::InputSource> open_trajectory(const SourceConfig& s, const S
 }
 
 constexpr SourceType kSourceTypes[] = {
-    {"trajectory", kTrajectoryKeys, open_trajectory}, {"can", kCanKeys, open_can_source},
-    {"candump", kCandumpKeys, open_candump_source},   {"simulated-rig", kSimulatedRigKeys, open_simulated_rig_source},
-    {"modbus", kModbusKeys, open_modbus_source},      {"gpio", kGpioKeys, open_gpio_source},
+    {"trajectory", kTrajectoryKeys, open_trajectory},
+    {"can", kCanKeys, open_can_source},
+    {"candump", kCandumpKeys, open_candump_source},
+    {"simulated-rig", kSimulatedRigKeys, open_simulated_rig_source},
+    {"modbus", kModbusKeys, open_modbus_source},
+    {"gpio", kGpioKeys, open_gpio_source},
+    {"dds", kDdsKeys, open_dds_source},
 };
 
 }  // namespace

@@ -34,6 +34,11 @@ struct SourceType {
 
 std::span<const SourceType> source_types();
 
+// The rig input a source's sub-table names in its `input` key ("<joint>.<dof>"
+// or an index); false with *error naming the source and `what`.input.
+bool read_input(const SourceConfig& s, const toml::table& t, const LoadedRig& rig, const char* what, uint16_t* input,
+                std::string* error);
+
 // Opens one [[source]] through its registry entry; null with *error.
 std::unique_ptr<hal::InputSource> open_source(const SourceConfig& source, const SourceSetup& setup, std::string* error);
 

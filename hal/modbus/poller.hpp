@@ -15,12 +15,12 @@
 #include <vector>
 
 #include "backoff.hpp"
+#include "hal/common/triple_buffer.hpp"
 #include "poll_snapshot.hpp"
 #include "poller_config.hpp"
 #include "poller_stats.hpp"
 #include "read_outcome.hpp"
 #include "request_plan.hpp"
-#include "triple_buffer.hpp"
 
 namespace sinew::hal::modbus {
 

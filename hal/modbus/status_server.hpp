@@ -14,8 +14,8 @@
 #include <thread>
 #include <vector>
 
+#include "hal/common/triple_buffer.hpp"
 #include "status_registers.hpp"
-#include "triple_buffer.hpp"
 
 struct _modbus;
 struct _modbus_mapping_t;

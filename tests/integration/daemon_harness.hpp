@@ -26,6 +26,26 @@ struct DaemonRun {
 // in a cross build) and waits for it; its output goes to OUT_PATH.
 DaemonRun run_sinewd(const std::string& config_path, const std::string& out_path);
 
+// The daemon in the background (through the launcher, as run_sinewd) until
+// stop() or destruction (SIGKILL); its output goes to out_path.
+class BackgroundDaemon {
+ public:
+  BackgroundDaemon(const std::string& config, const std::string& out_path);
+  ~BackgroundDaemon();
+  BackgroundDaemon(const BackgroundDaemon&) = delete;
+  BackgroundDaemon& operator=(const BackgroundDaemon&) = delete;
+  bool started() const { return started_; }
+  bool running() const;
+  // SIGTERM, then its exit status (the daemon ends its run and exits 0).
+  int stop();
+  // SIGKILL, as a crash or a power cut would end it.
+  void kill();
+
+ private:
+  int pid_ = -1;
+  bool started_ = false, stopped_ = false;
+};
+
 struct FrameLog {
   std::vector<hal::output::DecodedPose> poses;  // every complete frame, in order
   std::string stop;                             // why the reader stopped

@@ -25,45 +25,12 @@
 #include "hal/modbus/status_registers.hpp"
 #include "tests/integration/daemon_harness.hpp"
 
-extern char** environ;
-
 namespace {
 
 namespace r = sinew::hal::modbus::status_reg;
 using Clock = std::chrono::steady_clock;
 
 constexpr auto kLiveness = std::chrono::seconds(60);  // success returns at once
-
-// The daemon in the background until stop(); its output goes to out_path.
-class BackgroundDaemon {
- public:
-  BackgroundDaemon(const std::string& config, const std::string& out_path) {
-    const std::string command =
-        std::string("exec ") + SINEWD_LAUNCHER SINEWD_EXE + " --config " + config + " > " + out_path + " 2>&1";
-    const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
-    started_ = posix_spawn(&pid_, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) == 0;
-  }
-  ~BackgroundDaemon() {
-    if (started_ && !stopped_) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-  bool started() const { return started_; }
-  bool running() const { return started_ && !stopped_ && ::waitpid(pid_, nullptr, WNOHANG) == 0; }
-  // SIGTERM, then its exit status (the daemon ends its run and exits 0).
-  int stop() {
-    ::kill(pid_, SIGTERM);
-    int status = -1;
-    ::waitpid(pid_, &status, 0);
-    stopped_ = true;
-    return status;
-  }
-
- private:
-  pid_t pid_ = -1;
-  bool started_ = false, stopped_ = false;
-};
 
 // The port the daemon printed ("status registers on Modbus TCP ADDR:PORT"), or 0.
 int printed_port(const std::string& out) {
@@ -87,7 +54,7 @@ TEST(StatusRegisters, ALiveDaemonServesItsHealthOverModbus) {
                         << "[status]\nmodbus_port = 0\n"
                         << "[[source]]\ntype = \"trajectory\"\nperiod_ms = 50\n";
   std::remove(out.c_str());
-  BackgroundDaemon daemon(config, out);
+  sinew::test::BackgroundDaemon daemon(config, out);
   ASSERT_TRUE(daemon.started());
   int port = 0;
   for (const auto until = Clock::now() + kLiveness; port == 0 && daemon.running() && Clock::now() < until;) {

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "hal/common/pose_frame.hpp"
+#include "hal/common/triple_buffer.hpp"
 #include "hal/modbus/backoff.hpp"
 #include "hal/modbus/poller_config.hpp"
 #include "hal/modbus/request_plan.hpp"
 #include "hal/modbus/status_registers.hpp"
-#include "hal/modbus/triple_buffer.hpp"
 
 namespace mb = sinew::hal::modbus;
 namespace hal = sinew::hal;
@@ -186,7 +186,7 @@ TEST(ModbusBackoff, DoublesUpToTheCapAndResets) {
 }
 
 TEST(ModbusTripleBuffer, HandsOverOnlyTheLatestValue) {
-  mb::TripleBuffer<int> tb(0);
+  sinew::hal::TripleBuffer<int> tb(0);
   EXPECT_FALSE(tb.refresh());
   tb.back() = 1;
   tb.publish();
@@ -201,7 +201,7 @@ TEST(ModbusTripleBuffer, HandsOverOnlyTheLatestValue) {
 TEST(ModbusTripleBuffer, NeverTearsUnderConcurrentUse) {
   // Every published array holds one value repeated: a torn read would mix two.
   using Block = std::array<uint64_t, 64>;
-  mb::TripleBuffer<Block> tb(Block{});
+  sinew::hal::TripleBuffer<Block> tb(Block{});
   constexpr uint64_t kPublishes = 200000;
   std::atomic<bool> done{false};
   std::thread producer([&] {

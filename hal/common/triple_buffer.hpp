@@ -14,7 +14,7 @@
 #include <atomic>
 #include <cstdint>
 
-namespace sinew::hal::modbus {
+namespace sinew::hal {
 
 template <typename T>
 class TripleBuffer {
@@ -54,4 +54,4 @@ class TripleBuffer {
   static_assert(std::atomic<uint8_t>::is_always_lock_free);
 };
 
-}  // namespace sinew::hal::modbus
+}  // namespace sinew::hal
