@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "config_keys.hpp"
+#include "config_registry.hpp"
 #include "sim_core/layer/workers.hpp"
 #include "sim_core/pipeline/stage_table.hpp"
 #include "sinks.hpp"
@@ -48,7 +49,7 @@ bool read_flag(const toml::table& t, const char* key, bool* out, const std::stri
 }
 
 // A misspelt key would otherwise be ignored and its default used in silence.
-bool known_keys_only(const toml::table& t, const char* table, std::initializer_list<std::string_view> keys,
+bool known_keys_only(const toml::table& t, const char* table, std::span<const std::string_view> keys,
                      const std::string& origin, std::string* error) {
   for (const auto& [key, node] : t) {
     if (std::find(keys.begin(), keys.end(), key.str()) != keys.end()) continue;
@@ -213,7 +214,8 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
                       ": unknown table or key (rig, loop, layers, realtime, inputs, status, source, sink)",
              false;
   if (const toml::table* rig = t["rig"].as_table()) {
-    if (!known_keys_only(*rig, "rig", {"builtin", "blob"}, origin, error)) return false;
+    constexpr std::string_view kRigKeys[] = {"builtin", "blob"};
+    if (!known_keys_only(*rig, "rig", kRigKeys, origin, error)) return false;
     c.rig_builtin = (*rig)["builtin"].value_or<std::string>("");
     c.rig_blob = (*rig)["blob"].value_or<std::string>("");
   }
@@ -223,11 +225,7 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     return *error = at(origin, t["rig"]["builtin"].node(), "[rig] builtin") + ": unknown built-in rig (arm, hand)",
            false;
   if (const toml::table* loop = t["loop"].as_table()) {
-    if (!known_keys_only(*loop, "loop",
-                         {"rate_hz", "duration_s", "stats_interval_s", "mode", "trigger", "trigger_poll_us",
-                          "step_budget", "over_budget"},
-                         origin, error))
-      return false;
+    if (!known_keys_only(*loop, "loop", daemon_keys_of("loop"), origin, error)) return false;
     if (!read_number(*loop, "rate_hz", 1u, 20000u, &c.rate_hz, origin, error)) return false;
     if (!read_number(*loop, "duration_s", 0.0, 1e7, &c.duration_s, origin, error)) return false;
     if (!read_number(*loop, "stats_interval_s", 0.0, 3600.0, &c.stats_interval_s, origin, error)) return false;
@@ -269,9 +267,8 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
   if (const toml::table* layers = t["layers"].as_table())
     if (!read_layers(*layers, origin, &c.layers, error)) return false;
   if (const toml::table* st = t["status"].as_table()) {
-    if (!known_keys_only(*st, "status", {"modbus_port", "modbus_bind", "modbus_max_clients"}, origin, error))
-      return false;
-    if (!read_number(*st, "modbus_port", 0, 65535, &c.status.modbus_port, origin, error)) return false;
+    if (!known_keys_only(*st, "status", daemon_keys_of("status"), origin, error)) return false;
+    if (!read_number(*st, "modbus_port", -1, 65535, &c.status.modbus_port, origin, error)) return false;
     if (!read_number(*st, "modbus_max_clients", 1, 64, &c.status.modbus_max_clients, origin, error)) return false;
     if (const toml::node* bind = st->get("modbus_bind")) {
       if (!bind->is_string()) return *error = at(origin, bind, "[status] modbus_bind") + ": must be a string", false;
@@ -279,11 +276,7 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     }
   }
   if (const toml::table* rt = t["realtime"].as_table()) {
-    if (!known_keys_only(*rt, "realtime",
-                         {"fifo_priority", "cpu", "lock_memory", "io_fifo_priority", "io_cpu", "sink_ring_frames",
-                          "io_poll_us", "workers", "worker_cpu"},
-                         origin, error))
-      return false;
+    if (!known_keys_only(*rt, "realtime", daemon_keys_of("realtime"), origin, error)) return false;
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;
     if (!read_flag(*rt, "lock_memory", &c.realtime.lock_memory, origin, error)) return false;
@@ -305,8 +298,7 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     }
   }
   if (const toml::table* in = t["inputs"].as_table()) {
-    if (!known_keys_only(*in, "inputs", {"timeout_factor", "default_period_ms", "range_margin_deg"}, origin, error))
-      return false;
+    if (!known_keys_only(*in, "inputs", daemon_keys_of("inputs"), origin, error)) return false;
     if (!read_number(*in, "timeout_factor", 1.0, 100.0, &c.timeout_factor, origin, error)) return false;
     if (!read_number(*in, "default_period_ms", 0.01, 10000.0, &c.default_period_ms, origin, error)) return false;
     if (!read_number(*in, "range_margin_deg", 0.0, 180.0, &c.range_margin_deg, origin, error)) return false;

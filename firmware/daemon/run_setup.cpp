@@ -47,4 +47,13 @@ bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::P
   return true;
 }
 
+bool pipeline_accepts(const LoadedRig& rig, const pipeline::PipelineOptions& options, std::string* error) {
+  std::vector<uint64_t> arena(pipeline::pipeline_state_bytes(rig.rig, rig.layers, options) / 8 + 1, 0);
+  pipeline::Pipeline p;
+  const pipeline::PipelineStatus s =
+      pipeline::pipeline_init(rig.rig, rig.layers, options, arena.data(), arena.size() * 8, &p);
+  if (!s.ok()) return *error = std::string("layers: ") + s.message, false;
+  return true;
+}
+
 }  // namespace sinew::firmware

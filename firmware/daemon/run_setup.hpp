@@ -24,4 +24,9 @@ std::vector<InputLimits> input_limits(const LoadedRig& rig, const DaemonConfig& 
 bool layer_options(const DaemonConfig& config, const LoadedRig& rig, pipeline::PipelineOptions* out,
                    std::string* error);
 
+// Whether the pipeline initialises with these options on this rig (the
+// layers accept their models and the rate's gain conversion); false with
+// the layer's message. Allocates its arena: start-up and checks only.
+bool pipeline_accepts(const LoadedRig& rig, const pipeline::PipelineOptions& options, std::string* error);
+
 }  // namespace sinew::firmware

@@ -13,6 +13,7 @@
 #include <exception>
 
 #include "config.hpp"
+#include "config_registry.hpp"
 #include "firmware/rig/loaded_rig.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_clock.hpp"
@@ -48,16 +49,55 @@ bool parse_duration(const std::string& text, double* out) {
   return true;
 }
 
+// --check-config: everything sinewd checks before it opens a device, file
+// or socket: the file's keys, types and ranges (every [[source]] and
+// [[sink]] against its type's keys), the rig, the layers it switches on and
+// the pipeline's acceptance of them at the configured rate.
+int check_config(const std::string& path) {
+  using namespace sinew::firmware;
+  DaemonConfig config;
+  std::string error;
+  LoadedRig rig;
+  sinew::pipeline::PipelineOptions options;
+  if (!load_config(path, &config, &error) || !load_rig(config.rig_builtin, config.rig_blob, &rig, &error) ||
+      !layer_options(config, rig, &options, &error) || !pipeline_accepts(rig, options, &error)) {
+    std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+    return 2;
+  }
+  std::printf("# %s: valid (sinewd --check-config); every key resolved\n%s", path.c_str(),
+              resolved_config_text(config).c_str());
+  return 0;
+}
+
 int run(int argc, char** argv) {
   using namespace sinew::firmware;
   CLI::App app{"sinewd: joint angles in, deformed pose out, at a fixed rate"};
   std::string config_path;
   std::string duration_text;
   bool offline = false;
-  app.add_option("--config", config_path, "TOML configuration")->required();
+  std::string check_path;
+  bool print_defaults = false;
+  auto* config_option = app.add_option("--config", config_path, "TOML configuration");
   app.add_option("--duration", duration_text, "seconds to run (overrides [loop] duration_s; 0 = until signalled)");
   app.add_flag("--offline", offline, "re-simulate as fast as possible on nominal tick times");
+  auto* check_option = app.add_option(
+      "--check-config", check_path,
+      "parse and validate a configuration (rig, layers, sources' and sinks' keys), print it with every default "
+      "filled in, and exit: 0 if it is valid, 2 with file:line:key if not; opens no device, file or socket");
+  auto* defaults_flag =
+      app.add_flag("--print-default-config", print_defaults, "print every key with its default and exit");
+  config_option->excludes(check_option)->excludes(defaults_flag);
+  check_option->excludes(defaults_flag);
   CLI11_PARSE(app, argc, argv);
+  if (print_defaults) {
+    std::printf("%s", default_config_text().c_str());
+    return 0;
+  }
+  if (!check_path.empty()) return check_config(check_path);
+  if (config_path.empty()) {
+    std::fprintf(stderr, "sinewd: --config FILE is required (or --check-config FILE, --print-default-config)\n");
+    return 2;
+  }
   double duration = -1;
   if (app.count("--duration") > 0 && !parse_duration(duration_text, &duration)) {
     std::fprintf(stderr, "sinewd: --duration '%s': must be a number of seconds in [0, %g]\n", duration_text.c_str(),

@@ -123,3 +123,42 @@ TEST(DaemonEndToEnd, DurationIsScheduleTimeEvenWhenTicksAreSkipped) {
   for (const auto& pose : frames.poses) ASSERT_LT(pose.tick, 10000u) << run.out;
   std::remove(log.c_str());
 }
+
+namespace {
+
+// sinewd with raw arguments (no --config); its status and output.
+sinew::test::DaemonRun run_sinewd_args(const std::string& args, const std::string& out_path) {
+  sinew::test::DaemonRun run;
+  run.command = std::string(SINEWD_LAUNCHER SINEWD_EXE) + " " + args + " > " + out_path + " 2>&1";
+  run.status = std::system(run.command.c_str());
+  run.out = sinew::test::slurp(out_path);
+  return run;
+}
+
+}  // namespace
+
+// --check-config validates without running (exit 0, the configuration with
+// every key resolved) or names file:line:key (exit 2);
+// --print-default-config is itself a configuration --check-config accepts.
+TEST(DaemonEndToEnd, CheckConfigAndPrintDefaultConfig) {
+  const std::string dir = testing::TempDir();
+  const std::string good = refusal_config("check_good", "");
+  const sinew::test::DaemonRun ok = run_sinewd_args("--check-config " + good, dir + "/check_good.out");
+  EXPECT_EQ(exit_code(ok), 0) << ok.out;
+  EXPECT_NE(ok.out.find("valid"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("rate_hz = 50\n"), std::string::npos) << ok.out;            // the file's value
+  EXPECT_NE(ok.out.find("sink_ring_frames = 128\n"), std::string::npos) << ok.out;  // a default filled in
+  EXPECT_EQ(ok.out.find("final tick"), std::string::npos) << ok.out;                // nothing ran
+
+  const std::string bad = testing::TempDir() + "/check_bad.toml";
+  std::ofstream(bad) << "[rig]\nbuiltin = \"hand\"\n[loop]\nrate_hz = 0\n";
+  const sinew::test::DaemonRun refused = run_sinewd_args("--check-config " + bad, dir + "/check_bad.out");
+  EXPECT_EQ(exit_code(refused), 2) << refused.out;
+  EXPECT_NE(refused.out.find("check_bad.toml:4: rate_hz"), std::string::npos) << refused.out;
+
+  const std::string defaults = dir + "/defaults.toml";
+  const sinew::test::DaemonRun printed = run_sinewd_args("--print-default-config", defaults);
+  ASSERT_EQ(exit_code(printed), 0) << printed.out;
+  const sinew::test::DaemonRun checked = run_sinewd_args("--check-config " + defaults, dir + "/defaults_check.out");
+  EXPECT_EQ(exit_code(checked), 0) << checked.out;
+}
