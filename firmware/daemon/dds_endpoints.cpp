@@ -2,12 +2,14 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
 #if SINEW_HAVE_DDS
 #include "hal/dds/joint_state_sink.hpp"
 #include "hal/dds/joint_state_source.hpp"
+#include "hal/dds/mesh_marker_sink.hpp"
 #endif
 
 namespace sinew::firmware {
@@ -97,6 +99,33 @@ std::unique_ptr<hal::OutputSink> open_dds_joint_state_sink(const SinkConfig& s, 
   return sink;
 }
 
+std::unique_ptr<hal::OutputSink> open_dds_mesh_sink(const SinkConfig& s, const SinkSetup& setup,
+                                                    uint64_t* every_n_frames, std::string* error) {
+  error->clear();
+  const double mesh_hz = s.table["mesh_rate_hz"].value_or(30.0);
+  hal::dds::MeshMarkerSinkOptions o;
+  o.topic = s.table["mesh_topic"].value_or<std::string>("skin");
+  if (mesh_hz <= 0 || o.topic.empty()) return nullptr;
+  o.domain_id = s.table["domain_id"].value_or(0u);
+  o.ros_namespace = s.table["namespace"].value_or<std::string>("");
+  o.frame_id = s.table["mesh_frame_id"].value_or<std::string>("sinew");
+  o.stamp_offset_ns = stamp_offset_ns(setup.config.mode == RunMode::kLive);
+  // The nearest whole number of ticks per mesh, at least one.
+  *every_n_frames = std::max<uint64_t>(1, static_cast<uint64_t>(setup.config.rate_hz / mesh_hz + 0.5));
+  auto sink = std::make_unique<hal::dds::MeshMarkerSink>();
+  if (!sink->open(o, setup.rig.rig.triangles, setup.rig.rig.vertex_count(), error)) {
+    *error = "sink " + s.name + ": " + *error;
+    return nullptr;
+  }
+  sink->set_name(s.name);
+  std::printf(
+      "sinewd: sink %s publishes visualization_msgs/msg/Marker (the skin, %zu triangles) on DDS topic %s "
+      "every %llu ticks\n",
+      s.name.c_str(), setup.rig.rig.triangles.size() / 3, sink->dds_topic().c_str(),
+      static_cast<unsigned long long>(*every_n_frames));
+  return sink;
+}
+
 #else
 
 namespace {
@@ -111,6 +140,11 @@ std::unique_ptr<hal::InputSource> open_dds_source(const SourceConfig& s, const S
 }
 
 std::unique_ptr<hal::OutputSink> open_dds_joint_state_sink(const SinkConfig& s, const SinkSetup&, std::string* error) {
+  return *error = "sink " + s.name + kNoDds, nullptr;
+}
+
+std::unique_ptr<hal::OutputSink> open_dds_mesh_sink(const SinkConfig& s, const SinkSetup&, uint64_t*,
+                                                    std::string* error) {
   return *error = "sink " + s.name + kNoDds, nullptr;
 }
 

@@ -21,5 +21,10 @@ std::unique_ptr<hal::InputSource> open_dds_source(const SourceConfig& s, const S
 // The JointState writer itself, unqueued (sinks.cpp queues it).
 std::unique_ptr<hal::OutputSink> open_dds_joint_state_sink(const SinkConfig& s, const SinkSetup& setup,
                                                            std::string* error);
+// The skin as a Marker, unqueued; null with an empty *error when the table
+// turns it off (mesh_rate_hz = 0 or mesh_topic = ""), with a message on error.
+// *every_n_frames: the decimation from the tick rate to mesh_rate_hz.
+std::unique_ptr<hal::OutputSink> open_dds_mesh_sink(const SinkConfig& s, const SinkSetup& setup,
+                                                    uint64_t* every_n_frames, std::string* error);
 
 }  // namespace sinew::firmware

@@ -6,6 +6,7 @@
 #include "firmware/runtime/async_sink.hpp"
 #include "firmware/runtime/recording.hpp"
 #include "firmware/sinks/decimating_sink.hpp"
+#include "firmware/sinks/fan_out_sink.hpp"
 #include "firmware/sinks/inputs_only_sink.hpp"
 #include "hal/can/candump_frame_writer.hpp"
 #include "hal/can/socketcan_writer.hpp"
@@ -179,18 +180,31 @@ std::unique_ptr<OutputSink> open_can(const SinkConfig& s, const SinkSetup& setup
   return std::make_unique<InputsOnlySink>(queued(setup.config, std::move(can), inputs_dims), "");
 }
 
-constexpr ConfigKey kDdsKeys[] = {
-    {"type", KeyKind::kString},           {"name", KeyKind::kString},  {"domain_id", KeyKind::kInteger, 0, 232},
-    {"namespace", KeyKind::kString},      {"topic", KeyKind::kString}, {"frame_id", KeyKind::kString},
-    {"depth", KeyKind::kInteger, 1, 1000}};
+constexpr ConfigKey kDdsKeys[] = {{"type", KeyKind::kString},
+                                  {"name", KeyKind::kString},
+                                  {"domain_id", KeyKind::kInteger, 0, 232},
+                                  {"namespace", KeyKind::kString},
+                                  {"topic", KeyKind::kString},
+                                  {"frame_id", KeyKind::kString},
+                                  {"depth", KeyKind::kInteger, 1, 1000},
+                                  {"mesh_topic", KeyKind::kString},
+                                  {"mesh_rate_hz", KeyKind::kNumber, 0, 1000},
+                                  {"mesh_frame_id", KeyKind::kString}};
 
-// The applied inputs as ROS 2's sensor_msgs/msg/JointState on DDS every tick
-// (dds_endpoints.hpp, docs/ros2.md), from the sink's I/O thread.
+// The applied inputs as ROS 2's sensor_msgs/msg/JointState on DDS every tick,
+// and the skin as a visualization_msgs/msg/Marker at mesh_rate_hz
+// (dds_endpoints.hpp, docs/ros2.md), each from its own I/O thread.
 std::unique_ptr<OutputSink> open_dds(const SinkConfig& s, const SinkSetup& setup, std::string* error) {
-  std::unique_ptr<OutputSink> dds = open_dds_joint_state_sink(s, setup, error);
-  if (!dds) return nullptr;
+  std::unique_ptr<OutputSink> joints = open_dds_joint_state_sink(s, setup, error);
+  if (!joints) return nullptr;
+  std::vector<std::unique_ptr<OutputSink>> outputs;
   const FrameDims inputs_dims{0, setup.rig.input_count(), false};
-  return std::make_unique<InputsOnlySink>(queued(setup.config, std::move(dds), inputs_dims), "");
+  outputs.push_back(std::make_unique<InputsOnlySink>(queued(setup.config, std::move(joints), inputs_dims), ""));
+  uint64_t every_n = 1;
+  std::unique_ptr<OutputSink> mesh = open_dds_mesh_sink(s, setup, &every_n, error);
+  if (!mesh && !error->empty()) return nullptr;
+  if (mesh) outputs.push_back(queued(setup.config, std::move(mesh), frame_dims(setup.rig), every_n));
+  return std::make_unique<FanOutSink>(s.name, std::move(outputs));
 }
 
 constexpr SinkType kSinkTypes[] = {

@@ -22,4 +22,16 @@ inline dds_qos_t* joint_state_qos(uint32_t depth) {
   return qos;
 }
 
+// The mesh (Marker): best effort, keep-last 1, volatile: a mesh that is late
+// is replaced by the next, never retransmitted or queued (RViz's Marker
+// display subscribes reliably by default; set it to best effort, or it
+// matches nothing: docs/ros2.md).
+inline dds_qos_t* mesh_qos() {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  return qos;
+}
+
 }  // namespace sinew::hal::dds

@@ -101,6 +101,13 @@ TEST(DdsEndToEnd, ASecondDaemonAppliesTheFirstsAnglesAndFollowsItsPose) {
         << sinew::test::slurp(consumer_out);
     EXPECT_EQ(a.stop(), 0);
   }
+  // The publisher's skin as a ROS 2 Marker, 30 Hz from a 50 Hz tick: every 2nd frame.
+  const std::string pub2_out = sinew::test::slurp(dir + "/dds_pub2.out");
+  EXPECT_NE(pub2_out.find("publishes visualization_msgs/msg/Marker"), std::string::npos) << pub2_out;
+  EXPECT_NE(pub2_out.find("every 2 ticks"), std::string::npos) << pub2_out;
+  std::smatch meshes;
+  ASSERT_TRUE(std::regex_search(pub2_out, meshes, std::regex("triangles\\): ([0-9]+) written, 0 failed"))) << pub2_out;
+  EXPECT_GT(std::stoull(meshes[1]), 0u);
   EXPECT_EQ(b.stop(), 0) << sinew::test::slurp(consumer_out);
 
   // Every input vector the publishers applied, with the pose it gave.

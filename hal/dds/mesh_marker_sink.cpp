@@ -1,0 +1,117 @@
+#include "mesh_marker_sink.hpp"
+
+#include <dds/dds.h>
+
+#include <vector>
+
+#include "dds_entity.hpp"
+#include "hal/units/float_to_fixed.hpp"
+#include "qos.hpp"
+#include "ros2_names.hpp"
+#include "visualization_msgs/msg/Marker.h"
+
+namespace sinew::hal::dds {
+
+namespace {
+constexpr int32_t kTriangleList = 11;  // visualization_msgs/Marker TRIANGLE_LIST
+constexpr int32_t kAdd = 0;            // ADD (and MODIFY)
+}  // namespace
+
+struct MeshMarkerSink::Impl {
+  DdsEntity participant, topic, writer;
+  std::vector<uint32_t> triangles;
+  uint32_t vertex_count = 0;
+  int64_t stamp_offset_ns = 0;
+  std::string frame_id, marker_ns;
+  std::vector<geometry_msgs_msg_dds__Point_> points;
+  visualization_msgs_msg_dds__Marker_ sample{};
+  char empty[1] = {0};
+};
+
+MeshMarkerSink::MeshMarkerSink() : impl_(std::make_unique<Impl>()) {}
+MeshMarkerSink::~MeshMarkerSink() = default;
+
+bool MeshMarkerSink::open(const MeshMarkerSinkOptions& options, std::span<const uint32_t> triangles,
+                          uint32_t vertex_count, std::string* error) {
+  if (!ros2_topic_name(options.ros_namespace, options.topic, &dds_topic_, error)) return false;
+  if (options.domain_id > kMaxDomainId)
+    return *error = "domain_id " + std::to_string(options.domain_id) + " is beyond 232", false;
+  if (triangles.size() % 3 != 0) return *error = "the triangle list is not 3 indices a triangle", false;
+  for (const uint32_t v : triangles)
+    if (v >= vertex_count)
+      return *error = "a triangle names vertex " + std::to_string(v) + " of " + std::to_string(vertex_count), false;
+  Impl& s = *impl_;
+  s.participant = DdsEntity(dds_create_participant(options.domain_id, nullptr, nullptr));
+  if (!s.participant.valid())
+    return *error = "DDS participant on domain " + std::to_string(options.domain_id) + ": " +
+                    dds_error_text(s.participant.get()),
+           false;
+  s.topic = DdsEntity(dds_create_topic(s.participant.get(), &visualization_msgs_msg_dds__Marker__desc,
+                                       dds_topic_.c_str(), nullptr, nullptr));
+  if (!s.topic.valid()) return *error = "DDS topic " + dds_topic_ + ": " + dds_error_text(s.topic.get()), false;
+  dds_qos_t* qos = mesh_qos();
+  s.writer = DdsEntity(dds_create_writer(s.participant.get(), s.topic.get(), qos, nullptr));
+  dds_delete_qos(qos);
+  if (!s.writer.valid()) return *error = "DDS writer on " + dds_topic_ + ": " + dds_error_text(s.writer.get()), false;
+
+  s.triangles.assign(triangles.begin(), triangles.end());
+  s.vertex_count = vertex_count;
+  s.stamp_offset_ns = options.stamp_offset_ns;
+  s.frame_id = options.frame_id;
+  s.marker_ns = options.marker_ns;
+  s.points.assign(triangles.size(), geometry_msgs_msg_dds__Point_{0, 0, 0});
+  visualization_msgs_msg_dds__Marker_& m = s.sample;
+  m = {};
+  m.header.frame_id = s.frame_id.data();
+  m.ns = s.marker_ns.data();
+  m.id = 0;
+  m.type = kTriangleList;
+  m.action = kAdd;
+  m.pose.orientation.w = 1;  // the points are in the frame itself
+  m.scale = {1, 1, 1};       // TRIANGLE_LIST scales the points by it
+  m.color = {options.color[0], options.color[1], options.color[2], options.color[3]};
+  m.frame_locked = false;
+  const auto count = static_cast<uint32_t>(s.points.size());
+  m.points = {count, count, s.points.data(), false};
+  m.texture_resource = s.empty;
+  m.texture.header.frame_id = s.empty;
+  m.texture.format = s.empty;
+  m.text = s.empty;
+  m.mesh_resource = s.empty;
+  m.mesh_file.filename = s.empty;
+  return true;
+}
+
+bool MeshMarkerSink::write(const PoseFrame& frame) {
+  Impl& s = *impl_;
+  if (!s.writer.valid() || frame.vertex_count != s.vertex_count || frame.position[0] == nullptr)
+    return ++failed_, false;
+  for (size_t i = 0; i < s.triangles.size(); ++i) {
+    const uint32_t v = s.triangles[i];
+    s.points[i] = {units::len_to_double(frame.position[0][v], frame.length_exponent),
+                   units::len_to_double(frame.position[1][v], frame.length_exponent),
+                   units::len_to_double(frame.position[2][v], frame.length_exponent)};
+  }
+  const int64_t stamp = static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns;
+  const int64_t sec = stamp >= 0 ? stamp / 1'000'000'000 : (stamp - 999'999'999) / 1'000'000'000;
+  s.sample.header.stamp.sec = static_cast<int32_t>(sec);
+  s.sample.header.stamp.nanosec = static_cast<uint32_t>(stamp - sec * 1'000'000'000);
+  if (dds_write(s.writer.get(), &s.sample) != DDS_RETCODE_OK) return ++failed_, false;
+  ++written_;
+  return true;
+}
+
+uint32_t MeshMarkerSink::matched_readers() const {
+  dds_publication_matched_status_t matched{};
+  if (!impl_->writer.valid() || dds_get_publication_matched_status(impl_->writer.get(), &matched) != DDS_RETCODE_OK)
+    return 0;
+  return matched.current_count;
+}
+
+std::string MeshMarkerSink::status_line() const {
+  return "dds " + dds_topic_ + " (visualization_msgs/msg/Marker, " + std::to_string(impl_->triangles.size() / 3) +
+         " triangles): " + std::to_string(written_) + " written, " + std::to_string(failed_) + " failed, " +
+         std::to_string(matched_readers()) + " readers matched";
+}
+
+}  // namespace sinew::hal::dds
