@@ -7,9 +7,11 @@
 #include <vector>
 
 #if SINEW_HAVE_DDS
+#include "hal/dds/frame_sink.hpp"
 #include "hal/dds/joint_state_sink.hpp"
 #include "hal/dds/joint_state_source.hpp"
 #include "hal/dds/mesh_marker_sink.hpp"
+#include "sim_core/pipeline/stage_table.hpp"
 #endif
 
 namespace sinew::firmware {
@@ -99,6 +101,29 @@ std::unique_ptr<hal::OutputSink> open_dds_joint_state_sink(const SinkConfig& s, 
   return sink;
 }
 
+std::unique_ptr<hal::OutputSink> open_dds_frame_sink(const SinkConfig& s, const SinkSetup& setup, std::string* error) {
+  error->clear();
+  hal::dds::FrameSinkOptions o;
+  o.topic = s.table["frame_topic"].value_or<std::string>("sinew_frame");
+  if (o.topic.empty()) return nullptr;
+  o.domain_id = s.table["domain_id"].value_or(0u);
+  o.ros_namespace = s.table["namespace"].value_or<std::string>("");
+  o.frame_id = s.table["frame_id"].value_or<std::string>("");
+  o.depth = s.table["depth"].value_or(10u);
+  o.stamp_offset_ns = stamp_offset_ns(setup.config.mode == RunMode::kLive);
+  std::vector<std::string> stages;
+  for (const pipeline::StageInfo& info : pipeline::kStages) stages.emplace_back(info.name);
+  auto sink = std::make_unique<hal::dds::FrameSink>();
+  if (!sink->open(o, setup.rig.input_names, stages, error)) {
+    *error = "sink " + s.name + ": " + *error;
+    return nullptr;
+  }
+  sink->set_name(s.name);
+  std::printf("sinewd: sink %s publishes sinew/msg/Frame (tick, input health, stage times) on DDS topic %s\n",
+              s.name.c_str(), sink->dds_topic().c_str());
+  return sink;
+}
+
 std::unique_ptr<hal::OutputSink> open_dds_mesh_sink(const SinkConfig& s, const SinkSetup& setup,
                                                     uint64_t* every_n_frames, std::string* error) {
   error->clear();
@@ -145,6 +170,10 @@ std::unique_ptr<hal::OutputSink> open_dds_joint_state_sink(const SinkConfig& s, 
 
 std::unique_ptr<hal::OutputSink> open_dds_mesh_sink(const SinkConfig& s, const SinkSetup&, uint64_t*,
                                                     std::string* error) {
+  return *error = "sink " + s.name + kNoDds, nullptr;
+}
+
+std::unique_ptr<hal::OutputSink> open_dds_frame_sink(const SinkConfig& s, const SinkSetup&, std::string* error) {
   return *error = "sink " + s.name + kNoDds, nullptr;
 }
 

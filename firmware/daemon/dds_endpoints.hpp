@@ -24,6 +24,9 @@ std::unique_ptr<hal::OutputSink> open_dds_joint_state_sink(const SinkConfig& s, 
 // The skin as a Marker, unqueued; null with an empty *error when the table
 // turns it off (mesh_rate_hz = 0 or mesh_topic = ""), with a message on error.
 // *every_n_frames: the decimation from the tick rate to mesh_rate_hz.
+// sinew's own frame (tick, input health bits, stage times), unqueued; null
+// with an empty *error when frame_topic = "".
+std::unique_ptr<hal::OutputSink> open_dds_frame_sink(const SinkConfig& s, const SinkSetup& setup, std::string* error);
 std::unique_ptr<hal::OutputSink> open_dds_mesh_sink(const SinkConfig& s, const SinkSetup& setup,
                                                     uint64_t* every_n_frames, std::string* error);
 

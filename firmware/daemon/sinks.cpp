@@ -189,10 +189,12 @@ constexpr ConfigKey kDdsKeys[] = {{"type", KeyKind::kString},
                                   {"depth", KeyKind::kInteger, 1, 1000},
                                   {"mesh_topic", KeyKind::kString},
                                   {"mesh_rate_hz", KeyKind::kNumber, 0, 1000},
-                                  {"mesh_frame_id", KeyKind::kString}};
+                                  {"mesh_frame_id", KeyKind::kString},
+                                  {"frame_topic", KeyKind::kString}};
 
 // The applied inputs as ROS 2's sensor_msgs/msg/JointState on DDS every tick,
-// and the skin as a visualization_msgs/msg/Marker at mesh_rate_hz
+// sinew's own frame (sinew/msg/Frame) every tick, and the skin as a
+// visualization_msgs/msg/Marker at mesh_rate_hz
 // (dds_endpoints.hpp, docs/ros2.md), each from its own I/O thread.
 std::unique_ptr<OutputSink> open_dds(const SinkConfig& s, const SinkSetup& setup, std::string* error) {
   std::unique_ptr<OutputSink> joints = open_dds_joint_state_sink(s, setup, error);
@@ -200,6 +202,10 @@ std::unique_ptr<OutputSink> open_dds(const SinkConfig& s, const SinkSetup& setup
   std::vector<std::unique_ptr<OutputSink>> outputs;
   const FrameDims inputs_dims{0, setup.rig.input_count(), false};
   outputs.push_back(std::make_unique<InputsOnlySink>(queued(setup.config, std::move(joints), inputs_dims), ""));
+  std::unique_ptr<OutputSink> own = open_dds_frame_sink(s, setup, error);
+  if (!own && !error->empty()) return nullptr;
+  const FrameDims status_dims{0, setup.rig.input_count(), false, pipeline::kStageCount};
+  if (own) outputs.push_back(std::make_unique<InputsOnlySink>(queued(setup.config, std::move(own), status_dims), ""));
   uint64_t every_n = 1;
   std::unique_ptr<OutputSink> mesh = open_dds_mesh_sink(s, setup, &every_n, error);
   if (!mesh && !error->empty()) return nullptr;

@@ -24,6 +24,7 @@ void FrameRing::init(size_t capacity, const FrameDims& dims) {
     }
     s.input_value.assign(dims.input_count, 0);
     s.input_status.assign(dims.input_count, 0);
+    s.stage_ns.assign(dims.stage_count, 0);
   }
   head_.store(0, std::memory_order_relaxed);
   tail_.store(0, std::memory_order_relaxed);
@@ -48,6 +49,9 @@ bool FrameRing::try_push(const hal::PoseFrame& frame) {
   copy_array(frame.input_status, frame.input_count, &s.input_status);
   f.input_value = s.input_value.data();
   f.input_status = s.input_status.data();
+  f.stage_count = std::min(frame.stage_ns != nullptr ? frame.stage_count : 0u, dims_.stage_count);
+  copy_array(frame.stage_ns, f.stage_count, &s.stage_ns);
+  f.stage_ns = f.stage_count > 0 ? s.stage_ns.data() : nullptr;
   // Release: the slot's contents are visible before the consumer sees it.
   head_.store(head + 1, std::memory_order_seq_cst);
   return true;

@@ -19,7 +19,8 @@ namespace sinew::firmware {
 struct FrameDims {
   uint32_t vertex_count = 0;
   uint32_t input_count = 0;
-  bool normals = false;  // slots hold normals (copied when the frame has them)
+  bool normals = false;      // slots hold normals (copied when the frame has them)
+  uint32_t stage_count = 0;  // slots hold this many stage times (a frame's extra ones are left out)
 };
 
 class FrameRing {
@@ -51,6 +52,7 @@ class FrameRing {
     hal::PoseFrame frame;  // points into the vectors below
     std::vector<int32_t> position[3], normal[3], input_value;
     std::vector<uint8_t> input_status;
+    std::vector<uint32_t> stage_ns;
   };
   std::vector<Slot> slots_;
   FrameDims dims_;

@@ -43,6 +43,9 @@ bool Runtime::init(const rig::Rig& rig, const pipeline::LayerSet& layers, const 
   frame_.input_count = static_cast<uint32_t>(limits.size());
   frame_.input_value = health_.values().data();
   frame_.input_status = input_status_.data();
+  stage_ns_.assign(pipeline::kStageCount, 0);
+  frame_.stage_count = pipeline::kStageCount;
+  frame_.stage_ns = stage_ns_.data();
   return true;
 }
 
@@ -65,7 +68,9 @@ const hal::PoseFrame& Runtime::step(uint64_t tick_ns, uint64_t tick_index) {
   report.input_flags = pipeline_flags_;
   const pipeline::PipelineStatus st = pipeline::pipeline_step(&pipeline_, health_.values(), &probe, &report);
   for (uint32_t s = 0; s < pipeline::kStageCount; ++s) {
-    if (!report.ran.has(static_cast<pipeline::Stage>(s))) continue;
+    const bool ran = report.ran.has(static_cast<pipeline::Stage>(s));
+    stage_ns_[s] = ran ? static_cast<uint32_t>(std::min<uint64_t>(report.stage_ns[s], UINT32_MAX)) : 0;
+    if (!ran) continue;
     stage_times_.total_ns[s] += report.stage_ns[s];
     stage_times_.max_ns[s] = std::max(stage_times_.max_ns[s], report.stage_ns[s]);
   }

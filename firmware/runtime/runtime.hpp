@@ -74,6 +74,7 @@ class Runtime {
   InputHealth health_;
   std::vector<hal::JointSample> samples_;
   std::vector<uint8_t> input_status_;
+  std::vector<uint32_t> stage_ns_;  // this tick's stage times, for the frame (PoseFrame::stage_ns)
   std::vector<std::unique_ptr<InputSource>> sources_;
   std::vector<std::unique_ptr<OutputSink>> sinks_;
   hal::PoseFrame frame_;

@@ -33,6 +33,10 @@ struct PoseFrame {
   uint32_t input_count = 0;
   const int32_t* input_value = nullptr;   // value per input (the rig's, then external ones), as applied this tick
   const uint8_t* input_status = nullptr;  // JointStatus bits per input
+  // Each pipeline stage's time this tick, ns (saturated at 2^32 - 1; 0: it
+  // did not run), in the order of the stage table the runtime names; or none.
+  uint32_t stage_count = 0;
+  const uint32_t* stage_ns = nullptr;
 };
 
 }  // namespace sinew::hal

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "sensor_msgs/msg/JointState.h"
+#include "sinew/msg/Frame.h"
 #include "visualization_msgs/msg/Marker.h"
 
 namespace sinew::hal::dds {
@@ -46,5 +47,6 @@ bool ros2_topic_name(std::string_view ros_namespace, std::string_view topic, std
 
 std::string_view registered_joint_state_type_name() { return sensor_msgs_msg_dds__JointState__desc.m_typename; }
 std::string_view registered_marker_type_name() { return visualization_msgs_msg_dds__Marker__desc.m_typename; }
+std::string_view registered_frame_type_name() { return sinew_msg_dds__Frame__desc.m_typename; }
 
 }  // namespace sinew::hal::dds

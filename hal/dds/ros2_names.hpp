@@ -20,6 +20,9 @@ std::string_view registered_joint_state_type_name();
 inline constexpr std::string_view kMarkerTypeName = "visualization_msgs::msg::dds_::Marker_";
 std::string_view registered_marker_type_name();
 
+inline constexpr std::string_view kFrameTypeName = "sinew::msg::dds_::Frame_";
+std::string_view registered_frame_type_name();
+
 // The DDS topic of ROS topic `topic` in namespace `ros_namespace` ("" or "/"
 // for the root; with or without a leading '/'): "rt/<namespace>/<topic>".
 // Tokens are [A-Za-z_][A-Za-z0-9_]*, separated by single '/'. False with

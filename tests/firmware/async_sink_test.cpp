@@ -111,6 +111,29 @@ TEST(FrameRing, CopiesKeepsOrderAndRefusesWhenFull) {
   EXPECT_FALSE(ring.try_push(big.frame));
 }
 
+// Stage times travel with the frame when the slots hold them, and are left
+// out (not read past) when they hold fewer or none.
+TEST(FrameRing, CopiesTheStageTimesItsSlotsHold) {
+  const uint32_t stage_ns[3] = {11, 22, 33};
+  hal::PoseFrame frame;
+  frame.tick = 7;
+  frame.stage_count = 3;
+  frame.stage_ns = stage_ns;
+  for (const uint32_t held : {0u, 2u, 3u, 5u}) {
+    fw::FrameRing ring;
+    ring.init(2, {0, 0, false, held});
+    ASSERT_TRUE(ring.try_push(frame));
+    const hal::PoseFrame* got = ring.front();
+    ASSERT_NE(got, nullptr);
+    EXPECT_EQ(got->stage_count, std::min(held, 3u));
+    if (held == 0) EXPECT_EQ(got->stage_ns, nullptr);
+    for (uint32_t s = 0; s < got->stage_count; ++s) {
+      EXPECT_NE(got->stage_ns, stage_ns);  // a copy
+      EXPECT_EQ(got->stage_ns[s], stage_ns[s]);
+    }
+  }
+}
+
 // Woken per frame, and polled every 0.1 ms (2 000 frames through 4 slots:
 // 500 polls at least).
 TEST(AsyncSink, LosslessDeliversEveryFrameInOrderThroughASmallRing) {
