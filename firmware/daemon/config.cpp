@@ -287,6 +287,11 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*rt, "workers", 0, static_cast<int>(layer::kMaxParts), &c.realtime.workers, origin, error))
       return false;
     if (!read_number(*rt, "worker_cpu", -1, 1023, &c.realtime.worker_cpu, origin, error)) return false;
+    if (const toml::node* user = rt->get("user")) {
+      const std::optional<std::string> name = user->value_exact<std::string>();
+      if (!name) return *error = at(origin, user, "[realtime] user") + ": must be a user name (a string)", false;
+      c.realtime.user = *name;
+    }
     // A polled I/O thread must come round at least twice while its ring
     // fills, or a full ring drops frames however fast the sink is.
     const uint64_t ring_us = static_cast<uint64_t>(c.realtime.sink_ring_frames) * 1'000'000u / c.rate_hz;

@@ -69,6 +69,8 @@ constexpr DaemonKey kKeys[] = {
      [](const DaemonConfig& c) { return integer(c.realtime.io_cpu); }},
     {"realtime", "sink_ring_frames", "128", "frames queued per sink, 1..65536",
      [](const DaemonConfig& c) { return integer(c.realtime.sink_ring_frames); }},
+    {"realtime", "user", "\"\"", "after opening devices as root, run as this user (\"\": as started)",
+     [](const DaemonConfig& c) { return quoted(c.realtime.user); }},
     {"realtime", "io_poll_us", "0", "0: a wake per frame; 1..100000: the I/O threads drain every io_poll_us",
      [](const DaemonConfig& c) { return integer(c.realtime.io_poll_us); }},
     {"inputs", "timeout_factor", "1.5", "an input is stale after this x its expected period",

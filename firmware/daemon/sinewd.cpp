@@ -15,6 +15,7 @@
 #include "config.hpp"
 #include "config_registry.hpp"
 #include "firmware/rig/loaded_rig.hpp"
+#include "firmware/runtime/privileges.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_clock.hpp"
 #include "firmware/runtime/tick_trigger.hpp"
@@ -112,6 +113,11 @@ int run(int argc, char** argv) {
     return 2;
   }
   if (duration >= 0) config.duration_s = duration;
+  // A user the daemon cannot become is refused before anything is opened.
+  if (!config.realtime.user.empty() && !can_drop_privileges(config.realtime.user, &error)) {
+    std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+    return 2;
+  }
   if (offline) config.mode = RunMode::kOffline;
   LoadedRig rig;
   if (!load_rig(config.rig_builtin, config.rig_blob, &rig, &error)) {
@@ -202,6 +208,14 @@ int run(int argc, char** argv) {
       layers += std::string(" ") + s.name;
   std::printf("sinewd: layers in the rig: %s; running: %s\n", describe_layers(rig).c_str(),
               layers.empty() ? "skinning only" : layers.c_str() + 1);
+  if (!config.realtime.user.empty()) {
+    std::string report;
+    if (!drop_privileges(config.realtime.user, &report, &error)) {
+      std::fprintf(stderr, "sinewd: %s\n", error.c_str());
+      return 2;
+    }
+    std::printf("%s", report.c_str());
+  }
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   // Under systemd (Type=notify): ready now that the sources and sinks are

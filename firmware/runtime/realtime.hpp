@@ -26,6 +26,9 @@ struct RealtimeOptions {
   int io_fifo_priority = 0;  // 1..99 SCHED_FIFO for the I/O threads; 0 keeps the default policy
   int io_cpu = -1;           // pin the I/O threads to this CPU; -1 = no affinity
   int sink_ring_frames = 128;
+  // After the devices, sockets and files are open and the settings above
+  // applied: run as this user ("": as started; privileges.hpp).
+  std::string user;
   // 0: the tick wakes an I/O thread per frame; > 0: the I/O threads drain
   // their rings every io_poll_us and the tick makes no system call for
   // output (a frame leaves up to io_poll_us later).

@@ -3,6 +3,7 @@
 // a hang or a silent default.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -161,4 +162,24 @@ TEST(DaemonEndToEnd, CheckConfigAndPrintDefaultConfig) {
   ASSERT_EQ(exit_code(printed), 0) << printed.out;
   const sinew::test::DaemonRun checked = run_sinewd_args("--check-config " + defaults, dir + "/defaults_check.out");
   EXPECT_EQ(exit_code(checked), 0) << checked.out;
+}
+
+// [realtime] user: a user sinewd cannot become is refused before anything
+// runs; started as root, it runs as the user after opening its outputs.
+TEST(DaemonEndToEnd, RunsAsTheConfiguredUserOrRefusesBeforeRunning) {
+  const sinew::test::DaemonRun refused = sinew::test::run_sinewd(
+      refusal_config("no_user", "[realtime]\nuser = \"no_such_user_x\"\n"), testing::TempDir() + "/no_user.out");
+  EXPECT_EQ(exit_code(refused), 2) << refused.out;
+  EXPECT_NE(refused.out.find("[realtime] user = \"no_such_user_x\": no such user"), std::string::npos) << refused.out;
+  EXPECT_EQ(refused.out.find("rig hand"), std::string::npos) << refused.out;  // refused before the rig was loaded
+  if (::geteuid() != 0) GTEST_SKIP() << "switching users needs root";
+  const std::string log = testing::TempDir() + "/as_nobody.log";
+  std::remove(log.c_str());
+  const sinew::test::DaemonRun run = sinew::test::run_sinewd(
+      refusal_config("as_nobody", "[realtime]\nuser = \"nobody\"\n[[sink]]\ntype = \"log\"\npath = \"" + log + "\"\n"),
+      testing::TempDir() + "/as_nobody.out");
+  EXPECT_EQ(exit_code(run), 0) << run.out;
+  EXPECT_NE(run.out.find("running as user nobody"), std::string::npos) << run.out;
+  EXPECT_FALSE(sinew::test::read_frame_log(log).poses.empty());  // opened as root, written as nobody
+  std::remove(log.c_str());
 }
