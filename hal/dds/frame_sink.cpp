@@ -5,15 +5,14 @@
 #include <algorithm>
 #include <vector>
 
-#include "dds_entity.hpp"
+#include "dds_writer.hpp"
 #include "qos.hpp"
-#include "ros2_names.hpp"
 #include "sinew/msg/Frame.h"
 
 namespace sinew::hal::dds {
 
 struct FrameSink::Impl {
-  DdsEntity participant, topic, writer;
+  DdsWriter writer;
   std::vector<std::string> input_names, stage_names;
   std::vector<char*> input_ptrs, stage_ptrs;
   std::vector<uint8_t> input_status;
@@ -28,22 +27,11 @@ FrameSink::~FrameSink() = default;
 
 bool FrameSink::open(const FrameSinkOptions& options, std::span<const std::string> input_names,
                      std::span<const std::string> stage_names, std::string* error) {
-  if (!ros2_topic_name(options.ros_namespace, options.topic, &dds_topic_, error)) return false;
-  if (options.domain_id > kMaxDomainId)
-    return *error = "domain_id " + std::to_string(options.domain_id) + " is beyond 232", false;
   Impl& s = *impl_;
-  s.participant = DdsEntity(dds_create_participant(options.domain_id, nullptr, nullptr));
-  if (!s.participant.valid())
-    return *error = "DDS participant on domain " + std::to_string(options.domain_id) + ": " +
-                    dds_error_text(s.participant.get()),
-           false;
-  s.topic = DdsEntity(
-      dds_create_topic(s.participant.get(), &sinew_msg_dds__Frame__desc, dds_topic_.c_str(), nullptr, nullptr));
-  if (!s.topic.valid()) return *error = "DDS topic " + dds_topic_ + ": " + dds_error_text(s.topic.get()), false;
-  dds_qos_t* qos = joint_state_qos(options.depth);
-  s.writer = DdsEntity(dds_create_writer(s.participant.get(), s.topic.get(), qos, nullptr));
-  dds_delete_qos(qos);
-  if (!s.writer.valid()) return *error = "DDS writer on " + dds_topic_ + ": " + dds_error_text(s.writer.get()), false;
+  if (!s.writer.open(options.domain_id, options.ros_namespace, options.topic, &sinew_msg_dds__Frame__desc,
+                     joint_state_qos(options.depth), error))
+    return false;
+  dds_topic_ = s.writer.dds_topic();
   s.input_names.assign(input_names.begin(), input_names.end());
   s.stage_names.assign(stage_names.begin(), stage_names.end());
   s.input_ptrs.clear();
@@ -75,21 +63,14 @@ bool FrameSink::write(const PoseFrame& frame) {
   if (frame.stage_ns != nullptr)
     std::copy_n(frame.stage_ns, std::min<size_t>(frame.stage_count, s.stage_ns.size()), s.stage_ns.begin());
   s.sample.tick = frame.tick;
-  const int64_t stamp = static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns;
-  const int64_t sec = stamp >= 0 ? stamp / 1'000'000'000 : (stamp - 999'999'999) / 1'000'000'000;
-  s.sample.header.stamp.sec = static_cast<int32_t>(sec);
-  s.sample.header.stamp.nanosec = static_cast<uint32_t>(stamp - sec * 1'000'000'000);
-  if (dds_write(s.writer.get(), &s.sample) != DDS_RETCODE_OK) return ++failed_, false;
+  const Ros2Time stamp = ros2_time(static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns);
+  s.sample.header.stamp = {stamp.sec, stamp.nanosec};
+  if (!s.writer.write(&s.sample)) return ++failed_, false;
   ++written_;
   return true;
 }
 
-uint32_t FrameSink::matched_readers() const {
-  dds_publication_matched_status_t matched{};
-  if (!impl_->writer.valid() || dds_get_publication_matched_status(impl_->writer.get(), &matched) != DDS_RETCODE_OK)
-    return 0;
-  return matched.current_count;
-}
+uint32_t FrameSink::matched_readers() const { return impl_->writer.matched_readers(); }
 
 std::string FrameSink::status_line() const {
   return "dds " + dds_topic_ + " (sinew/msg/Frame): " + std::to_string(written_) + " written, " +

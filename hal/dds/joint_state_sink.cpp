@@ -5,15 +5,14 @@
 #include <limits>
 #include <vector>
 
-#include "dds_entity.hpp"
+#include "dds_writer.hpp"
 #include "qos.hpp"
-#include "ros2_names.hpp"
 #include "sensor_msgs/msg/JointState.h"
 
 namespace sinew::hal::dds {
 
 struct JointStateSink::Impl {
-  DdsEntity participant, topic, writer;
+  DdsWriter writer;
   std::vector<JointChannel> channels;
   int32_t length_exponent = 0;
   int64_t stamp_offset_ns = 0;
@@ -30,22 +29,11 @@ JointStateSink::~JointStateSink() = default;
 
 bool JointStateSink::open(const JointStateSinkOptions& options, std::span<const JointChannel> channels,
                           int32_t length_exponent, std::string* error) {
-  if (!ros2_topic_name(options.ros_namespace, options.topic, &dds_topic_, error)) return false;
-  if (options.domain_id > kMaxDomainId)
-    return *error = "domain_id " + std::to_string(options.domain_id) + " is beyond 232", false;
   Impl& s = *impl_;
-  s.participant = DdsEntity(dds_create_participant(options.domain_id, nullptr, nullptr));
-  if (!s.participant.valid())
-    return *error = "DDS participant on domain " + std::to_string(options.domain_id) + ": " +
-                    dds_error_text(s.participant.get()),
-           false;
-  s.topic = DdsEntity(dds_create_topic(s.participant.get(), &sensor_msgs_msg_dds__JointState__desc, dds_topic_.c_str(),
-                                       nullptr, nullptr));
-  if (!s.topic.valid()) return *error = "DDS topic " + dds_topic_ + ": " + dds_error_text(s.topic.get()), false;
-  dds_qos_t* qos = joint_state_qos(options.depth);
-  s.writer = DdsEntity(dds_create_writer(s.participant.get(), s.topic.get(), qos, nullptr));
-  dds_delete_qos(qos);
-  if (!s.writer.valid()) return *error = "DDS writer on " + dds_topic_ + ": " + dds_error_text(s.writer.get()), false;
+  if (!s.writer.open(options.domain_id, options.ros_namespace, options.topic, &sensor_msgs_msg_dds__JointState__desc,
+                     joint_state_qos(options.depth), error))
+    return false;
+  dds_topic_ = s.writer.dds_topic();
 
   s.channels.assign(channels.begin(), channels.end());
   s.length_exponent = length_exponent;
@@ -81,22 +69,14 @@ bool JointStateSink::write(const PoseFrame& frame) {
     s.position[i] = c.unit == JointUnit::kNewton ? kNaN : si;
     s.effort[i] = c.unit == JointUnit::kNewton ? si : kNaN;
   }
-  const int64_t stamp = static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns;
-  const int64_t sec = stamp >= 0 ? stamp / 1'000'000'000 : (stamp - 999'999'999) / 1'000'000'000;
-  s.sample.header.stamp.sec = static_cast<int32_t>(sec);
-  s.sample.header.stamp.nanosec = static_cast<uint32_t>(stamp - sec * 1'000'000'000);
-  const dds_return_t rc = dds_write(s.writer.get(), &s.sample);
-  if (rc != DDS_RETCODE_OK) return ++failed_, false;
+  const Ros2Time stamp = ros2_time(static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns);
+  s.sample.header.stamp = {stamp.sec, stamp.nanosec};
+  if (!s.writer.write(&s.sample)) return ++failed_, false;
   ++written_;
   return true;
 }
 
-uint32_t JointStateSink::matched_readers() const {
-  dds_publication_matched_status_t matched{};
-  if (!impl_->writer.valid() || dds_get_publication_matched_status(impl_->writer.get(), &matched) != DDS_RETCODE_OK)
-    return 0;
-  return matched.current_count;
-}
+uint32_t JointStateSink::matched_readers() const { return impl_->writer.matched_readers(); }
 
 std::string JointStateSink::status_line() const {
   return "dds " + dds_topic_ + " (sensor_msgs/msg/JointState): " + std::to_string(written_) + " samples written, " +

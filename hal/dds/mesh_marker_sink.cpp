@@ -4,10 +4,9 @@
 
 #include <vector>
 
-#include "dds_entity.hpp"
+#include "dds_writer.hpp"
 #include "hal/units/float_to_fixed.hpp"
 #include "qos.hpp"
-#include "ros2_names.hpp"
 #include "visualization_msgs/msg/Marker.h"
 
 namespace sinew::hal::dds {
@@ -18,7 +17,7 @@ constexpr int32_t kAdd = 0;            // ADD (and MODIFY)
 }  // namespace
 
 struct MeshMarkerSink::Impl {
-  DdsEntity participant, topic, writer;
+  DdsWriter writer;
   std::vector<uint32_t> triangles;
   uint32_t vertex_count = 0;
   int64_t stamp_offset_ns = 0;
@@ -33,26 +32,15 @@ MeshMarkerSink::~MeshMarkerSink() = default;
 
 bool MeshMarkerSink::open(const MeshMarkerSinkOptions& options, std::span<const uint32_t> triangles,
                           uint32_t vertex_count, std::string* error) {
-  if (!ros2_topic_name(options.ros_namespace, options.topic, &dds_topic_, error)) return false;
-  if (options.domain_id > kMaxDomainId)
-    return *error = "domain_id " + std::to_string(options.domain_id) + " is beyond 232", false;
   if (triangles.size() % 3 != 0) return *error = "the triangle list is not 3 indices a triangle", false;
   for (const uint32_t v : triangles)
     if (v >= vertex_count)
       return *error = "a triangle names vertex " + std::to_string(v) + " of " + std::to_string(vertex_count), false;
   Impl& s = *impl_;
-  s.participant = DdsEntity(dds_create_participant(options.domain_id, nullptr, nullptr));
-  if (!s.participant.valid())
-    return *error = "DDS participant on domain " + std::to_string(options.domain_id) + ": " +
-                    dds_error_text(s.participant.get()),
-           false;
-  s.topic = DdsEntity(dds_create_topic(s.participant.get(), &visualization_msgs_msg_dds__Marker__desc,
-                                       dds_topic_.c_str(), nullptr, nullptr));
-  if (!s.topic.valid()) return *error = "DDS topic " + dds_topic_ + ": " + dds_error_text(s.topic.get()), false;
-  dds_qos_t* qos = mesh_qos();
-  s.writer = DdsEntity(dds_create_writer(s.participant.get(), s.topic.get(), qos, nullptr));
-  dds_delete_qos(qos);
-  if (!s.writer.valid()) return *error = "DDS writer on " + dds_topic_ + ": " + dds_error_text(s.writer.get()), false;
+  if (!s.writer.open(options.domain_id, options.ros_namespace, options.topic, &visualization_msgs_msg_dds__Marker__desc,
+                     mesh_qos(), error))
+    return false;
+  dds_topic_ = s.writer.dds_topic();
 
   s.triangles.assign(triangles.begin(), triangles.end());
   s.vertex_count = vertex_count;
@@ -92,21 +80,14 @@ bool MeshMarkerSink::write(const PoseFrame& frame) {
                    units::len_to_double(frame.position[1][v], frame.length_exponent),
                    units::len_to_double(frame.position[2][v], frame.length_exponent)};
   }
-  const int64_t stamp = static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns;
-  const int64_t sec = stamp >= 0 ? stamp / 1'000'000'000 : (stamp - 999'999'999) / 1'000'000'000;
-  s.sample.header.stamp.sec = static_cast<int32_t>(sec);
-  s.sample.header.stamp.nanosec = static_cast<uint32_t>(stamp - sec * 1'000'000'000);
-  if (dds_write(s.writer.get(), &s.sample) != DDS_RETCODE_OK) return ++failed_, false;
+  const Ros2Time stamp = ros2_time(static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns);
+  s.sample.header.stamp = {stamp.sec, stamp.nanosec};
+  if (!s.writer.write(&s.sample)) return ++failed_, false;
   ++written_;
   return true;
 }
 
-uint32_t MeshMarkerSink::matched_readers() const {
-  dds_publication_matched_status_t matched{};
-  if (!impl_->writer.valid() || dds_get_publication_matched_status(impl_->writer.get(), &matched) != DDS_RETCODE_OK)
-    return 0;
-  return matched.current_count;
-}
+uint32_t MeshMarkerSink::matched_readers() const { return impl_->writer.matched_readers(); }
 
 std::string MeshMarkerSink::status_line() const {
   return "dds " + dds_topic_ + " (visualization_msgs/msg/Marker, " + std::to_string(impl_->triangles.size() / 3) +
