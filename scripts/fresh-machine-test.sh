@@ -5,9 +5,12 @@
 # `scripts/run.sh --duration 3` there under chroot. Passes when run.sh exits 0
 # and sinewd printed its per-second statistics.
 #
-# Usage: scripts/fresh-machine-test.sh [--deps PROFILE] [--skip-if-unsupported]
+# Usage: scripts/fresh-machine-test.sh [--deps PROFILE | --packages DIR] [--skip-if-unsupported]
 #   --deps PROFILE         instead of run.sh, run `scripts/install-deps.sh PROFILE`
 #                          in the fresh root (e.g. `--deps test`)
+#   --packages DIR         instead of run.sh, install the Debian packages in DIR
+#                          (scripts/package.sh) there and check them
+#                          (scripts/lib/package-smoke.sh)
 #   --skip-if-unsupported  exit 0 with SKIP when not root, or when debootstrap,
 #                          mount or chroot cannot work here (scripts/test.sh)
 #
@@ -24,10 +27,12 @@ set -euo pipefail
 suite=bookworm
 mode=run
 deps_profile=""
+packages_dir=""
 skip_unsupported=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --deps) mode=deps; deps_profile="${2:?--deps needs a profile}"; shift 2 ;;
+    --packages) mode=packages; packages_dir="$(cd "${2:?--packages needs a directory}" && pwd)"; shift 2 ;;
     --skip-if-unsupported) skip_unsupported=1; shift ;;
     *) echo "fresh-machine-test: unknown argument '$1'" >&2; exit 2 ;;
   esac
@@ -195,6 +200,10 @@ git -C "$root/src/sinew" checkout -q --detach FETCH_HEAD
 
 if [ "$mode" = run ]; then
   command_in_root="scripts/run.sh --duration 3"
+elif [ "$mode" = packages ]; then
+  mkdir -p "$root/debs"
+  cp "$packages_dir"/*.deb "$root/debs/" || fail "no .deb in $packages_dir"
+  command_in_root="scripts/lib/package-smoke.sh /debs"
 else
   command_in_root="scripts/install-deps.sh $deps_profile"
 fi
@@ -228,6 +237,10 @@ if [ "$mode" = run ]; then
   grep -qE '^final tick [0-9]+: step p50 ' "$log" || fail "run.sh exited 0 but sinewd printed no final statistics line"
   echo "fresh-machine-test: PASS: scripts/run.sh built and ran sinewd in a fresh Debian $suite root" \
     "($n_stats statistics lines; run.sh $elapsed s, total $((SECONDS - total_start)) s)"
+elif [ "$mode" = packages ]; then
+  grep -q '^package-smoke: PASS' "$log" || fail "package-smoke.sh exited 0 without its PASS line"
+  echo "fresh-machine-test: PASS: the packages installed, ran and served the consumers in a fresh Debian $suite root" \
+    "(package-smoke $elapsed s, total $((SECONDS - total_start)) s)"
 else
   echo "fresh-machine-test: PASS: scripts/install-deps.sh $deps_profile completed in a fresh Debian $suite root" \
     "(install-deps $elapsed s, total $((SECONDS - total_start)) s)"

@@ -175,6 +175,27 @@ finish_tests
 finish_independent_tests
 if [ "$serial" = 1 ]; then start_fresh_root; fi
 finish_fresh_root
+
+# The Debian packages (scripts/package.sh: CPack, lintian without error) of
+# the three trees, once their suites are done (the packaging reconfigures a
+# tree's install rules). Then the arm64 package's sinewd under qemu-user, and
+# the amd64 packages in a fresh Debian 12 root (scripts/lib/package-smoke.sh).
+# One at a time: both run the default configuration, whose Modbus port is fixed.
+if [ ${#failed[@]} -eq 0 ]; then
+  echo "=== Debian packages"
+  start=$SECONDS
+  for preset in release aarch64 armhf; do
+    scripts/package.sh --preset "$preset" --no-build || failed+=("packages ($preset)")
+  done
+  scripts/lib/foreign-package-smoke.sh build/aarch64/packages || failed+=("arm64 package under qemu-user")
+  timings+=("$(printf '%-8s %5d' "packages" "$((SECONDS - start))")")
+  if [ "${SINEW_SKIP_FRESH_MACHINE:-0}" != 1 ] && [ ${#failed[@]} -eq 0 ]; then
+    start=$SECONDS
+    echo "=== fresh Debian 12 root: the amd64 packages"
+    scripts/fresh-machine-test.sh --skip-if-unsupported --packages build/release/packages || failed+=("packages in a fresh root")
+    timings+=("$(printf '%-8s %5d' "pkg root" "$((SECONDS - start))")")
+  fi
+fi
 if [ "${#failed[@]}" -gt 0 ]; then
   echo "=== failed: ${failed[*]}" >&2
   exit 1
