@@ -15,6 +15,11 @@ include(CMakePackageConfigHelpers)
 option(SINEW_DEBIAN_LAYOUT "Install in the Debian packages' layout (/etc/sinew, /lib/systemd/system, per-package copyright)" OFF)
 if(SINEW_DEBIAN_LAYOUT)
   set(sinew_unit_dir /lib/systemd/system)
+  # Debian's multiarch library directory, for the cross-built packages too
+  # (GNUInstallDirs chooses it for native builds only).
+  if(CMAKE_LIBRARY_ARCHITECTURE)
+    set(CMAKE_INSTALL_LIBDIR lib/${CMAKE_LIBRARY_ARCHITECTURE})
+  endif()
 else()
   set(sinew_unit_dir lib/systemd/system)
 endif()

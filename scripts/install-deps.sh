@@ -36,6 +36,8 @@ test_pkgs=(
 cross_arm64_pkgs=(
   libgpiod-dev:arm64 libmodbus-dev:arm64 libtomlplusplus-dev:arm64 libzstd-dev:arm64 pkgconf:arm64
   libc6:arm64 libstdc++6:arm64
+  # sd_notify in the arm64 sinewd: the package's service has its watchdog on a board too
+  libsystemd-dev:arm64
 )
 
 case "$profile" in
