@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every benchmark of the release build, then prints one table of the
 # figures each reports against its baseline from the same run, its target and
-# whether it is met, and writes the table as JSON (docs/performance.md).
+# whether it is met, and writes the table as JSON (docs/performance.md); last,
+# the instructions per tick of each stage (scripts/callgrind-stages.sh).
 #   scripts/bench.sh [--quick] [--json FILE]
 #     --quick      short runs (a smoke check of the table, figures are noisy)
 #     --json FILE  where the JSON goes (default build/release/bench-summary.json)
@@ -46,3 +47,7 @@ run "$bin/sinew-bench-latency" "${ticks[@]}"
 echo
 echo "== summary (every ratio is against a baseline measured in the same run)"
 "$bin/common/sinew-bench-table" "$rows" --json "$json"
+echo
+echo "== instructions per tick per stage (callgrind; independent of load and clock)"
+if [ "$quick" = 1 ]; then cg_steps=10; else cg_steps=100; fi
+scripts/callgrind-stages.sh --build-dir build/release --steps "$cg_steps"

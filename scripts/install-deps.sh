@@ -26,6 +26,9 @@ test_pkgs=(
   # the builds compile through ccache when it is present (cmake/sinew_options.cmake)
   ccache
   debootstrap
+  # the Debian packages (scripts/package.sh: dpkg-shlibdeps, lintian) and the
+  # instruction counts per stage (scripts/callgrind-stages.sh)
+  dpkg-dev lintian valgrind
   # sinew-view and its browser tests (host only: the board needs none of it)
   libcivetweb-dev chromium
 )
