@@ -68,7 +68,9 @@ if(TARGET sinew_hal_common)
   install(TARGETS ${sinew_hal_libraries} sinew_hal ${sinew_hal_private_libraries}
           EXPORT sinewHalTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT hal)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sinew COMPONENT hal
-          FILES_MATCHING PATTERN "*.hpp" PATTERN "idl" EXCLUDE)
+          FILES_MATCHING PATTERN "*.hpp" PATTERN "idl" EXCLUDE
+          # hal/dds's private headers (they name Cyclone DDS's types).
+          PATTERN "dds_writer.hpp" EXCLUDE PATTERN "dds_entity.hpp" EXCLUDE PATTERN "qos.hpp" EXCLUDE)
   install(EXPORT sinewHalTargets NAMESPACE sinew:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/sinew COMPONENT hal)
 endif()
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/sinewConfig.cmake.in

@@ -12,7 +12,6 @@
 namespace sinew::hal::dds {
 
 struct FrameSink::Impl {
-  DdsWriter writer;
   std::vector<std::string> input_names, stage_names;
   std::vector<char*> input_ptrs, stage_ptrs;
   std::vector<uint8_t> input_status;
@@ -22,16 +21,15 @@ struct FrameSink::Impl {
   sinew_msg_dds__Frame_ sample{};
 };
 
-FrameSink::FrameSink() : impl_(std::make_unique<Impl>()) {}
+FrameSink::FrameSink() : TopicSink("dds-frame", "sinew/msg/Frame"), impl_(std::make_unique<Impl>()) {}
 FrameSink::~FrameSink() = default;
 
 bool FrameSink::open(const FrameSinkOptions& options, std::span<const std::string> input_names,
                      std::span<const std::string> stage_names, std::string* error) {
   Impl& s = *impl_;
-  if (!s.writer.open(options.domain_id, options.ros_namespace, options.topic, &sinew_msg_dds__Frame__desc,
+  if (!writer().open(options.domain_id, options.ros_namespace, options.topic, &sinew_msg_dds__Frame__desc,
                      joint_state_qos(options.depth), error))
     return false;
-  dds_topic_ = s.writer.dds_topic();
   s.input_names.assign(input_names.begin(), input_names.end());
   s.stage_names.assign(stage_names.begin(), stage_names.end());
   s.input_ptrs.clear();
@@ -55,7 +53,7 @@ bool FrameSink::open(const FrameSinkOptions& options, std::span<const std::strin
 
 bool FrameSink::write(const PoseFrame& frame) {
   Impl& s = *impl_;
-  if (!s.writer.valid()) return ++failed_, false;
+  if (!writer().valid()) return reject();
   std::fill(s.input_status.begin(), s.input_status.end(), uint8_t{0});
   std::fill(s.stage_ns.begin(), s.stage_ns.end(), 0u);
   if (frame.input_status != nullptr)
@@ -65,16 +63,7 @@ bool FrameSink::write(const PoseFrame& frame) {
   s.sample.tick = frame.tick;
   const Ros2Time stamp = ros2_time(static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns);
   s.sample.header.stamp = {stamp.sec, stamp.nanosec};
-  if (!s.writer.write(&s.sample)) return ++failed_, false;
-  ++written_;
-  return true;
-}
-
-uint32_t FrameSink::matched_readers() const { return impl_->writer.matched_readers(); }
-
-std::string FrameSink::status_line() const {
-  return "dds " + dds_topic_ + " (sinew/msg/Frame): " + std::to_string(written_) + " written, " +
-         std::to_string(failed_) + " failed, " + std::to_string(matched_readers()) + " readers matched";
+  return publish(&s.sample);
 }
 
 }  // namespace sinew::hal::dds

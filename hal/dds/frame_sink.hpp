@@ -10,7 +10,7 @@
 #include <span>
 #include <string>
 
-#include "hal/common/output_sink.hpp"
+#include "topic_sink.hpp"
 
 namespace sinew::hal::dds {
 
@@ -23,7 +23,7 @@ struct FrameSinkOptions {
   int64_t stamp_offset_ns = 0;  // as JointStateSinkOptions::stamp_offset_ns
 };
 
-class FrameSink : public OutputSink {
+class FrameSink : public TopicSink {
  public:
   FrameSink();
   ~FrameSink() override;
@@ -31,23 +31,12 @@ class FrameSink : public OutputSink {
   // input_names: one per frame input; stage_names: one per frame stage time.
   bool open(const FrameSinkOptions& options, std::span<const std::string> input_names,
             std::span<const std::string> stage_names, std::string* error);
-  void set_name(std::string name) { name_ = std::move(name); }
 
-  const char* name() const override { return name_.c_str(); }
   bool write(const PoseFrame& frame) override;
-  void flush() override {}
-  std::string status_line() const override;
-
-  const std::string& dds_topic() const { return dds_topic_; }
-  uint64_t written() const { return written_; }
-  uint32_t matched_readers() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::string name_ = "dds-frame";
-  std::string dds_topic_;
-  uint64_t written_ = 0, failed_ = 0;
 };
 
 }  // namespace sinew::hal::dds

@@ -12,7 +12,6 @@
 namespace sinew::hal::dds {
 
 struct JointStateSink::Impl {
-  DdsWriter writer;
   std::vector<JointChannel> channels;
   int32_t length_exponent = 0;
   int64_t stamp_offset_ns = 0;
@@ -24,16 +23,15 @@ struct JointStateSink::Impl {
   sensor_msgs_msg_dds__JointState_ sample{};
 };
 
-JointStateSink::JointStateSink() : impl_(std::make_unique<Impl>()) {}
+JointStateSink::JointStateSink() : TopicSink("dds", "sensor_msgs/msg/JointState"), impl_(std::make_unique<Impl>()) {}
 JointStateSink::~JointStateSink() = default;
 
 bool JointStateSink::open(const JointStateSinkOptions& options, std::span<const JointChannel> channels,
                           int32_t length_exponent, std::string* error) {
   Impl& s = *impl_;
-  if (!s.writer.open(options.domain_id, options.ros_namespace, options.topic, &sensor_msgs_msg_dds__JointState__desc,
+  if (!writer().open(options.domain_id, options.ros_namespace, options.topic, &sensor_msgs_msg_dds__JointState__desc,
                      joint_state_qos(options.depth), error))
     return false;
-  dds_topic_ = s.writer.dds_topic();
 
   s.channels.assign(channels.begin(), channels.end());
   s.length_exponent = length_exponent;
@@ -60,7 +58,7 @@ bool JointStateSink::open(const JointStateSinkOptions& options, std::span<const 
 
 bool JointStateSink::write(const PoseFrame& frame) {
   Impl& s = *impl_;
-  if (!s.writer.valid()) return ++failed_, false;
+  if (!writer().valid()) return reject();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const size_t n = std::min<size_t>(s.channels.size(), frame.input_count);
   for (size_t i = 0; i < n; ++i) {
@@ -71,16 +69,7 @@ bool JointStateSink::write(const PoseFrame& frame) {
   }
   const Ros2Time stamp = ros2_time(static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns);
   s.sample.header.stamp = {stamp.sec, stamp.nanosec};
-  if (!s.writer.write(&s.sample)) return ++failed_, false;
-  ++written_;
-  return true;
-}
-
-uint32_t JointStateSink::matched_readers() const { return impl_->writer.matched_readers(); }
-
-std::string JointStateSink::status_line() const {
-  return "dds " + dds_topic_ + " (sensor_msgs/msg/JointState): " + std::to_string(written_) + " samples written, " +
-         std::to_string(failed_) + " failed, " + std::to_string(matched_readers()) + " readers matched";
+  return publish(&s.sample);
 }
 
 }  // namespace sinew::hal::dds

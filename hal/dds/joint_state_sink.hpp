@@ -15,8 +15,8 @@
 #include <span>
 #include <string>
 
-#include "hal/common/output_sink.hpp"
 #include "joint_channels.hpp"
+#include "topic_sink.hpp"
 
 namespace sinew::hal::dds {
 
@@ -31,7 +31,7 @@ struct JointStateSinkOptions {
   int64_t stamp_offset_ns = 0;
 };
 
-class JointStateSink : public OutputSink {
+class JointStateSink : public TopicSink {
  public:
   JointStateSink();
   ~JointStateSink() override;
@@ -41,24 +41,12 @@ class JointStateSink : public OutputSink {
   // cannot be created.
   bool open(const JointStateSinkOptions& options, std::span<const JointChannel> channels, int32_t length_exponent,
             std::string* error);
-  void set_name(std::string name) { name_ = std::move(name); }
 
-  const char* name() const override { return name_.c_str(); }
   bool write(const PoseFrame& frame) override;
-  void flush() override {}
-  std::string status_line() const override;
-
-  const std::string& dds_topic() const { return dds_topic_; }
-  uint64_t written() const { return written_; }
-  // Readers matched now (any thread).
-  uint32_t matched_readers() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::string name_ = "dds";
-  std::string dds_topic_;
-  uint64_t written_ = 0, failed_ = 0;
 };
 
 }  // namespace sinew::hal::dds

@@ -17,7 +17,6 @@ constexpr int32_t kAdd = 0;            // ADD (and MODIFY)
 }  // namespace
 
 struct MeshMarkerSink::Impl {
-  DdsWriter writer;
   std::vector<uint32_t> triangles;
   uint32_t vertex_count = 0;
   int64_t stamp_offset_ns = 0;
@@ -27,7 +26,8 @@ struct MeshMarkerSink::Impl {
   char empty[1] = {0};
 };
 
-MeshMarkerSink::MeshMarkerSink() : impl_(std::make_unique<Impl>()) {}
+MeshMarkerSink::MeshMarkerSink()
+    : TopicSink("dds-mesh", "visualization_msgs/msg/Marker"), impl_(std::make_unique<Impl>()) {}
 MeshMarkerSink::~MeshMarkerSink() = default;
 
 bool MeshMarkerSink::open(const MeshMarkerSinkOptions& options, std::span<const uint32_t> triangles,
@@ -37,10 +37,9 @@ bool MeshMarkerSink::open(const MeshMarkerSinkOptions& options, std::span<const 
     if (v >= vertex_count)
       return *error = "a triangle names vertex " + std::to_string(v) + " of " + std::to_string(vertex_count), false;
   Impl& s = *impl_;
-  if (!s.writer.open(options.domain_id, options.ros_namespace, options.topic, &visualization_msgs_msg_dds__Marker__desc,
+  if (!writer().open(options.domain_id, options.ros_namespace, options.topic, &visualization_msgs_msg_dds__Marker__desc,
                      mesh_qos(), error))
     return false;
-  dds_topic_ = s.writer.dds_topic();
 
   s.triangles.assign(triangles.begin(), triangles.end());
   s.vertex_count = vertex_count;
@@ -67,13 +66,13 @@ bool MeshMarkerSink::open(const MeshMarkerSinkOptions& options, std::span<const 
   m.text = s.empty;
   m.mesh_resource = s.empty;
   m.mesh_file.filename = s.empty;
+  set_type("visualization_msgs/msg/Marker, " + std::to_string(s.triangles.size() / 3) + " triangles");
   return true;
 }
 
 bool MeshMarkerSink::write(const PoseFrame& frame) {
   Impl& s = *impl_;
-  if (!s.writer.valid() || frame.vertex_count != s.vertex_count || frame.position[0] == nullptr)
-    return ++failed_, false;
+  if (!writer().valid() || frame.vertex_count != s.vertex_count || frame.position[0] == nullptr) return reject();
   for (size_t i = 0; i < s.triangles.size(); ++i) {
     const uint32_t v = s.triangles[i];
     s.points[i] = {units::len_to_double(frame.position[0][v], frame.length_exponent),
@@ -82,17 +81,7 @@ bool MeshMarkerSink::write(const PoseFrame& frame) {
   }
   const Ros2Time stamp = ros2_time(static_cast<int64_t>(frame.timestamp_ns) + s.stamp_offset_ns);
   s.sample.header.stamp = {stamp.sec, stamp.nanosec};
-  if (!s.writer.write(&s.sample)) return ++failed_, false;
-  ++written_;
-  return true;
-}
-
-uint32_t MeshMarkerSink::matched_readers() const { return impl_->writer.matched_readers(); }
-
-std::string MeshMarkerSink::status_line() const {
-  return "dds " + dds_topic_ + " (visualization_msgs/msg/Marker, " + std::to_string(impl_->triangles.size() / 3) +
-         " triangles): " + std::to_string(written_) + " written, " + std::to_string(failed_) + " failed, " +
-         std::to_string(matched_readers()) + " readers matched";
+  return publish(&s.sample);
 }
 
 }  // namespace sinew::hal::dds

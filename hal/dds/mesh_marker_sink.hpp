@@ -13,7 +13,7 @@
 #include <span>
 #include <string>
 
-#include "hal/common/output_sink.hpp"
+#include "topic_sink.hpp"
 
 namespace sinew::hal::dds {
 
@@ -27,7 +27,7 @@ struct MeshMarkerSinkOptions {
   int64_t stamp_offset_ns = 0;  // as JointStateSinkOptions::stamp_offset_ns
 };
 
-class MeshMarkerSink : public OutputSink {
+class MeshMarkerSink : public TopicSink {
  public:
   MeshMarkerSink();
   ~MeshMarkerSink() override;
@@ -36,24 +36,13 @@ class MeshMarkerSink : public OutputSink {
   // `error` for an index out of range or a DDS entity that cannot be made.
   bool open(const MeshMarkerSinkOptions& options, std::span<const uint32_t> triangles, uint32_t vertex_count,
             std::string* error);
-  void set_name(std::string name) { name_ = std::move(name); }
 
-  const char* name() const override { return name_.c_str(); }
   // A frame with another vertex count than open()'s is refused (counted).
   bool write(const PoseFrame& frame) override;
-  void flush() override {}
-  std::string status_line() const override;
-
-  const std::string& dds_topic() const { return dds_topic_; }
-  uint64_t written() const { return written_; }
-  uint32_t matched_readers() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::string name_ = "dds-mesh";
-  std::string dds_topic_;
-  uint64_t written_ = 0, failed_ = 0;
 };
 
 }  // namespace sinew::hal::dds
