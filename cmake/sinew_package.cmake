@@ -32,6 +32,18 @@ if(SINEW_DEBIAN_LAYOUT AND SINEW_GZIP)
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${sinew_deb_source}/changelog)
 endif()
 
+# Manual pages: scripts/package.sh writes man/<program>.1.gz in the build
+# tree with help2man from each program's --help (Debian policy 12.1); the
+# programs and their components are listed here for it, with their paths.
+set(sinew_man_programs "")
+function(sinew_package_man_page component target)
+  if(SINEW_DEBIAN_LAYOUT AND TARGET ${target})
+    install(FILES ${PROJECT_BINARY_DIR}/man/${target}.1.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1
+            COMPONENT ${component} OPTIONAL)
+    set(sinew_man_programs "${sinew_man_programs}${target}=$<TARGET_FILE:${target}>\n" PARENT_SCOPE)
+  endif()
+endfunction()
+
 function(sinew_package_docs component package)
   if(SINEW_DEBIAN_LAYOUT)
     install(FILES ${sinew_deb_source}/copyright ${sinew_deb_dir}/changelog.gz
@@ -107,6 +119,7 @@ sinew, with its configuration in /etc/sinew/sinewd.toml.")
     list(APPEND CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${sinew_deb_dir}/runtime/conffiles)
   endif()
   sinew_package_docs(runtime sinew)
+  sinew_package_man_page(runtime sinewd)
 endif()
 
 set(sinew_tools_built OFF)
@@ -127,6 +140,12 @@ steps it offline; rigsim plays a simulated rig onto CAN, GPIO or Modbus;
 sinew-export writes glTF; sinew-log, sinew-pose and sinew-receive read frame
 logs and live output.")
   sinew_package_docs(tools sinew-tools)
+  foreach(tool rigc sinew-run sinew-export sinew-log rigsim sinew-pose sinew-receive)
+    sinew_package_man_page(tools ${tool})
+  endforeach()
+endif()
+if(SINEW_DEBIAN_LAYOUT)
+  file(GENERATE OUTPUT ${sinew_deb_dir}/man-programs.txt CONTENT "${sinew_man_programs}")
 endif()
 
 include(CPack)

@@ -28,7 +28,7 @@ test_pkgs=(
   debootstrap
   # the Debian packages (scripts/package.sh: dpkg-shlibdeps, lintian) and the
   # instruction counts per stage (scripts/callgrind-stages.sh)
-  dpkg-dev lintian valgrind
+  dpkg-dev lintian help2man valgrind
   # sinew-view and its browser tests (host only: the board needs none of it)
   libcivetweb-dev chromium
 )

@@ -34,6 +34,7 @@ say() { printf 'package: %s\n' "$*"; }
 
 missing=()
 command -v dpkg-shlibdeps >/dev/null || missing+=(dpkg-dev)
+command -v help2man >/dev/null || missing+=(help2man)
 [ "$check" = 0 ] || command -v lintian >/dev/null || missing+=(lintian)
 if [ ${#missing[@]} -gt 0 ]; then
   sudo_cmd=()
@@ -55,6 +56,31 @@ cmake -S . -B "$tree" -DSINEW_DEBIAN_LAYOUT=ON -DCMAKE_INSTALL_PREFIX=/usr >/dev
 if [ "$build" = 1 ]; then
   cmake --build "$tree" -j "$(nproc)"
 fi
+
+# Manual pages for the programs the packages hold (cmake/sinew_package.cmake
+# lists them): help2man from each one's --help, run by name (so the page
+# shows no build path), under qemu-user for a cross-built program.
+rm -rf "$tree/man" && mkdir -p "$tree/man"
+version="$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$tree/CMakeCache.txt")"
+# The pages' date is the release's (its changelog entry), not today's.
+SOURCE_DATE_EPOCH="$(dpkg-parsechangelog -l packaging/debian/changelog -S Timestamp)"
+export SOURCE_DATE_EPOCH
+wrappers="$(mktemp -d)"
+while IFS='=' read -r prog path; do
+  [ -n "$prog" ] && [ -x "$path" ] || continue
+  case "$(readelf -h "$path" | sed -n 's/^ *Machine: *//p')" in
+    AArch64) emulator="qemu-aarch64-static -L /" ;;
+    ARM) emulator="qemu-arm-static -L /" ;;
+    *) emulator="" ;;
+  esac
+  printf '#!/bin/sh\nexec %s "%s" "$@"\n' "$emulator" "$path" >"$wrappers/$prog"
+  chmod +x "$wrappers/$prog"
+  # The summary is the first line of --help after "<program>: ", when it has one.
+  summary="$(PATH="$wrappers:$PATH" "$prog" --help 2>&1 | sed -n "1s/^$prog: //p")"
+  PATH="$wrappers:$PATH" help2man --no-info --section=1 --version-string="$version" \
+    --name="${summary:-part of sinew, the deterministic rig runtime}" "$prog" | gzip -9n >"$tree/man/$prog.1.gz"
+done <"$tree/debian/man-programs.txt"
+rm -rf "$wrappers"
 
 rm -rf "$tree/packages"
 (cd "$tree" && cpack --config CPackConfig.cmake >cpack.log 2>&1) || { cat "$tree/cpack.log"; exit 1; }

@@ -23,6 +23,7 @@ apt_install "$debs"/sinew_*.deb
 dpkg-query -W -f='${Conffiles}\n' sinew | grep -q '/etc/sinew/sinewd.toml' || { say "/etc/sinew/sinewd.toml is not a conffile"; exit 1; }
 getent passwd sinew >/dev/null || { say "no user sinew after installation"; exit 1; }
 [ -f /lib/systemd/system/sinewd.service ] || { say "no /lib/systemd/system/sinewd.service"; exit 1; }
+[ -f /usr/share/man/man1/sinewd.1.gz ] || { say "no manual page /usr/share/man/man1/sinewd.1.gz"; exit 1; }
 say "sinewd --config /etc/sinew/sinewd.toml --duration 2"
 (cd /tmp && sinewd --config /etc/sinew/sinewd.toml --duration 2) >/tmp/sinewd.out 2>&1 ||
   { cat /tmp/sinewd.out; say "the installed sinewd failed"; exit 1; }
