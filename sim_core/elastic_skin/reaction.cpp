@@ -2,6 +2,7 @@
 
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "sim_core/layer/range_totals.hpp"
 #include "sim_core/muscle/primitive.hpp"
 #include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
@@ -181,46 +182,53 @@ uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscl
 }
 
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
-                                    SkinState* s) {
-  uint32_t moved = 0;
+                                    SkinState* s, const layer::Workers* workers) {
   const int steps = static_cast<int>(model.params.newton_steps);
   PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
-  for (uint32_t v = 0; v < model.vertex_count; ++v) {
-    fx::Vec3 n{};
-    const fx::Vec3 start = fat_point(model, *s, v, &n);
-    fx::Vec3 p = start;
-    for (size_t i = 0; i < muscles.primitives.size(); ++i) {
-      const muscle::PrimitiveFrame& f = muscles.primitives[i];
-      if (f.active == 0 || far_from(bounds, i, p)) continue;
-      const fx::Vec3 out = muscle::primitive_push_out(f, p, n, steps);
-      if (out == p) continue;
-      // Partial correction between iterations, full one on the last.
-      p = gain >= fx::kUnitOne ? out : fx::add(p, fx::scale(fx::sub(out, p), gain));
+  // Each vertex reads and moves only itself: the ranges run on any thread.
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    uint32_t moved = 0;
+    for (uint32_t v = begin; v < end; ++v) {
+      fx::Vec3 n{};
+      const fx::Vec3 start = fat_point(model, *s, v, &n);
+      fx::Vec3 p = start;
+      for (size_t i = 0; i < muscles.primitives.size(); ++i) {
+        const muscle::PrimitiveFrame& f = muscles.primitives[i];
+        if (f.active == 0 || far_from(bounds, i, p)) continue;
+        const fx::Vec3 out = muscle::primitive_push_out(f, p, n, steps);
+        if (out == p) continue;
+        // Partial correction between iterations, full one on the last.
+        p = gain >= fx::kUnitOne ? out : fx::add(p, fx::scale(fx::sub(out, p), gain));
+      }
+      if (p == start) continue;
+      const fx::Vec3 d = fx::sub(p, start);
+      s->position[0][v] = fx::add_sat(s->position[0][v], d.x);
+      s->position[1][v] = fx::add_sat(s->position[1][v], d.y);
+      s->position[2][v] = fx::add_sat(s->position[2][v], d.z);
+      ++moved;
     }
-    if (p == start) continue;
-    const fx::Vec3 d = fx::sub(p, start);
-    s->position[0][v] = fx::add_sat(s->position[0][v], d.x);
-    s->position[1][v] = fx::add_sat(s->position[1][v], d.y);
-    s->position[2][v] = fx::add_sat(s->position[2][v], d.z);
-    ++moved;
-  }
-  return moved;
+    return moved;
+  };
+  return layer::run_ranges_summed(workers, model.vertex_count, range);
 }
 
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
-                      const SkinState& s) {
-  return count_inside_of(model, muscles, tolerance, s, nullptr, model.vertex_count);
+                      const SkinState& s, const layer::Workers* workers) {
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    return count_inside_of(model, muscles, tolerance, s, nullptr, end - begin, begin);
+  };
+  return layer::run_ranges_summed(workers, model.vertex_count, range);
 }
 
 uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
-                         const SkinState& s, const int64_t* listed, uint32_t count) {
+                         const SkinState& s, const int64_t* listed, uint32_t count, uint32_t first) {
   uint32_t inside = 0;
   const int64_t limit = fx::kUnitOne - int64_t{tolerance};
   PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
   for (uint32_t k = 0; k < count; ++k) {
-    const uint32_t v = listed != nullptr ? static_cast<uint32_t>(listed[k]) : k;
+    const uint32_t v = listed != nullptr ? static_cast<uint32_t>(listed[first + k]) : first + k;
     fx::Vec3 n{};
     const fx::Vec3 p = fat_point(model, s, v, &n);
     for (size_t i = 0; i < muscles.primitives.size(); ++i) {

@@ -9,6 +9,7 @@
 // of the penetration (first-order critically damped approach, no overshoot).
 #pragma once
 
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "skin_state.hpp"
 
@@ -16,7 +17,7 @@ namespace sinew::elastic_skin {
 
 // Returns the number of vertices moved.
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
-                                    SkinState* s);
+                                    SkinState* s, const layer::Workers* workers = nullptr);
 
 // Dynamic mode: the vertices whose fat point lies within reach of an
 // active primitive (inside its bounding sphere, or any point for a
@@ -51,12 +52,13 @@ fx::Len fat_of(const SkinModel& model, uint32_t v);
 // Fat points still inside an active primitive by more than `tolerance`
 // (Q2.30 on the inside/outside function: F < 1 - tolerance).
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
-                      const SkinState& s);
+                      const SkinState& s, const layer::Workers* workers = nullptr);
 
 // The same over `count` vertices: those listed (vertex indices), or the
-// first `count` with listed == nullptr. The dynamic step passes the last
-// substep's reaction candidates: no other fat point can be inside.
+// first `count` with listed == nullptr, starting at entry (or vertex)
+// `first`. The dynamic step passes the last substep's reaction candidates:
+// no other fat point can be inside.
 uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
-                         const SkinState& s, const int64_t* listed, uint32_t count);
+                         const SkinState& s, const int64_t* listed, uint32_t count, uint32_t first = 0);
 
 }  // namespace sinew::elastic_skin

@@ -1,8 +1,11 @@
 #include "relaxation.hpp"
 
+#include <atomic>
+
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "sim_core/layer/range_totals.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
 
 namespace sinew::elastic_skin {
@@ -11,14 +14,6 @@ namespace {
 constexpr int64_t kAccLimit = int64_t{1} << 62;
 
 fx::Vec3 at(const std::span<fx::Len> (&a)[3], uint32_t v) { return {a[0][v], a[1][v], a[2][v]}; }
-
-// Inlined: it runs twice per edge per round, the relaxation's inner loop.
-[[gnu::always_inline]] inline void accumulate(SkinState* s, uint32_t v, int64_t k, fx::Vec3 f) {
-  s->force[0][v] = fx::add_sat_i64(s->force[0][v], k * f.x);
-  s->force[1][v] = fx::add_sat_i64(s->force[1][v], k * f.y);
-  s->force[2][v] = fx::add_sat_i64(s->force[2][v], k * f.z);
-  s->weight[v] += k;  // <= (edges + bands + 1) * 2^24 per vertex: far from overflow
-}
 
 }  // namespace
 
@@ -57,73 +52,130 @@ bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&po
   return true;
 }
 
-fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
-  const uint32_t n = model.vertex_count;
-  for (int c = 0; c < 3; ++c)
-    for (uint32_t v = 0; v < n; ++v) s->force[c][v] = 0;
-  for (uint32_t v = 0; v < n; ++v) s->weight[v] = 0;
+namespace {
 
-  for (const Edge& e : model.edges) {
+// Pass 1 over edges [begin, end): each edge's pull, once.
+void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t end) {
+  for (uint32_t e = begin; e < end; ++e) {
     int64_t k = 0;
     fx::Vec3 f{};
-    if (!edge_pull(model.params, e, s->position, &k, &f)) continue;
-    accumulate(s, e.a, k, f);
-    accumulate(s, e.b, k, {fx::neg_sat(f.x), fx::neg_sat(f.y), fx::neg_sat(f.z)});
+    if (!edge_pull(model.params, model.edges[e], s->position, &k, &f)) k = 0, f = {0, 0, 0};
+    s->edge_stiffness[e] = static_cast<int32_t>(k);  // <= Edge::k <= kMaxStiffness = 2^24
+    s->edge_pull[0][e] = f.x;
+    s->edge_pull[1][e] = f.y;
+    s->edge_pull[2][e] = f.z;
   }
+}
+
+struct VertexSums {
+  int64_t force[3] = {0, 0, 0};
+  int64_t weight = 0;
+  // The relaxation's order of terms: add_sat is not associative near its
+  // limits, so the order is part of the definition.
+  [[gnu::always_inline]] void add(int64_t k, fx::Vec3 f) {
+    force[0] = fx::add_sat_i64(force[0], k * f.x);
+    force[1] = fx::add_sat_i64(force[1], k * f.y);
+    force[2] = fx::add_sat_i64(force[2], k * f.z);
+    weight += k;  // <= (edges + bands + 1) * 2^24 per vertex: far from overflow
+  }
+};
+
+struct MoveTotals {
+  uint32_t saturated = 0;
+  uint64_t largest2 = 0;  // squared relaxation vector length
+};
+
+// Pass 2 over vertices [begin, end): each gathers its terms (its edges in
+// edge order, its bands in band order, its anchor) and moves.
+MoveTotals move_vertices(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s, uint32_t begin,
+                         uint32_t end) {
+  MoveTotals t;
   const uint32_t ring = muscles.ring_vertices;
-  for (const RubberBand& b : model.bands) {
-    const uint32_t m = muscle::muscle_vertex_index(ring, b.muscle, b.slice, b.ring_vertex);
-    const fx::Vec3 target{muscles.vertex[0][m], muscles.vertex[1][m], muscles.vertex[2][m]};
-    accumulate(s, b.vertex, b.k, fx::sub(target, at(s->position, b.vertex)));
-  }
-  uint64_t largest = 0;  // squared: floor(sqrt) is monotonic, so one root at the end gives the same length
-  for (uint32_t v = 0; v < n; ++v) {
+  for (uint32_t v = begin; v < end; ++v) {
+    VertexSums sum;
+    for (uint32_t i = s->incident_offset[v]; i < s->incident_offset[v + 1]; ++i) {
+      const uint32_t e = s->incident_edge[i];
+      const fx::Vec3 f{s->edge_pull[0][e], s->edge_pull[1][e], s->edge_pull[2][e]};
+      // The pull on a; the opposite on b.
+      sum.add(s->edge_stiffness[e],
+              model.edges[e].a == v ? f : fx::Vec3{fx::neg_sat(f.x), fx::neg_sat(f.y), fx::neg_sat(f.z)});
+    }
     const fx::Vec3 p = at(s->position, v);
-    accumulate(s, v, model.anchor_stiffness[v], fx::sub(at(s->anchor, v), p));
-    const int64_t den = s->weight[v];
-    if (den <= 0) continue;
+    for (uint32_t i = s->band_offset[v]; i < s->band_offset[v + 1]; ++i) {
+      const RubberBand& b = model.bands[s->band_at[i]];
+      const uint32_t m = muscle::muscle_vertex_index(ring, b.muscle, b.slice, b.ring_vertex);
+      const fx::Vec3 target{muscles.vertex[0][m], muscles.vertex[1][m], muscles.vertex[2][m]};
+      sum.add(b.k, fx::sub(target, p));
+    }
+    sum.add(model.anchor_stiffness[v], fx::sub(at(s->anchor, v), p));
+    if (sum.weight <= 0) continue;
     int32_t r[3];
     fx::Saturation sat;
     for (int c = 0; c < 3; ++c) {
-      const int64_t num = fx::clamp_i64(s->force[c][v], -kAccLimit + 1, kAccLimit - 1);
-      sat.events += static_cast<uint32_t>(num != s->force[c][v]);
-      r[c] = fx::sat_i32(fx::div_round(num, den), sat);
+      const int64_t num = fx::clamp_i64(sum.force[c], -kAccLimit + 1, kAccLimit - 1);
+      sat.events += static_cast<uint32_t>(num != sum.force[c]);
+      r[c] = fx::sat_i32(fx::div_round(num, sum.weight), sat);
     }
-    s->stats.saturated += sat.events;
-    const fx::Vec3 rv{r[0], r[1], r[2]};
-    const uint64_t x = fx::magnitude(rv.x), y = fx::magnitude(rv.y), z = fx::magnitude(rv.z);
+    t.saturated += sat.events;
+    const uint64_t x = fx::magnitude(r[0]), y = fx::magnitude(r[1]), z = fx::magnitude(r[2]);
     const uint64_t rl2 = x * x + y * y + z * z;  // < 3 * 2^62 < 2^64, as in fx::length
-    if (rl2 > largest) largest = rl2;
-    const fx::Vec3 moved = fx::add(p, rv);
+    if (rl2 > t.largest2) t.largest2 = rl2;
+    const fx::Vec3 moved = fx::add(p, {r[0], r[1], r[2]});
     s->position[0][v] = moved.x;
     s->position[1][v] = moved.y;
     s->position[2][v] = moved.z;
   }
-  return fx::sat_i32(int64_t{fx::isqrt_fast(largest)});
+  return t;
 }
 
-uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s) {
+}  // namespace
+
+fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s,
+                   const layer::Workers* workers) {
+  const auto edges = [&](uint32_t begin, uint32_t end) {
+    pull_edges(model, s, begin, end);
+    return 0u;
+  };
+  layer::run_ranges_summed(workers, static_cast<uint32_t>(model.edges.size()), edges);
+  // Jacobi: every pull above is from the positions at the start of the
+  // round, and a vertex's move reads only its own position.
+  uint32_t saturated = 0;
+  const auto vertices = [&](uint32_t begin, uint32_t end) {
+    const MoveTotals t = move_vertices(model, muscles, s, begin, end);
+    std::atomic_ref<uint32_t>(saturated).fetch_add(t.saturated, std::memory_order_relaxed);
+    // floor(sqrt) is monotonic: the largest root is the root of the largest square.
+    return static_cast<uint32_t>(fx::sat_i32(int64_t{fx::isqrt_fast(t.largest2)}));
+  };
+  const uint32_t largest = layer::run_ranges_max(workers, model.vertex_count, vertices);
+  s->stats.saturated += saturated;
+  return static_cast<fx::Len>(largest);
+}
+
+uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers) {
   const fx::Len radius = model.params.collision_radius;
   if (radius <= 0) return 0;
-  uint32_t moved = 0;
-  for (uint32_t v = 0; v < model.vertex_count; ++v) {
-    const fx::Vec3 anchor = at(s->anchor, v);
-    const fx::Vec3 normal{s->normal[0][v], s->normal[1][v], s->normal[2][v]};
-    // Sphere tangent to the skin's tangent plane at the virtual anchor.
-    const fx::Vec3 centre = fx::sub(anchor, muscle::along(normal, radius));
-    const fx::Vec3 d = fx::sub(at(s->position, v), centre);
-    // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
-    // Squared distances first: most vertices are outside, no root needed.
-    const int64_t r2 = int64_t{radius - 2} * (radius - 2);
-    if (fx::dot_wide(d, d) >= r2) continue;
-    fx::Vec3 dir{};
-    const fx::Vec3 out = fx::normalize_to_unit(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
-    s->position[0][v] = out.x;
-    s->position[1][v] = out.y;
-    s->position[2][v] = out.z;
-    ++moved;
-  }
-  return moved;
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    uint32_t moved = 0;
+    for (uint32_t v = begin; v < end; ++v) {
+      const fx::Vec3 anchor = at(s->anchor, v);
+      const fx::Vec3 normal{s->normal[0][v], s->normal[1][v], s->normal[2][v]};
+      // Sphere tangent to the skin's tangent plane at the virtual anchor.
+      const fx::Vec3 centre = fx::sub(anchor, muscle::along(normal, radius));
+      const fx::Vec3 d = fx::sub(at(s->position, v), centre);
+      // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
+      // Squared distances first: most vertices are outside, no root needed.
+      const int64_t r2 = int64_t{radius - 2} * (radius - 2);
+      if (fx::dot_wide(d, d) >= r2) continue;
+      fx::Vec3 dir{};
+      const fx::Vec3 out = fx::normalize_to_unit(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
+      s->position[0][v] = out.x;
+      s->position[1][v] = out.y;
+      s->position[2][v] = out.z;
+      ++moved;
+    }
+    return moved;
+  };
+  return layer::run_ranges_summed(workers, model.vertex_count, range);
 }
 
 }  // namespace sinew::elastic_skin

@@ -5,10 +5,12 @@
 //            + sum_bands k_r (target - v) ) / ( sum_j k'_e + k_a + sum k_r )
 // with w_j = v_j - v, k_e from eq. (1), k_a from eq. (2) and k'_e the
 // push-back-scaled stiffness for compressed edges. Edges are visited in
-// model order and each vertex sums in a fixed order: deterministic.
+// model order and each vertex sums its terms in a fixed order (its edges in
+// edge order, its bands in band order, its anchor): deterministic.
 // Work: O(edges + bands + vertices).
 #pragma once
 
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "skin_state.hpp"
 
@@ -20,13 +22,17 @@ namespace sinew::elastic_skin {
 bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k, fx::Vec3* f);
 
 // Runs one round and returns the largest relaxation vector length (Len).
-fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s);
+// Two passes: each edge's pull once (over edges), then each vertex gathers
+// its edges' pulls from the CSR (over vertices), so both spread over
+// `workers` and the words written are the same for any number of them.
+fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s,
+                   const layer::Workers* workers = nullptr);
 
 // Edge stiffness after the push-back rule of §5.2 (Q16.16).
 int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx::Len rest);
 
 // Moves each vertex out of the collision sphere under its virtual anchor
 // (§5.2); returns the number of vertices moved.
-uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s);
+uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers = nullptr);
 
 }  // namespace sinew::elastic_skin

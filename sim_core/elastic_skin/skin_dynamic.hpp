@@ -33,6 +33,7 @@
 #include <span>
 
 #include "sim_core/fixed/mat34.hpp"
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/muscle/muscle_model.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "skin_state.hpp"
@@ -53,6 +54,10 @@ struct SkinTick {
   // vertex with it instead (it moves as if rigidly attached), so only a
   // physically plausible acceleration excites the skin's dynamics.
   int32_t max_anchor_acceleration = 0;
+  // Threads the static step spreads its per-vertex and per-edge loops over
+  // (null: the calling thread). The words written are the same for any
+  // number of them (sim_core/layer/workers.hpp).
+  const layer::Workers* workers = nullptr;
 };
 
 // Substeps of one tick: ceil(substep_hz / tick_hz), at least 1; 0 if above

@@ -34,9 +34,13 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   s->linear_gain = c.take<int64_t>(rn);
   for (int a = 0; a < 3; ++a) s->reaction_normal[a] = c.take<fx::Unit>(rn);
   s->reaction_floor = c.take<int64_t>(rn);
-  s->incident_offset = c.take<uint32_t>(relaxation ? n + 1 : 0);
-  s->incident_edge = c.take<uint32_t>(relaxation ? 2 * model.edges.size() : 0);
+  s->incident_offset = c.take<uint32_t>(n + 1);
+  s->incident_edge = c.take<uint32_t>(2 * model.edges.size());
   s->inverse_degree = c.take<int32_t>(rn);
+  s->band_offset = c.take<uint32_t>(n + 1);
+  s->band_at = c.take<uint32_t>(model.bands.size());
+  s->edge_stiffness = c.take<int32_t>(model.edges.size());
+  for (int a = 0; a < 3; ++a) s->edge_pull[a] = c.take<fx::Len>(model.edges.size());
   return c;
 }
 
@@ -44,7 +48,6 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
 // allocation) and each vertex's 1 / degree. Edge endpoints are checked by
 // the caller.
 void fill_incidence(const SkinModel& model, SkinState* s) {
-  if (s->incident_offset.empty()) return;
   const uint32_t n = model.vertex_count;
   for (uint32_t& o : s->incident_offset) o = 0;
   for (const Edge& e : model.edges) {
@@ -59,10 +62,23 @@ void fill_incidence(const SkinModel& model, SkinState* s) {
   }
   for (uint32_t v = n; v > 0; --v) s->incident_offset[v] = s->incident_offset[v - 1];
   s->incident_offset[0] = 0;
+  if (s->inverse_degree.empty()) return;
   for (uint32_t v = 0; v < n; ++v) {
     const uint32_t degree = s->incident_offset[v + 1] - s->incident_offset[v];
     s->inverse_degree[v] = degree == 0 ? 0 : static_cast<int32_t>(fx::div_round(fx::kUnitOne, degree));
   }
+}
+
+// The bands' CSR by vertex, in band order (a counting sort, as above).
+// Band vertices are checked by the caller.
+void fill_band_lists(const SkinModel& model, SkinState* s) {
+  const uint32_t n = model.vertex_count;
+  for (uint32_t& o : s->band_offset) o = 0;
+  for (const RubberBand& b : model.bands) ++s->band_offset[b.vertex + 1];
+  for (uint32_t v = 0; v < n; ++v) s->band_offset[v + 1] += s->band_offset[v];
+  for (uint32_t i = 0; i < model.bands.size(); ++i) s->band_at[s->band_offset[model.bands[i].vertex]++] = i;
+  for (uint32_t v = n; v > 0; --v) s->band_offset[v] = s->band_offset[v - 1];
+  s->band_offset[0] = 0;
 }
 
 }  // namespace
@@ -87,7 +103,11 @@ LayerStatus skin_init(const SkinModel& model, void* memory, size_t bytes, SkinSt
   for (const Edge& e : model.edges)
     if (e.a >= model.vertex_count || e.b >= model.vertex_count)
       return muscle::layer_fail(LayerError::kBadValue, "skin edge", -1, "a/b", "endpoint out of range");
+  for (const RubberBand& b : model.bands)
+    if (b.vertex >= model.vertex_count)
+      return muscle::layer_fail(LayerError::kBadValue, "rubber band", -1, "vertex", "out of range");
   fill_incidence(model, &s);
+  fill_band_lists(model, &s);
   *out = s;
   return {};
 }

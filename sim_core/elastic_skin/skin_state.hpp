@@ -66,7 +66,16 @@ struct SkinState {
   // incident_edge[incident_offset[v] .. incident_offset[v + 1]).
   std::span<uint32_t> incident_offset;  // vertex_count + 1
   std::span<uint32_t> incident_edge;    // 2 edges
-  std::span<int32_t> inverse_degree;    // 1 / (edges at the vertex), Q2.30 (0 for none)
+  std::span<int32_t> inverse_degree;    // relaxation integrator only: 1 / (edges at the vertex), Q2.30 (0 for none)
+  // The rubber bands at each vertex (CSR, in band order, filled at init):
+  // vertex v's are band_at[band_offset[v] .. band_offset[v + 1]).
+  std::span<uint32_t> band_offset;  // vertex_count + 1
+  std::span<uint32_t> band_at;      // one per band
+  // The relaxation round's per-edge pull (relaxation.cpp), computed once per
+  // edge and gathered by both endpoints: k'_e (Q16.16, <= 2^24) and the
+  // force on endpoint a (Len); zero for an edge that pulls with nothing.
+  std::span<int32_t> edge_stiffness;
+  std::span<fx::Len> edge_pull[3];
   uint8_t started = 0;
   uint32_t step_rate = 0;  // dynamic: the substep rate (1/s) anchor_step is per
   SkinStats stats;

@@ -5,6 +5,7 @@
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
+#include "sim_core/layer/range_totals.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
 #include "skin_dynamic.hpp"
 #include "skin_validate.hpp"
@@ -18,19 +19,23 @@ namespace {
 constexpr fx::Unit kInsideTolerance = fx::kUnitOne >> 10;
 
 // Largest move of a vertex since the start of the iteration.
-fx::Len largest_move(const SkinState& s, uint32_t n) {
-  uint64_t worst = 0;  // squared: one root at the end
-  for (uint32_t v = 0; v < n; ++v) {
-    const uint64_t dx = fx::magnitude(int64_t{s.position[0][v]} - s.previous[0][v]);
-    const uint64_t dy = fx::magnitude(int64_t{s.position[1][v]} - s.previous[1][v]);
-    const uint64_t dz = fx::magnitude(int64_t{s.position[2][v]} - s.previous[2][v]);
-    // Each difference < 2^32; clamp the sum of squares instead of wrapping.
-    const uint64_t lim = uint64_t{1} << 62;
-    const uint64_t d2 =
-        (dx >= lim >> 31 || dy >= lim >> 31 || dz >= lim >> 31) ? UINT64_MAX : dx * dx + dy * dy + dz * dz;
-    if (d2 > worst) worst = d2;
-  }
-  return fx::sat_i32(int64_t{fx::isqrt_fast(worst)});
+fx::Len largest_move(const SkinState& s, uint32_t n, const layer::Workers* workers) {
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    uint64_t worst = 0;  // squared: one root per range
+    for (uint32_t v = begin; v < end; ++v) {
+      const uint64_t dx = fx::magnitude(int64_t{s.position[0][v]} - s.previous[0][v]);
+      const uint64_t dy = fx::magnitude(int64_t{s.position[1][v]} - s.previous[1][v]);
+      const uint64_t dz = fx::magnitude(int64_t{s.position[2][v]} - s.previous[2][v]);
+      // Each difference < 2^32; clamp the sum of squares instead of wrapping.
+      const uint64_t lim = uint64_t{1} << 62;
+      const uint64_t d2 =
+          (dx >= lim >> 31 || dy >= lim >> 31 || dz >= lim >> 31) ? UINT64_MAX : dx * dx + dy * dy + dz * dz;
+      if (d2 > worst) worst = d2;
+    }
+    // floor(sqrt) is monotonic: the largest root is the root of the largest square.
+    return static_cast<uint32_t>(fx::sat_i32(int64_t{fx::isqrt_fast(worst)}));
+  };
+  return static_cast<fx::Len>(layer::run_ranges_max(workers, n, range));
 }
 
 // The last step's offset of a vertex from its anchor, turned with the
@@ -88,28 +93,34 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   fresh.steps = s.stats.steps;
   s.stats = fresh;
   const bool warm = model.params.warm_start != 0 && s.started != 0;
-  for (uint32_t v = 0; v < model.vertex_count; ++v) {
-    const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
-    const fx::Len p[3] = {a.position.x, a.position.y, a.position.z};
-    const fx::Unit nrm[3] = {a.normal.x, a.normal.y, a.normal.z};
-    // Warm start (LEMAN §3): the last skin carried with its anchor, its
-    // offset turned as the anchor's normal turned. The last skin left where
-    // it was would trail every bone move by more than a few relaxations
-    // make up (the skin ballooned off a fast-moving limb).
-    fx::Vec3 offset{0, 0, 0};
-    if (warm) {
-      const fx::Vec3 last{fx::sat_i32(int64_t{s.position[0][v]} - s.anchor[0][v]),
-                          fx::sat_i32(int64_t{s.position[1][v]} - s.anchor[1][v]),
-                          fx::sat_i32(int64_t{s.position[2][v]} - s.anchor[2][v])};
-      offset = carried_offset(last, {s.normal[0][v], s.normal[1][v], s.normal[2][v]}, a.normal);
+  const layer::Workers* workers = tick.workers;
+  // Each vertex reads and writes only its own entries: the ranges run on any thread.
+  const auto anchors = [&](uint32_t begin, uint32_t end) {
+    for (uint32_t v = begin; v < end; ++v) {
+      const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
+      const fx::Len p[3] = {a.position.x, a.position.y, a.position.z};
+      const fx::Unit nrm[3] = {a.normal.x, a.normal.y, a.normal.z};
+      // Warm start (LEMAN §3): the last skin carried with its anchor, its
+      // offset turned as the anchor's normal turned. The last skin left where
+      // it was would trail every bone move by more than a few relaxations
+      // make up (the skin ballooned off a fast-moving limb).
+      fx::Vec3 offset{0, 0, 0};
+      if (warm) {
+        const fx::Vec3 last{fx::sat_i32(int64_t{s.position[0][v]} - s.anchor[0][v]),
+                            fx::sat_i32(int64_t{s.position[1][v]} - s.anchor[1][v]),
+                            fx::sat_i32(int64_t{s.position[2][v]} - s.anchor[2][v])};
+        offset = carried_offset(last, {s.normal[0][v], s.normal[1][v], s.normal[2][v]}, a.normal);
+      }
+      const int32_t off[3] = {offset.x, offset.y, offset.z};
+      for (int c = 0; c < 3; ++c) {
+        s.position[c][v] = fx::sat_i32(int64_t{p[c]} + off[c]);
+        s.anchor[c][v] = p[c];
+        s.normal[c][v] = nrm[c];
+      }
     }
-    const int32_t off[3] = {offset.x, offset.y, offset.z};
-    for (int c = 0; c < 3; ++c) {
-      s.position[c][v] = fx::sat_i32(int64_t{p[c]} + off[c]);
-      s.anchor[c][v] = p[c];
-      s.normal[c][v] = nrm[c];
-    }
-  }
+    return 0u;
+  };
+  layer::run_ranges_summed(workers, model.vertex_count, anchors);
   // §5.2: relax until the largest move falls below the tolerance or the
   // iteration count runs out; the last iteration run removes all remaining
   // penetration.
@@ -119,16 +130,17 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   for (uint32_t i = 0; i < iterations; ++i) {
     for (int c = 0; c < 3; ++c)
       for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
-    relax_once(model, mstate, &s);
-    s.stats.collisions += collide_with_anchor_spheres(model, &s);
+    relax_once(model, mstate, &s, workers);
+    s.stats.collisions += collide_with_anchor_spheres(model, &s, workers);
     const bool last = i + 1 == iterations;
     const fx::Unit gain = last ? fx::kUnitOne : model.params.reaction_gain;
     estimate_surface_normals(model, &s);  // kSurface only: the fat along the relaxed skin's normal (§5.6)
-    s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s);
-    s.max_relax[i] = largest_move(s, model.vertex_count);
+    s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s, workers);
+    s.max_relax[i] = largest_move(s, model.vertex_count, workers);
     run = i + 1;
     if (!last && tolerance > 0 && s.max_relax[i] < tolerance) {
-      if (gain < fx::kUnitOne) s.stats.reactions += apply_reaction_constraints(model, mstate, fx::kUnitOne, &s);
+      if (gain < fx::kUnitOne)
+        s.stats.reactions += apply_reaction_constraints(model, mstate, fx::kUnitOne, &s, workers);
       s.stats.converged = 1;
       break;
     }
@@ -139,7 +151,7 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   s.stats.residual = s.stats.max_relax_last;
   // Against the normals the last reaction pass used (re-estimating them from
   // the pushed skin would tilt some fat points back in by the push's turn).
-  s.stats.inside_after = count_inside(model, mstate, kInsideTolerance, s);
+  s.stats.inside_after = count_inside(model, mstate, kInsideTolerance, s, workers);
   s.started = 1;
   ++s.stats.steps;
   return {};

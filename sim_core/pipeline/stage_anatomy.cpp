@@ -81,6 +81,7 @@ PipelineStatus anatomy_step(Pipeline* p, std::span<const int32_t> inputs) {
   // The dynamic skin's time step: the loop's rate, else the rate the rig
   // was built for, else rigc's default rate (1 kHz).
   elastic_skin::SkinTick tick;
+  tick.workers = p->options.workers;  // the static step's per-vertex and per-edge loops
   tick.tick_hz = p->options.tick_hz != 0 ? p->options.tick_hz : (p->layers->rate_hz != 0 ? p->layers->rate_hz : 1000);
   // The base's measured acceleration (LEMAN §3: the skin feels -a_base).
   int32_t base[3] = {0, 0, 0};

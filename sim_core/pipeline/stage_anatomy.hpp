@@ -82,7 +82,7 @@ struct StageData<Stage::kAnatomy> {
   // The skin needs the muscles (its descriptor says so).
   static constexpr std::array<const layer::SectionDescriptor*, 2> sections = {&muscle::kMusclesSection,
                                                                               &elastic_skin::kSkinSection};
-  static constexpr bool parallel = false;
+  static constexpr bool parallel = true;  // the static skin step's per-vertex and per-edge loops over the workers
 };
 
 }  // namespace sinew::pipeline

@@ -70,13 +70,14 @@ class ArmAnatomy {
   }
   void set(const std::string& name, double degrees) { inputs_[static_cast<size_t>(input(name))] = deg(degrees); }
 
-  // engine -> muscles -> skin; returns the first failing status.
-  muscle::LayerStatus step() {
+  // engine -> muscles -> skin; returns the first failing status. workers:
+  // the skin step's loops over these (null: this thread).
+  muscle::LayerStatus step(const layer::Workers* workers = nullptr) {
     muscle::LayerStatus st = step_muscles();
-    // 1 kHz: the dynamic skin's tick (the static one ignores it).
-    if (st.ok())
-      st = elastic_skin::skin_step(skin_model_, muscle_model_, muscles_, engine_.model,
-                                   elastic_skin::SkinTick{1000, {}}, &skin_);
+    // 1 kHz: the dynamic skin's tick (the static one ignores the rate).
+    elastic_skin::SkinTick tick{1000, {}};
+    tick.workers = workers;
+    if (st.ok()) st = elastic_skin::skin_step(skin_model_, muscle_model_, muscles_, engine_.model, tick, &skin_);
     return st;
   }
   // engine -> muscles only.
