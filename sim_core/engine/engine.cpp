@@ -1,6 +1,7 @@
 #include "engine.hpp"
 
 #include "sim_core/fixed/arena.hpp"
+#include "sim_core/layer/range_totals.hpp"
 
 namespace sinew::engine {
 namespace {
@@ -21,11 +22,20 @@ Carver layout(const rig::Rig& rig, uint8_t* base, size_t size, Engine* e) {
   return c;
 }
 
-void finish_step(Engine* e) {
+void finish_step(Engine* e, const layer::Workers* workers = nullptr) {
   const rig::Rig& rig = *e->rig;
   skeleton::locals_to_model(rig, e->locals, e->model);
   skeleton::skinning_palette(rig, e->model, e->palette, e->dual);
-  e->stats.saturated = skin::skin_vertices(rig, e->palette, e->dual, 0, rig.vertex_count(), e->vertices);
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    // skin_vertices writes its range from index 0 of the view it is given.
+    skin::SkinnedVertices part;
+    for (int c = 0; c < 3; ++c) {
+      part.position[c] = e->vertices.position[c].subspan(begin, end - begin);
+      if (!e->vertices.normal[c].empty()) part.normal[c] = e->vertices.normal[c].subspan(begin, end - begin);
+    }
+    return skin::skin_vertices(rig, e->palette, e->dual, begin, end - begin, part);
+  };
+  e->stats.saturated = layer::run_ranges_summed(workers, rig.vertex_count(), range);
   ++e->stats.steps;
 }
 
@@ -50,10 +60,10 @@ bool engine_init(const rig::Rig& rig, void* arena, size_t arena_bytes, Engine* o
   return true;
 }
 
-bool engine_step(Engine* e, std::span<const int32_t> inputs) {
+bool engine_step(Engine* e, std::span<const int32_t> inputs, const layer::Workers* workers) {
   if (e == nullptr || e->rig == nullptr || inputs.size() < e->rig->input_count) return false;
   e->stats.clamped_dofs = skeleton::dofs_to_locals(*e->rig, inputs, e->measured_inputs, e->locals, e->joint_flags);
-  finish_step(e);
+  finish_step(e, workers);
   return true;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include "sim_core/layer/workers.hpp"
 #include "sim_core/skeleton/pose.hpp"
 #include "sim_core/skin/skinning.hpp"
 
@@ -41,7 +42,10 @@ bool engine_init(const rig::Rig& rig, void* arena, size_t arena_bytes, Engine* o
 
 // One step from commanded DOF inputs (see skeleton::dofs_to_locals for units).
 // Returns false, changing nothing, if fewer than rig.input_count inputs are given.
-bool engine_step(Engine* e, std::span<const int32_t> inputs);
+// workers (optional): the vertex loop over these; every vertex is skinned
+// alone, so the words and the saturation count are the same for any number
+// of them (sim_core/layer/workers.hpp).
+bool engine_step(Engine* e, std::span<const int32_t> inputs, const layer::Workers* workers = nullptr);
 
 // One step from externally sampled local transforms (e.g. a glTF animation),
 // one per joint. Returns false, changing nothing, on a size mismatch.

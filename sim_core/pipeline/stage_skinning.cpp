@@ -29,7 +29,7 @@ PipelineStatus skinning_init(Pipeline* p, uint8_t* block, size_t bytes) {
 }
 
 PipelineStatus skinning_step(Pipeline* p, std::span<const int32_t> inputs) {
-  if (!engine::engine_step(&p->engine, inputs.first(p->rig->input_count)))
+  if (!engine::engine_step(&p->engine, inputs.first(p->rig->input_count), p->options.workers))
     return stage_fail(PipelineError::kBadInput, "skinning", "engine step refused its inputs");
   take_reference(p);
   return {};

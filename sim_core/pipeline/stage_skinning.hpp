@@ -18,7 +18,7 @@ struct StageData<Stage::kSkinning> {
   // The rig's core sections carry the skeleton and the skin.
   static constexpr std::array<const layer::SectionDescriptor*, 0> sections = {};
   static constexpr std::array<StageOption, 0> options = {};  // none
-  static constexpr bool parallel = false;
+  static constexpr bool parallel = true;                     // the skin's vertex loop over the workers
 };
 
 }  // namespace sinew::pipeline

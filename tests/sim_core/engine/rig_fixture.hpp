@@ -42,7 +42,7 @@ class LoadedRig {
       if (names[i] == name) return static_cast<int>(i);
     return -1;
   }
-  bool step() { return engine::engine_step(&engine_, inputs_); }
+  bool step(const layer::Workers* workers = nullptr) { return engine::engine_step(&engine_, inputs_, workers); }
   double position(int axis, uint32_t v) const {
     return std::ldexp(static_cast<double>(engine_.vertices.position[axis][v]), report_.length_exponent - 20);
   }
