@@ -59,7 +59,10 @@ void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t e
   for (uint32_t e = begin; e < end; ++e) {
     int64_t k = 0;
     fx::Vec3 f{};
-    if (!edge_pull(model.params, model.edges[e], s->position, &k, &f)) k = 0, f = {0, 0, 0};
+    if (!edge_pull(model.params, model.edges[e], s->position, &k, &f)) {
+      k = 0;  // pulls with nothing: adds nothing to either end
+      f = {0, 0, 0};
+    }
     s->edge_stiffness[e] = static_cast<int32_t>(k);  // <= Edge::k <= kMaxStiffness = 2^24
     s->edge_pull[0][e] = f.x;
     s->edge_pull[1][e] = f.y;
