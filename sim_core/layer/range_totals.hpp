@@ -13,10 +13,12 @@
 
 namespace sinew::layer {
 
-// body(begin, end) handles [begin, end) and returns its count; returns the
-// sum over [0, count). Must not allocate (nor may body).
-template <class Body>
-uint32_t run_ranges_summed(const Workers* workers, uint32_t count, const Body& body) {
+namespace detail {
+
+// Runs body over the ranges and joins each range's value into one total
+// with Join{}(std::atomic_ref<uint32_t>, value).
+template <class Join, class Body>
+uint32_t run_ranges_joined(const Workers* workers, uint32_t count, const Body& body) {
   struct Job {
     const Body* body;
     uint32_t total;
@@ -25,33 +27,40 @@ uint32_t run_ranges_summed(const Workers* workers, uint32_t count, const Body& b
       workers, count,
       [](void* context, uint32_t begin, uint32_t end) {
         Job& j = *static_cast<Job*>(context);
-        const uint32_t part = (*j.body)(begin, end);
-        std::atomic_ref<uint32_t>(j.total).fetch_add(part, std::memory_order_relaxed);
+        Join{}(std::atomic_ref<uint32_t>(j.total), (*j.body)(begin, end));
       },
       &job);
   return job.total;
+}
+
+struct AddInto {
+  void operator()(std::atomic_ref<uint32_t> total, uint32_t part) const {
+    total.fetch_add(part, std::memory_order_relaxed);
+  }
+};
+
+struct RaiseTo {
+  void operator()(std::atomic_ref<uint32_t> total, uint32_t part) const {
+    uint32_t seen = total.load(std::memory_order_relaxed);
+    while (part > seen && !total.compare_exchange_weak(seen, part, std::memory_order_relaxed)) {
+    }
+  }
+};
+
+}  // namespace detail
+
+// body(begin, end) handles [begin, end) and returns its count; returns the
+// sum over [0, count). Must not allocate (nor may body).
+template <class Body>
+uint32_t run_ranges_summed(const Workers* workers, uint32_t count, const Body& body) {
+  return detail::run_ranges_joined<detail::AddInto>(workers, count, body);
 }
 
 // body(begin, end) handles [begin, end) and returns its largest value;
 // returns the largest over [0, count) (0 for none).
 template <class Body>
 uint32_t run_ranges_max(const Workers* workers, uint32_t count, const Body& body) {
-  struct Job {
-    const Body* body;
-    uint32_t largest;
-  } job{&body, 0};
-  run_ranges(
-      workers, count,
-      [](void* context, uint32_t begin, uint32_t end) {
-        Job& j = *static_cast<Job*>(context);
-        const uint32_t part = (*j.body)(begin, end);
-        std::atomic_ref<uint32_t> total(j.largest);
-        uint32_t seen = total.load(std::memory_order_relaxed);
-        while (part > seen && !total.compare_exchange_weak(seen, part, std::memory_order_relaxed)) {
-        }
-      },
-      &job);
-  return job.largest;
+  return detail::run_ranges_joined<detail::RaiseTo>(workers, count, body);
 }
 
 }  // namespace sinew::layer
