@@ -42,7 +42,7 @@ constexpr int kSteps = 24;
 
 // The built models, then every step's muscle vertices, relaxed skin and
 // statistics; the skin's loops over `workers` (null: this thread).
-uint64_t arm_digest(const sinew::layer::Workers* workers, uint32_t* reactions, ArmAnatomy* arm) {
+uint64_t arm_digest(const sinew::layer::Workers* workers, uint32_t* reactions, ArmAnatomy* arm, int steps = kSteps) {
   det::OutputHash h;
   hash_records(h, arm->model().muscles);
   hash_records(h, arm->model().primitives);
@@ -51,7 +51,7 @@ uint64_t arm_digest(const sinew::layer::Workers* workers, uint32_t* reactions, A
   hash_records(h, arm->model().fat);
   hash_records(h, arm->model().edges);
   hash_records(h, arm->model().bands);
-  for (int s = 0; s < kSteps; ++s) {
+  for (int s = 0; s < steps; ++s) {
     for (uint32_t i = 0; i < arm->rig().input_count; ++i) arm->inputs()[i] = trajectory(i, static_cast<uint32_t>(s));
     if (!arm->step(workers).ok()) return 0;
     const sinew::muscle::MuscleState& m = arm->muscles();
@@ -89,17 +89,30 @@ TEST(AnatomyDeterminism, ArmMatchesGolden) {
 // The skin step's loops over any number of workers, each range on its own
 // thread in reverse order, write the same words and the same statistics
 // (collisions, reactions, saturations, largest moves: the totals the ranges
-// add up): the golden hash. The loops must have run over the workers (a step
-// that ignored them would pass trivially).
-TEST(AnatomyDeterminism, EveryWorkerCountMatchesGolden) {
-  for (const uint32_t parts : {1u, 2u, 3u, 4u, 7u}) {
+// add up) as one thread. The loops must have run over the workers (a step
+// that ignored them would pass trivially). Fewer relaxations and steps than
+// the golden run: each loop starts a thread per range, and under qemu that
+// cost dominated; the trajectory's first 8 steps already bend the elbow
+// into the reactions.
+TEST(AnatomyDeterminism, EveryWorkerCountMatchesOneThread) {
+  constexpr int kWorkerSteps = 8;
+  constexpr uint32_t kIterations = 4;  // the built-in arm's [skin] iterations
+  const auto run = [&](sinew::test::ThreadPerRangeWorkers* pool, uint32_t* reactions) {
     ArmAnatomy arm;
-    ASSERT_TRUE(arm.ok()) << arm.error();
+    if (!arm.ok()) return uint64_t{0};
+    arm.skin_model().params.iterations = kIterations;
+    return anatomy_determinism_test::arm_digest(pool != nullptr ? pool->workers() : nullptr, reactions, &arm,
+                                                kWorkerSteps);
+  };
+  uint32_t serial_reactions = 0;
+  const uint64_t serial = run(nullptr, &serial_reactions);
+  ASSERT_NE(serial, 0u);
+  EXPECT_GT(serial_reactions, 0u) << "the steps should exercise the reaction constraints";
+  for (const uint32_t parts : {1u, 2u, 3u, 4u, 7u}) {
     sinew::test::ThreadPerRangeWorkers pool(parts);
     uint32_t reactions = 0;
-    const uint64_t digest = anatomy_determinism_test::arm_digest(pool.workers(), &reactions, &arm);
-    EXPECT_EQ(digest, sinew::test::golden::kAnatomyArm) << parts << " workers";
-    EXPECT_GT(reactions, 0u) << parts << " workers";
+    EXPECT_EQ(run(&pool, &reactions), serial) << parts << " workers";
+    EXPECT_EQ(reactions, serial_reactions) << parts << " workers";
     if (parts > 1) {
       EXPECT_GT(pool.loops(), 0u) << parts << " workers: no loop ran over the workers";
     }
