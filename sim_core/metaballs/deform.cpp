@@ -135,11 +135,10 @@ DeformKernel deform_kernel_default() {
   return deform_kernel_supported(DeformKernel::kAvx2) ? DeformKernel::kAvx2 : DeformKernel::kScalar;
 }
 
-namespace {
-
 // Each ball's frame F_b(x) = c_b + R_b (x - c0_b) as a dual quaternion:
 // rotation R_b, translation c_b - R_b c0_b (|c0| <= 2^30: exact in Q50).
 void make_ball_frames(const MetaballModel& m, MetaballState* s) {
+  bool near_unit = true;
   for (uint32_t b = 0; b < m.ball_count(); ++b) {
     int64_t rc[3];
     rotate_q50(s->ball_rotation[b], m.ball_rest[b], rc);
@@ -148,8 +147,13 @@ void make_ball_frames(const MetaballModel& m, MetaballState* s) {
                      fx::sat_i32(int64_t{c.y} - fx::round_shift(rc[1], fx::kUnitFracBits)),
                      fx::sat_i32(int64_t{c.z} - fx::round_shift(rc[2], fx::kUnitFracBits))};
     s->ball_frame[b] = fx::dual_quat_from_rt(s->ball_quat[b], t);
+    const fx::Quat& r = s->ball_frame[b].real;
+    for (const int64_t q : {r.w, r.x, r.y, r.z}) near_unit = near_unit && q >= -kFrameRealLimit && q <= kFrameRealLimit;
   }
+  s->ball_frames_near_unit = near_unit;
 }
+
+namespace {
 
 // fx::transform_point(dq, p) word for word, for the dq that DualQuatBlend::unit
 // returns, with its rotation matrix r = rot3_of_unit(dq.real) made once by the
@@ -172,6 +176,8 @@ fx::Vec3 transform_point_unit(const fx::DualQuat& dq, const fx::Rot3& r, fx::Vec
   }
   return {out[0], out[1], out[2]};
 }
+
+}  // namespace
 
 // Eq. (4) as one rigid motion on the arc: the dual-quaternion blend of the
 // vertex's balls' frames by its weights, applied to sum_j w_j (c0_j + s_j
@@ -214,9 +220,19 @@ NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& 
   return f;
 }
 
-}  // namespace
+void joint_region_frames(const MetaballModel& m, const MetaballState& s, std::span<const uint32_t> vertices,
+                         std::span<NormalBallFrame> frames, DeformKernel kernel) {
+#if defined(__x86_64__)
+  if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
+    return joint_region_frames_avx2(m, s, vertices, frames);
+#endif
+  for (size_t i = 0; i < vertices.size(); ++i) frames[i] = joint_region_frame(m, s, vertices[i]);
+}
 
 namespace {
+
+// Frames are made for this many vertices at a time (a stack buffer of 2.8 KiB).
+constexpr uint32_t kFrameBatch = 32;
 
 struct DeformJob {
   const MetaballModel* m;
@@ -244,6 +260,21 @@ void deform_outside_joint_regions(void* context, uint32_t begin, uint32_t end) {
     done = deform_normal_balls_avx2(m, s, out, j.skip, begin, end, true);
 #endif
   if (!done) deform_normal_balls_scalar(m, s, out, j.skip, begin, end, true);
+  // The vertices whose balls turn differently, a batch of frames at a time.
+  uint32_t pending[kFrameBatch];
+  NormalBallFrame frames[kFrameBatch];
+  uint32_t count = 0;
+  const auto flush = [&] {
+    joint_region_frames(m, s, {pending, count}, {frames, count}, j.kernel);
+    for (uint32_t k = 0; k < count; ++k) {
+      const NormalBallFrame& f = frames[k];
+      int64_t rd[3];
+      rotate_q50(f.rotation, f.disp, rd);
+      for (int a = 0; a < 3; ++a)
+        out.position[a][pending[k]] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+    }
+    count = 0;
+  };
   size_t next = first_skip_at(j.skip, begin);
   for (uint32_t v = begin; v < end; ++v) {
     if (next < j.skip.size() && j.skip[next] == v) {
@@ -251,12 +282,10 @@ void deform_outside_joint_regions(void* context, uint32_t begin, uint32_t end) {
       continue;
     }
     if (balls_turn_alike(m, s, v)) continue;
-    const NormalBallFrame f = joint_region_frame(m, s, v);
-    int64_t rd[3];
-    rotate_q50(f.rotation, f.disp, rd);
-    for (int a = 0; a < 3; ++a)
-      out.position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+    pending[count++] = v;
+    if (count == kFrameBatch) flush();
   }
+  flush();
 }
 
 // Joint-region entries [begin, end) (jv_*): eq. (5) blended by eq. (1).
@@ -272,47 +301,59 @@ void deform_joint_regions(void* context, uint32_t begin, uint32_t end) {
   uint16_t eta_ball = kNoBall;
   fx::Unit eta_blend = 0;
   fx::Quat eta{};
-  for (uint32_t i = begin; i < end; ++i) {
-    const JointBall& jb = m.joint_balls[m.jv_ball[i]];
-    const uint32_t v = m.jv_vertex[i];
-    // Eq. (5): v_eta = c_eta + R_eta d_eta. The centre is the skeleton joint;
-    // the ball is carried equally by both bones, and each vertex turns with
-    // the bones' rotations blended by its own weight of the child bone, so
-    // vertices attached to different bones get different transformations.
-    const fx::Mat34& joint = j.joint_model[jb.joint];
-    if (m.jv_ball[i] != eta_ball || m.jv_blend[i] != eta_blend) {
-      eta_ball = m.jv_ball[i];
-      eta_blend = m.jv_blend[i];
-      eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], eta_blend);
+  // v_lambda's frames (eq. 4 on the arc), a batch of entries at a time.
+  uint32_t pending[kFrameBatch];
+  NormalBallFrame frames[kFrameBatch];
+  for (uint32_t batch = begin; batch < end; batch += kFrameBatch) {
+    const uint32_t batch_end = end - batch < kFrameBatch ? end : batch + kFrameBatch;
+    uint32_t count = 0;
+    for (uint32_t i = batch; i < batch_end; ++i)
+      if (m.jv_alpha[i] != fx::kUnitOne) pending[count++] = m.jv_vertex[i];
+    joint_region_frames(m, *s, {pending, count}, {frames, count}, j.kernel);
+    uint32_t taken = 0;
+    for (uint32_t i = batch; i < batch_end; ++i) {
+      const JointBall& jb = m.joint_balls[m.jv_ball[i]];
+      const uint32_t v = m.jv_vertex[i];
+      // Eq. (5): v_eta = c_eta + R_eta d_eta. The centre is the skeleton joint;
+      // the ball is carried equally by both bones, and each vertex turns with
+      // the bones' rotations blended by its own weight of the child bone, so
+      // vertices attached to different bones get different transformations.
+      const fx::Mat34& joint = j.joint_model[jb.joint];
+      if (m.jv_ball[i] != eta_ball || m.jv_blend[i] != eta_blend) {
+        eta_ball = m.jv_ball[i];
+        eta_blend = m.jv_blend[i];
+        eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], eta_blend);
+      }
+      // Eq. (1), v = (1 - w_alpha) v_lambda + w_alpha v_eta, as one rigid
+      // motion: centre and rest displacement blended linearly, the two
+      // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
+      // keeps the ring's section where they differ (a linear blend of two
+      // rotations by an angle apart shrinks it by cos(angle / 2)).
+      // At w_alpha = 1 eq. (1) is eq. (5) alone, word for word (the blends
+      // below return their second term exactly), so v_lambda is not made.
+      const int64_t alpha = m.jv_alpha[i];
+      const NormalBallFrame f = alpha == fx::kUnitOne ? NormalBallFrame{} : frames[taken++];
+      const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
+      const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
+      const fx::Vec3 de = m.jv_disp[i];
+      const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};
+      fx::Vec3 d;
+      int32_t* dc[3] = {&d.x, &d.y, &d.z};
+      int64_t centre[3];
+      for (int a = 0; a < 3; ++a) {
+        // |joint - centre| < 2^32 and |d_eta - d_lambda| < 2^32: products < 2^62.
+        centre[a] = f.centre[a] + fx::round_shift(alpha * (jt[a] - f.centre[a]), fx::kUnitFracBits);
+        *dc[a] = fx::sat_i32(d_lambda[a] + fx::round_shift(alpha * (d_eta[a] - d_lambda[a]), fx::kUnitFracBits));
+      }
+      int64_t rd[3], rl[3];
+      rotate_q50(r, d, rd);
+      rotate_q50(r, m.jv_laplacian[i], rl);
+      for (int a = 0; a < 3; ++a)
+        out.position[a][v] = fx::sat_i32(centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+      s->jv_posed_laplacian[i] = {fx::sat_i32(fx::round_shift(rl[0], fx::kUnitFracBits)),
+                                  fx::sat_i32(fx::round_shift(rl[1], fx::kUnitFracBits)),
+                                  fx::sat_i32(fx::round_shift(rl[2], fx::kUnitFracBits))};
     }
-    // Eq. (1), v = (1 - w_alpha) v_lambda + w_alpha v_eta, as one rigid
-    // motion: centre and rest displacement blended linearly, the two
-    // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
-    // keeps the ring's section where they differ (a linear blend of two
-    // rotations by an angle apart shrinks it by cos(angle / 2)).
-    // At w_alpha = 1 eq. (1) is eq. (5) alone, word for word (the blends
-    // below return their second term exactly), so v_lambda is not made.
-    const int64_t alpha = m.jv_alpha[i];
-    const NormalBallFrame f = alpha == fx::kUnitOne ? NormalBallFrame{} : joint_region_frame(m, *s, v);
-    const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
-    const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
-    const fx::Vec3 de = m.jv_disp[i];
-    const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};
-    fx::Vec3 d;
-    int32_t* dc[3] = {&d.x, &d.y, &d.z};
-    int64_t centre[3];
-    for (int a = 0; a < 3; ++a) {
-      // |joint - centre| < 2^32 and |d_eta - d_lambda| < 2^32: products < 2^62.
-      centre[a] = f.centre[a] + fx::round_shift(alpha * (jt[a] - f.centre[a]), fx::kUnitFracBits);
-      *dc[a] = fx::sat_i32(d_lambda[a] + fx::round_shift(alpha * (d_eta[a] - d_lambda[a]), fx::kUnitFracBits));
-    }
-    int64_t rd[3], rl[3];
-    rotate_q50(r, d, rd);
-    rotate_q50(r, m.jv_laplacian[i], rl);
-    for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
-    s->jv_posed_laplacian[i] = {fx::sat_i32(fx::round_shift(rl[0], fx::kUnitFracBits)),
-                                fx::sat_i32(fx::round_shift(rl[1], fx::kUnitFracBits)),
-                                fx::sat_i32(fx::round_shift(rl[2], fx::kUnitFracBits))};
   }
 }
 

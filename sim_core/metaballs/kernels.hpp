@@ -49,6 +49,32 @@ struct NormalBallFrame {
 };
 NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
 
+// Each ball's frame x -> c + R (x - c0) as a dual quaternion (ball_frame),
+// made once a step before the vertex loops, and whether every frame's real
+// part lies near unit (ball_frames_near_unit; the vector kernel below needs
+// it for its plain hemisphere dot).
+void make_ball_frames(const MetaballModel& m, MetaballState* s);
+// Near unit: |component| <= 2^30 + 2^28, so the plain dot of two real parts
+// is below 4 (1.25 * 2^30)^2 < 2^63, exact in int64.
+inline constexpr int64_t kFrameRealLimit = (int64_t{1} << 30) + (int64_t{1} << 28);
+
+// Eq. (4) on the arc for a vertex whose balls turn differently: the
+// dual-quaternion blend of its balls' frames by its weights, with the blended
+// rest displacement sum_j w_j s_j d_ij (deform.cpp). The scalar
+// specification.
+NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
+
+// joint_region_frame of vertices[i] into frames[i] (equal lengths), by the
+// kernel chosen: every kernel writes the same words. The AVX2 kernel
+// (joint_frame_avx2.cpp) blends four vertices at once and hands a vertex it
+// cannot prove exact to the specification.
+void joint_region_frames(const MetaballModel& m, const MetaballState& s, std::span<const uint32_t> vertices,
+                         std::span<NormalBallFrame> frames, DeformKernel kernel);
+#if defined(__x86_64__)
+void joint_region_frames_avx2(const MetaballModel& m, const MetaballState& s, std::span<const uint32_t> vertices,
+                              std::span<NormalBallFrame> frames);
+#endif
+
 // Eq. (4) alone: the scalar specification, and the AVX2 kernel
 // (deform_avx2.cpp), which declines (returns false, writes nothing) when the
 // model has more balls than it widens on its stack. Both leave the vertices

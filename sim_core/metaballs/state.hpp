@@ -71,7 +71,8 @@ struct MetaballState {
   // Each ball's frame x -> c + R (x - c0) as a dual quaternion, made once a
   // step for the vertices whose balls turn differently (deform.cpp).
   std::span<fx::DualQuat> ball_frame;
-  std::span<fx::Unit> ball_scale;  // r / r0 in [1, 2), Q2.30
+  bool ball_frames_near_unit = false;  // every real component within 2^30 + 2^28 of zero
+  std::span<fx::Unit> ball_scale;      // r / r0 in [1, 2), Q2.30
   // Overlap between bones sharing no joint: 1 for a listed ball that collides
   // with a ball of the other bone this step (scratch of overlap.cpp).
   std::span<uint8_t> ball_touching;

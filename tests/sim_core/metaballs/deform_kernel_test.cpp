@@ -150,6 +150,144 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
   }
 }
 
+// The frames of eq. (4) on the arc (joint_region_frame) by the kernel chosen,
+// against the specification: the number of vertices whose frame differs in
+// any word.
+uint32_t frame_kernels_differ(const metaballs::MetaballModel& m, const metaballs::MetaballState& s,
+                              const std::vector<uint32_t>& vertices) {
+  std::vector<mbd::NormalBallFrame> vector(vertices.size()), scalar(vertices.size());
+  for (size_t i = 0; i < vertices.size(); ++i) scalar[i] = mbd::joint_region_frame(m, s, vertices[i]);
+  mbd::joint_region_frames(m, s, vertices, vector, mbd::DeformKernel::kAvx2);
+  uint32_t differ = 0;
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const mbd::NormalBallFrame &a = scalar[i], &b = vector[i];
+    bool same = a.disp == b.disp && a.quat == b.quat;
+    for (int r = 0; r < 3; ++r) {
+      same = same && a.centre[r] == b.centre[r];
+      for (int c = 0; c < 3; ++c) same = same && a.rotation.m[r][c] == b.rotation.m[r][c];
+    }
+    differ += same ? 0u : 1u;
+  }
+  return differ;
+}
+
+// Every vertex in an order that is not ascending (the kernel takes any list),
+// with a count that leaves a last group of fewer than four.
+std::vector<uint32_t> shuffled_vertices(uint32_t n, uint64_t* rng) {
+  std::vector<uint32_t> v(n);
+  for (uint32_t i = 0; i < n; ++i) v[i] = i;
+  for (uint32_t i = n; i > 1; --i) std::swap(v[i - 1], v[next_random(rng) % i]);
+  if (v.size() % 4 == 0 && !v.empty()) v.pop_back();
+  return v;
+}
+
+TEST(MetaballJointFrameKernel, MatchesTheSpecificationOnTheArm) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  uint64_t rng = 0xF4A3E5u;
+  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
+  for (const auto& p : poses) {
+    ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
+    ASSERT_TRUE(scene.state().ball_frames_near_unit);
+    EXPECT_EQ(frame_kernels_differ(scene.model(), scene.state(), shuffled_vertices(scene.model().vertex_count, &rng)),
+              0u)
+        << p[0] << " " << p[1] << " " << p[2];
+  }
+}
+
+// Random weights (with zeros, and with slots whose ball index is out of
+// range where the weight is 0), random rotations on both hemispheres of each
+// other, bulge scales from 1 to just below 2 with displacements at their
+// limits (s d leaves int32: the lane is redone), centres and ball rests at
+// the Len limits (the centre saturates), real parts of zero (the squared norm
+// takes the division path) and frames beyond near unit (the whole batch is
+// the specification's).
+TEST(MetaballJointFrameKernel, MatchesTheSpecificationOnAdversarialFrames) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.pose(10, 45, 30));
+  const metaballs::MetaballModel& base = scene.model();
+  const uint32_t balls = base.ball_count(), n = base.vertex_count;
+  const size_t slots = size_t{n} * metaballs::kVertexBalls;
+  uint64_t rng = 0x0DDBA11u;
+  uint32_t redone_rounds = 0;
+  for (int round = 0; round < 40; ++round) {
+    std::vector<uint16_t> ball(slots);
+    std::vector<fx::Unit> weight(slots, 0);
+    std::vector<fx::Vec3> disp(slots);
+    for (uint32_t v = 0; v < n; ++v) {
+      int64_t left = fx::kUnitOne;
+      for (uint32_t k = 0; k < metaballs::kVertexBalls; ++k) {
+        const size_t i = size_t{v} * metaballs::kVertexBalls + k;
+        const bool last = k + 1 == metaballs::kVertexBalls;
+        const int64_t w = last ? left : (next_random(&rng) % 3 == 0 ? 0 : random_between(&rng, 0, left));
+        weight[i] = static_cast<fx::Unit>(w);
+        left -= w;
+        ball[i] =
+            w == 0 && next_random(&rng) % 2 ? metaballs::kNoBall : static_cast<uint16_t>(next_random(&rng) % balls);
+        const int32_t limit = (int32_t{1} << 30) - 1;
+        disp[i] = round % 3 == 0 ? fx::Vec3{limit, -limit, limit}
+                                 : fx::Vec3{random_between(&rng, -limit, limit), random_between(&rng, -limit, limit),
+                                            random_between(&rng, -limit, limit)};
+        // Beyond the validated range, so s d leaves int32 where s is near 2.
+        if (round % 5 == 2 && k == 0) disp[i] = {INT32_MAX, -INT32_MAX, INT32_MAX};
+      }
+      // With ball 0 beyond near unit: ball 0 in the first two slots with small
+      // weights, so its plain dot with itself (above 2^63) would flip the
+      // second slot's sign while the blend stays normalisable.
+      if (round % 11 == 5 && v % 3 == 0) {
+        const size_t i = size_t{v} * metaballs::kVertexBalls;
+        ball[i] = ball[i + 1] = 0;
+        weight[i] = weight[i + 1] = int32_t{1} << 20;
+        ball[i + 2] = static_cast<uint16_t>(1 + next_random(&rng) % (balls - 1));
+        weight[i + 2] = fx::kUnitOne - (int32_t{1} << 21);
+        weight[i + 3] = 0;
+      }
+    }
+    std::vector<fx::Vec3> rest(balls);
+    metaballs::MetaballState s = scene.state();
+    std::vector<fx::DualQuat> frame(balls);
+    std::vector<fx::Unit> scale(balls);
+    for (uint32_t b = 0; b < balls; ++b) {
+      const fx::Quat q{
+          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
+          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
+      const int32_t c[4] = {q.w, q.x, q.y, q.z};
+      const fx::NormDivisor nd = fx::norm_divisor(c, 4);
+      fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
+                    fx::divide_by_norm(q.z, nd)};
+      if (round % 7 == 3 && b % 5 == 0) unit = {0, 0, 0, 0};
+      if (round % 11 == 5 && b == 0) unit = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};  // beyond near unit
+      const int32_t reach = round % 2 ? INT32_MAX : (int32_t{1} << 24);
+      const fx::Vec3 t{random_between(&rng, -int64_t{reach} - 1, reach), random_between(&rng, -reach, reach),
+                       random_between(&rng, -reach, reach)};
+      frame[b] = fx::dual_quat_from_rt(unit, t);
+      const int32_t rest_reach = round % 4 == 1 ? (int32_t{1} << 30) : (int32_t{1} << 22);
+      rest[b] = {random_between(&rng, -rest_reach, rest_reach), random_between(&rng, -rest_reach, rest_reach),
+                 random_between(&rng, -rest_reach, rest_reach)};
+      const uint32_t pick = static_cast<uint32_t>(next_random(&rng) % 3);
+      scale[b] = pick == 0 ? fx::kUnitOne : pick == 1 ? INT32_MAX : random_between(&rng, fx::kUnitOne, INT32_MAX);
+    }
+    bool near_unit = true;
+    for (const fx::DualQuat& f : frame)
+      for (const int64_t q : {f.real.w, f.real.x, f.real.y, f.real.z})
+        near_unit = near_unit && q >= -mbd::kFrameRealLimit && q <= mbd::kFrameRealLimit;
+    redone_rounds += near_unit ? 0u : 1u;
+    metaballs::MetaballModel m = base;
+    m.vertex_ball = ball;
+    m.vertex_weight = weight;
+    m.vertex_disp = disp;
+    m.ball_rest = rest;
+    s.ball_frame = frame;
+    s.ball_scale = scale;
+    s.ball_frames_near_unit = near_unit;
+    EXPECT_EQ(frame_kernels_differ(m, s, shuffled_vertices(n, &rng)), 0u) << "round " << round;
+  }
+  EXPECT_GT(redone_rounds, 0u);  // the beyond-near-unit frames were tried
+}
+
 // More balls than the kernel widens: it declines and writes nothing.
 TEST(MetaballDeformKernel, DeclinesModelsWithMoreBallsThanItWidens) {
   if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";

@@ -1,0 +1,242 @@
+// AVX2 kernel of joint_region_frame (deform.cpp): eq. (4) on the arc, the
+// dual-quaternion blend of a vertex's balls' frames, with the same output
+// words as the scalar specification for every input. Its functions are
+// compiled for AVX2 (isa_region.hpp), on x86-64 only; called only when the
+// CPU reports AVX2 (deform.cpp).
+//
+// Four vertices per group, one per 64-bit lane (a last group of fewer
+// repeats its last vertex in the spare lanes and stores only the real ones):
+//   - every value is held sign-extended in its lane, and every product is a
+//     vpmuldq of two int32 values: the scalar 32x32->64 product. The scalar
+//     sums never overflow on the inputs it is defined for, so the wrapping
+//     vector adds give their bits;
+//   - a weight of 0 adds nothing, so the lane reads its first weighted
+//     ball's frame in that slot instead (a zero-weight slot's ball index is
+//     not checked by validation);
+//   - the hemisphere test is the plain dot with the first weighted ball,
+//     exact when every frame is near unit (make_ball_frames checks it once a
+//     step; otherwise the whole batch takes the specification);
+//   - every sat_i32 of the specification is avx2::sat_i32_epi64 (exact), and
+//     rsqrt_fast and its variable shifts are avx2_lanes.hpp's;
+//   - a lane the vector path cannot prove exact goes to the specification
+//     after its group is stored: no weighted ball, a negative weight, a
+//     scaled displacement s d outside int32, or a squared norm that takes
+//     fx::normalize's division path (zero or above 2^63).
+#include <immintrin.h>
+
+#include <cstring>
+
+#include "kernels.hpp"
+#include "sim_core/fixed/isa_region.hpp"
+#include "sim_core/skin/avx2_lanes.hpp"
+
+SINEW_ISA_BEGIN("avx2")
+
+namespace sinew::metaballs::detail {
+namespace {
+
+using skin::avx2::round_shift_epi64;
+using skin::avx2::sat_i32_epi64;
+
+constexpr uint32_t kLanes = 4;
+
+inline __m256i mul(__m256i a, __m256i b) { return _mm256_mul_epi32(a, b); }
+inline __m256i add(__m256i a, __m256i b) { return _mm256_add_epi64(a, b); }
+inline __m256i sub(__m256i a, __m256i b) { return _mm256_sub_epi64(a, b); }
+inline __m256i twice(__m256i a) { return _mm256_add_epi64(a, a); }
+inline __m256i lanes_of(int64_t a, int64_t b, int64_t c, int64_t d) { return _mm256_setr_epi64x(a, b, c, d); }
+// sat_i32(round_shift(x, 30)): the specification's q30.
+inline __m256i q30(__m256i x) { return sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(x)); }
+
+// All ones in the lanes that are negative / outside int32.
+inline __m256i negative_lanes(__m256i x) { return _mm256_cmpgt_epi64(_mm256_setzero_si256(), x); }
+inline __m256i outside_i32(__m256i x) {
+  const __m256i hi = _mm256_set1_epi64x(INT32_MAX), lo = _mm256_set1_epi64x(INT32_MIN);
+  return _mm256_or_si256(_mm256_cmpgt_epi64(x, hi), _mm256_cmpgt_epi64(lo, x));
+}
+
+// Four quaternions, component by component, one per lane.
+struct Quat4 {
+  __m256i c[4];  // w, x, y, z
+};
+
+inline Quat4 real_parts(const fx::DualQuat* const f[kLanes]) {
+  Quat4 q;
+  q.c[0] = lanes_of(f[0]->real.w, f[1]->real.w, f[2]->real.w, f[3]->real.w);
+  q.c[1] = lanes_of(f[0]->real.x, f[1]->real.x, f[2]->real.x, f[3]->real.x);
+  q.c[2] = lanes_of(f[0]->real.y, f[1]->real.y, f[2]->real.y, f[3]->real.y);
+  q.c[3] = lanes_of(f[0]->real.z, f[1]->real.z, f[2]->real.z, f[3]->real.z);
+  return q;
+}
+
+inline Quat4 dual_parts(const fx::DualQuat* const f[kLanes]) {
+  Quat4 q;
+  q.c[0] = lanes_of(f[0]->dual.w, f[1]->dual.w, f[2]->dual.w, f[3]->dual.w);
+  q.c[1] = lanes_of(f[0]->dual.x, f[1]->dual.x, f[2]->dual.x, f[3]->dual.x);
+  q.c[2] = lanes_of(f[0]->dual.y, f[1]->dual.y, f[2]->dual.y, f[3]->dual.y);
+  q.c[3] = lanes_of(f[0]->dual.z, f[1]->dual.z, f[2]->dual.z, f[3]->dual.z);
+  return q;
+}
+
+inline __m256i dot4(const Quat4& a, const Quat4& b) {
+  return add(add(mul(a.c[0], b.c[0]), mul(a.c[1], b.c[1])), add(mul(a.c[2], b.c[2]), mul(a.c[3], b.c[3])));
+}
+
+inline __m256i vec_lane(const fx::Vec3* const p[kLanes], int a) {
+  const auto at = [a](const fx::Vec3* v) { return int64_t{a == 0 ? v->x : (a == 1 ? v->y : v->z)}; };
+  return lanes_of(at(p[0]), at(p[1]), at(p[2]), at(p[3]));
+}
+
+// joint_region_frame of the group's four vertices into frames[lane] for the
+// lanes [0, n); returns the lanes the specification must redo.
+uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint32_t v[kLanes], uint32_t n,
+                     NormalBallFrame* frames) {
+  const __m256i zero = _mm256_setzero_si256();
+  __m256i bad = zero;
+  // Each lane's first weighted ball: the pivot of the hemisphere test, and
+  // the frame read in the lane's zero-weight slots.
+  uint16_t pivot_ball[kLanes];
+  for (uint32_t l = 0; l < kLanes; ++l) {
+    const size_t base = size_t{v[l]} * kVertexBalls;
+    pivot_ball[l] = kNoBall;
+    for (uint32_t k = 0; k < kVertexBalls && pivot_ball[l] == kNoBall; ++k)
+      if (m.vertex_weight[base + k] != 0) pivot_ball[l] = m.vertex_ball[base + k];
+  }
+  uint32_t no_weight = 0;
+  for (uint32_t l = 0; l < kLanes; ++l)
+    if (pivot_ball[l] == kNoBall) no_weight |= 1u << l, pivot_ball[l] = 0;  // any valid ball; the lane is redone
+  const fx::DualQuat* pivot_frame[kLanes];
+  for (uint32_t l = 0; l < kLanes; ++l) pivot_frame[l] = &s.ball_frame[pivot_ball[l]];
+  const Quat4 pivot = real_parts(pivot_frame);
+
+  Quat4 real{{zero, zero, zero, zero}}, dual{{zero, zero, zero, zero}};
+  __m256i rest[3] = {zero, zero, zero}, disp[3] = {zero, zero, zero};
+  for (uint32_t k = 0; k < kVertexBalls; ++k) {
+    uint16_t ball[kLanes];
+    int32_t weight[kLanes];
+    const fx::Vec3* d0[kLanes];
+    for (uint32_t l = 0; l < kLanes; ++l) {
+      const size_t i = size_t{v[l]} * kVertexBalls + k;
+      weight[l] = m.vertex_weight[i];
+      ball[l] = weight[l] != 0 ? m.vertex_ball[i] : pivot_ball[l];
+      d0[l] = &m.vertex_disp[i];
+    }
+    const fx::DualQuat* frame[kLanes];
+    const fx::Vec3* c0[kLanes];
+    for (uint32_t l = 0; l < kLanes; ++l) frame[l] = &s.ball_frame[ball[l]], c0[l] = &m.ball_rest[ball[l]];
+    const __m256i w = _mm256_cvtepi32_epi64(_mm_setr_epi32(weight[0], weight[1], weight[2], weight[3]));
+    bad = _mm256_or_si256(bad, negative_lanes(w));
+    // DualQuatBlend::add: the weight negated where the frame lies on the
+    // other hemisphere from the pivot (dot_negative: the plain dot is exact).
+    const Quat4 r = real_parts(frame), e = dual_parts(frame);
+    const __m256i negative = negative_lanes(dot4(pivot, r));
+    const __m256i u = sub(_mm256_xor_si256(w, negative), negative);
+    for (int c = 0; c < 4; ++c) {
+      real.c[c] = add(real.c[c], mul(u, r.c[c]));
+      dual.c[c] = add(dual.c[c], mul(u, e.c[c]));
+    }
+    const __m256i scale =
+        lanes_of(s.ball_scale[ball[0]], s.ball_scale[ball[1]], s.ball_scale[ball[2]], s.ball_scale[ball[3]]);
+    for (int a = 0; a < 3; ++a) {
+      // s d rounded once (at s = 1 exactly d, as the specification's skip).
+      const __m256i dd = round_shift_epi64<fx::kUnitFracBits>(mul(vec_lane(d0, a), scale));
+      bad = _mm256_or_si256(bad, outside_i32(dd));
+      rest[a] = add(rest[a], mul(w, vec_lane(c0, a)));
+      disp[a] = add(disp[a], mul(w, dd));
+    }
+  }
+
+  // DualQuatBlend::unit: both parts to Q30 / Len, then fx::normalize_fast.
+  Quat4 rq, d;
+  for (int c = 0; c < 4; ++c) rq.c[c] = q30(real.c[c]), d.c[c] = q30(dual.c[c]);
+  // n2 as uint64 with wrapping adds; n2 - 1 is negative iff n2 == 0 or
+  // n2 > 2^63 (fx::normalize's division path).
+  __m256i n2 = dot4(rq, rq);
+  bad = _mm256_or_si256(bad, negative_lanes(sub(n2, _mm256_set1_epi64x(1))));
+  n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, zero), 63));  // rsqrt needs n2 != 0
+  const skin::avx2::RsqrtX4 rs = skin::avx2::rsqrt_fast_x4(n2);
+  const skin::avx2::VarRoundShift by(rs.shift);
+  for (int c = 0; c < 4; ++c) {
+    rq.c[c] = sat_i32_epi64(by(mul(rq.c[c], rs.y)));
+    d.c[c] = sat_i32_epi64(by(mul(d.c[c], rs.y)));
+  }
+  // rq . d exact (normalize_fast: |rq . d| < 2^63), then the dual part's
+  // component along rq removed: sub_sat(d, mul_by_unit(k, rq)).
+  const __m256i k = q30(dot4(rq, d));
+  for (int c = 0; c < 4; ++c) d.c[c] = sat_i32_epi64(sub(d.c[c], q30(mul(k, rq.c[c]))));
+
+  // fx::rot3_of_unit(rq): e(v) = sat_i32(round_shift(v, 30)).
+  const __m256i& qw = rq.c[0];
+  const __m256i& qx = rq.c[1];
+  const __m256i& qy = rq.c[2];
+  const __m256i& qz = rq.c[3];
+  const __m256i one = _mm256_set1_epi64x(int64_t{1} << 60);
+  const __m256i xx = mul(qx, qx), yy = mul(qy, qy), zz = mul(qz, qz);
+  const __m256i xy = mul(qx, qy), xz = mul(qx, qz), yz = mul(qy, qz);
+  const __m256i wx = mul(qw, qx), wy = mul(qw, qy), wz = mul(qw, qz);
+  const __m256i rot[3][3] = {{q30(sub(one, twice(add(yy, zz)))), q30(twice(sub(xy, wz))), q30(twice(add(xz, wy)))},
+                             {q30(twice(add(xy, wz))), q30(sub(one, twice(add(xx, zz)))), q30(twice(sub(yz, wx)))},
+                             {q30(twice(sub(xz, wy))), q30(twice(add(yz, wx))), q30(sub(one, twice(add(xx, yy))))}};
+
+  // transform_point_unit(dq, rot, q30(rest)): rotated and moved rounded
+  // apart, then added with saturation. t = (dual * conj(real)).xyz in Q50,
+  // exact; translation_of's factor 2 follows the rounding, as there.
+  const __m256i t[3] = {add(sub(mul(qw, d.c[1]), mul(d.c[0], qx)), sub(mul(qy, d.c[3]), mul(qz, d.c[2]))),
+                        add(sub(mul(qw, d.c[2]), mul(d.c[0], qy)), sub(mul(qz, d.c[1]), mul(qx, d.c[3]))),
+                        add(sub(mul(qw, d.c[3]), mul(d.c[0], qz)), sub(mul(qx, d.c[2]), mul(qy, d.c[1])))};
+  const __m256i p[3] = {q30(rest[0]), q30(rest[1]), q30(rest[2])};
+  __m256i centre[3], out_disp[3];
+  for (int i = 0; i < 3; ++i) {
+    const __m256i rotated = q30(add(add(mul(rot[i][0], p[0]), mul(rot[i][1], p[1])), mul(rot[i][2], p[2])));
+    const __m256i moved = sat_i32_epi64(twice(q30(t[i])));
+    centre[i] = sat_i32_epi64(add(rotated, moved));
+    out_disp[i] = q30(disp[i]);
+  }
+
+  // Stores: the lanes to int64 arrays, then each real lane's frame.
+  int64_t q_lane[4][kLanes], rot_lane[3][3][kLanes], centre_lane[3][kLanes], disp_lane[3][kLanes];
+  for (int c = 0; c < 4; ++c) skin::avx2::lanes(rq.c[c], q_lane[c]);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) skin::avx2::lanes(rot[i][j], rot_lane[i][j]);
+    skin::avx2::lanes(centre[i], centre_lane[i]);
+    skin::avx2::lanes(out_disp[i], disp_lane[i]);
+  }
+  for (uint32_t l = 0; l < n; ++l) {
+    NormalBallFrame& f = frames[l];
+    for (int i = 0; i < 3; ++i) {
+      f.centre[i] = centre_lane[i][l];
+      for (int j = 0; j < 3; ++j) f.rotation.m[i][j] = static_cast<int32_t>(rot_lane[i][j][l]);
+    }
+    f.disp = {static_cast<int32_t>(disp_lane[0][l]), static_cast<int32_t>(disp_lane[1][l]),
+              static_cast<int32_t>(disp_lane[2][l])};
+    f.quat = {static_cast<int32_t>(q_lane[0][l]), static_cast<int32_t>(q_lane[1][l]),
+              static_cast<int32_t>(q_lane[2][l]), static_cast<int32_t>(q_lane[3][l])};
+  }
+  const uint32_t flagged = static_cast<uint32_t>(_mm256_movemask_pd(_mm256_castsi256_pd(bad)));
+  return (flagged | no_weight) & ((1u << n) - 1);
+}
+
+}  // namespace
+
+void joint_region_frames_avx2(const MetaballModel& m, const MetaballState& s, std::span<const uint32_t> vertices,
+                              std::span<NormalBallFrame> frames) {
+  if (!s.ball_frames_near_unit) {
+    for (size_t i = 0; i < vertices.size(); ++i) frames[i] = joint_region_frame(m, s, vertices[i]);
+    return;
+  }
+  for (size_t first = 0; first < vertices.size(); first += kLanes) {
+    const uint32_t n = static_cast<uint32_t>(vertices.size() - first < kLanes ? vertices.size() - first : kLanes);
+    uint32_t v[kLanes];
+    for (uint32_t l = 0; l < kLanes; ++l) v[l] = vertices[first + (l < n ? l : n - 1)];  // spare lanes: not stored
+    uint32_t redo = frame_group(m, s, v, n, &frames[first]);
+    while (redo != 0) {
+      const uint32_t l = static_cast<uint32_t>(__builtin_ctz(redo));
+      redo &= redo - 1;
+      frames[first + l] = joint_region_frame(m, s, v[l]);
+    }
+  }
+}
+
+}  // namespace sinew::metaballs::detail
+
+SINEW_ISA_END
