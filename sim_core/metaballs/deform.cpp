@@ -229,6 +229,54 @@ void joint_region_frames(const MetaballModel& m, const MetaballState& s, std::sp
   for (size_t i = 0; i < vertices.size(); ++i) frames[i] = joint_region_frame(m, s, vertices[i]);
 }
 
+// Eq. (5): v_eta = c_eta + R_eta d_eta. The centre is the skeleton joint;
+// the ball is carried equally by both bones, and each vertex turns with the
+// bones' rotations blended by its own weight of the child bone (eta, made by
+// the caller), so vertices attached to different bones get different
+// transformations.
+// Eq. (1), v = (1 - w_alpha) v_lambda + w_alpha v_eta, as one rigid motion:
+// centre and rest displacement blended linearly, the two rotations by
+// nlerp. Equal to eq. (1) where R_lambda = R_eta, and it keeps the ring's
+// section where they differ (a linear blend of two rotations by an angle
+// apart shrinks it by cos(angle / 2)).
+void blend_joint_region_entry(const MetaballModel& m, std::span<const fx::Mat34> joint_model, const NormalBallFrame& f,
+                              const fx::Quat& eta, uint32_t i, MetaballState* s, const skin::SkinnedVertices& out) {
+  const fx::Mat34& joint = joint_model[m.joint_balls[m.jv_ball[i]].joint];
+  const int64_t alpha = m.jv_alpha[i];
+  const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
+  const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
+  const fx::Vec3 de = m.jv_disp[i];
+  const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};
+  fx::Vec3 d;
+  int32_t* dc[3] = {&d.x, &d.y, &d.z};
+  int64_t centre[3];
+  for (int a = 0; a < 3; ++a) {
+    // |joint - centre| < 2^32 and |d_eta - d_lambda| < 2^32: products < 2^62.
+    centre[a] = f.centre[a] + fx::round_shift(alpha * (jt[a] - f.centre[a]), fx::kUnitFracBits);
+    *dc[a] = fx::sat_i32(d_lambda[a] + fx::round_shift(alpha * (d_eta[a] - d_lambda[a]), fx::kUnitFracBits));
+  }
+  int64_t rd[3], rl[3];
+  rotate_q50(r, d, rd);
+  rotate_q50(r, m.jv_laplacian[i], rl);
+  const uint32_t v = m.jv_vertex[i];
+  for (int a = 0; a < 3; ++a) out.position[a][v] = fx::sat_i32(centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+  s->jv_posed_laplacian[i] = {fx::sat_i32(fx::round_shift(rl[0], fx::kUnitFracBits)),
+                              fx::sat_i32(fx::round_shift(rl[1], fx::kUnitFracBits)),
+                              fx::sat_i32(fx::round_shift(rl[2], fx::kUnitFracBits))};
+}
+
+void blend_joint_region_entries(const MetaballModel& m, std::span<const fx::Mat34> joint_model,
+                                std::span<const NormalBallFrame* const> frames, std::span<const fx::Quat> eta,
+                                uint32_t first, MetaballState* s, const skin::SkinnedVertices& out,
+                                DeformKernel kernel) {
+#if defined(__x86_64__)
+  if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
+    return blend_joint_region_entries_avx2(m, joint_model, frames, eta, first, s, out);
+#endif
+  for (uint32_t k = 0; k < frames.size(); ++k)
+    blend_joint_region_entry(m, joint_model, *frames[k], eta[k], first + k, s, out);
+}
+
 namespace {
 
 // Frames are made for this many vertices at a time (a stack buffer of 2.8 KiB).
@@ -294,66 +342,41 @@ void deform_joint_regions(void* context, uint32_t begin, uint32_t end) {
   const DeformJob& j = *static_cast<const DeformJob*>(context);
   const MetaballModel& m = *j.m;
   MetaballState* s = j.s;
-  const skin::SkinnedVertices& out = *j.out;
   // The vertices of one ring share their joint ball and blend, so eta is
   // made once per ring (kept with what it was made from; a range starts
   // afresh, so eta is the same function of its ring in every range).
   uint16_t eta_ball = kNoBall;
   fx::Unit eta_blend = 0;
-  fx::Quat eta{};
-  // v_lambda's frames (eq. 4 on the arc), a batch of entries at a time.
+  fx::Quat ring_eta{};
+  // A batch of entries at a time: v_lambda's frames (eq. 4 on the arc) for
+  // the entries below w_alpha = 1, then eq. (1) for every entry.
+  static constexpr NormalBallFrame kNoFrame{};
   uint32_t pending[kFrameBatch];
   NormalBallFrame frames[kFrameBatch];
+  const NormalBallFrame* frame_of[kFrameBatch];
+  fx::Quat eta[kFrameBatch];
   for (uint32_t batch = begin; batch < end; batch += kFrameBatch) {
-    const uint32_t batch_end = end - batch < kFrameBatch ? end : batch + kFrameBatch;
-    uint32_t count = 0;
-    for (uint32_t i = batch; i < batch_end; ++i)
-      if (m.jv_alpha[i] != fx::kUnitOne) pending[count++] = m.jv_vertex[i];
-    joint_region_frames(m, *s, {pending, count}, {frames, count}, j.kernel);
+    const uint32_t count = end - batch < kFrameBatch ? end - batch : kFrameBatch;
+    uint32_t lambdas = 0;
+    for (uint32_t k = 0; k < count; ++k)
+      if (m.jv_alpha[batch + k] != fx::kUnitOne) pending[lambdas++] = m.jv_vertex[batch + k];
+    joint_region_frames(m, *s, {pending, lambdas}, {frames, lambdas}, j.kernel);
     uint32_t taken = 0;
-    for (uint32_t i = batch; i < batch_end; ++i) {
-      const JointBall& jb = m.joint_balls[m.jv_ball[i]];
-      const uint32_t v = m.jv_vertex[i];
-      // Eq. (5): v_eta = c_eta + R_eta d_eta. The centre is the skeleton joint;
-      // the ball is carried equally by both bones, and each vertex turns with
-      // the bones' rotations blended by its own weight of the child bone, so
-      // vertices attached to different bones get different transformations.
-      const fx::Mat34& joint = j.joint_model[jb.joint];
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = batch + k;
+      // At w_alpha = 1 eq. (1) is eq. (5) alone, word for word (the blends of
+      // blend_joint_region_entry return their second term exactly), so
+      // v_lambda is not made.
+      frame_of[k] = m.jv_alpha[i] == fx::kUnitOne ? &kNoFrame : &frames[taken++];
       if (m.jv_ball[i] != eta_ball || m.jv_blend[i] != eta_blend) {
+        const JointBall& jb = m.joint_balls[m.jv_ball[i]];
         eta_ball = m.jv_ball[i];
         eta_blend = m.jv_blend[i];
-        eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], eta_blend);
+        ring_eta = nlerp_fast(s->bone_rotation[jb.bone_a], s->bone_rotation[jb.bone_b], eta_blend);
       }
-      // Eq. (1), v = (1 - w_alpha) v_lambda + w_alpha v_eta, as one rigid
-      // motion: centre and rest displacement blended linearly, the two
-      // rotations by nlerp. Equal to eq. (1) where R_lambda = R_eta, and it
-      // keeps the ring's section where they differ (a linear blend of two
-      // rotations by an angle apart shrinks it by cos(angle / 2)).
-      // At w_alpha = 1 eq. (1) is eq. (5) alone, word for word (the blends
-      // below return their second term exactly), so v_lambda is not made.
-      const int64_t alpha = m.jv_alpha[i];
-      const NormalBallFrame f = alpha == fx::kUnitOne ? NormalBallFrame{} : frames[taken++];
-      const fx::Rot3 r = fx::rot3_of_unit(nlerp_fast(f.quat, eta, m.jv_alpha[i]));
-      const int64_t jt[3] = {joint.t[0], joint.t[1], joint.t[2]};
-      const fx::Vec3 de = m.jv_disp[i];
-      const int64_t d_eta[3] = {de.x, de.y, de.z}, d_lambda[3] = {f.disp.x, f.disp.y, f.disp.z};
-      fx::Vec3 d;
-      int32_t* dc[3] = {&d.x, &d.y, &d.z};
-      int64_t centre[3];
-      for (int a = 0; a < 3; ++a) {
-        // |joint - centre| < 2^32 and |d_eta - d_lambda| < 2^32: products < 2^62.
-        centre[a] = f.centre[a] + fx::round_shift(alpha * (jt[a] - f.centre[a]), fx::kUnitFracBits);
-        *dc[a] = fx::sat_i32(d_lambda[a] + fx::round_shift(alpha * (d_eta[a] - d_lambda[a]), fx::kUnitFracBits));
-      }
-      int64_t rd[3], rl[3];
-      rotate_q50(r, d, rd);
-      rotate_q50(r, m.jv_laplacian[i], rl);
-      for (int a = 0; a < 3; ++a)
-        out.position[a][v] = fx::sat_i32(centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
-      s->jv_posed_laplacian[i] = {fx::sat_i32(fx::round_shift(rl[0], fx::kUnitFracBits)),
-                                  fx::sat_i32(fx::round_shift(rl[1], fx::kUnitFracBits)),
-                                  fx::sat_i32(fx::round_shift(rl[2], fx::kUnitFracBits))};
+      eta[k] = ring_eta;
     }
+    blend_joint_region_entries(m, j.joint_model, {frame_of, count}, {eta, count}, batch, s, *j.out, j.kernel);
   }
 }
 

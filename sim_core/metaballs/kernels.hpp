@@ -75,6 +75,27 @@ void joint_region_frames_avx2(const MetaballModel& m, const MetaballState& s, st
                               std::span<NormalBallFrame> frames);
 #endif
 
+// Eq. (5) blended with eq. (1) for joint-region entry i (jv_*): v_lambda's
+// frame f (joint_region_frame of the entry's vertex; a zero frame at
+// w_alpha = 1) and R_eta, the bones' rotations blended by the entry's
+// jv_blend, given. Writes out.position of jv_vertex[i] and
+// s->jv_posed_laplacian[i]. The scalar specification.
+void blend_joint_region_entry(const MetaballModel& m, std::span<const fx::Mat34> joint_model, const NormalBallFrame& f,
+                              const fx::Quat& eta, uint32_t i, MetaballState* s, const skin::SkinnedVertices& out);
+// The same for entries first + k, k < frames.size() (= eta.size()), by the
+// kernel chosen: every kernel writes the same words. The AVX2 kernel
+// (joint_blend_avx2.cpp) blends four entries at once and hands an entry it
+// cannot prove exact to the specification.
+void blend_joint_region_entries(const MetaballModel& m, std::span<const fx::Mat34> joint_model,
+                                std::span<const NormalBallFrame* const> frames, std::span<const fx::Quat> eta,
+                                uint32_t first, MetaballState* s, const skin::SkinnedVertices& out,
+                                DeformKernel kernel);
+#if defined(__x86_64__)
+void blend_joint_region_entries_avx2(const MetaballModel& m, std::span<const fx::Mat34> joint_model,
+                                     std::span<const NormalBallFrame* const> frames, std::span<const fx::Quat> eta,
+                                     uint32_t first, MetaballState* s, const skin::SkinnedVertices& out);
+#endif
+
 // Eq. (4) alone: the scalar specification, and the AVX2 kernel
 // (deform_avx2.cpp), which declines (returns false, writes nothing) when the
 // model has more balls than it widens on its stack. Both leave the vertices

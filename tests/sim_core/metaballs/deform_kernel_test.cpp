@@ -6,6 +6,7 @@
 // d leaves the int32 range, bulge scales at 1 and near 2, centres at the Len limits so the result saturates).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "sim_core/fixed/mat34.hpp"
 #include "sim_core/fixed/norm.hpp"
 #include "sim_core/metaballs/kernels.hpp"
+#include "sim_core/metaballs/rotation.hpp"
 
 namespace sinew::test {
 namespace {
@@ -286,6 +288,156 @@ TEST(MetaballJointFrameKernel, MatchesTheSpecificationOnAdversarialFrames) {
     EXPECT_EQ(frame_kernels_differ(m, s, shuffled_vertices(n, &rng)), 0u) << "round " << round;
   }
   EXPECT_GT(redone_rounds, 0u);  // the beyond-near-unit frames were tried
+}
+
+// Eq. (1) of every joint-region entry by the AVX2 kernel and by the
+// specification, from the same frames and R_eta; returns the number of
+// output words (positions and posed Laplacians) that differ.
+uint32_t blend_kernels_differ(const metaballs::MetaballModel& m, std::span<const fx::Mat34> joint_model,
+                              const metaballs::MetaballState& base, const std::vector<mbd::NormalBallFrame>& frame,
+                              const std::vector<fx::Quat>& eta) {
+  const uint32_t count = m.jv_count();
+  std::vector<const mbd::NormalBallFrame*> frame_of(count);
+  for (uint32_t i = 0; i < count; ++i) frame_of[i] = &frame[i];
+  std::vector<fx::Vec3> laplacian_scalar(count), laplacian_vector(count);
+  DeformOutput scalar(m.vertex_count), vector(m.vertex_count);
+  metaballs::MetaballState s = base;
+  s.jv_posed_laplacian = laplacian_scalar;
+  for (uint32_t i = 0; i < count; ++i)
+    mbd::blend_joint_region_entry(m, joint_model, frame[i], eta[i], i, &s, scalar.view());
+  s.jv_posed_laplacian = laplacian_vector;
+  // In batches of 7 from entry 3 (after the first three by the kernel too):
+  // groups of four that do not start on a multiple of four, and short last groups.
+  for (uint32_t first = 0; first < count;) {
+    const uint32_t n = first == 0 ? std::min(3u, count) : std::min(7u, count - first);
+    mbd::blend_joint_region_entries(m, joint_model, std::span(frame_of).subspan(first, n),
+                                    std::span(eta).subspan(first, n), first, &s, vector.view(),
+                                    mbd::DeformKernel::kAvx2);
+    first += n;
+  }
+  uint32_t differ = 0;
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t v = 0; v < m.vertex_count; ++v) differ += scalar.axis[a][v] != vector.axis[a][v] ? 1u : 0u;
+  for (uint32_t i = 0; i < count; ++i) differ += laplacian_scalar[i] == laplacian_vector[i] ? 0u : 1u;
+  return differ;
+}
+
+// R_eta of every entry, as the step makes it.
+std::vector<fx::Quat> entry_eta(const metaballs::MetaballModel& m, const metaballs::MetaballState& s) {
+  std::vector<fx::Quat> eta(m.jv_count());
+  for (uint32_t i = 0; i < m.jv_count(); ++i) {
+    const metaballs::JointBall& jb = m.joint_balls[m.jv_ball[i]];
+    eta[i] = mbd::nlerp_fast(s.bone_rotation[jb.bone_a], s.bone_rotation[jb.bone_b], m.jv_blend[i]);
+  }
+  return eta;
+}
+
+TEST(MetaballJointBlendKernel, MatchesTheSpecificationOnTheArm) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  const metaballs::MetaballModel& m = scene.model();
+  ASSERT_GT(m.jv_count(), 8u);
+  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
+  for (const auto& p : poses) {
+    ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
+    std::vector<mbd::NormalBallFrame> frame(m.jv_count());
+    for (uint32_t i = 0; i < m.jv_count(); ++i)
+      if (m.jv_alpha[i] != fx::kUnitOne) frame[i] = mbd::joint_region_frame(m, scene.state(), m.jv_vertex[i]);
+    EXPECT_EQ(blend_kernels_differ(m, scene.engine().model, scene.state(), frame, entry_eta(m, scene.state())), 0u)
+        << p[0] << " " << p[1] << " " << p[2];
+  }
+}
+
+// Weights at 0, 1, between, and slightly outside [0, 1] (where the blend's
+// unnormalised sum leaves int32); rotations equal, antipodal, random, zero,
+// beyond near unit, and a blend whose sum rounds to zero; centres far from
+// the joint and displacements far apart (differences beyond int32);
+// Laplacians and displacements at the Len limits (saturation). Every input
+// stays where the specification is defined (no int64 overflow).
+TEST(MetaballJointBlendKernel, MatchesTheSpecificationOnAdversarialEntries) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.pose(10, 45, 30));
+  const metaballs::MetaballModel& base = scene.model();
+  const uint32_t count = base.jv_count();
+  uint64_t rng = 0xB1E4Du;
+  const auto random_unit = [&] {
+    const fx::Quat q{
+        random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
+        random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
+    const int32_t c[4] = {q.w, q.x, q.y, q.z};
+    const fx::NormDivisor nd = fx::norm_divisor(c, 4);
+    return fx::Quat{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
+                    fx::divide_by_norm(q.z, nd)};
+  };
+  const auto random_vec = [&](int32_t reach) {
+    return fx::Vec3{random_between(&rng, -reach, reach), random_between(&rng, -reach, reach),
+                    random_between(&rng, -reach, reach)};
+  };
+  // 1.4 in Q2.30: beyond near unit, and rot3_of_unit's products still fit.
+  constexpr int32_t kBig = 1503238553;
+  uint32_t outside_weights = 0;
+  for (int round = 0; round < 30; ++round) {
+    const bool wide = round % 3 == 0;  // Len-limit vectors; weights within [0, 1]
+    std::vector<fx::Unit> alpha(count);
+    std::vector<fx::Vec3> disp(count), laplacian(count);
+    std::vector<mbd::NormalBallFrame> frame(count);
+    std::vector<fx::Quat> eta(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t pick = static_cast<uint32_t>(next_random(&rng) % 8);
+      const int32_t quarter = int32_t{1} << 28;
+      alpha[i] = pick == 0   ? 0
+                 : pick == 1 ? fx::kUnitOne
+                 : pick == 2 && !wide
+                     ? (next_random(&rng) % 2 ? random_between(&rng, -quarter, -1)
+                                              : random_between(&rng, fx::kUnitOne + 1, fx::kUnitOne + quarter))
+                     : random_between(&rng, 1, fx::kUnitOne - 1);
+      outside_weights += alpha[i] < 0 || alpha[i] > fx::kUnitOne ? 1u : 0u;
+      const int32_t reach = wide ? INT32_MAX : (int32_t{1} << 26);
+      disp[i] = random_vec(reach);
+      laplacian[i] = random_vec(reach);
+      mbd::NormalBallFrame& f = frame[i];
+      f.quat = random_unit();
+      const uint32_t relation = static_cast<uint32_t>(next_random(&rng) % 12);
+      eta[i] = relation == 0   ? f.quat
+               : relation == 1 ? fx::Quat{-f.quat.w, -f.quat.x, -f.quat.y, -f.quat.z}
+               : relation == 2 ? fx::Quat{0, 0, 0, 0}
+               : relation == 3 ? fx::Quat{kBig, -kBig, kBig, -kBig}
+                               : random_unit();
+      if (relation == 4) f.quat = {0, 0, 0, 0};
+      if (relation == 5) f.quat = {kBig, kBig, -kBig, kBig};
+      // Where w_alpha may leave [0, 1] (the blends' sums stay below 2^63):
+      constexpr int32_t kLimit = 5 << 28;  // near unit's limit, 1.25
+      if (relation == 6 && !wide) {        // a sum of exactly zero: the first rotation kept
+        f.quat = {0, kLimit, 0, 0};
+        eta[i] = {0, 1 << 28, 0, 0};
+        alpha[i] = 5 << 28;
+      }
+      if (relation == 7 && !wide) {  // near unit, but the sum's w leaves int32 (2.75)
+        f.quat = {-kLimit, kLimit, kLimit, kLimit};
+        eta[i] = {kLimit, kLimit, kLimit, kLimit};
+        alpha[i] = static_cast<int32_t>(int64_t{fx::kUnitOne} * 8 / 5);
+      }
+      if (relation == 8) {                     // beyond near unit, both: their plain dot overflows int64 (a blend only)
+        constexpr int32_t kHuge = 1556925644;  // 1.45
+        f.quat = {kHuge, kHuge, -kHuge, kHuge};
+        eta[i] = {kHuge, kHuge, -kHuge, kHuge - 1};
+        alpha[i] = random_between(&rng, 1, fx::kUnitOne - 1);
+      }
+      const fx::Vec3 c = random_vec(wide ? INT32_MAX : (int32_t{1} << 26));
+      f.centre[0] = c.x, f.centre[1] = c.y, f.centre[2] = c.z;
+      f.disp = random_vec(reach);
+      f.rotation = fx::rot3_of_unit(f.quat);
+    }
+    metaballs::MetaballModel m = base;
+    m.jv_alpha = alpha;
+    m.jv_disp = disp;
+    m.jv_laplacian = laplacian;
+    EXPECT_EQ(blend_kernels_differ(m, scene.engine().model, scene.state(), frame, eta), 0u) << "round " << round;
+  }
+  EXPECT_GT(outside_weights, 0u);
 }
 
 // More balls than the kernel widens: it declines and writes nothing.
