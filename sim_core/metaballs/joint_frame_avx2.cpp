@@ -60,22 +60,29 @@ struct Quat4 {
   __m256i c[4];  // w, x, y, z
 };
 
-inline Quat4 real_parts(const fx::DualQuat* const f[kLanes]) {
-  Quat4 q;
-  q.c[0] = lanes_of(f[0]->real.w, f[1]->real.w, f[2]->real.w, f[3]->real.w);
-  q.c[1] = lanes_of(f[0]->real.x, f[1]->real.x, f[2]->real.x, f[3]->real.x);
-  q.c[2] = lanes_of(f[0]->real.y, f[1]->real.y, f[2]->real.y, f[3]->real.y);
-  q.c[3] = lanes_of(f[0]->real.z, f[1]->real.z, f[2]->real.z, f[3]->real.z);
-  return q;
+inline __m256i load_frame(const fx::DualQuat* f) {
+  static_assert(sizeof(fx::DualQuat) == sizeof(__m256i));
+  __m256i x;
+  std::memcpy(&x, f, sizeof(x));
+  return x;
 }
 
-inline Quat4 dual_parts(const fx::DualQuat* const f[kLanes]) {
-  Quat4 q;
-  q.c[0] = lanes_of(f[0]->dual.w, f[1]->dual.w, f[2]->dual.w, f[3]->dual.w);
-  q.c[1] = lanes_of(f[0]->dual.x, f[1]->dual.x, f[2]->dual.x, f[3]->dual.x);
-  q.c[2] = lanes_of(f[0]->dual.y, f[1]->dual.y, f[2]->dual.y, f[3]->dual.y);
-  q.c[3] = lanes_of(f[0]->dual.z, f[1]->dual.z, f[2]->dual.z, f[3]->dual.z);
-  return q;
+// (w, x) and (y, z) of one quaternion per lane, from rows holding quaternion
+// 0 and 2 (a) and 1 and 3 (b) in their 128-bit halves. (A function, not a
+// lambda: GCC compiles lambdas outside the file's AVX2 region.)
+inline void split_parts(__m256i a, __m256i b, Quat4* q) {
+  const __m256i wx = _mm256_unpacklo_epi64(a, b), yz = _mm256_unpackhi_epi64(a, b);
+  q->c[0] = wx, q->c[1] = _mm256_srli_epi64(wx, 32), q->c[2] = yz, q->c[3] = _mm256_srli_epi64(yz, 32);
+}
+
+// The real and dual parts of four frames, component c of lane l's frame in
+// the low 32 bits of lane l of .c[c] (the high bits are not read: every use
+// is a vpmuldq): [real | dual] rows regrouped into [real_0 | real_2] and
+// [real_1 | real_3], whose 64-bit unpacks hold (w, x) and (y, z) per lane.
+inline void frame_parts(const fx::DualQuat* const f[kLanes], Quat4* real, Quat4* dual) {
+  const __m256i f0 = load_frame(f[0]), f1 = load_frame(f[1]), f2 = load_frame(f[2]), f3 = load_frame(f[3]);
+  split_parts(_mm256_permute2x128_si256(f0, f2, 0x20), _mm256_permute2x128_si256(f1, f3, 0x20), real);
+  split_parts(_mm256_permute2x128_si256(f0, f2, 0x31), _mm256_permute2x128_si256(f1, f3, 0x31), dual);
 }
 
 inline __m256i dot4(const Quat4& a, const Quat4& b) {
@@ -107,7 +114,8 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
     if (pivot_ball[l] == kNoBall) no_weight |= 1u << l, pivot_ball[l] = 0;  // any valid ball; the lane is redone
   const fx::DualQuat* pivot_frame[kLanes];
   for (uint32_t l = 0; l < kLanes; ++l) pivot_frame[l] = &s.ball_frame[pivot_ball[l]];
-  const Quat4 pivot = real_parts(pivot_frame);
+  Quat4 pivot, unused;
+  frame_parts(pivot_frame, &pivot, &unused);
 
   Quat4 real{{zero, zero, zero, zero}}, dual{{zero, zero, zero, zero}};
   __m256i rest[3] = {zero, zero, zero}, disp[3] = {zero, zero, zero};
@@ -128,7 +136,8 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
     bad = _mm256_or_si256(bad, negative_lanes(w));
     // DualQuatBlend::add: the weight negated where the frame lies on the
     // other hemisphere from the pivot (dot_negative: the plain dot is exact).
-    const Quat4 r = real_parts(frame), e = dual_parts(frame);
+    Quat4 r, e;
+    frame_parts(frame, &r, &e);
     const __m256i negative = negative_lanes(dot4(pivot, r));
     const __m256i u = sub(_mm256_xor_si256(w, negative), negative);
     for (int c = 0; c < 4; ++c) {

@@ -429,7 +429,7 @@ TEST(MetaballJointBlendKernel, MatchesTheSpecificationOnAdversarialEntries) {
       const fx::Vec3 c = random_vec(wide ? INT32_MAX : (int32_t{1} << 26));
       f.centre[0] = c.x, f.centre[1] = c.y, f.centre[2] = c.z;
       f.disp = random_vec(reach);
-      f.rotation = fx::rot3_of_unit(f.quat);
+      f.rotation = {};  // not read by eq. (1)
     }
     metaballs::MetaballModel m = base;
     m.jv_alpha = alpha;
