@@ -97,8 +97,7 @@ PipelineStatus anatomy_step(Pipeline* p, std::span<const int32_t> inputs) {
   if (!ss.ok()) return stage_fail(PipelineError::kLayer, "elastic skin", ss.message);
   const std::span<const uint32_t> region = p->layers->anatomy.skin_region;
   if (region.empty()) {
-    for (int a = 0; a < 3; ++a)
-      for (uint32_t v = 0; v < model.vertex_count; ++v) add_displacement(p, a, v, p->anatomy.skin.position[a][v]);
+    for (int a = 0; a < 3; ++a) add_displacements(p, a, p->anatomy.skin.position[a].first(model.vertex_count));
     return {};
   }
   // The support region: weight x (relaxed - reference), Q2.30 weights.

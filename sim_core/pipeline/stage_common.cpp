@@ -24,6 +24,19 @@ void add_displacement(Pipeline* p, int axis, uint32_t v, fx::Len layer) {
   out = clamped;
 }
 
+void add_displacements(Pipeline* p, int axis, std::span<const fx::Len> layer) {
+  fx::Len* out = p->engine.vertices.position[axis].data();
+  const fx::Len* reference = p->reference[axis].data();
+  uint32_t saturated = 0;
+  for (size_t v = 0; v < layer.size(); ++v) {
+    const int64_t sum = int64_t{out[v]} + (int64_t{layer[v]} - reference[v]);
+    const int32_t clamped = fx::sat_i32(sum);
+    saturated += clamped != sum ? 1u : 0u;
+    out[v] = clamped;
+  }
+  p->saturated += saturated;
+}
+
 void take_reference(Pipeline* p) {
   if (p->reference[0].empty()) return;
   for (int a = 0; a < 3; ++a)

@@ -50,6 +50,9 @@ PipelineStatus stage_fail(PipelineError e, const char* what, const char* detail 
 // out = out + (layer - reference), saturated: the superposition rule
 // (docs/pipeline.md); counts the saturations in p->saturated.
 void add_displacement(Pipeline* p, int axis, uint32_t v, fx::Len layer);
+// The same for vertices 0 .. layer.size() - 1 of one axis, in one loop the
+// compiler vectorises (a layer that covers every vertex).
+void add_displacements(Pipeline* p, int axis, std::span<const fx::Len> layer);
 
 // The skin as it is now becomes the reference R the layers displace from.
 void take_reference(Pipeline* p);

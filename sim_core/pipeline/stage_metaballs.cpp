@@ -44,8 +44,7 @@ PipelineStatus metaballs_step(Pipeline* p, std::span<const int32_t>) {
   const layer::LayerStatus st =
       metaballs::metaballs_step(&p->metaballs.state, p->engine.model, out, p->options.workers);
   if (!st.ok()) return stage_fail(PipelineError::kLayer, "metaballs", st.message);
-  for (int a = 0; a < 3; ++a)
-    for (uint32_t v = 0; v < p->rig->vertex_count(); ++v) add_displacement(p, a, v, p->scratch[a][v]);
+  for (int a = 0; a < 3; ++a) add_displacements(p, a, p->scratch[a].first(p->rig->vertex_count()));
   return {};
 }
 
