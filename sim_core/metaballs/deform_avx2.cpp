@@ -85,15 +85,19 @@ inline WideRotation widen_rotation(const fx::Rot3& r) {
 // The vertex at v; false (nothing written) when it has no weight or a scaled
 // displacement leaves the int32 range, for the caller to run the
 // specification. The rotation is the shared ball's (widened once a step) or
-// the vertex's blend (vertex_rotation, widened here).
+// the vertex's blend (vertex_rotation, widened here). alike: the caller
+// knows the vertex's balls turn alike (balls_turn_alike), so the shared ball
+// is its first weighted one, as vertex_rotation would return.
 inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, uint32_t v,
-                          const skin::SkinnedVertices& out) {
+                          const skin::SkinnedVertices& out, bool alike) {
   const size_t base = size_t{v} * kVertexBalls;
   __m256i centre = _mm256_setzero_si256(), disp = _mm256_setzero_si256();
   bool any = false;
+  uint16_t first = kNoBall;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
     const int32_t w = m.vertex_weight[base + k];
     if (w == 0) continue;
+    if (!any) first = m.vertex_ball[base + k];
     any = true;
     const WideBall& b = balls[m.vertex_ball[base + k]];
     const fx::Vec3 d0 = m.vertex_disp[base + k];
@@ -110,7 +114,7 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
   fx::Quat quat;
   fx::Rot3 rotation;
   WideRotation blended;
-  const uint16_t shared = vertex_rotation(m, s, v, &quat, &rotation);
+  const uint16_t shared = alike ? first : vertex_rotation(m, s, v, &quat, &rotation);
   const __m256i* col = nullptr;
   if (shared != kNoBall) {
     col = balls[shared].col;
@@ -148,7 +152,7 @@ bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, co
       continue;
     }
     if (rigid_only && !balls_turn_alike(m, s, v)) continue;
-    if (!deform_vertex(m, s, balls, v, out)) deform_normal_ball_vertex(m, s, v, out);
+    if (!deform_vertex(m, s, balls, v, out, rigid_only)) deform_normal_ball_vertex(m, s, v, out);
   }
   return true;
 }
