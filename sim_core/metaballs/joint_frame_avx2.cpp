@@ -94,24 +94,36 @@ inline __m256i vec_lane(const fx::Vec3* const p[kLanes], int a) {
   return lanes_of(at(p[0]), at(p[1]), at(p[2]), at(p[3]));
 }
 
-// joint_region_frame of the group's four vertices into frames[lane] for the
-// lanes [0, n); returns the lanes the specification must redo.
-uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint32_t v[kLanes], uint32_t n,
-                     NormalBallFrame* frames) {
+// Four vertices (n real, the spare lanes repeat the last) through the
+// stages: blended, then the inverse norm, then the rest. Components are kept
+// as the specification's int64 values, the flags as all-ones lanes.
+struct FrameGroup {
+  uint32_t v[kLanes];
+  uint32_t n;
+  uint32_t no_weight;  // lanes with no weighted ball
+  __m256i bad;
+  Quat4 rq, d;  // DualQuatBlend::unit's parts before fx::normalize_fast
+  __m256i rest[3], disp[3];
+  skin::avx2::RsqrtX4 rs;
+};
+
+// Stage 1: DualQuatBlend over the vertex's weighted balls, the blended rest
+// centre and scaled displacement, and the parts rounded to Q30 / Len.
+void blend_frames(const MetaballModel& m, const MetaballState& s, FrameGroup* g) {
   const __m256i zero = _mm256_setzero_si256();
   __m256i bad = zero;
   // Each lane's first weighted ball: the pivot of the hemisphere test, and
   // the frame read in the lane's zero-weight slots.
   uint16_t pivot_ball[kLanes];
   for (uint32_t l = 0; l < kLanes; ++l) {
-    const size_t base = size_t{v[l]} * kVertexBalls;
+    const size_t base = size_t{g->v[l]} * kVertexBalls;
     pivot_ball[l] = kNoBall;
     for (uint32_t k = 0; k < kVertexBalls && pivot_ball[l] == kNoBall; ++k)
       if (m.vertex_weight[base + k] != 0) pivot_ball[l] = m.vertex_ball[base + k];
   }
-  uint32_t no_weight = 0;
+  g->no_weight = 0;
   for (uint32_t l = 0; l < kLanes; ++l)
-    if (pivot_ball[l] == kNoBall) no_weight |= 1u << l, pivot_ball[l] = 0;  // any valid ball; the lane is redone
+    if (pivot_ball[l] == kNoBall) g->no_weight |= 1u << l, pivot_ball[l] = 0;  // any valid ball; the lane is redone
   const fx::DualQuat* pivot_frame[kLanes];
   for (uint32_t l = 0; l < kLanes; ++l) pivot_frame[l] = &s.ball_frame[pivot_ball[l]];
   Quat4 pivot, unused;
@@ -124,7 +136,7 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
     int32_t weight[kLanes];
     const fx::Vec3* d0[kLanes];
     for (uint32_t l = 0; l < kLanes; ++l) {
-      const size_t i = size_t{v[l]} * kVertexBalls + k;
+      const size_t i = size_t{g->v[l]} * kVertexBalls + k;
       weight[l] = m.vertex_weight[i];
       ball[l] = weight[l] != 0 ? m.vertex_ball[i] : pivot_ball[l];
       d0[l] = &m.vertex_disp[i];
@@ -154,20 +166,32 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
       disp[a] = add(disp[a], mul(w, dd));
     }
   }
+  // DualQuatBlend::unit: both parts to Q30 / Len.
+  for (int c = 0; c < 4; ++c) g->rq.c[c] = q30(real.c[c]), g->d.c[c] = q30(dual.c[c]);
+  for (int a = 0; a < 3; ++a) g->rest[a] = rest[a], g->disp[a] = disp[a];
+  g->bad = bad;
+}
 
-  // DualQuatBlend::unit: both parts to Q30 / Len, then fx::normalize_fast.
-  Quat4 rq, d;
-  for (int c = 0; c < 4; ++c) rq.c[c] = q30(real.c[c]), d.c[c] = q30(dual.c[c]);
+// Stage 2: fx::normalize_fast's squared norm and reciprocal square root (a
+// long dependency chain: a stage of its own, so consecutive groups overlap).
+void inverse_norm(FrameGroup* g) {
   // n2 as uint64 with wrapping adds; n2 - 1 is negative iff n2 == 0 or
   // n2 > 2^63 (fx::normalize's division path).
-  __m256i n2 = dot4(rq, rq);
-  bad = _mm256_or_si256(bad, negative_lanes(sub(n2, _mm256_set1_epi64x(1))));
-  n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, zero), 63));  // rsqrt needs n2 != 0
-  const skin::avx2::RsqrtX4 rs = skin::avx2::rsqrt_fast_x4(n2);
-  const skin::avx2::VarRoundShift by(rs.shift);
+  __m256i n2 = dot4(g->rq, g->rq);
+  g->bad = _mm256_or_si256(g->bad, negative_lanes(sub(n2, _mm256_set1_epi64x(1))));
+  n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, _mm256_setzero_si256()), 63));  // rsqrt: n2 != 0
+  g->rs = skin::avx2::rsqrt_fast_x4(n2);
+}
+
+// Stage 3: the rest of fx::normalize_fast, rot3_of_unit and the centre;
+// stores lanes [0, n) to frames and returns the lanes the specification
+// must redo.
+uint32_t finish_frames(FrameGroup* g, NormalBallFrame* frames) {
+  Quat4 rq = g->rq, d = g->d;
+  const skin::avx2::VarRoundShift by(g->rs.shift);
   for (int c = 0; c < 4; ++c) {
-    rq.c[c] = sat_i32_epi64(by(mul(rq.c[c], rs.y)));
-    d.c[c] = sat_i32_epi64(by(mul(d.c[c], rs.y)));
+    rq.c[c] = sat_i32_epi64(by(mul(rq.c[c], g->rs.y)));
+    d.c[c] = sat_i32_epi64(by(mul(d.c[c], g->rs.y)));
   }
   // rq . d exact (normalize_fast: |rq . d| < 2^63), then the dual part's
   // component along rq removed: sub_sat(d, mul_by_unit(k, rq)).
@@ -193,13 +217,13 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
   const __m256i t[3] = {add(sub(mul(qw, d.c[1]), mul(d.c[0], qx)), sub(mul(qy, d.c[3]), mul(qz, d.c[2]))),
                         add(sub(mul(qw, d.c[2]), mul(d.c[0], qy)), sub(mul(qz, d.c[1]), mul(qx, d.c[3]))),
                         add(sub(mul(qw, d.c[3]), mul(d.c[0], qz)), sub(mul(qx, d.c[2]), mul(qy, d.c[1])))};
-  const __m256i p[3] = {q30(rest[0]), q30(rest[1]), q30(rest[2])};
+  const __m256i p[3] = {q30(g->rest[0]), q30(g->rest[1]), q30(g->rest[2])};
   __m256i centre[3], out_disp[3];
   for (int i = 0; i < 3; ++i) {
     const __m256i rotated = q30(add(add(mul(rot[i][0], p[0]), mul(rot[i][1], p[1])), mul(rot[i][2], p[2])));
     const __m256i moved = sat_i32_epi64(twice(q30(t[i])));
     centre[i] = sat_i32_epi64(add(rotated, moved));
-    out_disp[i] = q30(disp[i]);
+    out_disp[i] = q30(g->disp[i]);
   }
 
   // Stores: the lanes to int64 arrays, then each real lane's frame.
@@ -210,7 +234,7 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
     skin::avx2::lanes(centre[i], centre_lane[i]);
     skin::avx2::lanes(out_disp[i], disp_lane[i]);
   }
-  for (uint32_t l = 0; l < n; ++l) {
+  for (uint32_t l = 0; l < g->n; ++l) {
     NormalBallFrame& f = frames[l];
     for (int i = 0; i < 3; ++i) {
       f.centre[i] = centre_lane[i][l];
@@ -221,8 +245,8 @@ uint32_t frame_group(const MetaballModel& m, const MetaballState& s, const uint3
     f.quat = {static_cast<int32_t>(q_lane[0][l]), static_cast<int32_t>(q_lane[1][l]),
               static_cast<int32_t>(q_lane[2][l]), static_cast<int32_t>(q_lane[3][l])};
   }
-  const uint32_t flagged = static_cast<uint32_t>(_mm256_movemask_pd(_mm256_castsi256_pd(bad)));
-  return (flagged | no_weight) & ((1u << n) - 1);
+  const uint32_t flagged = static_cast<uint32_t>(_mm256_movemask_pd(_mm256_castsi256_pd(g->bad)));
+  return (flagged | g->no_weight) & ((1u << g->n) - 1);
 }
 
 }  // namespace
@@ -233,15 +257,30 @@ void joint_region_frames_avx2(const MetaballModel& m, const MetaballState& s, st
     for (size_t i = 0; i < vertices.size(); ++i) frames[i] = joint_region_frame(m, s, vertices[i]);
     return;
   }
-  for (size_t first = 0; first < vertices.size(); first += kLanes) {
-    const uint32_t n = static_cast<uint32_t>(vertices.size() - first < kLanes ? vertices.size() - first : kLanes);
-    uint32_t v[kLanes];
-    for (uint32_t l = 0; l < kLanes; ++l) v[l] = vertices[first + (l < n ? l : n - 1)];  // spare lanes: not stored
-    uint32_t redo = frame_group(m, s, v, n, &frames[first]);
-    while (redo != 0) {
-      const uint32_t l = static_cast<uint32_t>(__builtin_ctz(redo));
-      redo &= redo - 1;
-      frames[first + l] = joint_region_frame(m, s, v[l]);
+  // Up to kGroupsPerBlock groups go through each stage together.
+  constexpr uint32_t kGroupsPerBlock = 8;
+  FrameGroup groups[kGroupsPerBlock];
+  for (size_t block = 0; block < vertices.size(); block += kGroupsPerBlock * kLanes) {
+    const size_t left = vertices.size() - block;
+    const uint32_t count =
+        static_cast<uint32_t>(left < kGroupsPerBlock * kLanes ? (left + kLanes - 1) / kLanes : kGroupsPerBlock);
+    for (uint32_t g = 0; g < count; ++g) {
+      const size_t first = block + size_t{g} * kLanes;
+      const uint32_t n = static_cast<uint32_t>(vertices.size() - first < kLanes ? vertices.size() - first : kLanes);
+      groups[g].n = n;
+      for (uint32_t l = 0; l < kLanes; ++l)
+        groups[g].v[l] = vertices[first + (l < n ? l : n - 1)];  // spare: not stored
+      blend_frames(m, s, &groups[g]);
+    }
+    for (uint32_t g = 0; g < count; ++g) inverse_norm(&groups[g]);
+    for (uint32_t g = 0; g < count; ++g) {
+      const size_t first = block + size_t{g} * kLanes;
+      uint32_t redo = finish_frames(&groups[g], &frames[first]);
+      while (redo != 0) {
+        const uint32_t l = static_cast<uint32_t>(__builtin_ctz(redo));
+        redo &= redo - 1;
+        frames[first + l] = joint_region_frame(m, s, groups[g].v[l]);
+      }
     }
   }
 }
