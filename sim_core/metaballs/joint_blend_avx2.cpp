@@ -72,21 +72,30 @@ inline __m256i vec_lanes(const fx::Vec3* const p[kLanes], int a) {
   return lanes_of(at(p[0]), at(p[1]), at(p[2]), at(p[3]));
 }
 
-// Entries i[l], l < 4, with their frames and eta; stores lanes [0, n) and
-// returns the lanes the specification must redo.
-uint32_t blend_group(const MetaballModel& m, std::span<const fx::Mat34> joint_model,
-                     const NormalBallFrame* const f[kLanes], const fx::Quat* const eta[kLanes],
-                     const uint32_t i[kLanes], uint32_t n, MetaballState* s, const skin::SkinnedVertices& out) {
+// Four entries (n real, the spare lanes repeat the last) through the
+// stages: the rotations' blend, its inverse norm, then the rest.
+struct BlendGroup {
+  const NormalBallFrame* f[kLanes];
+  const fx::Quat* eta[kLanes];
+  uint32_t i[kLanes];
+  uint32_t n;
+  __m256i a[4], b[4], q[4];  // R_lambda, R_eta, their unnormalised blend
+  __m256i alpha, keep_a, take_b, bad, n2;
+  skin::avx2::RsqrtX4 rs;
+};
+
+// Stage 1: nlerp_fast(a, b, alpha)'s cases and its unnormalised blend: a at
+// alpha = 0 or a == b, else b at alpha = 1, else (1 - alpha) a + alpha b on
+// a's hemisphere.
+void blend_rotations(const MetaballModel& m, BlendGroup* g) {
   const __m256i zero = _mm256_setzero_si256();
   const __m256i unit_one = _mm256_set1_epi64x(fx::kUnitOne);
   const fx::Quat* fq[kLanes];
-  for (uint32_t l = 0; l < kLanes; ++l) fq[l] = &f[l]->quat;
-  __m256i a[4], b[4];
-  for (int c = 0; c < 4; ++c) a[c] = quat_lanes(fq, c), b[c] = quat_lanes(eta, c);
-  const __m256i alpha = lanes_of(m.jv_alpha[i[0]], m.jv_alpha[i[1]], m.jv_alpha[i[2]], m.jv_alpha[i[3]]);
-
-  // nlerp_fast(a, b, alpha): a at alpha = 0 or a == b, else b at alpha = 1,
-  // else the blend (1 - alpha) a + alpha b on a's hemisphere, renormalised.
+  for (uint32_t l = 0; l < kLanes; ++l) fq[l] = &g->f[l]->quat;
+  __m256i* a = g->a;
+  __m256i* b = g->b;
+  for (int c = 0; c < 4; ++c) a[c] = quat_lanes(fq, c), b[c] = quat_lanes(g->eta, c);
+  const __m256i alpha = lanes_of(m.jv_alpha[g->i[0]], m.jv_alpha[g->i[1]], m.jv_alpha[g->i[2]], m.jv_alpha[g->i[3]]);
   __m256i same = _mm256_set1_epi64x(-1);
   for (int c = 0; c < 4; ++c) same = _mm256_and_si256(same, _mm256_cmpeq_epi64(a[c], b[c]));
   const __m256i keep_a = _mm256_or_si256(_mm256_cmpeq_epi64(alpha, zero), same);
@@ -96,7 +105,7 @@ uint32_t blend_group(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
   const __m256i dot = add(add(mul(a[0], b[0]), mul(a[1], b[1])), add(mul(a[2], b[2]), mul(a[3], b[3])));
   const __m256i negative = negative_lanes(dot);
   const __m256i wb = sub(_mm256_xor_si256(alpha, negative), negative), wa = sub(unit_one, alpha);
-  __m256i q[4];
+  __m256i* q = g->q;
   for (int c = 0; c < 4; ++c) {
     q[c] = round_shift_epi64<fx::kUnitFracBits>(add(mul(wa, a[c]), mul(wb, b[c])));  // QuatBlend::unit: not saturated
     blend_bad = _mm256_or_si256(blend_bad, outside_i32(q[c]));
@@ -104,13 +113,31 @@ uint32_t blend_group(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
   __m256i n2 = add(add(mul(q[0], q[0]), mul(q[1], q[1])), add(mul(q[2], q[2]), mul(q[3], q[3])));
   const __m256i n2_zero = _mm256_cmpeq_epi64(n2, zero);
   blend_bad = _mm256_or_si256(blend_bad, n2_zero);  // the first kept: left to the specification
-  n2 = _mm256_or_si256(n2, _mm256_srli_epi64(n2_zero, 63));
-  const skin::avx2::RsqrtX4 rs = skin::avx2::rsqrt_fast_x4(n2);
-  const skin::avx2::VarRoundShift by(rs.shift);
-  __m256i bad = _mm256_and_si256(blend_bad, blended);
+  g->n2 = _mm256_or_si256(n2, _mm256_srli_epi64(n2_zero, 63));
+  g->alpha = alpha;
+  g->keep_a = keep_a;
+  g->take_b = take_b;
+  g->bad = _mm256_and_si256(blend_bad, blended);
+}
+
+// Stage 2: the blend's reciprocal square root (a long dependency chain: a
+// stage of its own, so consecutive groups overlap).
+void inverse_norm(BlendGroup* g) { g->rs = skin::avx2::rsqrt_fast_x4(g->n2); }
+
+// Stage 3: the normalised rotation, its matrix, eq. (1)'s centre and
+// displacement, the stores of lanes [0, n); returns the lanes the
+// specification must redo.
+uint32_t finish_entries(const MetaballModel& m, std::span<const fx::Mat34> joint_model, BlendGroup* g, MetaballState* s,
+                        const skin::SkinnedVertices& out) {
+  const skin::avx2::VarRoundShift by(g->rs.shift);
+  __m256i bad = g->bad;
+  const __m256i alpha = g->alpha;
+  const uint32_t* i = g->i;
+  const uint32_t n = g->n;
+  __m256i q[4];
   for (int c = 0; c < 4; ++c) {
-    const __m256i normalised = sat_i32_epi64(by(mul(q[c], rs.y)));
-    q[c] = select(keep_a, a[c], select(take_b, b[c], normalised));
+    const __m256i normalised = sat_i32_epi64(by(mul(g->q[c], g->rs.y)));
+    q[c] = select(g->keep_a, g->a[c], select(g->take_b, g->b[c], normalised));
   }
 
   // fx::rot3_of_unit(q).
@@ -130,9 +157,9 @@ uint32_t blend_group(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
   for (uint32_t l = 0; l < kLanes; ++l) {
     d_eta[l] = &m.jv_disp[i[l]];
     laplacian[l] = &m.jv_laplacian[i[l]];
-    d_lambda[l] = &f[l]->disp;
+    d_lambda[l] = &g->f[l]->disp;
     const fx::Mat34& joint = joint_model[m.joint_balls[m.jv_ball[i[l]]].joint];
-    for (int c = 0; c < 3; ++c) jt[c][l] = joint.t[c], fc[c][l] = f[l]->centre[c];
+    for (int c = 0; c < 3; ++c) jt[c][l] = joint.t[c], fc[c][l] = g->f[l]->centre[c];
   }
   __m256i centre[3], d[3], lap[3];
   for (int c = 0; c < 3; ++c) {
@@ -166,23 +193,34 @@ uint32_t blend_group(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
 void blend_joint_region_entries_avx2(const MetaballModel& m, std::span<const fx::Mat34> joint_model,
                                      std::span<const NormalBallFrame* const> frames, std::span<const fx::Quat> eta,
                                      uint32_t first, MetaballState* s, const skin::SkinnedVertices& out) {
-  const uint32_t count = static_cast<uint32_t>(frames.size());
-  for (uint32_t group = 0; group < count; group += kLanes) {
-    const uint32_t n = count - group < kLanes ? count - group : kLanes;
-    const NormalBallFrame* f[kLanes];
-    const fx::Quat* e[kLanes];
-    uint32_t i[kLanes];
-    for (uint32_t l = 0; l < kLanes; ++l) {
-      const uint32_t k = group + (l < n ? l : n - 1);  // spare lanes: not stored
-      f[l] = frames[k];
-      e[l] = &eta[k];
-      i[l] = first + k;
+  // Up to kGroupsPerBlock groups go through each stage together.
+  constexpr uint32_t kGroupsPerBlock = 8;
+  BlendGroup groups[kGroupsPerBlock];
+  const uint32_t total = static_cast<uint32_t>(frames.size());
+  for (uint32_t block = 0; block < total; block += kGroupsPerBlock * kLanes) {
+    const uint32_t left = total - block;
+    const uint32_t count = left < kGroupsPerBlock * kLanes ? (left + kLanes - 1) / kLanes : kGroupsPerBlock;
+    for (uint32_t g = 0; g < count; ++g) {
+      BlendGroup& group = groups[g];
+      const uint32_t start = block + g * kLanes;
+      group.n = total - start < kLanes ? total - start : kLanes;
+      for (uint32_t l = 0; l < kLanes; ++l) {
+        const uint32_t k = start + (l < group.n ? l : group.n - 1);  // spare lanes: not stored
+        group.f[l] = frames[k];
+        group.eta[l] = &eta[k];
+        group.i[l] = first + k;
+      }
+      blend_rotations(m, &group);
     }
-    uint32_t redo = blend_group(m, joint_model, f, e, i, n, s, out);
-    while (redo != 0) {
-      const uint32_t l = static_cast<uint32_t>(__builtin_ctz(redo));
-      redo &= redo - 1;
-      blend_joint_region_entry(m, joint_model, *f[l], *e[l], i[l], s, out);
+    for (uint32_t g = 0; g < count; ++g) inverse_norm(&groups[g]);
+    for (uint32_t g = 0; g < count; ++g) {
+      BlendGroup& group = groups[g];
+      uint32_t redo = finish_entries(m, joint_model, &group, s, out);
+      while (redo != 0) {
+        const uint32_t l = static_cast<uint32_t>(__builtin_ctz(redo));
+        redo &= redo - 1;
+        blend_joint_region_entry(m, joint_model, *group.f[l], *group.eta[l], group.i[l], s, out);
+      }
     }
   }
 }
