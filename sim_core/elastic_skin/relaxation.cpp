@@ -70,18 +70,64 @@ void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t e
   }
 }
 
+// Saturating: the relaxation's definition. The order of terms is part of it
+// (add_sat is not associative near its limits). Plain: the same sums for a
+// vertex with fewer than kPlainTerms terms. Every term k f has k in [0,
+// kMaxStiffness = 2^24] (effective_stiffness never exceeds Edge::k) and
+// |f_c| <= 2^31, so |k f_c| <= 2^55, and fewer than 256 of them keep every
+// partial sum within 255 * 2^55 < 2^63: add_sat never saturates, and the
+// plain sum is its value.
+constexpr uint32_t kPlainTerms = 256;
+static_assert(uint64_t{kPlainTerms - 1} * (uint64_t{kMaxStiffness} << 31) < (uint64_t{1} << 63));
+
+template <bool Saturating>
 struct VertexSums {
   int64_t force[3] = {0, 0, 0};
   int64_t weight = 0;
-  // The relaxation's order of terms: add_sat is not associative near its
-  // limits, so the order is part of the definition.
   [[gnu::always_inline]] void add(int64_t k, fx::Vec3 f) {
-    force[0] = fx::add_sat_i64(force[0], k * f.x);
-    force[1] = fx::add_sat_i64(force[1], k * f.y);
-    force[2] = fx::add_sat_i64(force[2], k * f.z);
+    if constexpr (Saturating) {
+      force[0] = fx::add_sat_i64(force[0], k * f.x);
+      force[1] = fx::add_sat_i64(force[1], k * f.y);
+      force[2] = fx::add_sat_i64(force[2], k * f.z);
+    } else {
+      force[0] += k * f.x;
+      force[1] += k * f.y;
+      force[2] += k * f.z;
+    }
     weight += k;  // <= (edges + bands + 1) * 2^24 per vertex: far from overflow
   }
 };
+
+// Vertex v's terms: its edges in edge order, its bands in band order, its
+// anchor last.
+template <typename Sums>
+[[gnu::always_inline]] inline Sums vertex_sums(const SkinModel& model, const muscle::MuscleState& muscles,
+                                               const SkinState* s, uint32_t v) {
+  Sums sum;
+  for (uint32_t i = s->incident_offset[v]; i < s->incident_offset[v + 1]; ++i) {
+    const uint32_t e = s->incident_edge[i];
+    const fx::Vec3 f{s->edge_pull[0][e], s->edge_pull[1][e], s->edge_pull[2][e]};
+    // The pull on a; the opposite on b.
+    sum.add(s->edge_stiffness[e],
+            s->incident_at_b[i] == 0 ? f : fx::Vec3{fx::neg_sat(f.x), fx::neg_sat(f.y), fx::neg_sat(f.z)});
+  }
+  const fx::Vec3 p = at(s->position, v);
+  for (uint32_t i = s->band_offset[v]; i < s->band_offset[v + 1]; ++i) {
+    const RubberBand& b = model.bands[s->band_at[i]];
+    const uint32_t m = muscle::muscle_vertex_index(muscles.ring_vertices, b.muscle, b.slice, b.ring_vertex);
+    const fx::Vec3 target{muscles.vertex[0][m], muscles.vertex[1][m], muscles.vertex[2][m]};
+    sum.add(b.k, fx::sub(target, p));
+  }
+  sum.add(model.anchor_stiffness[v], fx::sub(at(s->anchor, v), p));
+  return sum;
+}
+
+VertexSums<false> as_plain(const VertexSums<true>& s) {
+  VertexSums<false> p;
+  for (int c = 0; c < 3; ++c) p.force[c] = s.force[c];
+  p.weight = s.weight;
+  return p;
+}
 
 struct MoveTotals {
   uint32_t saturated = 0;
@@ -93,25 +139,13 @@ struct MoveTotals {
 MoveTotals move_vertices(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s, uint32_t begin,
                          uint32_t end) {
   MoveTotals t;
-  const uint32_t ring = muscles.ring_vertices;
   for (uint32_t v = begin; v < end; ++v) {
-    VertexSums sum;
-    for (uint32_t i = s->incident_offset[v]; i < s->incident_offset[v + 1]; ++i) {
-      const uint32_t e = s->incident_edge[i];
-      const fx::Vec3 f{s->edge_pull[0][e], s->edge_pull[1][e], s->edge_pull[2][e]};
-      // The pull on a; the opposite on b.
-      sum.add(s->edge_stiffness[e],
-              model.edges[e].a == v ? f : fx::Vec3{fx::neg_sat(f.x), fx::neg_sat(f.y), fx::neg_sat(f.z)});
-    }
-    const fx::Vec3 p = at(s->position, v);
-    for (uint32_t i = s->band_offset[v]; i < s->band_offset[v + 1]; ++i) {
-      const RubberBand& b = model.bands[s->band_at[i]];
-      const uint32_t m = muscle::muscle_vertex_index(ring, b.muscle, b.slice, b.ring_vertex);
-      const fx::Vec3 target{muscles.vertex[0][m], muscles.vertex[1][m], muscles.vertex[2][m]};
-      sum.add(b.k, fx::sub(target, p));
-    }
-    sum.add(model.anchor_stiffness[v], fx::sub(at(s->anchor, v), p));
+    const uint32_t terms =
+        s->incident_offset[v + 1] - s->incident_offset[v] + s->band_offset[v + 1] - s->band_offset[v] + 1;
+    const VertexSums<false> sum = terms < kPlainTerms ? vertex_sums<VertexSums<false>>(model, muscles, s, v)
+                                                      : as_plain(vertex_sums<VertexSums<true>>(model, muscles, s, v));
     if (sum.weight <= 0) continue;
+    const fx::Vec3 p = at(s->position, v);
     int32_t r[3];
     fx::Saturation sat;
     for (int c = 0; c < 3; ++c) {

@@ -36,6 +36,7 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   s->reaction_floor = c.take<int64_t>(rn);
   s->incident_offset = c.take<uint32_t>(n + 1);
   s->incident_edge = c.take<uint32_t>(2 * model.edges.size());
+  s->incident_at_b = c.take<uint8_t>(2 * model.edges.size());
   s->inverse_degree = c.take<int32_t>(rn);
   s->band_offset = c.take<uint32_t>(n + 1);
   s->band_at = c.take<uint32_t>(model.bands.size());
@@ -57,7 +58,9 @@ void fill_incidence(const SkinModel& model, SkinState* s) {
   for (uint32_t v = 0; v < n; ++v) s->incident_offset[v + 1] += s->incident_offset[v];
   // A running cursor per vertex in its own start slot, shifted back after.
   for (uint32_t e = 0; e < model.edges.size(); ++e) {
+    s->incident_at_b[s->incident_offset[model.edges[e].a]] = 0;
     s->incident_edge[s->incident_offset[model.edges[e].a]++] = e;
+    s->incident_at_b[s->incident_offset[model.edges[e].b]] = 1;
     s->incident_edge[s->incident_offset[model.edges[e].b]++] = e;
   }
   for (uint32_t v = n; v > 0; --v) s->incident_offset[v] = s->incident_offset[v - 1];

@@ -66,6 +66,7 @@ struct SkinState {
   // incident_edge[incident_offset[v] .. incident_offset[v + 1]).
   std::span<uint32_t> incident_offset;  // vertex_count + 1
   std::span<uint32_t> incident_edge;    // 2 edges
+  std::span<uint8_t> incident_at_b;     // beside incident_edge: 1 where the vertex is the edge's b end
   std::span<int32_t> inverse_degree;    // relaxation integrator only: 1 / (edges at the vertex), Q2.30 (0 for none)
   // The rubber bands at each vertex (CSR, in band order, filled at init):
   // vertex v's are band_at[band_offset[v] .. band_offset[v + 1]).
