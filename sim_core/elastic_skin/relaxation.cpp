@@ -2,6 +2,7 @@
 
 #include <atomic>
 
+#include "invariant_division.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
@@ -148,10 +149,13 @@ MoveTotals move_vertices(const SkinModel& model, const muscle::MuscleState& musc
     const fx::Vec3 p = at(s->position, v);
     int32_t r[3];
     fx::Saturation sat;
+    // One division for the three components: div_round_by is fx::div_round
+    // for a positive divisor, bit for bit (invariant_division.hpp).
+    const InvariantDivisor by = invariant_divisor(sum.weight);
     for (int c = 0; c < 3; ++c) {
       const int64_t num = fx::clamp_i64(sum.force[c], -kAccLimit + 1, kAccLimit - 1);
       sat.events += static_cast<uint32_t>(num != sum.force[c]);
-      r[c] = fx::sat_i32(fx::div_round(num, sum.weight), sat);
+      r[c] = fx::sat_i32(div_round_by(num, by), sat);
     }
     t.saturated += sat.events;
     const uint64_t x = fx::magnitude(r[0]), y = fx::magnitude(r[1]), z = fx::magnitude(r[2]);
