@@ -104,7 +104,8 @@ size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin) {
 }
 
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                                std::span<const uint32_t> skip, uint32_t begin, uint32_t end, bool rigid_only) {
+                                std::span<const uint32_t> skip, uint32_t begin, uint32_t end,
+                                const TurnedVertices* turned) {
   if (end > m.vertex_count) end = m.vertex_count;
   size_t next = first_skip_at(skip, begin);
   for (uint32_t v = begin; v < end; ++v) {
@@ -112,7 +113,10 @@ void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, 
       ++next;
       continue;
     }
-    if (rigid_only && !balls_turn_alike(m, s, v)) continue;
+    if (turned != nullptr && !balls_turn_alike(m, s, v)) {
+      turned->take(turned->context, v);
+      continue;
+    }
     deform_normal_ball_vertex(m, s, v, out);
   }
 }
@@ -291,6 +295,35 @@ struct DeformJob {
   DeformKernel kernel;
 };
 
+// The turned vertices of one range, a batch of frames at a time: each frame
+// on the arc, then R D and the centre written.
+struct ArcBatch {
+  const MetaballModel* m = nullptr;
+  const MetaballState* s = nullptr;
+  const skin::SkinnedVertices* out = nullptr;
+  DeformKernel kernel = DeformKernel::kScalar;
+  uint32_t count = 0;
+  uint32_t pending[kFrameBatch];
+  NormalBallFrame frames[kFrameBatch];
+
+  void flush() {
+    joint_region_frames(*m, *s, {pending, count}, {frames, count}, kernel);
+    for (uint32_t k = 0; k < count; ++k) {
+      const NormalBallFrame& f = frames[k];
+      int64_t rd[3];
+      rotate_q50(f.rotation, f.disp, rd);
+      for (int a = 0; a < 3; ++a)
+        out->position[a][pending[k]] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+    }
+    count = 0;
+  }
+  static void take(void* context, uint32_t v) {
+    ArcBatch& b = *static_cast<ArcBatch*>(context);
+    b.pending[b.count++] = v;
+    if (b.count == kFrameBatch) b.flush();
+  }
+};
+
 // Vertices [begin, end) outside the joint regions: eq. (4) by the kernel
 // where the vertex's balls turn alike (a rigid motion), and where they turn
 // differently (balls of two bones near a joint) eq. (4) on the arc
@@ -302,38 +335,21 @@ void deform_outside_joint_regions(void* context, uint32_t begin, uint32_t end) {
   const MetaballModel& m = *j.m;
   const MetaballState& s = *j.s;
   const skin::SkinnedVertices& out = *j.out;
+  // The vertices whose balls turn differently come back from the kernel's
+  // alike test, a batch of frames at a time.
+  ArcBatch arc;
+  arc.m = &m;
+  arc.s = &s;
+  arc.out = &out;
+  arc.kernel = j.kernel;
+  const TurnedVertices turned{ArcBatch::take, &arc};
   bool done = false;
 #if defined(__x86_64__)
   if (j.kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
-    done = deform_normal_balls_avx2(m, s, out, j.skip, begin, end, true);
+    done = deform_normal_balls_avx2(m, s, out, j.skip, begin, end, &turned);
 #endif
-  if (!done) deform_normal_balls_scalar(m, s, out, j.skip, begin, end, true);
-  // The vertices whose balls turn differently, a batch of frames at a time.
-  uint32_t pending[kFrameBatch];
-  NormalBallFrame frames[kFrameBatch];
-  uint32_t count = 0;
-  const auto flush = [&] {
-    joint_region_frames(m, s, {pending, count}, {frames, count}, j.kernel);
-    for (uint32_t k = 0; k < count; ++k) {
-      const NormalBallFrame& f = frames[k];
-      int64_t rd[3];
-      rotate_q50(f.rotation, f.disp, rd);
-      for (int a = 0; a < 3; ++a)
-        out.position[a][pending[k]] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
-    }
-    count = 0;
-  };
-  size_t next = first_skip_at(j.skip, begin);
-  for (uint32_t v = begin; v < end; ++v) {
-    if (next < j.skip.size() && j.skip[next] == v) {
-      ++next;
-      continue;
-    }
-    if (balls_turn_alike(m, s, v)) continue;
-    pending[count++] = v;
-    if (count == kFrameBatch) flush();
-  }
-  flush();
+  if (!done) deform_normal_balls_scalar(m, s, out, j.skip, begin, end, &turned);
+  arc.flush();
 }
 
 // Joint-region entries [begin, end) (jv_*): eq. (5) blended by eq. (1).

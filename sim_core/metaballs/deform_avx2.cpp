@@ -139,7 +139,8 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
 }  // namespace
 
 bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
-                              std::span<const uint32_t> skip, uint32_t begin, uint32_t end, bool rigid_only) {
+                              std::span<const uint32_t> skip, uint32_t begin, uint32_t end,
+                              const TurnedVertices* turned) {
   const uint32_t count = m.ball_count();
   if (count > kMaxWideBalls) return false;
   if (end > m.vertex_count) end = m.vertex_count;
@@ -151,8 +152,11 @@ bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, co
       ++next;
       continue;
     }
-    if (rigid_only && !balls_turn_alike(m, s, v)) continue;
-    if (!deform_vertex(m, s, balls, v, out, rigid_only)) deform_normal_ball_vertex(m, s, v, out);
+    if (turned != nullptr && !balls_turn_alike(m, s, v)) {
+      turned->take(turned->context, v);
+      continue;
+    }
+    if (!deform_vertex(m, s, balls, v, out, turned != nullptr)) deform_normal_ball_vertex(m, s, v, out);
   }
   return true;
 }

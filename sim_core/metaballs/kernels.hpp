@@ -96,24 +96,32 @@ void blend_joint_region_entries_avx2(const MetaballModel& m, std::span<const fx:
                                      uint32_t first, MetaballState* s, const skin::SkinnedVertices& out);
 #endif
 
+// Where eq. (4)'s kernels hand the vertices whose balls turn differently
+// (balls_turn_alike false), in ascending order, one call each.
+struct TurnedVertices {
+  void (*take)(void* context, uint32_t v);
+  void* context;
+};
+
 // Eq. (4) alone: the scalar specification, and the AVX2 kernel
-// (deform_avx2.cpp), which declines (returns false, writes nothing) when the
-// model has more balls than it widens on its stack. Both leave the vertices
-// of `skip` (ascending) unwritten: the joint-region vertices, which eq. (1)
-// computes from their frames anyway. [begin, end): the vertices written
-// (every vertex by default). rigid_only: leave unwritten, too, the vertices
-// whose balls turn differently (balls_turn_alike false), which the step
-// computes on the arc instead (deform.cpp, joint_region_frame).
+// (deform_avx2.cpp), which declines (returns false, writes nothing, hands
+// nothing) when the model has more balls than it widens on its stack. Both
+// leave the vertices of `skip` (ascending) unwritten: the joint-region
+// vertices, which eq. (1) computes from their frames anyway. [begin, end):
+// the vertices written (every vertex by default). turned: if given, leave
+// unwritten, too, the vertices whose balls turn differently and hand them to
+// it: the step computes them on the arc instead (deform.cpp,
+// joint_region_frame).
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
                                 std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX,
-                                bool rigid_only = false);
+                                const TurnedVertices* turned = nullptr);
 // One vertex of the specification (the vector kernel's fallback).
 void deform_normal_ball_vertex(const MetaballModel& m, const MetaballState& s, uint32_t v,
                                const skin::SkinnedVertices& out);
 #if defined(__x86_64__)
 bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
                               std::span<const uint32_t> skip = {}, uint32_t begin = 0, uint32_t end = UINT32_MAX,
-                              bool rigid_only = false);
+                              const TurnedVertices* turned = nullptr);
 #endif
 
 // True when every weighted ball of vertex v has the same rotation (the

@@ -440,6 +440,59 @@ TEST(MetaballJointBlendKernel, MatchesTheSpecificationOnAdversarialEntries) {
   EXPECT_GT(outside_weights, 0u);
 }
 
+// The whole deformation stage (eq. (4), the frames on the arc, eq. (1)) by
+// each kernel: every position and posed Laplacian word the same. The golden
+// hashes see only the kernel the CPU selects; this compares the scalar
+// specification's path with it on the same machine.
+TEST(MetaballDeformVertices, EveryKernelWritesTheSameWords) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  const metaballs::MetaballModel& m = scene.model();
+  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
+  for (const auto& p : poses) {
+    ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
+    DeformOutput scalar(m.vertex_count), vector(m.vertex_count);
+    metaballs::MetaballState& s = scene.state();
+    mbd::deform_vertices(m, scene.engine().model, &s, scalar.view(), mbd::DeformKernel::kScalar);
+    const std::vector<fx::Vec3> laplacian_scalar(s.jv_posed_laplacian.begin(), s.jv_posed_laplacian.end());
+    mbd::deform_vertices(m, scene.engine().model, &s, vector.view(), mbd::DeformKernel::kAvx2);
+    const std::vector<fx::Vec3> laplacian_vector(s.jv_posed_laplacian.begin(), s.jv_posed_laplacian.end());
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(scalar.axis[a], vector.axis[a]) << p[0] << " " << p[1] << " " << p[2];
+    EXPECT_EQ(laplacian_scalar, laplacian_vector) << p[0] << " " << p[1] << " " << p[2];
+  }
+}
+
+// Both eq. (4) kernels hand over exactly the vertices whose balls turn
+// differently, in ascending order, and leave them unwritten.
+TEST(MetaballDeformKernel, HandsOverTheTurnedVerticesInOrder) {
+  if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
+#if defined(__x86_64__)
+  ArmScene scene;
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.pose(20, 120, 60));
+  const metaballs::MetaballModel& m = scene.model();
+  const metaballs::MetaballState& s = scene.state();
+  std::vector<uint32_t> expected;
+  for (uint32_t v = 0; v < m.vertex_count; ++v)
+    if (!mbd::balls_turn_alike(m, s, v)) expected.push_back(v);
+  ASSERT_FALSE(expected.empty());
+  const auto take = [](void* context, uint32_t v) { static_cast<std::vector<uint32_t>*>(context)->push_back(v); };
+  std::vector<uint32_t> by_scalar, by_vector;
+  const mbd::TurnedVertices to_scalar{take, &by_scalar}, to_vector{take, &by_vector};
+  DeformOutput scalar(m.vertex_count), vector(m.vertex_count);
+  mbd::deform_normal_balls_scalar(m, s, scalar.view(), {}, 0, UINT32_MAX, &to_scalar);
+  ASSERT_TRUE(mbd::deform_normal_balls_avx2(m, s, vector.view(), {}, 0, UINT32_MAX, &to_vector));
+  EXPECT_EQ(by_scalar, expected);
+  EXPECT_EQ(by_vector, expected);
+  for (const uint32_t v : expected) {
+    EXPECT_EQ(scalar.axis[0][v], 0x5A5A5A5A) << v;
+    EXPECT_EQ(vector.axis[0][v], 0x5A5A5A5A) << v;
+  }
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(scalar.axis[a], vector.axis[a]);
+#endif
+}
+
 // More balls than the kernel widens: it declines and writes nothing.
 TEST(MetaballDeformKernel, DeclinesModelsWithMoreBallsThanItWidens) {
   if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
