@@ -225,7 +225,7 @@ NormalBallFrame joint_region_frame(const MetaballModel& m, const MetaballState& 
 }
 
 void joint_region_frames(const MetaballModel& m, const MetaballState& s, std::span<const uint32_t> vertices,
-                         std::span<NormalBallFrame> frames, DeformKernel kernel) {
+                         std::span<NormalBallFrame> frames, [[maybe_unused]] DeformKernel kernel) {
 #if defined(__x86_64__)
   if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
     return joint_region_frames_avx2(m, s, vertices, frames);
@@ -272,7 +272,7 @@ void blend_joint_region_entry(const MetaballModel& m, std::span<const fx::Mat34>
 void blend_joint_region_entries(const MetaballModel& m, std::span<const fx::Mat34> joint_model,
                                 std::span<const NormalBallFrame* const> frames, std::span<const fx::Quat> eta,
                                 uint32_t first, MetaballState* s, const skin::SkinnedVertices& out,
-                                DeformKernel kernel) {
+                                [[maybe_unused]] DeformKernel kernel) {
 #if defined(__x86_64__)
   if (kernel == DeformKernel::kAvx2 && deform_kernel_supported(DeformKernel::kAvx2))
     return blend_joint_region_entries_avx2(m, joint_model, frames, eta, first, s, out);
