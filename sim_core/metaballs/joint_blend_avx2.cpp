@@ -27,36 +27,21 @@
 
 #include <cstring>
 
+#include "joint_lanes_avx2.hpp"
 #include "kernels.hpp"
 #include "sim_core/fixed/isa_region.hpp"
-#include "sim_core/skin/avx2_lanes.hpp"
 
 SINEW_ISA_BEGIN("avx2")
 
 namespace sinew::metaballs::detail {
 namespace {
 
-using skin::avx2::round_shift_epi64;
-using skin::avx2::sat_i32_epi64;
+using namespace joint_lanes;  // the lane helpers (joint_lanes_avx2.hpp)
 
-constexpr uint32_t kLanes = 4;
-
-inline __m256i mul(__m256i a, __m256i b) { return _mm256_mul_epi32(a, b); }
-inline __m256i add(__m256i a, __m256i b) { return _mm256_add_epi64(a, b); }
-inline __m256i sub(__m256i a, __m256i b) { return _mm256_sub_epi64(a, b); }
-inline __m256i twice(__m256i a) { return _mm256_add_epi64(a, a); }
-inline __m256i lanes_of(int64_t a, int64_t b, int64_t c, int64_t d) { return _mm256_setr_epi64x(a, b, c, d); }
-inline __m256i q30(__m256i x) { return sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(x)); }
 inline __m256i select(__m256i mask, __m256i if_set, __m256i otherwise) {
   return _mm256_blendv_epi8(otherwise, if_set, mask);
 }
 
-// All ones in the lanes that are negative / outside [lo, hi].
-inline __m256i negative_lanes(__m256i x) { return _mm256_cmpgt_epi64(_mm256_setzero_si256(), x); }
-inline __m256i outside(__m256i x, int64_t lo, int64_t hi) {
-  return _mm256_or_si256(_mm256_cmpgt_epi64(x, _mm256_set1_epi64x(hi)), _mm256_cmpgt_epi64(_mm256_set1_epi64x(lo), x));
-}
-inline __m256i outside_i32(__m256i x) { return outside(x, INT32_MIN, INT32_MAX); }
 inline __m256i not_near_unit(const __m256i q[4]) {
   __m256i bad = _mm256_setzero_si256();
   for (int c = 0; c < 4; ++c) bad = _mm256_or_si256(bad, outside(q[c], -kFrameRealLimit, kFrameRealLimit));
@@ -66,10 +51,6 @@ inline __m256i not_near_unit(const __m256i q[4]) {
 inline __m256i quat_lanes(const fx::Quat* const q[kLanes], int c) {
   const auto at = [c](const fx::Quat* p) { return int64_t{c == 0 ? p->w : (c == 1 ? p->x : (c == 2 ? p->y : p->z))}; };
   return lanes_of(at(q[0]), at(q[1]), at(q[2]), at(q[3]));
-}
-inline __m256i vec_lanes(const fx::Vec3* const p[kLanes], int a) {
-  const auto at = [a](const fx::Vec3* v) { return int64_t{a == 0 ? v->x : (a == 1 ? v->y : v->z)}; };
-  return lanes_of(at(p[0]), at(p[1]), at(p[2]), at(p[3]));
 }
 
 // Four entries (n real, the spare lanes repeat the last) through the

@@ -26,34 +26,16 @@
 
 #include <cstring>
 
+#include "joint_lanes_avx2.hpp"
 #include "kernels.hpp"
 #include "sim_core/fixed/isa_region.hpp"
-#include "sim_core/skin/avx2_lanes.hpp"
 
 SINEW_ISA_BEGIN("avx2")
 
 namespace sinew::metaballs::detail {
 namespace {
 
-using skin::avx2::round_shift_epi64;
-using skin::avx2::sat_i32_epi64;
-
-constexpr uint32_t kLanes = 4;
-
-inline __m256i mul(__m256i a, __m256i b) { return _mm256_mul_epi32(a, b); }
-inline __m256i add(__m256i a, __m256i b) { return _mm256_add_epi64(a, b); }
-inline __m256i sub(__m256i a, __m256i b) { return _mm256_sub_epi64(a, b); }
-inline __m256i twice(__m256i a) { return _mm256_add_epi64(a, a); }
-inline __m256i lanes_of(int64_t a, int64_t b, int64_t c, int64_t d) { return _mm256_setr_epi64x(a, b, c, d); }
-// sat_i32(round_shift(x, 30)): the specification's q30.
-inline __m256i q30(__m256i x) { return sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(x)); }
-
-// All ones in the lanes that are negative / outside int32.
-inline __m256i negative_lanes(__m256i x) { return _mm256_cmpgt_epi64(_mm256_setzero_si256(), x); }
-inline __m256i outside_i32(__m256i x) {
-  const __m256i hi = _mm256_set1_epi64x(INT32_MAX), lo = _mm256_set1_epi64x(INT32_MIN);
-  return _mm256_or_si256(_mm256_cmpgt_epi64(x, hi), _mm256_cmpgt_epi64(lo, x));
-}
+using namespace joint_lanes;  // the lane helpers (joint_lanes_avx2.hpp)
 
 // Four quaternions, component by component, one per lane.
 struct Quat4 {
@@ -87,11 +69,6 @@ inline void frame_parts(const fx::DualQuat* const f[kLanes], Quat4* real, Quat4*
 
 inline __m256i dot4(const Quat4& a, const Quat4& b) {
   return add(add(mul(a.c[0], b.c[0]), mul(a.c[1], b.c[1])), add(mul(a.c[2], b.c[2]), mul(a.c[3], b.c[3])));
-}
-
-inline __m256i vec_lane(const fx::Vec3* const p[kLanes], int a) {
-  const auto at = [a](const fx::Vec3* v) { return int64_t{a == 0 ? v->x : (a == 1 ? v->y : v->z)}; };
-  return lanes_of(at(p[0]), at(p[1]), at(p[2]), at(p[3]));
 }
 
 // Four vertices (n real, the spare lanes repeat the last) through the
@@ -160,9 +137,9 @@ void blend_frames(const MetaballModel& m, const MetaballState& s, FrameGroup* g)
         lanes_of(s.ball_scale[ball[0]], s.ball_scale[ball[1]], s.ball_scale[ball[2]], s.ball_scale[ball[3]]);
     for (int a = 0; a < 3; ++a) {
       // s d rounded once (at s = 1 exactly d, as the specification's skip).
-      const __m256i dd = round_shift_epi64<fx::kUnitFracBits>(mul(vec_lane(d0, a), scale));
+      const __m256i dd = round_shift_epi64<fx::kUnitFracBits>(mul(vec_lanes(d0, a), scale));
       bad = _mm256_or_si256(bad, outside_i32(dd));
-      rest[a] = add(rest[a], mul(w, vec_lane(c0, a)));
+      rest[a] = add(rest[a], mul(w, vec_lanes(c0, a)));
       disp[a] = add(disp[a], mul(w, dd));
     }
   }

@@ -61,12 +61,24 @@ int32_t random_between(uint64_t* state, int64_t lo, int64_t hi) {
   return static_cast<int32_t>(lo + static_cast<int64_t>(next_random(state) % static_cast<uint64_t>(hi - lo + 1)));
 }
 
+// A random rotation: four random components divided by their norm.
+fx::Quat random_unit_quat(uint64_t* rng) {
+  const int32_t c[4] = {
+      random_between(rng, -fx::kUnitOne, fx::kUnitOne), random_between(rng, -fx::kUnitOne, fx::kUnitOne),
+      random_between(rng, -fx::kUnitOne, fx::kUnitOne), random_between(rng, -fx::kUnitOne, fx::kUnitOne)};
+  const fx::NormDivisor nd = fx::norm_divisor(c, 4);
+  return {fx::divide_by_norm(c[0], nd), fx::divide_by_norm(c[1], nd), fx::divide_by_norm(c[2], nd),
+          fx::divide_by_norm(c[3], nd)};
+}
+
+// The arm's poses the kernels are compared on: shoulder, elbow, forearm twist (degrees).
+constexpr double kPoses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
+
 TEST(MetaballDeformKernel, MatchesTheSpecificationOnTheArm) {
   if (!avx2_deform_available()) GTEST_SKIP() << "no AVX2 on this CPU";
   ArmScene scene;
   ASSERT_TRUE(scene.ok()) << scene.error();
-  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
-  for (const auto& p : poses) {
+  for (const auto& p : kPoses) {
     ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
     EXPECT_EQ(deform_kernels_differ(scene.model(), scene.state()), 0u) << p[0] << " " << p[1] << " " << p[2];
     EXPECT_EQ(deform_kernels_differ(scene.model(), scene.state(), scene.model().jv_vertex), 0u)
@@ -117,13 +129,7 @@ TEST(MetaballDeformKernel, MatchesTheSpecificationOnAdversarialBalls) {
     std::vector<fx::Unit> scale(balls);
     std::vector<fx::Vec3> center(balls);
     for (uint32_t b = 0; b < balls; ++b) {
-      const fx::Quat q{
-          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
-          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
-      const int32_t c[4] = {q.w, q.x, q.y, q.z};
-      const fx::NormDivisor nd = fx::norm_divisor(c, 4);
-      const fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
-                          fx::divide_by_norm(q.z, nd)};
+      const fx::Quat unit = random_unit_quat(&rng);
       // Every third round all balls share one rotation, so every vertex takes
       // the vector path with all its balls weighted.
       quat[b] = round % 3 == 2 && b > 0 ? quat[0] : unit;
@@ -188,8 +194,7 @@ TEST(MetaballJointFrameKernel, MatchesTheSpecificationOnTheArm) {
   ArmScene scene;
   ASSERT_TRUE(scene.ok()) << scene.error();
   uint64_t rng = 0xF4A3E5u;
-  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
-  for (const auto& p : poses) {
+  for (const auto& p : kPoses) {
     ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
     ASSERT_TRUE(scene.state().ball_frames_near_unit);
     EXPECT_EQ(frame_kernels_differ(scene.model(), scene.state(), shuffled_vertices(scene.model().vertex_count, &rng)),
@@ -253,13 +258,7 @@ TEST(MetaballJointFrameKernel, MatchesTheSpecificationOnAdversarialFrames) {
     std::vector<fx::DualQuat> frame(balls);
     std::vector<fx::Unit> scale(balls);
     for (uint32_t b = 0; b < balls; ++b) {
-      const fx::Quat q{
-          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
-          random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
-      const int32_t c[4] = {q.w, q.x, q.y, q.z};
-      const fx::NormDivisor nd = fx::norm_divisor(c, 4);
-      fx::Quat unit{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
-                    fx::divide_by_norm(q.z, nd)};
+      fx::Quat unit = random_unit_quat(&rng);
       if (round % 7 == 3 && b % 5 == 0) unit = {0, 0, 0, 0};
       if (round % 11 == 5 && b == 0) unit = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX};  // beyond near unit
       const int32_t reach = round % 2 ? INT32_MAX : (int32_t{1} << 24);
@@ -338,8 +337,7 @@ TEST(MetaballJointBlendKernel, MatchesTheSpecificationOnTheArm) {
   ASSERT_TRUE(scene.ok()) << scene.error();
   const metaballs::MetaballModel& m = scene.model();
   ASSERT_GT(m.jv_count(), 8u);
-  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
-  for (const auto& p : poses) {
+  for (const auto& p : kPoses) {
     ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
     std::vector<mbd::NormalBallFrame> frame(m.jv_count());
     for (uint32_t i = 0; i < m.jv_count(); ++i)
@@ -363,15 +361,7 @@ TEST(MetaballJointBlendKernel, MatchesTheSpecificationOnAdversarialEntries) {
   const metaballs::MetaballModel& base = scene.model();
   const uint32_t count = base.jv_count();
   uint64_t rng = 0xB1E4Du;
-  const auto random_unit = [&] {
-    const fx::Quat q{
-        random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne),
-        random_between(&rng, -fx::kUnitOne, fx::kUnitOne), random_between(&rng, -fx::kUnitOne, fx::kUnitOne)};
-    const int32_t c[4] = {q.w, q.x, q.y, q.z};
-    const fx::NormDivisor nd = fx::norm_divisor(c, 4);
-    return fx::Quat{fx::divide_by_norm(q.w, nd), fx::divide_by_norm(q.x, nd), fx::divide_by_norm(q.y, nd),
-                    fx::divide_by_norm(q.z, nd)};
-  };
+  const auto random_unit = [&] { return random_unit_quat(&rng); };
   const auto random_vec = [&](int32_t reach) {
     return fx::Vec3{random_between(&rng, -reach, reach), random_between(&rng, -reach, reach),
                     random_between(&rng, -reach, reach)};
@@ -449,8 +439,7 @@ TEST(MetaballDeformVertices, EveryKernelWritesTheSameWords) {
   ArmScene scene;
   ASSERT_TRUE(scene.ok()) << scene.error();
   const metaballs::MetaballModel& m = scene.model();
-  const double poses[][3] = {{0, 0, 0}, {30, 90, 0}, {-20, 135, 180}, {60, 10, -90}, {0, 150, 45}};
-  for (const auto& p : poses) {
+  for (const auto& p : kPoses) {
     ASSERT_TRUE(scene.pose(p[0], p[1], p[2]));
     DeformOutput scalar(m.vertex_count), vector(m.vertex_count);
     metaballs::MetaballState& s = scene.state();
