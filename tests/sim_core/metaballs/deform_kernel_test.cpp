@@ -184,7 +184,7 @@ uint32_t frame_kernels_differ(const metaballs::MetaballModel& m, const metaballs
 std::vector<uint32_t> shuffled_vertices(uint32_t n, uint64_t* rng) {
   std::vector<uint32_t> v(n);
   for (uint32_t i = 0; i < n; ++i) v[i] = i;
-  for (uint32_t i = n; i > 1; --i) std::swap(v[i - 1], v[next_random(rng) % i]);
+  for (uint32_t i = n; i > 1; --i) std::swap(v[i - 1], v[static_cast<size_t>(next_random(rng) % i)]);
   if (v.size() % 4 == 0 && !v.empty()) v.pop_back();
   return v;
 }
