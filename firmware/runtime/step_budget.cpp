@@ -79,12 +79,20 @@ bool probe_step(const rig::Rig& rig, const pipeline::LayerSet& layers, const pip
   r.p50_ns = percentile(step_ns, 0.50);
   r.p99_ns = percentile(step_ns, 0.99);
   r.max_ns = *std::max_element(step_ns.begin(), step_ns.end());
-  for (uint32_t k = 0; k < pipeline::kStageCount; ++k) {
-    const uint64_t mean = stage_total[k] / r.steps;
-    if (mean > r.slowest_mean_ns) r.slowest = static_cast<pipeline::Stage>(k), r.slowest_mean_ns = mean;
-  }
+  name_slowest(stage_total, r.steps, &r);
   *out = r;
   return true;
+}
+
+void name_slowest(const uint64_t (&stage_total_ns)[pipeline::kStageCount], uint32_t steps, StepProbeResult* r) {
+  r->slowest = pipeline::Stage::kSkinning;
+  uint64_t largest = 0;
+  for (uint32_t k = 0; k < pipeline::kStageCount; ++k)
+    if (stage_total_ns[k] > largest) {
+      largest = stage_total_ns[k];
+      r->slowest = static_cast<pipeline::Stage>(k);
+    }
+  r->slowest_mean_ns = largest / steps;
 }
 
 WakeProbeResult probe_wakeups(uint64_t interval_ns, uint32_t count) {

@@ -33,6 +33,10 @@ bool probe_step(const rig::Rig& rig, const pipeline::LayerSet& layers, const pip
                 std::span<const InputLimits> limits, uint32_t steps, uint64_t wall_limit_ns, StepProbeResult* out,
                 std::string* error);
 
+// Sets r->slowest to the stage with the largest total time (the first of
+// equal ones) and r->slowest_mean_ns to its mean over `steps` (> 0).
+void name_slowest(const uint64_t (&stage_total_ns)[pipeline::kStageCount], uint32_t steps, StepProbeResult* r);
+
 // The probe's input k at step s: a triangle wave over [lo, hi] with a
 // period of 128 steps, each input at its own phase so the joints do not all
 // move together (layers that couple two joints see them differ).
