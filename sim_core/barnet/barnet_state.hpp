@@ -34,7 +34,7 @@ struct BarnetState {
   std::span<fx::Len> skinned[3];       // per free node, smooth-skinned position
   std::span<fx::Vec3> rest_direction;  // per free node, the rest load's unit direction in the bind pose, Q2.30
   std::span<int64_t> rest_magnitude;   // per free node, |rest load|, Q.36 force (< 2^62)
-  std::span<int64_t> work;             // per free node, solve vector
+  std::span<int64_t> work;             // 3 per free node: the solve vectors of x, y, z (node i at 3 i + c)
   std::span<fx::Vec3> normal;          // per control triangle, Q2.30 unit normal
   uint32_t profile = 0;                // entries of L
   // Work of one factorisation of D (64x64-bit products, barnet_refactor.hpp):

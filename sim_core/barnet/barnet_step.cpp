@@ -135,20 +135,27 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   //    sum over the bars at i of q (s_i - y_j), y_j the other end's skinned
   //    position), so the factor's relative error falls on the move alone.
   //    |p| <= 2^61 + 2^53 and the bar sum stays below 16 x 2^24 x 2^32 = 2^60.
-  fx::Len max_disp = 0;
-  for (size_t c = 0; c < 3; ++c) {
-    const auto skinned = [&](uint32_t i) { return i < free ? st->skinned[c][i] : out.node[c][i]; };
-    for (uint32_t i = 0; i < free; ++i) st->work[i] = st->load[c][i];
-    for (size_t b = 0; b < m.bars.size(); ++b) {
-      const BarRecord& bar = m.bars[b];
-      const int64_t pull = int64_t{st->q[b]} * (int64_t{skinned(bar.a)} - skinned(bar.b));
-      if (bar.a < free) st->work[bar.a] -= pull;
-      if (bar.b < free) st->work[bar.b] += pull;
+  //    The three axes share one pass over the bars and one over the factor
+  //    (work holds x, y and z of free node i at 3 i + c).
+  const auto skinned = [&](uint32_t i, size_t c) { return i < free ? st->skinned[c][i] : out.node[c][i]; };
+  int64_t* const rhs = st->work.data();
+  for (uint32_t i = 0; i < free; ++i)
+    for (size_t c = 0; c < 3; ++c) rhs[3 * i + c] = st->load[c][i];
+  for (size_t b = 0; b < m.bars.size(); ++b) {
+    const BarRecord& bar = m.bars[b];
+    const int64_t q = st->q[b];
+    for (size_t c = 0; c < 3; ++c) {
+      const int64_t pull = q * (int64_t{skinned(bar.a, c)} - skinned(bar.b, c));
+      if (bar.a < free) rhs[3 * bar.a + c] -= pull;
+      if (bar.b < free) rhs[3 * bar.b + c] += pull;
     }
-    for (uint32_t i = 0; i < free; ++i) st->work[i] = clamp_vector(st->work[i], sat);
-    ldlt_solve(st->factor, st->work, sat);
-    for (uint32_t i = 0; i < free; ++i) {
-      const int64_t d = fx::round_shift(st->work[i], 20);  // Q.40 -> Len, |d| < 2^41
+  }
+  for (uint32_t i = 0; i < 3 * free; ++i) rhs[i] = clamp_vector(rhs[i], sat);
+  ldlt_solve_axes(st->factor, st->work.subspan(0, 3 * size_t{free}), sat);
+  fx::Len max_disp = 0;
+  for (uint32_t i = 0; i < free; ++i) {
+    for (size_t c = 0; c < 3; ++c) {
+      const int64_t d = fx::round_shift(rhs[3 * i + c], 20);  // Q.40 -> Len, |d| < 2^41
       const fx::Len x = fx::sat_i32(int64_t{st->skinned[c][i]} + d, sat);
       out.node[c][i] = x;
       const int64_t moved = int64_t{x} - st->skinned[c][i];

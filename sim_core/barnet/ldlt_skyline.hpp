@@ -60,4 +60,9 @@ uint32_t ldlt_factor(const SkylineFactor& f, std::span<int64_t> row);
 // exit. Saturates (counting) if a value would leave +-2^61.
 void ldlt_solve(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sat);
 
+// The three axes of eq. (4) at once, x, y and z of node i at v[3 i + c]:
+// each axis gets exactly ldlt_solve's words and the count is the three
+// solves' total, with one pass over the factor instead of three.
+void ldlt_solve_axes(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sat);
+
 }  // namespace sinew::barnet

@@ -41,29 +41,21 @@ inline int64_t mul_shift_round_sat(int64_t a, int64_t b, int s, fx::Saturation& 
   return negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m);
 }
 
-// mul_shift_round_sat(l, v, 30, sat) for a Q2.30 factor entry l (int32),
-// bit for bit, with two 32 x 32-bit products instead of four: with
-// |v| = vh 2^32 + vl, |l| |v| + half = (|l| vh) 2^32 + (|l| vl + half), and
-// 2^32 is a multiple of 2^30, so the shifted sum is 4 |l| vh + ((|l| vl +
-// half) >> 30) with no carry lost (|l| vl + half < 2^63 + 2^29). The skyline
-// factor and solve spend most of their time here (ldlt_skyline.cpp).
+// mul_shift_round_sat(l, v, 30, sat) for a Q2.30 factor entry l (int32) and
+// a solve vector value v (|v| <= kVectorLimit: every value the factor and the
+// solve multiply is a clamped vector value), bit for bit, saturation count
+// included, with two plain 64-bit products and no branch: with v = vh 2^32 +
+// vl (vh = v >> 32, |vh| <= 2^29; vl = v mod 2^32, unsigned),
+// floor((l v + 2^29) / 2^30) = 4 l vh + floor((l vl + 2^29) / 2^30), because
+// 2^32 is a multiple of 2^30; |4 l vh| <= 2^62 and |l vl| < 2^63 - 2^32, so
+// both terms fit int64. That floor is round half up of the signed product,
+// which mul_shift_round_sat forms from the magnitudes. The skyline factor and
+// solve spend most of their time here (ldlt_skyline.cpp).
 inline int64_t mul_l30_round_sat(int32_t l, int64_t v, fx::Saturation& sat) {
-  const bool negative = (l < 0) != (v < 0);
-  const uint64_t ml = fx::magnitude(l), mv = fx::magnitude(v);  // ml <= 2^31, mv <= 2^63
-  const uint64_t high = ml * (mv >> 32);                        // < 2^62
-  // 4 high alone reaches 2^63 > kVectorLimit once high >= 2^61: saturate
-  // (mul_shift_round_sat does, its product then being >= 2^91).
-  if (high >= (uint64_t{1} << 61)) {
-    ++sat.events;
-    return negative ? -kVectorLimit : kVectorLimit;
-  }
-  const uint64_t half = (uint64_t{1} << 29) - (negative ? 1u : 0u);
-  const uint64_t m = (high << 2) + ((ml * (mv & 0xFFFFFFFFu) + half) >> 30);  // < 2^63 + 2^33
-  if (m > static_cast<uint64_t>(kVectorLimit)) {
-    ++sat.events;
-    return negative ? -kVectorLimit : kVectorLimit;
-  }
-  return negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m);
+  const int64_t vh = v >> 32;
+  const int64_t vl = static_cast<int64_t>(static_cast<uint64_t>(v) & 0xFFFFFFFFu);
+  const int64_t p = 4 * (int64_t{l} * vh) + ((int64_t{l} * vl + (int64_t{1} << 29)) >> 30);
+  return clamp_vector(p, sat);
 }
 
 }  // namespace sinew::barnet

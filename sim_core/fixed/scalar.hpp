@@ -26,10 +26,12 @@ inline constexpr int32_t sat_i32(int64_t v, Saturation& sat) {
 inline constexpr int64_t clamp_i64(int64_t v, int64_t lo, int64_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 // Saturating 64-bit addition (used where operands come from unchecked data).
+// The sum overflows only toward b's sign, so that sign picks the limit; the
+// overflow test is the CPU's own flag (one add and a conditional move).
 inline constexpr int64_t add_sat_i64(int64_t a, int64_t b) {
-  if (b > 0 && a > INT64_MAX - b) return INT64_MAX;
-  if (b < 0 && a < INT64_MIN - b) return INT64_MIN;
-  return a + b;
+  int64_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) return b > 0 ? INT64_MAX : INT64_MIN;
+  return r;
 }
 
 // Round half up: (v + 2^(s-1)) >> s, for 1 <= s <= 62, total over int64.
