@@ -1,6 +1,9 @@
 #include "barnet_step.hpp"
 
+#include <bit>
+
 #include "barnet_refactor.hpp"
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "status_message.hpp"
 #include "wide_sat.hpp"
 
@@ -33,19 +36,20 @@ fx::Unit activation(int32_t angle, int32_t lo, int32_t hi) {
 }
 
 // Unit normal of a control triangle, from its exact int64 cross product.
+// Its direction is all the wrap uses, so the product is brought below 2^31
+// by one floor shift and normalised without a division (fx::normalize_fast:
+// the direction exact to rounding, components within 2^-28 of the unit
+// vector's).
 fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
   const fx::Vec3 e1 = fx::sub(b, a), e2 = fx::sub(c, a);
-  int64_t n[3] = {int64_t{e1.y} * e2.z - int64_t{e1.z} * e2.y, int64_t{e1.z} * e2.x - int64_t{e1.x} * e2.z,
-                  int64_t{e1.x} * e2.y - int64_t{e1.y} * e2.x};
-  // Bring the largest component below 2^30 (floor shifts: a direction only).
-  uint64_t biggest = 0;
-  for (int64_t v : n) biggest |= fx::magnitude(v);
-  int shift = 0;
-  while ((biggest >> shift) >= (uint64_t{1} << 30)) ++shift;
+  const int64_t n[3] = {int64_t{e1.y} * e2.z - int64_t{e1.z} * e2.y, int64_t{e1.z} * e2.x - int64_t{e1.x} * e2.z,
+                        int64_t{e1.x} * e2.y - int64_t{e1.y} * e2.x};
+  const uint64_t biggest = fx::magnitude(n[0]) | fx::magnitude(n[1]) | fx::magnitude(n[2]);
+  const int shift = static_cast<int>(std::bit_width(biggest >> 31));  // then biggest >> shift < 2^31
   const fx::Vec3 v{static_cast<int32_t>(n[0] >> shift), static_cast<int32_t>(n[1] >> shift),
                    static_cast<int32_t>(n[2] >> shift)};
   fx::Vec3 unit{0, 0, 0};
-  fx::normalize_to_unit(v, &unit);  // degenerate triangle: zero normal, offset ignored
+  fx::normalize_fast(v, &unit);  // degenerate triangle: zero normal, offset ignored
   return unit;
 }
 
@@ -104,7 +108,7 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
     for (uint32_t k = 0; k < n.influence_count; ++k)
       turned.add(fx::transform_vector(st->skin[n.joint[k]], st->rest_direction[i]), n.weight[k]);
     fx::Vec3 unit{0, 0, 0};
-    fx::normalize_to_unit(turned.result(sat), &unit);  // opposite bones cancelling: no rest load
+    fx::normalize_fast(turned.result(sat), &unit);  // opposite bones cancelling: no rest load
     for (size_t c = 0; c < 3; ++c)
       st->load[c][i] = mul_shift_round_sat(st->rest_magnitude[i], component(unit, c), 30, sat);  // |.| <= 2^61
   }

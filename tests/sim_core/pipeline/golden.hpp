@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0x6765619d024149e9u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x3d1e819ac6433568u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0x57af190b0b229f00u;
 }  // namespace sinew::test::golden
