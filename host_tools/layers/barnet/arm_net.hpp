@@ -30,8 +30,9 @@ struct ArmNetOptions {
   // Every bar's q follows external input 0 (the net then reads one external
   // input and re-factorises D every step).
   bool q_input = false;
-  // Free nodes in reverse Cuthill-McKee order (NetSpec::profile_order).
-  bool profile_order = false;
+  // Free nodes in reverse Cuthill-McKee order (NetSpec::profile_order; false:
+  // the spec's order).
+  bool profile_order = true;
 };
 
 // Fails (with a message) if `arm` is not the built-in arm's layout.

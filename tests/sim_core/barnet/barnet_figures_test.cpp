@@ -317,6 +317,7 @@ TEST(BarnetProfileOrder, SameNetWithASmallerProfile) {
   for (const int segments : {8, 32}) {
     lbf::ArmNetOptions spec_order, rcm;
     spec_order.segments = rcm.segments = segments;
+    spec_order.profile_order = false;
     rcm.profile_order = true;
     lbf::ArmSession a(sinew::rigc::SkinChoice::kLinear, spec_order), b(sinew::rigc::SkinChoice::kLinear, rcm);
     ASSERT_TRUE(a.ok() && b.ok()) << a.error() << b.error();

@@ -5,6 +5,6 @@
 #include <cstdint>
 
 namespace sinew::test::golden {
-inline constexpr uint64_t kArmLayersBlob = 0x6765619d024149e9u;
-inline constexpr uint64_t kPipelineArmAllLayers = 0x57af190b0b229f00u;
+inline constexpr uint64_t kArmLayersBlob = 0x47ab257f86b1fbaau;
+inline constexpr uint64_t kPipelineArmAllLayers = 0xbb732ae4058c124cu;
 }  // namespace sinew::test::golden
