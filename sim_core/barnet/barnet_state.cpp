@@ -53,7 +53,7 @@ Layout layout(const BarnetModel& m, uint32_t free, uint64_t profile) {
   l.rest_direction = take(n * sizeof(fx::Vec3));
   l.rest_magnitude = take(n * sizeof(int64_t));
   l.work = take(3 * n * sizeof(int64_t));  // the solve's three axes (the factor's scratch uses n)
-  l.normal = take(m.triangles.size() * sizeof(fx::Vec3));
+  l.normal = take(m.triangles.size() * sizeof(TriangleFrame));
   l.scratch = take(m.nodes.size() * sizeof(uint32_t));
   l.total = at;
   return l;
@@ -185,7 +185,12 @@ LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_byte
   st.rest_direction = carve<fx::Vec3>(base, l.rest_direction, free);
   st.rest_magnitude = carve<int64_t>(base, l.rest_magnitude, free);
   st.work = carve<int64_t>(base, l.work, 3 * size_t{free});
-  st.normal = carve<fx::Vec3>(base, l.normal, model.triangles.size());
+  st.triangle = carve<TriangleFrame>(base, l.normal, model.triangles.size());
+  st.wrap_bounded = true;
+  for (const WrapRecord& w : model.wrap) {
+    const uint64_t sum = fx::magnitude(w.bary[0]) + fx::magnitude(w.bary[1]) + fx::magnitude(w.bary[2]);
+    st.wrap_bounded = st.wrap_bounded && sum <= (uint64_t{1} << 31) && fx::magnitude(w.offset) <= (uint64_t{1} << 30);
+  }
   const std::span<uint32_t> scratch = carve<uint32_t>(base, l.scratch, model.nodes.size());
 
   s = check_graph(model, free, scratch);

@@ -24,6 +24,13 @@ struct StepStats {
   fx::Len max_displacement = 0;
 };
 
+// A control triangle as the wrap reads it: its corner nodes' positions (Len)
+// and its unit normal (Q2.30), side by side.
+struct TriangleFrame {
+  fx::Vec3 corner[3];
+  fx::Vec3 normal;
+};
+
 struct BarnetState {
   const BarnetModel* model = nullptr;
   uint32_t free_count = 0;
@@ -35,8 +42,12 @@ struct BarnetState {
   std::span<fx::Vec3> rest_direction;  // per free node, the rest load's unit direction in the bind pose, Q2.30
   std::span<int64_t> rest_magnitude;   // per free node, |rest load|, Q.36 force (< 2^62)
   std::span<int64_t> work;             // 3 per free node: the solve vectors of x, y, z (node i at 3 i + c)
-  std::span<fx::Vec3> normal;          // per control triangle, Q2.30 unit normal
-  uint32_t profile = 0;                // entries of L
+  std::span<TriangleFrame> triangle;   // per control triangle, this step's corners and unit normal
+  // Every wrap record has |b0| + |b1| + |b2| <= 2^31 and |offset| <= 2^30
+  // (barnet_init): the wrap's sums then fit int64 without saturating
+  // (barnet_step.cpp).
+  bool wrap_bounded = false;
+  uint32_t profile = 0;  // entries of L
   // Work of one factorisation of D (64x64-bit products, barnet_refactor.hpp):
   // paid at init, and at every step when the model has q_inputs.
   uint64_t refactor_products = 0;

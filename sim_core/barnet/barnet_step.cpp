@@ -53,6 +53,42 @@ fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
   return unit;
 }
 
+// The wrap's definition: v_c = sat_i32(round(d n_c + sum_k b_k c_k) / 2^30)),
+// the sum saturating in int64 and clamped to +-2^62 before the rounding.
+void wrap_saturating(const BarnetModel& m, std::span<const TriangleFrame> triangles, const StepOutputs& out,
+                     fx::Saturation& sat) {
+  constexpr int64_t kAccLimit = int64_t{1} << 62;
+  for (uint32_t w = 0; w < m.wrap.size(); ++w) {
+    const WrapRecord& r = m.wrap[w];
+    const TriangleFrame& f = triangles[r.triangle];
+    for (size_t c = 0; c < 3; ++c) {
+      int64_t acc = int64_t{r.offset} * component(f.normal, c);
+      for (uint32_t k = 0; k < 3; ++k) acc = fx::add_sat_i64(acc, int64_t{r.bary[k]} * component(f.corner[k], c));
+      out.skin[c][w] = fx::sat_i32(fx::round_shift(fx::clamp_i64(acc, -kAccLimit, kAccLimit), 30), sat);
+    }
+  }
+}
+
+// The same words when every record has |b0| + |b1| + |b2| <= 2^31 and |d|
+// <= 2^30: then |sum_k b_k c_k| <= 2^62 and |d n_c| <= 2^61, so every
+// partial sum stays below 2^63 without saturating; and where the sum passes
+// the +-2^62 clamp, the clamped and the unclamped value both round beyond
+// int32 and saturate alike.
+void wrap_bounded(const BarnetModel& m, std::span<const TriangleFrame> triangles, const StepOutputs& out,
+                  fx::Saturation& sat) {
+  for (uint32_t w = 0; w < m.wrap.size(); ++w) {
+    const WrapRecord& r = m.wrap[w];
+    const TriangleFrame& f = triangles[r.triangle];
+    const int64_t b0 = r.bary[0], b1 = r.bary[1], b2 = r.bary[2], d = r.offset;
+    const int64_t x = d * f.normal.x + b0 * f.corner[0].x + b1 * f.corner[1].x + b2 * f.corner[2].x;
+    const int64_t y = d * f.normal.y + b0 * f.corner[0].y + b1 * f.corner[1].y + b2 * f.corner[2].y;
+    const int64_t z = d * f.normal.z + b0 * f.corner[0].z + b1 * f.corner[1].z + b2 * f.corner[2].z;
+    out.skin[0][w] = fx::sat_i32(fx::round_shift(x, 30), sat);
+    out.skin[1][w] = fx::sat_i32(fx::round_shift(y, 30), sat);
+    out.skin[2][w] = fx::sat_i32(fx::round_shift(z, 30), sat);
+  }
+}
+
 LayerStatus check_spans(const BarnetModel& m, const StepInputs& in, const StepOutputs& out) {
   if (in.bones.size() < m.joint_count)
     return fail(LayerError::kBadInput, "inputs.bones: fewer than joint_count transforms");
@@ -168,24 +204,19 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
     }
   }
 
-  // 4. Wrap: control-triangle normals, then every bound fine vertex.
+  // 4. Wrap: control-triangle frames (corners and unit normal), then every
+  //    bound fine vertex.
   for (uint32_t t = 0; t < m.triangles.size(); ++t) {
     const ControlTriangle& tri = m.triangles[t];
-    fx::Vec3 p[3];
+    TriangleFrame& f = st->triangle[t];
     for (uint32_t k = 0; k < 3; ++k)
-      p[k] = {out.node[0][tri.node[k]], out.node[1][tri.node[k]], out.node[2][tri.node[k]]};
-    st->normal[t] = triangle_normal(p[0], p[1], p[2]);
+      f.corner[k] = {out.node[0][tri.node[k]], out.node[1][tri.node[k]], out.node[2][tri.node[k]]};
+    f.normal = triangle_normal(f.corner[0], f.corner[1], f.corner[2]);
   }
-  constexpr int64_t kAccLimit = int64_t{1} << 62;
-  for (uint32_t w = 0; w < m.wrap.size(); ++w) {
-    const WrapRecord& r = m.wrap[w];
-    const ControlTriangle& tri = m.triangles[r.triangle];
-    const fx::Vec3 n = st->normal[r.triangle];
-    for (size_t c = 0; c < 3; ++c) {
-      int64_t acc = int64_t{r.offset} * component(n, c);
-      for (uint32_t k = 0; k < 3; ++k) acc = fx::add_sat_i64(acc, int64_t{r.bary[k]} * out.node[c][tri.node[k]]);
-      out.skin[c][w] = fx::sat_i32(fx::round_shift(fx::clamp_i64(acc, -kAccLimit, kAccLimit), 30), sat);
-    }
+  if (st->wrap_bounded) {
+    wrap_bounded(m, st->triangle, out, sat);
+  } else {
+    wrap_saturating(m, st->triangle, out, sat);
   }
 
   st->stats.steps += 1;
