@@ -83,9 +83,20 @@ void wrap_bounded(const BarnetModel& m, std::span<const TriangleFrame> triangles
     const int64_t x = d * f.normal.x + b0 * f.corner[0].x + b1 * f.corner[1].x + b2 * f.corner[2].x;
     const int64_t y = d * f.normal.y + b0 * f.corner[0].y + b1 * f.corner[1].y + b2 * f.corner[2].y;
     const int64_t z = d * f.normal.z + b0 * f.corner[0].z + b1 * f.corner[1].z + b2 * f.corner[2].z;
-    out.skin[0][w] = fx::sat_i32(fx::round_shift(x, 30), sat);
-    out.skin[1][w] = fx::sat_i32(fx::round_shift(y, 30), sat);
-    out.skin[2][w] = fx::sat_i32(fx::round_shift(z, 30), sat);
+    // Round half up as (v + 2^29) >> 30 (|v| < 2^63 - 2^29 here: no
+    // overflow, round_shift's value); one range test for the three.
+    const int64_t rx = (x + (int64_t{1} << 29)) >> 30, ry = (y + (int64_t{1} << 29)) >> 30,
+                  rz = (z + (int64_t{1} << 29)) >> 30;
+    const auto outside = [](int64_t v) { return static_cast<uint64_t>(v - INT32_MIN) >> 32; };
+    if ((outside(rx) | outside(ry) | outside(rz)) == 0) {
+      out.skin[0][w] = static_cast<int32_t>(rx);
+      out.skin[1][w] = static_cast<int32_t>(ry);
+      out.skin[2][w] = static_cast<int32_t>(rz);
+    } else {
+      out.skin[0][w] = fx::sat_i32(rx, sat);
+      out.skin[1][w] = fx::sat_i32(ry, sat);
+      out.skin[2][w] = fx::sat_i32(rz, sat);
+    }
   }
 }
 
