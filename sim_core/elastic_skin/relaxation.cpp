@@ -31,24 +31,29 @@ int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx
 bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k_out,
                fx::Vec3* f_out) {
   const fx::Vec3 w = fx::sub(at(position, e.b), at(position, e.a));
+  const int64_t wc[3] = {w.x, w.y, w.z};
   const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
-  const int64_t len = fx::isqrt_fast(wx * wx + wy * wy + wz * wz);  // < 3 * 2^62
-  const int64_t excess = len - e.rest;
-  const int64_t k = effective_stiffness(p, e.k, excess, e.rest);
-  // Elastic force on a: excess along w / |w| (towards b when stretched).
-  if (k == 0 || len == 0) return false;
-  if (len < (int64_t{1} << 30)) {
-    // One division per edge: ratio = excess / len in Q2.30, then w * ratio.
-    // |w_c| <= len bounds each product by |excess| * 2^30 < 2^62.
-    const int64_t ratio = fx::div_round(excess * (int64_t{1} << fx::kUnitFracBits), len);
-    *f_out = {fx::sat_i32(fx::round_shift(w.x * ratio, fx::kUnitFracBits)),
-              fx::sat_i32(fx::round_shift(w.y * ratio, fx::kUnitFracBits)),
-              fx::sat_i32(fx::round_shift(w.z * ratio, fx::kUnitFracBits))};
-  } else {  // edges longer than half the Len range: via the unit direction
-    fx::Vec3 dir{};
-    fx::normalize_to_unit(w, &dir);
-    *f_out = muscle::along(dir, fx::sat_i32(excess));
+  const uint64_t n2 = wx * wx + wy * wy + wz * wz;  // < 3 * 2^62
+  if (n2 == 0 || e.k == 0) return false;
+  // Elastic force on a: excess along w / |w| = (1 - rest / |w|) w (towards b
+  // when stretched). 1 / |w| from the division-free reciprocal square root
+  // (relative error about 1e-9), rest / |w| in Q2.30; only a compressed
+  // edge, whose push-back multiplier needs the excess itself, takes the
+  // exact root.
+  const fx::RsqrtResult r = fx::rsqrt_fast(n2);                                       // 1/|w| = y 2^(half_shift - 61)
+  const int shift = 31 - r.half_shift;                                                // 0..31
+  const int64_t scaled = int64_t{e.rest} * r.y;                                       // rest < 2^31, y < 2^31
+  const int64_t rest_over_len = shift > 0 ? fx::round_shift(scaled, shift) : scaled;  // Q2.30
+  const int64_t ratio = fx::kUnitOne - rest_over_len;                                 // (|w| - rest) / |w|, Q2.30
+  int64_t k = e.k;
+  if (ratio < 0) {
+    k = effective_stiffness(p, e.k, int64_t{fx::isqrt_fast(n2)} - e.rest, e.rest);
+    if (k == 0) return false;
   }
+  // |w_c ratio| <= ||w| - rest| 2^30 (+ rounding) < 2^63: the product fits.
+  *f_out = {fx::sat_i32(fx::round_shift(wc[0] * ratio, fx::kUnitFracBits)),
+            fx::sat_i32(fx::round_shift(wc[1] * ratio, fx::kUnitFracBits)),
+            fx::sat_i32(fx::round_shift(wc[2] * ratio, fx::kUnitFracBits))};
   *k_out = k;
   return true;
 }
@@ -207,8 +212,10 @@ uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const
       // Squared distances first: most vertices are outside, no root needed.
       const int64_t r2 = int64_t{radius - 2} * (radius - 2);
       if (fx::dot_wide(d, d) >= r2) continue;
+      // The direction only: the division-free normalisation (exact to
+      // rounding, within 2^-28 of unit per component).
       fx::Vec3 dir{};
-      const fx::Vec3 out = fx::normalize_to_unit(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
+      const fx::Vec3 out = fx::normalize_fast(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
       s->position[0][v] = out.x;
       s->position[1][v] = out.y;
       s->position[2][v] = out.z;
