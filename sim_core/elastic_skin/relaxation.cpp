@@ -197,25 +197,39 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
   return static_cast<fx::Len>(largest);
 }
 
+void place_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers) {
+  const fx::Len radius = model.params.collision_radius;
+  if (radius <= 0) return;
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    for (uint32_t v = begin; v < end; ++v) {
+      const fx::Vec3 normal{s->normal[0][v], s->normal[1][v], s->normal[2][v]};
+      // Sphere tangent to the skin's tangent plane at the virtual anchor.
+      const fx::Vec3 centre = fx::sub(at(s->anchor, v), muscle::along(normal, radius));
+      s->sphere_centre[0][v] = centre.x;
+      s->sphere_centre[1][v] = centre.y;
+      s->sphere_centre[2][v] = centre.z;
+    }
+    return 0u;
+  };
+  layer::run_ranges_summed(workers, model.vertex_count, range);
+}
+
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers) {
   const fx::Len radius = model.params.collision_radius;
   if (radius <= 0) return 0;
+  // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
+  const int64_t r2 = int64_t{radius - 2} * (radius - 2);
   const auto range = [&](uint32_t begin, uint32_t end) {
     uint32_t moved = 0;
     for (uint32_t v = begin; v < end; ++v) {
-      const fx::Vec3 anchor = at(s->anchor, v);
-      const fx::Vec3 normal{s->normal[0][v], s->normal[1][v], s->normal[2][v]};
-      // Sphere tangent to the skin's tangent plane at the virtual anchor.
-      const fx::Vec3 centre = fx::sub(anchor, muscle::along(normal, radius));
+      const fx::Vec3 centre = at(s->sphere_centre, v);
       const fx::Vec3 d = fx::sub(at(s->position, v), centre);
-      // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
       // Squared distances first: most vertices are outside, no root needed.
-      const int64_t r2 = int64_t{radius - 2} * (radius - 2);
       if (fx::dot_wide(d, d) >= r2) continue;
       // The direction only: the division-free normalisation (exact to
       // rounding, within 2^-28 of unit per component).
       fx::Vec3 dir{};
-      const fx::Vec3 out = fx::normalize_fast(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : anchor;
+      const fx::Vec3 out = fx::normalize_fast(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : at(s->anchor, v);
       s->position[0][v] = out.x;
       s->position[1][v] = out.y;
       s->position[2][v] = out.z;

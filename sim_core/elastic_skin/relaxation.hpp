@@ -31,8 +31,14 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
 // Edge stiffness after the push-back rule of §5.2 (Q16.16).
 int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx::Len rest);
 
-// Moves each vertex out of the collision sphere under its virtual anchor
-// (§5.2); returns the number of vertices moved.
+// The centre of the collision sphere under each virtual anchor of this step
+// (§5.2: radius R, R below the anchor along its normal), into
+// s->sphere_centre: once a step, after the anchors are mapped.
+void place_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers = nullptr);
+
+// Moves each vertex out of its collision sphere (placed by
+// place_anchor_spheres for this step's anchors); returns the number of
+// vertices moved.
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers = nullptr);
 
 }  // namespace sinew::elastic_skin

@@ -31,12 +31,13 @@ struct SkinStats {
 
 struct SkinState {
   uint32_t vertex_count = 0;
-  std::span<fx::Len> position[3];  // relaxed skin, SoA (the layer's output)
-  std::span<fx::Len> anchor[3];    // virtual anchors of this step, SoA
-  std::span<fx::Len> previous[3];  // positions at the start of the current iteration
-  std::span<fx::Unit> normal[3];   // anchor normals of this step, Q2.30, SoA
-  std::span<int64_t> force[3];     // per-iteration accumulators: sum k (Q16.16) * force (Len)
-  std::span<int64_t> weight;       // per-iteration accumulators: sum k
+  std::span<fx::Len> position[3];       // relaxed skin, SoA (the layer's output)
+  std::span<fx::Len> anchor[3];         // virtual anchors of this step, SoA
+  std::span<fx::Len> previous[3];       // positions at the start of the current iteration
+  std::span<fx::Unit> normal[3];        // anchor normals of this step, Q2.30, SoA
+  std::span<fx::Len> sphere_centre[3];  // static mode: the collision spheres' centres of this step (relaxation.hpp)
+  std::span<int64_t> force[3];          // per-iteration accumulators: sum k (Q16.16) * force (Len)
+  std::span<int64_t> weight;            // per-iteration accumulators: sum k
   // Largest relaxation vector per iteration of the last step (kMaxIterations
   // entries): the largest net move of a vertex in that round, relaxation and
   // constraints together, so it tends to zero at (constrained) equilibrium.

@@ -121,6 +121,7 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
     return 0u;
   };
   layer::run_ranges_summed(workers, model.vertex_count, anchors);
+  place_anchor_spheres(model, &s, workers);  // the anchors hold for every round of the step
   // §5.2: relax until the largest move falls below the tolerance or the
   // iteration count runs out; the last iteration run removes all remaining
   // penetration.
