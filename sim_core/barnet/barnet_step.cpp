@@ -53,7 +53,7 @@ fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
   return unit;
 }
 
-// The wrap's definition: v_c = sat_i32(round(d n_c + sum_k b_k c_k) / 2^30)),
+// The wrap's definition: v_c = sat_i32(round((d n_c + sum_k b_k c_k) / 2^30)),
 // the sum saturating in int64 and clamped to +-2^62 before the rounding.
 void wrap_saturating(const BarnetModel& m, std::span<const TriangleFrame> triangles, const StepOutputs& out,
                      fx::Saturation& sat) {

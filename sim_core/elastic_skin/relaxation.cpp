@@ -28,9 +28,22 @@ int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx
   return fx::round_shift(int64_t{k} * m, fx::kUnitFracBits);
 }
 
-bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k_out,
-               fx::Vec3* f_out) {
-  const fx::Vec3 w = fx::sub(at(position, e.b), at(position, e.a));
+namespace {
+
+// The positions as three plain arrays: the pass's stores cannot then alias
+// the spans it reads them through, so nothing is reloaded per edge.
+struct Positions {
+  const fx::Len* c[3];
+  fx::Vec3 operator[](uint32_t v) const { return {c[0][v], c[1][v], c[2][v]}; }
+};
+
+Positions positions_of(const std::span<fx::Len> (&position)[3]) {
+  return {{position[0].data(), position[1].data(), position[2].data()}};
+}
+
+[[gnu::always_inline]] inline bool pull_of(const SkinParams& p, const Edge& e, const Positions& position,
+                                           int64_t* k_out, fx::Vec3* f_out) {
+  const fx::Vec3 w = fx::sub(position[e.b], position[e.a]);
   const int64_t wc[3] = {w.x, w.y, w.z};
   const uint64_t wx = fx::magnitude(w.x), wy = fx::magnitude(w.y), wz = fx::magnitude(w.z);
   const uint64_t n2 = wx * wx + wy * wy + wz * wz;  // < 3 * 2^62
@@ -58,21 +71,32 @@ bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&po
   return true;
 }
 
+}  // namespace
+
+bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k_out,
+               fx::Vec3* f_out) {
+  return pull_of(p, e, positions_of(position), k_out, f_out);
+}
+
 namespace {
 
 // Pass 1 over edges [begin, end): each edge's pull, once.
 void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t end) {
+  const Positions position = positions_of(s->position);
+  const Edge* const edges = model.edges.data();
+  int32_t* const stiffness = s->edge_stiffness.data();
+  fx::Len* const pull[3] = {s->edge_pull[0].data(), s->edge_pull[1].data(), s->edge_pull[2].data()};
   for (uint32_t e = begin; e < end; ++e) {
     int64_t k = 0;
     fx::Vec3 f{};
-    if (!edge_pull(model.params, model.edges[e], s->position, &k, &f)) {
+    if (!pull_of(model.params, edges[e], position, &k, &f)) {
       k = 0;  // pulls with nothing: adds nothing to either end
       f = {0, 0, 0};
     }
-    s->edge_stiffness[e] = static_cast<int32_t>(k);  // <= Edge::k <= kMaxStiffness = 2^24
-    s->edge_pull[0][e] = f.x;
-    s->edge_pull[1][e] = f.y;
-    s->edge_pull[2][e] = f.z;
+    stiffness[e] = static_cast<int32_t>(k);  // <= Edge::k <= kMaxStiffness = 2^24
+    pull[0][e] = f.x;
+    pull[1][e] = f.y;
+    pull[2][e] = f.z;
   }
 }
 
