@@ -77,14 +77,34 @@ void bound_primitives(const muscle::MuscleState& muscles, PrimitiveBound (&out)[
 }
 
 fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::Vec3* normal) {
-  *normal = fat_direction(model, s, v);
   const fx::Vec3 p{s.position[0][v], s.position[1][v], s.position[2][v]};
+  if (s.fat_offsets != 0) {  // the step's offsets along the anchor normal (place_fat_points)
+    *normal = {s.normal[0][v], s.normal[1][v], s.normal[2][v]};
+    return fx::sub(p, {s.fat_offset[0][v], s.fat_offset[1][v], s.fat_offset[2][v]});
+  }
+  *normal = fat_direction(model, s, v);
   return fx::sub(p, muscle::along(*normal, fat_of(model, v)));
 }
 
 }  // namespace
 
 fx::Len fat_of(const SkinModel& model, uint32_t v) { return fx::add_sat(model.fat[v], model.solver.fat_thickness); }
+
+void place_fat_points(const SkinModel& model, SkinState* s, const layer::Workers* workers) {
+  s->fat_offsets = 0;
+  if (surface_mode(model, *s)) return;  // the direction follows the relaxed skin, round by round
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    for (uint32_t v = begin; v < end; ++v) {
+      const fx::Vec3 offset = muscle::along({s->normal[0][v], s->normal[1][v], s->normal[2][v]}, fat_of(model, v));
+      s->fat_offset[0][v] = offset.x;
+      s->fat_offset[1][v] = offset.y;
+      s->fat_offset[2][v] = offset.z;
+    }
+    return 0u;
+  };
+  layer::run_ranges_summed(workers, model.vertex_count, range);
+  s->fat_offsets = 1;
+}
 
 uint32_t list_reaction_candidates(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
   PrimitiveBound bounds[kBoundedPrimitives];

@@ -14,6 +14,7 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   for (int a = 0; a < 3; ++a) s->previous[a] = c.take<fx::Len>(n);
   for (int a = 0; a < 3; ++a) s->normal[a] = c.take<fx::Unit>(n);
   for (int a = 0; a < 3; ++a) s->sphere_centre[a] = c.take<fx::Len>(n);
+  for (int a = 0; a < 3; ++a) s->fat_offset[a] = c.take<fx::Len>(n);
   for (int a = 0; a < 3; ++a) s->force[a] = c.take<int64_t>(n);
   s->weight = c.take<int64_t>(n);
   s->max_relax = c.take<fx::Len>(kMaxIterations);

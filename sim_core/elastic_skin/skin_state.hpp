@@ -36,8 +36,13 @@ struct SkinState {
   std::span<fx::Len> previous[3];       // positions at the start of the current iteration
   std::span<fx::Unit> normal[3];        // anchor normals of this step, Q2.30, SoA
   std::span<fx::Len> sphere_centre[3];  // static mode: the collision spheres' centres of this step (relaxation.hpp)
-  std::span<int64_t> force[3];          // per-iteration accumulators: sum k (Q16.16) * force (Len)
-  std::span<int64_t> weight;            // per-iteration accumulators: sum k
+  // Static mode along the anchor normal: each fat point's offset from its
+  // vertex, fat * n (Len), for this step (reaction.hpp); valid while
+  // fat_offsets is set.
+  std::span<fx::Len> fat_offset[3];
+  uint8_t fat_offsets = 0;
+  std::span<int64_t> force[3];  // per-iteration accumulators: sum k (Q16.16) * force (Len)
+  std::span<int64_t> weight;    // per-iteration accumulators: sum k
   // Largest relaxation vector per iteration of the last step (kMaxIterations
   // entries): the largest net move of a vertex in that round, relaxation and
   // constraints together, so it tends to zero at (constrained) equilibrium.

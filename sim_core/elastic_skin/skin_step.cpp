@@ -122,6 +122,7 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   };
   layer::run_ranges_summed(workers, model.vertex_count, anchors);
   place_anchor_spheres(model, &s, workers);  // the anchors hold for every round of the step
+  place_fat_points(model, &s, workers);
   // §5.2: relax until the largest move falls below the tolerance or the
   // iteration count runs out; the last iteration run removes all remaining
   // penetration.

@@ -9,12 +9,12 @@ namespace {
 
 constexpr int kEdgeShift = 2;  // Len differences (< 2^32) -> |e| <= 2^30
 
+}  // namespace
+
 bool surface_mode(const SkinModel& model, const SkinState& s) {
   return model.solver.fat_normal == static_cast<uint8_t>(FatNormal::kSurface) &&
          s.surface_normal[0].size() == model.vertex_count;
 }
-
-}  // namespace
 
 void estimate_surface_normals(const SkinModel& model, SkinState* s) {
   if (!surface_mode(model, *s)) return;

@@ -21,6 +21,10 @@ namespace sinew::elastic_skin {
 // Writes s->surface_normal from s->position; needs solver.fat_normal ==
 // kSurface (the spans are empty otherwise: then it does nothing). The
 // triangles are validated (skin_check_indices).
+// True when the fat lies along the skin mesh's normal (solver.fat_normal =
+// kSurface, its normals carved): fat_direction then changes with the skin.
+bool surface_mode(const SkinModel& model, const SkinState& s);
+
 void estimate_surface_normals(const SkinModel& model, SkinState* s);
 
 // The direction of vertex v's fat layer: its surface normal under
