@@ -76,16 +76,9 @@ inline int64_t per_substep(int64_t x, int shift, int64_t h_inv) {
     n2 += m * m;  // each <= 2^62: the sum < 2^64
   }
   if (n2 == 0 || e.k == 0) return false;
-  const fx::RsqrtResult r = fx::rsqrt_fast(n2);                                       // 1/|w| = y 2^(half_shift - 61)
-  const int shift = 31 - r.half_shift;                                                // 0..31
-  const int64_t scaled = int64_t{e.rest} * r.y;                                       // rest < 2^31, y < 2^31
-  const int64_t rest_over_len = shift > 0 ? fx::round_shift(scaled, shift) : scaled;  // Q2.30
-  const int64_t ratio = fx::kUnitOne - rest_over_len;                                 // (|w| - rest) / |w|, Q2.30
-  int64_t k = e.k;
-  if (ratio < 0) {
-    k = effective_stiffness(p, e.k, int64_t{fx::isqrt_fast(n2)} - e.rest, e.rest);
-    if (k == 0) return false;
-  }
+  const EdgeSpring spring = edge_spring(p, e, n2);
+  const int64_t ratio = spring.ratio, k = spring.k;
+  if (k == 0) return false;
   // h^2 k' spring, Q30 (<= 1 on a stable step); times the ratio, Q30.
   const int64_t gain = mul_shift_sat(mul_shift_sat(k, spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits),
                                      ratio, fx::kUnitFracBits);

@@ -49,20 +49,10 @@ Positions positions_of(const std::span<fx::Len> (&position)[3]) {
   const uint64_t n2 = wx * wx + wy * wy + wz * wz;  // < 3 * 2^62
   if (n2 == 0 || e.k == 0) return false;
   // Elastic force on a: excess along w / |w| = (1 - rest / |w|) w (towards b
-  // when stretched). 1 / |w| from the division-free reciprocal square root
-  // (relative error about 1e-9), rest / |w| in Q2.30; only a compressed
-  // edge, whose push-back multiplier needs the excess itself, takes the
-  // exact root.
-  const fx::RsqrtResult r = fx::rsqrt_fast(n2);                                       // 1/|w| = y 2^(half_shift - 61)
-  const int shift = 31 - r.half_shift;                                                // 0..31
-  const int64_t scaled = int64_t{e.rest} * r.y;                                       // rest < 2^31, y < 2^31
-  const int64_t rest_over_len = shift > 0 ? fx::round_shift(scaled, shift) : scaled;  // Q2.30
-  const int64_t ratio = fx::kUnitOne - rest_over_len;                                 // (|w| - rest) / |w|, Q2.30
-  int64_t k = e.k;
-  if (ratio < 0) {
-    k = effective_stiffness(p, e.k, int64_t{fx::isqrt_fast(n2)} - e.rest, e.rest);
-    if (k == 0) return false;
-  }
+  // when stretched).
+  const EdgeSpring spring = edge_spring(p, e, n2);
+  const int64_t ratio = spring.ratio, k = spring.k;
+  if (k == 0) return false;
   // |w_c ratio| <= ||w| - rest| 2^30 (+ rounding) < 2^63: the product fits.
   *f_out = {fx::sat_i32(fx::round_shift(wc[0] * ratio, fx::kUnitFracBits)),
             fx::sat_i32(fx::round_shift(wc[1] * ratio, fx::kUnitFracBits)),

@@ -10,6 +10,7 @@
 // Work: O(edges + bands + vertices).
 #pragma once
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/layer/workers.hpp"
 #include "sim_core/muscle/muscle_state.hpp"
 #include "skin_state.hpp"
@@ -30,6 +31,27 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
 
 // Edge stiffness after the push-back rule of §5.2 (Q16.16).
 int64_t effective_stiffness(const SkinParams& p, Stiffness k, int64_t excess, fx::Len rest);
+
+// An edge's spring at squared length n2 > 0 (Len^2): the stretch ratio
+// (|w| - rest) / |w| = 1 - rest / |w| in Q2.30, 1 / |w| from the
+// division-free reciprocal square root (relative error about 1e-9), and
+// the push-back-scaled stiffness (Q16.16; 0: the edge pulls with nothing).
+// Only a compressed edge, whose push-back multiplier needs the excess
+// itself, takes the exact root. The static relaxation's and the dynamic
+// integrator's springs both.
+struct EdgeSpring {
+  int64_t ratio;
+  int64_t k;
+};
+[[gnu::always_inline]] inline EdgeSpring edge_spring(const SkinParams& p, const Edge& e, uint64_t n2) {
+  const fx::RsqrtResult r = fx::rsqrt_fast(n2);                                       // 1/|w| = y 2^(half_shift - 61)
+  const int shift = 31 - r.half_shift;                                                // 0..31
+  const int64_t scaled = int64_t{e.rest} * r.y;                                       // rest < 2^31, y < 2^31
+  const int64_t rest_over_len = shift > 0 ? fx::round_shift(scaled, shift) : scaled;  // Q2.30
+  const int64_t ratio = fx::kUnitOne - rest_over_len;
+  if (ratio >= 0) return {ratio, e.k};
+  return {ratio, effective_stiffness(p, e.k, int64_t{fx::isqrt_fast(n2)} - e.rest, e.rest)};
+}
 
 // The centre of the collision sphere under each virtual anchor of this step
 // (§5.2: radius R, R below the anchor along its normal), into
