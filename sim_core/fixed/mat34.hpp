@@ -52,10 +52,35 @@ inline Mat34 mat34_from_quat(const Quat& q, Vec3 translation) {
 // (saturating, never overflowing, outside the documented ranges).
 Mat34 mul(const Mat34& a, const Mat34& b);
 
-// M p + t for a Len point.
-Vec3 transform_point(const Mat34& a, Vec3 p);
+namespace detail {
+
+inline int64_t sum3(int64_t a, int64_t b, int64_t c) { return add_sat_i64(add_sat_i64(a, b), c); }
+
+// Rounds v / 2^s half up without overflowing near the saturated extremes.
+inline int32_t narrow(int64_t v, int s) {
+  if (v > INT64_MAX - (int64_t{1} << (s - 1))) return INT32_MAX;
+  return sat_i32(round_shift(v, s));
+}
+
+}  // namespace detail
+
+// M p + t for a Len point. Inline: the layers call it per vertex and node.
+inline Vec3 transform_point(const Mat34& a, Vec3 p) {
+  int32_t out[3];
+  for (int i = 0; i < 3; ++i) {
+    const int64_t lin = detail::sum3(int64_t{a.m[i][0]} * p.x, int64_t{a.m[i][1]} * p.y, int64_t{a.m[i][2]} * p.z);
+    out[i] = detail::narrow(add_sat_i64(lin, int64_t{a.t[i]} * (int64_t{1} << kLinFracBits)), kLinFracBits);
+  }
+  return {out[0], out[1], out[2]};
+}
 // M v for a vector of any format (normals, directions).
-Vec3 transform_vector(const Mat34& a, Vec3 v);
+inline Vec3 transform_vector(const Mat34& a, Vec3 v) {
+  int32_t out[3];
+  for (int i = 0; i < 3; ++i)
+    out[i] = detail::narrow(detail::sum3(int64_t{a.m[i][0]} * v.x, int64_t{a.m[i][1]} * v.y, int64_t{a.m[i][2]} * v.z),
+                            kLinFracBits);
+  return {out[0], out[1], out[2]};
+}
 // R v for a vector of any format.
 Vec3 rotate(const Rot3& r, Vec3 v);
 
