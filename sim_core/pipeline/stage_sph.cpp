@@ -137,6 +137,7 @@ PipelineStatus sph_step(Pipeline* p, std::span<const int32_t> inputs) {
     sph::SphInputs in;
     in.transforms = p->engine.model;
     in.tresca = p->options.sph.tresca;
+    in.workers = p->options.workers;  // the search and the per-particle loops
     // Measured when the run says every SPH joint is ([layers] sph_joint =
     // "measured"), or when a source measures this joint's driven DOF (unless
     // [layers] sph_measured_from_sources = false): a

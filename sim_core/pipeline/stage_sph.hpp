@@ -95,7 +95,7 @@ struct StageData<Stage::kSph> {
                   "an SPH joint whose driven DOF a source measures runs measured; false: simulated whatever its "
                   "sources (docs/sph.md)"},
   };
-  static constexpr bool parallel = false;
+  static constexpr bool parallel = true;  // the neighbour search by slabs and the per-particle loops over the workers
 };
 
 }  // namespace sinew::pipeline

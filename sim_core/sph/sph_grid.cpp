@@ -1,5 +1,6 @@
 #include "sph_grid.hpp"
 
+#include "sim_core/layer/range_totals.hpp"
 #include "sph_kernels.hpp"
 
 namespace sinew::sph {
@@ -61,13 +62,17 @@ void bin_and_sort(SphState* st, fx::Vec3 centre) {
     for (uint32_t k = 0; k < n; ++k) st->sorted_position[a][k] = st->position[a][st->sorted[k]];
 }
 
-// The half-stencil search of sph_grid.hpp. Returns false (pairs unusable)
-// when some particle has more than max_neighbours neighbours.
+// The half-stencil search of sph_grid.hpp over the cells of the layers
+// [z_begin, z_end), its pairs stored from `pairs` on. Writes the counts and
+// density sums of the layers' particles and of the next layer's (the
+// stencil's forward rows); reset_sums clears them first.
 class PairSearch {
  public:
   static constexpr uint32_t kChunk = 64;
 
-  explicit PairSearch(SphState* st)
+  // cap: the pairs this search may keep; it stores one entry past them
+  // (pairs[cap], the spare) whatever it finds.
+  PairSearch(SphState* st, SphPair* pairs, uint32_t cap)
       : st_(st),
         x_(st->sorted_position[0].data()),
         y_(st->sorted_position[1].data()),
@@ -75,8 +80,8 @@ class PairSearch {
         sorted_(st->sorted.data()),
         count_(st->neighbour_count.data()),
         dens_(st->density_sum.data()),
-        pairs_(st->pairs.data()),
-        cap_(st->model->particle_count() * st->model->params.max_neighbours) {
+        pairs_(pairs),
+        cap_(cap) {
     const InvH ih = make_inv_h(st->model->params.h);
     h_ = ih.h;
     inv_ = ih.inv;
@@ -89,14 +94,14 @@ class PairSearch {
     outside_ = static_cast<uint32_t>(((h2 + (h2 >> 10) + 1) >> (2 * shift_)) + 1);
   }
 
-  bool run() {
-    const uint32_t n = st_->model->particle_count(), d = st_->grid_dim;
-    for (uint32_t i = 0; i < n; ++i) {
-      count_[i] = 0;
-      dens_[i] = int64_t{1} << 30;  // the particle itself: poly6(0) = 1
-    }
+  // The pairs found (all kept unless beyond cap).
+  uint32_t pairs() const { return np_; }
+  bool overflowed() const { return np_ > cap_; }
+
+  void run(uint32_t z_begin, uint32_t z_end) {
+    const uint32_t d = st_->grid_dim;
     const uint32_t* start = st_->cell_start.data();
-    for (uint32_t cz = 0; cz < d; ++cz)
+    for (uint32_t cz = z_begin; cz < z_end; ++cz)
       for (uint32_t cy = 0; cy < d; ++cy)
         for (uint32_t cx = 0; cx < d; ++cx) {
           const uint32_t c = (cz * d + cy) * d + cx;
@@ -128,20 +133,6 @@ class PairSearch {
             dens_[i] += dens_a_;
           }
         }
-    const uint32_t k_max = st_->model->params.max_neighbours;
-    bool overflow = np_ > cap_;
-    uint32_t total = 0, largest = 0;
-    for (uint32_t i = 0; i < n; ++i) {
-      const uint32_t c = count_[i];
-      overflow = overflow || c > k_max;
-      total += c;
-      largest = c > largest ? c : largest;
-    }
-    if (overflow) return false;
-    st_->stats.neighbour_pairs += total;
-    if (largest > st_->stats.max_neighbour_count) st_->stats.max_neighbour_count = largest;
-    st_->pair_count = np_;
-    return true;
   }
 
  private:
@@ -314,10 +305,129 @@ uint32_t cell_index(const SphState& st, fx::Vec3 centre, fx::Vec3 p) {
   return cell_of(make_binner(st), st.grid_dim, origin, p.x, p.y, p.z);
 }
 
-void build_neighbours(SphState* st, fx::Vec3 centre) {
+namespace {
+
+void reset_sums(SphState* st) {
+  for (uint32_t i = 0; i < st->model->particle_count(); ++i) {
+    st->neighbour_count[i] = 0;
+    st->density_sum[i] = int64_t{1} << 30;  // the particle itself: poly6(0) = 1
+  }
+}
+
+// After a search that kept every pair: false if some list exceeds
+// max_neighbours (then the ordered lists decide which neighbours drop),
+// else the stats taken.
+bool lists_fit(SphState* st) {
+  const uint32_t n = st->model->particle_count(), k_max = st->model->params.max_neighbours;
+  bool overflow = false;
+  uint32_t total = 0, largest = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t c = st->neighbour_count[i];
+    overflow = overflow || c > k_max;
+    total += c;
+    largest = c > largest ? c : largest;
+  }
+  if (overflow) return false;
+  st->stats.neighbour_pairs += total;
+  if (largest > st->stats.max_neighbour_count) st->stats.max_neighbour_count = largest;
+  return true;
+}
+
+void one_segment(SphState* st, uint32_t pairs) {
+  st->pair_count = pairs;
+  st->segments = 1;
+  st->segment_begin[0] = 0;
+  st->segment_pairs[0] = pairs;
+}
+
+void search_serial(SphState* st) {
+  const uint32_t cap = st->model->particle_count() * st->model->params.max_neighbours;
+  reset_sums(st);
+  PairSearch search(st, st->pairs.data(), cap);
+  search.run(0, st->grid_dim);
+  if (search.overflowed() || !lists_fit(st)) {
+    ordered_lists(st);
+    one_segment(st, st->pair_count);
+    return;
+  }
+  one_segment(st, search.pairs());
+}
+
+// The first sorted particle of cell layer z.
+uint32_t layer_first(const SphState& st, uint32_t z) { return st.cell_start[size_t{z} * st.grid_dim * st.grid_dim]; }
+
+// Slabs of whole layers, up to two per part, each holding about the same
+// number of particles and at least one layer; 1 if fewer than 4 (then one
+// colour would have a single slab: nothing to share).
+uint32_t split_regions(SphState* st, uint32_t parts) {
+  const uint32_t d = st->grid_dim, n = st->model->particle_count();
+  uint32_t regions = 2 * parts;
+  if (regions > d) regions = d;
+  if (regions > kMaxRegions) regions = kMaxRegions;
+  if (regions < 4) return 1;
+  uint32_t* layer = st->region_layer.data();
+  layer[0] = 0;
+  for (uint32_t r = 1; r < regions; ++r) {
+    uint32_t z = layer[r - 1] + 1;
+    const uint64_t wanted = uint64_t{n} * r / regions;
+    while (z < d - (regions - r) && layer_first(*st, z) < wanted) ++z;
+    layer[r] = z;
+  }
+  layer[regions] = d;
+  return regions;
+}
+
+// The search over the workers, slab by slab: a slab's search writes the
+// sums of its own layers and of the layer after it, so slabs of one colour
+// (even, then odd) never write the same particle and run at once; integer
+// sums and counts come out the same in any order. Segment r starts at the
+// slab's first particle x max_neighbours (plus r spares before it), so it
+// may keep max_neighbours pairs per particle of the slab. False if a slab
+// found more (then nothing is kept and the caller searches on one thread:
+// the same pairs).
+bool search_regions(SphState* st, const layer::Workers* workers, uint32_t regions) {
+  const uint32_t k_max = st->model->params.max_neighbours;
+  reset_sums(st);
+  uint32_t overflowed = 0;
+  for (uint32_t colour = 0; colour < 2; ++colour) {
+    const uint32_t slabs = (regions - colour + 1) / 2;
+    overflowed += layer::run_heavy_ranges_summed(workers, slabs, [&](uint32_t begin, uint32_t end) {
+      uint32_t over = 0;
+      for (uint32_t k = begin; k < end; ++k) {
+        const uint32_t r = 2 * k + colour;
+        const uint32_t first = layer_first(*st, st->region_layer[r]);
+        const uint32_t last = layer_first(*st, st->region_layer[r + 1]);  // cell_start[cells] = n past the grid
+        const uint32_t base = first * k_max + r;
+        PairSearch search(st, st->pairs.data() + base, (last - first) * k_max);
+        search.run(st->region_layer[r], st->region_layer[r + 1]);
+        st->segment_begin[r] = base;
+        st->segment_pairs[r] = search.pairs();
+        over += search.overflowed() ? 1u : 0u;
+      }
+      return over;
+    });
+  }
+  if (overflowed != 0) return false;
+  if (!lists_fit(st)) {
+    ordered_lists(st);
+    one_segment(st, st->pair_count);
+    return true;
+  }
+  uint32_t total = 0;
+  for (uint32_t r = 0; r < regions; ++r) total += st->segment_pairs[r];
+  st->pair_count = total;
+  st->segments = regions;
+  return true;
+}
+
+}  // namespace
+
+void build_neighbours(SphState* st, fx::Vec3 centre, const layer::Workers* workers) {
   bin_and_sort(st, centre);
-  PairSearch search(st);
-  if (!search.run()) ordered_lists(st);
+  const uint32_t parts = workers != nullptr && workers->run != nullptr ? workers->parts : 1;
+  const uint32_t regions = parts > 1 ? split_regions(st, parts) : 1;
+  if (regions > 1 && search_regions(st, workers, regions)) return;
+  search_serial(st);
 }
 
 void compute_density(SphState* st) {

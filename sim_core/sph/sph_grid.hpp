@@ -13,14 +13,23 @@
 // any order. Only when some list would overflow max_neighbours does the cut
 // depend on that order; that substep rebuilds the pairs from the ordered
 // per-particle scan (one side per pair) so the same neighbours are dropped.
+//
+// Over the workers (two parts or more), the grid is cut into slabs of whole
+// cell layers (z), up to two per part; the search of a slab writes the sums
+// of its own particles and of the layer after it (the stencil's forward
+// rows), so the even slabs run at once, then the odd ones, and each slab's
+// pairs go to a segment of its own (SphState::segment_*). The pairs, counts
+// and sums are those of the search on one thread, for any number of parts.
 #pragma once
 
+#include "sim_core/layer/workers.hpp"
 #include "sph_state.hpp"
 
 namespace sinew::sph {
 
-// Pairs, neighbour counts and density sums for the current positions; fills stats.
-void build_neighbours(SphState* state, fx::Vec3 centre);
+// Pairs, neighbour counts and density sums for the current positions; fills
+// stats. workers: null or the threads the search may spread over.
+void build_neighbours(SphState* state, fx::Vec3 centre, const layer::Workers* workers = nullptr);
 
 // Density (poly6, self included) of every particle from the density sums.
 void compute_density(SphState* state);

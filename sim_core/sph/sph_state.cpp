@@ -41,9 +41,12 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   for (int a = 0; a < 3; ++a) s->colour_gradient_sum[a] = c.take<int64_t>(colour);
   s->colour_laplacian_sum = c.take<int64_t>(colour);
   // Every stored pair gives at least one particle a neighbour, so n x
-  // max_neighbours bound them unless a list overflows; the extra entry takes
-  // the search's unconditional store (sph_grid.cpp).
-  s->pairs = c.take<SphPair>(n * m.params.max_neighbours + 1);
+  // max_neighbours bound them unless a list overflows; the extra entries
+  // (one per segment) take the search's unconditional store (sph_grid.cpp).
+  s->pairs = c.take<SphPair>(n * m.params.max_neighbours + kMaxRegions);
+  s->segment_begin = c.take<uint32_t>(kMaxRegions);
+  s->segment_pairs = c.take<uint32_t>(kMaxRegions);
+  s->region_layer = c.take<uint32_t>(kMaxRegions + 1);
   s->neighbour_count = c.take<uint16_t>(n);
   s->density_sum = c.take<int64_t>(n);
   s->skin_particle = c.take<uint16_t>(sv * kMaxVertexNeighbours);

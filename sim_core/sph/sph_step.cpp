@@ -1,6 +1,7 @@
 #include "sph_step.hpp"
 
 #include "sim_core/fixed/wide.hpp"
+#include "sim_core/layer/range_totals.hpp"
 #include "sim_core/rig/message.hpp"
 #include "sph_grid.hpp"
 #include "sph_kernels.hpp"
@@ -43,23 +44,25 @@ int64_t load_torque_q12(const JointFrame& f, const fx::Vec3& load_point, fx::Vec
 // (§4.2: "we do not increase the density by more than that") and it takes no
 // external force; it takes force again once its density falls back below
 // the limit.
-void density_and_yield(SphState* st, bool tresca) {
+void density_and_yield(SphState* st, bool tresca, const layer::Workers* workers) {
   const SphModel& m = *st->model;
   compute_density(st);
-  uint32_t yielded = 0;
-  for (uint32_t i = 0; i < m.particle_count(); ++i) {
-    Dens rho = st->density[i];
-    const int64_t limit = int64_t{st->rest_density[i]} + 2 * int64_t{m.params.tau_f};
-    const bool yields = tresca && rho >= limit;
-    if (yields) rho = static_cast<Dens>(limit);  // limit <= the density, below 2^31
-    st->yielded[i] = yields ? 1 : 0;
-    yielded += yields ? 1u : 0u;
-    st->density[i] = rho;
-    // Equation of state p = k_p (rho - rho0), Mueller 2003; k_p is in pressure_gain.
-    st->pressure[i] = fx::sat_i32(int64_t{rho} - st->rest_density[i]);
-    st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, rho < kDensOne ? kDensOne : rho));
-  }
-  st->yielded_particles = yielded;
+  st->yielded_particles = layer::run_ranges_summed(workers, m.particle_count(), [&](uint32_t begin, uint32_t end) {
+    uint32_t yielded = 0;
+    for (uint32_t i = begin; i < end; ++i) {
+      Dens rho = st->density[i];
+      const int64_t limit = int64_t{st->rest_density[i]} + 2 * int64_t{m.params.tau_f};
+      const bool yields = tresca && rho >= limit;
+      if (yields) rho = static_cast<Dens>(limit);  // limit <= the density, below 2^31
+      st->yielded[i] = yields ? 1 : 0;
+      yielded += yields ? 1u : 0u;
+      st->density[i] = rho;
+      // Equation of state p = k_p (rho - rho0), Mueller 2003; k_p is in pressure_gain.
+      st->pressure[i] = fx::sat_i32(int64_t{rho} - st->rest_density[i]);
+      st->inv_density[i] = static_cast<fx::Unit>(fx::div_round(int64_t{1} << 54, rho < kDensOne ? kDensOne : rho));
+    }
+    return yielded;
+  });
 }
 
 // One side of a pair: the terms particle i takes from its neighbour j, with
@@ -123,117 +126,160 @@ void tension_of(const SphState& st, uint32_t i, fx::Unit gain, int64_t out[3], f
   for (int a = 0; a < 3; ++a) out[a] = -fx::round_shift(magnitude * u[a], 30);
 }
 
-// Per-substep velocity change (Len per substep) of every particle, into
-// scratch. Each pair's kernel factors and velocity difference are computed
-// once for both sides (the factors twice only where its sides' q^2
-// differ). The per-particle sums are int64 and never saturate (each term
-// below 2^32, at most 96 per particle), so their order is free: the same
-// words as one list per particle. Pairs come grouped by a (the search's
-// order), so a's sums stay in registers until a changes. kTension adds the
-// colour field's sums in the same pass over the pairs.
+// The pair terms of one segment of pairs, added to the per-particle sums.
+// Each pair's kernel factors and velocity difference are computed once for
+// both sides (the factors twice only where its sides' q^2 differ). The
+// per-particle sums are int64 and never saturate (each term below 2^32, at
+// most 96 per particle), so their order is free: the same words as one list
+// per particle, and as any cut of the pairs into segments. Pairs come
+// grouped by a (the search's order), so a's sums stay in registers until a
+// changes. kTension adds the colour field's sums in the same pass.
 template <bool kTension>
-void accelerations(SphState* st, const JointFrame& f, const fx::Mat34& loaded, fx::Unit beta, fx::Saturation& sat) {
+struct PairTerms {
+  static constexpr size_t kSums = kTension ? 10 : 6;
+  const Dens* pressure;
+  const fx::Unit* inv_density;
+  const fx::Len* velocity[3];
+  int64_t* sums[10];
+
+  explicit PairTerms(SphState* st)
+      : pressure(st->pressure.data()),
+        inv_density(st->inv_density.data()),
+        velocity{st->velocity[0].data(), st->velocity[1].data(), st->velocity[2].data()},
+        sums{st->pressure_sum[0].data(),        st->pressure_sum[1].data(),        st->pressure_sum[2].data(),
+             st->viscosity_sum[0].data(),       st->viscosity_sum[1].data(),       st->viscosity_sum[2].data(),
+             st->colour_gradient_sum[0].data(), st->colour_gradient_sum[1].data(), st->colour_gradient_sum[2].data(),
+             st->colour_laplacian_sum.data()} {}
+
+  // Returns the pair terms saturated (a local count: stores to the sums
+  // cannot then alias it, so it stays in a register).
+  uint32_t add(const SphPair* pairs, uint32_t count) const {
+    fx::Saturation pair_sat;
+    uint32_t current = count != 0 ? pairs[0].a : 0;
+    int64_t acc[kSums] = {};
+    for (uint32_t k = 0; k < count; ++k) {
+      const SphPair& e = pairs[k];
+      const uint32_t a = e.a, b = e.b;
+      if (a != current) {
+        for (size_t c = 0; c < kSums; ++c) {
+          sums[c][current] += acc[c];
+          acc[c] = 0;
+        }
+        current = a;
+      }
+      const int64_t psum = int64_t{pressure[a]} + pressure[b];
+      int32_t spiky_ab, visc_ab;
+      kernel_factors(e.s_ab, &spiky_ab, &visc_ab);
+      const int64_t d[3] = {e.d[0], e.d[1], e.d[2]};
+      const int64_t dv[3] = {int64_t{velocity[0][b]} - velocity[0][a], int64_t{velocity[1][b]} - velocity[1][a],
+                             int64_t{velocity[2][b]} - velocity[2][a]};
+      if ((e.sides & 1u) != 0) {
+        add_side(psum, inv_density[b], spiky_ab, visc_ab, d, dv, acc, pair_sat);
+        if constexpr (kTension) add_colour_side(e.s_ab, inv_density[b], d, acc + 6);
+      }
+      if ((e.sides & 2u) != 0) {
+        // b's side: each axis negated, one LSB up where it rounded on a half.
+        const int64_t d_ba[3] = {-d[0] + (e.half & 1u), -d[1] + ((e.half >> 1) & 1u), -d[2] + ((e.half >> 2) & 1u)};
+        const int64_t dv_ba[3] = {-dv[0], -dv[1], -dv[2]};
+        int32_t spiky_ba = spiky_ab, visc_ba = visc_ab;
+        if (e.s_ba != e.s_ab) kernel_factors(e.s_ba, &spiky_ba, &visc_ba);
+        int64_t b_sum[kSums] = {};
+        add_side(psum, inv_density[a], spiky_ba, visc_ba, d_ba, dv_ba, b_sum, pair_sat);
+        if constexpr (kTension) add_colour_side(e.s_ba, inv_density[a], d_ba, b_sum + 6);
+        for (size_t c = 0; c < kSums; ++c) sums[c][b] += b_sum[c];
+      }
+    }
+    if (count != 0)
+      for (size_t c = 0; c < kSums; ++c) sums[c][current] += acc[c];
+    return pair_sat.events;
+  }
+};
+
+// Per-substep velocity change (Len per substep) of every particle, into
+// scratch: the pair sums (PairTerms), then each particle's own terms. With
+// the pairs in slabs (a search over the workers, sph_grid.hpp), a slab's
+// pairs add to its own particles and to the layer after it, so the even
+// slabs add at once, then the odd ones, as the search ran.
+template <bool kTension>
+void accelerations(SphState* st, const JointFrame& f, const fx::Mat34& loaded, fx::Unit beta,
+                   const layer::Workers* workers, fx::Saturation& sat) {
   const SphModel& m = *st->model;
   const SphParams& pr = m.params;
   const uint32_t n = m.particle_count();
-  constexpr size_t kSums = kTension ? 10 : 6;
-  const Dens* pressure = st->pressure.data();
-  const fx::Unit* inv_density = st->inv_density.data();
-  const fx::Len* velocity[3] = {st->velocity[0].data(), st->velocity[1].data(), st->velocity[2].data()};
-  int64_t* sums[10] = {st->pressure_sum[0].data(),        st->pressure_sum[1].data(),
-                       st->pressure_sum[2].data(),        st->viscosity_sum[0].data(),
-                       st->viscosity_sum[1].data(),       st->viscosity_sum[2].data(),
-                       st->colour_gradient_sum[0].data(), st->colour_gradient_sum[1].data(),
-                       st->colour_gradient_sum[2].data(), st->colour_laplacian_sum.data()};
-  for (size_t c = 0; c < kSums; ++c)
+  const PairTerms<kTension> terms(st);
+  int64_t* const* sums = terms.sums;
+  for (size_t c = 0; c < PairTerms<kTension>::kSums; ++c)
     for (uint32_t i = 0; i < n; ++i) sums[c][i] = 0;
-  const SphPair* pairs = st->pairs.data();
-  // A local count: stores to the sums cannot then alias it, so it stays in a register.
-  fx::Saturation pair_sat;
-  uint32_t current = st->pair_count != 0 ? pairs[0].a : 0;
-  int64_t acc[kSums] = {};
-  for (uint32_t k = 0; k < st->pair_count; ++k) {
-    const SphPair& e = pairs[k];
-    const uint32_t a = e.a, b = e.b;
-    if (a != current) {
-      for (size_t c = 0; c < kSums; ++c) {
-        sums[c][current] += acc[c];
-        acc[c] = 0;
+  if (st->segments > 1) {
+    for (uint32_t colour = 0; colour < 2; ++colour)
+      sat.events +=
+          layer::run_heavy_ranges_summed(workers, (st->segments - colour + 1) / 2, [&](uint32_t b, uint32_t e) {
+            uint32_t events = 0;
+            for (uint32_t k = b; k < e; ++k) {
+              const uint32_t r = 2 * k + colour;
+              events += terms.add(st->pairs.data() + st->segment_begin[r], st->segment_pairs[r]);
+            }
+            return events;
+          });
+  } else {
+    sat.events += terms.add(st->pairs.data(), st->pair_count);
+  }
+  sat.events += layer::run_ranges_summed(workers, n, [&](uint32_t begin, uint32_t end) {
+    fx::Saturation part;
+    for (uint32_t i = begin; i < end; ++i) {
+      const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
+      // Load carried by the distal bone, applied as its rigid-body angular
+      // acceleration beta (axis x r) at each particle bound to it, unless it
+      // yields, with r the particle's rest offset on the bone as the bone
+      // stands (flexed by the bend so far). Taken at the particle's own
+      // position the field would follow it (a circulatory force, whose damped
+      // oscillator flutters once beta > c sqrt(k_e)); taken unflexed it would
+      // shear the tissue instead of turning it (docs/sph.md).
+      fx::Vec3 ext{0, 0, 0};
+      if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0) {
+        const fx::Vec3 on_bone =
+            fx::transform_point(loaded, {m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]});
+        ext = fx::scale(fx::cross(f.axis, fx::sub(on_bone, f.centre), 30), beta);
       }
-      current = a;
+      int64_t tension[3] = {0, 0, 0};
+      if constexpr (kTension) tension_of(*st, i, pr.tension_gain, tension, part);
+      const int32_t x[3] = {xi.x, xi.y, xi.z};
+      const int32_t e[3] = {ext.x, ext.y, ext.z};
+      for (int a = 0; a < 3; ++a) {
+        // Pressure: Q24 (units of h) -> Len via gain (Q30) and h.
+        const int64_t p16 = fx::sat_i32(fx::round_shift(sums[a][i], 8), part);  // Q16
+        const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);         // Q16
+        const int64_t p_len = fx::round_shift(pg * pr.h, 16);
+        const int64_t v_len =
+            fx::round_shift(fx::clamp_i64(sums[3 + a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
+        // Elastic pull toward the skinned rest position (§4.1 tension).
+        const int64_t pull = fx::round_shift((int64_t{st->ideal[a][i]} - x[a]) * pr.elastic_gain, 30);
+        st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a] + tension[a], part);
+      }
     }
-    const int64_t psum = int64_t{pressure[a]} + pressure[b];
-    int32_t spiky_ab, visc_ab;
-    kernel_factors(e.s_ab, &spiky_ab, &visc_ab);
-    const int64_t d[3] = {e.d[0], e.d[1], e.d[2]};
-    const int64_t dv[3] = {int64_t{velocity[0][b]} - velocity[0][a], int64_t{velocity[1][b]} - velocity[1][a],
-                           int64_t{velocity[2][b]} - velocity[2][a]};
-    if ((e.sides & 1u) != 0) {
-      add_side(psum, inv_density[b], spiky_ab, visc_ab, d, dv, acc, pair_sat);
-      if constexpr (kTension) add_colour_side(e.s_ab, inv_density[b], d, acc + 6);
-    }
-    if ((e.sides & 2u) != 0) {
-      // b's side: each axis negated, one LSB up where it rounded on a half.
-      const int64_t d_ba[3] = {-d[0] + (e.half & 1u), -d[1] + ((e.half >> 1) & 1u), -d[2] + ((e.half >> 2) & 1u)};
-      const int64_t dv_ba[3] = {-dv[0], -dv[1], -dv[2]};
-      int32_t spiky_ba = spiky_ab, visc_ba = visc_ab;
-      if (e.s_ba != e.s_ab) kernel_factors(e.s_ba, &spiky_ba, &visc_ba);
-      int64_t b_sum[kSums] = {};
-      add_side(psum, inv_density[a], spiky_ba, visc_ba, d_ba, dv_ba, b_sum, pair_sat);
-      if constexpr (kTension) add_colour_side(e.s_ba, inv_density[a], d_ba, b_sum + 6);
-      for (size_t c = 0; c < kSums; ++c) sums[c][b] += b_sum[c];
-    }
-  }
-  for (size_t c = 0; c < kSums; ++c) sums[c][current] += acc[c];
-  sat.events += pair_sat.events;
-  for (uint32_t i = 0; i < n; ++i) {
-    const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
-    // Load carried by the distal bone, applied as its rigid-body angular
-    // acceleration beta (axis x r) at each particle bound to it, unless it
-    // yields, with r the particle's rest offset on the bone as the bone
-    // stands (flexed by the bend so far). Taken at the particle's own
-    // position the field would follow it (a circulatory force, whose damped
-    // oscillator flutters once beta > c sqrt(k_e)); taken unflexed it would
-    // shear the tissue instead of turning it (docs/sph.md).
-    fx::Vec3 ext{0, 0, 0};
-    if (beta != 0 && m.bone[i] == static_cast<uint8_t>(Bone::kDistal) && st->yielded[i] == 0) {
-      const fx::Vec3 on_bone =
-          fx::transform_point(loaded, {m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]});
-      ext = fx::scale(fx::cross(f.axis, fx::sub(on_bone, f.centre), 30), beta);
-    }
-    int64_t tension[3] = {0, 0, 0};
-    if constexpr (kTension) tension_of(*st, i, pr.tension_gain, tension, sat);
-    const int32_t x[3] = {xi.x, xi.y, xi.z};
-    const int32_t e[3] = {ext.x, ext.y, ext.z};
-    for (int a = 0; a < 3; ++a) {
-      // Pressure: Q24 (units of h) -> Len via gain (Q30) and h.
-      const int64_t p16 = fx::sat_i32(fx::round_shift(sums[a][i], 8), sat);  // Q16
-      const int64_t pg = fx::round_shift(p16 * pr.pressure_gain, 30);        // Q16
-      const int64_t p_len = fx::round_shift(pg * pr.h, 16);
-      const int64_t v_len =
-          fx::round_shift(fx::clamp_i64(sums[3 + a][i], INT32_MIN, INT32_MAX) * pr.viscosity_gain, 30);
-      // Elastic pull toward the skinned rest position (§4.1 tension).
-      const int64_t pull = fx::round_shift((int64_t{st->ideal[a][i]} - x[a]) * pr.elastic_gain, 30);
-      st->scratch[a][i] = fx::sat_i32(p_len + v_len + pull + e[a] + tension[a], sat);
-    }
-  }
+    return part.events;
+  });
 }
 
-void integrate(SphState* st, fx::Saturation& sat) {
-  const SphModel& m = *st->model;
-  for (int a = 0; a < 3; ++a)
-    for (uint32_t i = 0; i < m.particle_count(); ++i) {
-      // Symplectic Euler in Len per substep: v' = damping v + a dt^2, x' = x + v'.
-      // damping v is truncated toward zero (|v| < 2^31, damping <= 2^30: the
-      // product is below 2^61), so every velocity decays to rest: rounded to
-      // nearest, one below 1 / (2 (1 - damping)) LSB (25 at 1 kHz, 2
-      // substeps, c = 40 /s) would keep itself forever and a free particle
-      // would never stop.
-      const int64_t kept = int64_t{st->velocity[a][i]} * m.params.damping;
-      const int64_t v = (kept >= 0 ? kept >> 30 : -((-kept) >> 30)) + st->scratch[a][i];
-      st->velocity[a][i] = fx::sat_i32(v, sat);
-      st->position[a][i] = fx::sat_i32(int64_t{st->position[a][i]} + st->velocity[a][i], sat);
-    }
+void integrate(SphState* st, const layer::Workers* workers, fx::Saturation& sat) {
+  sat.events += layer::run_ranges_summed(workers, st->model->particle_count(), [&](uint32_t begin, uint32_t end) {
+    const SphModel& m = *st->model;
+    fx::Saturation part;
+    for (int a = 0; a < 3; ++a)
+      for (uint32_t i = begin; i < end; ++i) {
+        // Symplectic Euler in Len per substep: v' = damping v + a dt^2, x' = x + v'.
+        // damping v is truncated toward zero (|v| < 2^31, damping <= 2^30: the
+        // product is below 2^61), so every velocity decays to rest: rounded to
+        // nearest, one below 1 / (2 (1 - damping)) LSB (25 at 1 kHz, 2
+        // substeps, c = 40 /s) would keep itself forever and a free particle
+        // would never stop.
+        const int64_t kept = int64_t{st->velocity[a][i]} * m.params.damping;
+        const int64_t v = (kept >= 0 ? kept >> 30 : -((-kept) >> 30)) + st->scratch[a][i];
+        st->velocity[a][i] = fx::sat_i32(v, part);
+        st->position[a][i] = fx::sat_i32(int64_t{st->position[a][i]} + st->velocity[a][i], part);
+      }
+    return part.events;
+  });
 }
 
 // Best-fit rotation about the axis of the distal particles from their ideal
@@ -270,27 +316,34 @@ fx::Angle measure_bend(const SphState& st, const JointFrame& f) {
 // at rest. In normalised units m_j W / rho_j = w / rho_hat, so a vertex deep
 // in the tissue takes the full displacement and one outside every kernel
 // none: the interpolation itself blends SPH with the skinning result.
-void skin_displacement(SphState* st, fx::Saturation& sat) {
+void skin_displacement(SphState* st, const layer::Workers* workers, fx::Saturation& sat) {
   const SphModel& m = *st->model;
-  for (uint32_t i = 0; i < m.particle_count(); ++i) {
-    const fx::Vec3 r{m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]};
-    const bool distal = m.bone[i] == static_cast<uint8_t>(Bone::kDistal);
-    const fx::Vec3 anchor = distal ? fx::transform_point(st->distal_flexed, r)
-                                   : fx::Vec3{st->ideal[0][i], st->ideal[1][i], st->ideal[2][i]};
-    st->scratch[0][i] = fx::sub_sat(st->position[0][i], anchor.x);
-    st->scratch[1][i] = fx::sub_sat(st->position[1][i], anchor.y);
-    st->scratch[2][i] = fx::sub_sat(st->position[2][i], anchor.z);
-  }
-  for (uint32_t v = 0; v < m.skin_count(); ++v) {
-    int64_t sum[3] = {0, 0, 0};
-    const size_t base = size_t{v} * kMaxVertexNeighbours;
-    for (uint32_t k = 0; k < st->skin_count[v]; ++k) {
-      const uint32_t j = st->skin_particle[base + k];
-      const int64_t w = fx::round_shift(int64_t{st->skin_weight[base + k]} * st->inv_density[j], 30);  // Q30
-      for (int a = 0; a < 3; ++a) sum[a] += fx::round_shift(int64_t{st->scratch[a][j]} * w, 30);
+  layer::run_ranges_summed(workers, m.particle_count(), [&](uint32_t begin, uint32_t end) {
+    for (uint32_t i = begin; i < end; ++i) {
+      const fx::Vec3 r{m.rest_local[0][i], m.rest_local[1][i], m.rest_local[2][i]};
+      const bool distal = m.bone[i] == static_cast<uint8_t>(Bone::kDistal);
+      const fx::Vec3 anchor = distal ? fx::transform_point(st->distal_flexed, r)
+                                     : fx::Vec3{st->ideal[0][i], st->ideal[1][i], st->ideal[2][i]};
+      st->scratch[0][i] = fx::sub_sat(st->position[0][i], anchor.x);
+      st->scratch[1][i] = fx::sub_sat(st->position[1][i], anchor.y);
+      st->scratch[2][i] = fx::sub_sat(st->position[2][i], anchor.z);
     }
-    for (int a = 0; a < 3; ++a) st->skin_offset[a][v] = fx::sat_i32(sum[a], sat);
-  }
+    return 0u;
+  });
+  sat.events += layer::run_ranges_summed(workers, m.skin_count(), [&](uint32_t begin, uint32_t end) {
+    fx::Saturation part;
+    for (uint32_t v = begin; v < end; ++v) {
+      int64_t sum[3] = {0, 0, 0};
+      const size_t base = size_t{v} * kMaxVertexNeighbours;
+      for (uint32_t k = 0; k < st->skin_count[v]; ++k) {
+        const uint32_t j = st->skin_particle[base + k];
+        const int64_t w = fx::round_shift(int64_t{st->skin_weight[base + k]} * st->inv_density[j], 30);  // Q30
+        for (int a = 0; a < 3; ++a) sum[a] += fx::round_shift(int64_t{st->scratch[a][j]} * w, 30);
+      }
+      for (int a = 0; a < 3; ++a) st->skin_offset[a][v] = fx::sat_i32(sum[a], part);
+    }
+    return part.events;
+  });
 }
 
 }  // namespace
@@ -328,13 +381,13 @@ LayerStatus sph_step(SphState* st, const SphInputs& in) {
   // Surface tension runs only with its gain and its sums carved (sph_state.cpp).
   const bool tension = m.params.tension_gain != 0 && !st->colour_laplacian_sum.empty();
   for (uint32_t s = 0; s < m.params.substeps; ++s) {
-    build_neighbours(st, f.centre);
-    density_and_yield(st, in.tresca);
+    build_neighbours(st, f.centre, in.workers);
+    density_and_yield(st, in.tresca, in.workers);
     if (tension)
-      accelerations<true>(st, f, loaded, beta, sat);
+      accelerations<true>(st, f, loaded, beta, in.workers, sat);
     else
-      accelerations<false>(st, f, loaded, beta, sat);
-    integrate(st, sat);
+      accelerations<false>(st, f, loaded, beta, in.workers, sat);
+    integrate(st, in.workers, sat);
   }
   const JointYield after =
       next_joint_yield(before, in.tresca, st->yielded_particles, m.params.yield_count, requested, torque);
@@ -345,7 +398,7 @@ LayerStatus sph_step(SphState* st, const SphInputs& in) {
   st->bend = in.joint_measured ? fx::Angle{0} : measure_bend(*st, f);
   const fx::Mat34 flex = fx::mat34_from_quat(fx::quat_from_axis_angle(m.joint.axis, st->bend), {0, 0, 0});
   st->distal_flexed = fx::mul(*f.distal, flex);
-  skin_displacement(st, sat);
+  skin_displacement(st, in.workers, sat);
   st->stats.saturated = sat.events;
   ++st->stats.steps;
   return {};

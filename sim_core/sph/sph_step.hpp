@@ -11,6 +11,7 @@
 
 #include <span>
 
+#include "sim_core/layer/workers.hpp"
 #include "sph_state.hpp"
 
 namespace sinew::sph {
@@ -25,6 +26,9 @@ struct SphInputs {
   // only move the soft tissue (eq. (2) skin offsets). docs/sph.md, "Measured
   // and simulated joints".
   bool joint_measured = false;
+  // Threads the step may spread its per-particle loops and its neighbour
+  // search over (null: the calling thread); the same words for any number.
+  const layer::Workers* workers = nullptr;
 };
 
 // Returns kBadInput, changing nothing, if a transform is missing or the

@@ -11,6 +11,7 @@
 #include "host_tools/determinism/output_hash.hpp"
 #include "sph_fixture.hpp"
 #include "tests/sim_core/sph/golden.hpp"
+#include "tests/support/test_workers.hpp"
 
 namespace det = sinew::determinism;
 using sinew::test::SphArm;
@@ -62,12 +63,16 @@ struct SphWorkload {
   double bend = 0;
   uint32_t yielded = 0;        // the most particles yielding at once
   bool joint_yielded = false;  // the joint yielded in some tick
+  uint32_t segments = 0;       // the most pair segments of a tick's last substep (slabs searched over the workers)
+  uint32_t overflow = 0;       // neighbours dropped by max_neighbours over the run
 };
 
 // Integer-only workload: the elbow swings on a triangle wave (binary angle,
 // +-2^28 = +-22.5 deg), a side force ramps to 30 N over 200 ticks (enough
 // for the Tresca yield) and is released, with a small sawtooth along x.
-SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool hash_tension) {
+// workers: null, or the threads the step may use (the same words for any).
+SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool hash_tension,
+                             const sinew::layer::Workers* workers = nullptr, int ticks = kTicks) {
   SphWorkload w;
   SphArm arm(options);
   EXPECT_TRUE(arm.ok()) << arm.error();
@@ -77,7 +82,7 @@ SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool
   det::OutputHash h;
   add_model(&h, arm.model());
   if (hash_tension) h.add_i32(arm.model().params.tension_gain);
-  for (int t = 0; t < kTicks; ++t) {
+  for (int t = 0; t < ticks; ++t) {
     const int32_t phase = t % 200;
     arm.inputs()[static_cast<size_t>(elbow)] = (phase < 100 ? phase : 200 - phase) * (int32_t{1} << 22);
     const int64_t fy = t < 200 ? (int64_t{30} << 16) * (t + 1) / 200 : 0;
@@ -87,6 +92,7 @@ SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool
     in.transforms = arm.engine().model;
     in.force = {fx, static_cast<int32_t>(fy), 0};
     in.tresca = true;
+    in.workers = workers;
     const sinew::sph::LayerStatus st = sinew::sph::sph_step(&arm.state(), in);
     EXPECT_TRUE(st.ok()) << st.message;
     if (!st.ok()) return w;
@@ -94,6 +100,8 @@ SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool
     add_tick(&h, arm.state(), arm.engine());
     w.yielded = std::max(w.yielded, arm.state().yielded_particles);
     w.joint_yielded = w.joint_yielded || arm.state().joint_yielded;
+    w.segments = std::max(w.segments, arm.state().segments);
+    w.overflow += arm.state().stats.neighbour_overflow;
   }
   w.digest = h.digest();
   w.bend = arm.bend_degrees();
@@ -125,4 +133,45 @@ TEST(SphDeterminism, ArmWorkloadWithSurfaceTensionMatchesGolden) {
   std::printf("sph determinism with surface tension: final bend %.2f deg, yielded particles %u\n", w.bend, w.yielded);
   det::print_determinism_line("sph-arm-tension", w.digest);
   EXPECT_EQ(w.digest, sinew::test::golden::kSphArmSurfaceTension) << "sph outputs with surface tension changed";
+}
+
+// Workers change no output word: the slab search and the per-particle loops
+// (sph_grid.hpp) give the words of the step on one thread for every worker
+// count, with and without the tension's sums, and the slabs must have been
+// searched apart (a step that ignored its workers would pass the hashes
+// alone). The test pool runs a loop's ranges in reverse order, each on its
+// own thread. Shorter than the golden run: thread starts are slow under
+// qemu.
+constexpr int kWorkerTicks = 80;
+
+TEST(SphDeterminism, EveryWorkerCountGivesTheSameWords) {
+  for (const bool tension : {false, true}) {
+    sinew::layers::SphBuildOptions options;
+    options.particle_count = kParticles;
+    if (tension) options.surface_tension = 1.0;
+    const SphWorkload serial = run_sph_workload(options, tension, nullptr, kWorkerTicks);
+    for (const uint32_t parts : {2u, 3u, 4u, 7u}) {
+      sinew::test::ThreadPerRangeWorkers pool(parts);
+      const SphWorkload w = run_sph_workload(options, tension, pool.workers(), kWorkerTicks);
+      EXPECT_EQ(w.digest, serial.digest) << parts << " workers" << (tension ? ", surface tension" : "");
+      EXPECT_GE(w.segments, 4u) << parts << " workers: the pairs were not searched by slabs";
+      EXPECT_GT(pool.loops(), 0u) << parts << " workers: no loop ran over the workers";
+    }
+  }
+}
+
+// Lists that overflow max_neighbours take the ordered per-particle scan,
+// which decides which neighbours drop: with workers too, the same words.
+TEST(SphDeterminism, OverflowingListsAreTheSameOverWorkers) {
+  sinew::layers::SphBuildOptions options;
+  options.particle_count = kParticles;
+  options.max_neighbours = 12;
+  const SphWorkload serial = run_sph_workload(options, false, nullptr, kWorkerTicks);
+  ASSERT_GT(serial.overflow, 0u) << "max_neighbours 12 should overflow some lists";
+  for (const uint32_t parts : {2u, 4u}) {
+    sinew::test::ThreadPerRangeWorkers pool(parts);
+    const SphWorkload w = run_sph_workload(options, false, pool.workers(), kWorkerTicks);
+    EXPECT_EQ(w.digest, serial.digest) << parts << " workers";
+    EXPECT_EQ(w.overflow, serial.overflow) << parts << " workers";
+  }
 }
