@@ -17,13 +17,13 @@ namespace detail {
 
 // Runs body over the ranges and joins each range's value into one total
 // with Join{}(std::atomic_ref<uint32_t>, value).
-template <class Join, bool kHeavy = false, class Body>
+template <class Join, class Body>
 uint32_t run_ranges_joined(const Workers* workers, uint32_t count, const Body& body) {
   struct Job {
     const Body* body;
     uint32_t total;
   } job{&body, 0};
-  (kHeavy ? run_heavy_ranges : run_ranges)(
+  run_ranges(
       workers, count,
       [](void* context, uint32_t begin, uint32_t end) {
         Job& j = *static_cast<Job*>(context);
@@ -54,12 +54,6 @@ struct RaiseTo {
 template <class Body>
 uint32_t run_ranges_summed(const Workers* workers, uint32_t count, const Body& body) {
   return detail::run_ranges_joined<detail::AddInto>(workers, count, body);
-}
-
-// run_ranges_summed for a few heavy elements (run_heavy_ranges).
-template <class Body>
-uint32_t run_heavy_ranges_summed(const Workers* workers, uint32_t count, const Body& body) {
-  return detail::run_ranges_joined<detail::AddInto, true>(workers, count, body);
 }
 
 // body(begin, end) handles [begin, end) and returns its largest value;

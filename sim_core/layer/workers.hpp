@@ -52,15 +52,4 @@ inline void run_ranges(const Workers* workers, uint32_t count, RangeJob job, voi
   workers->run(workers->pool, job, context, count);
 }
 
-// As run_ranges, for loops of a few heavy elements (an SPH joint's slabs of
-// grid cells, each hundreds of particles): through the workers whenever
-// there are any and at least two elements.
-inline void run_heavy_ranges(const Workers* workers, uint32_t count, RangeJob job, void* context) {
-  if (workers == nullptr || workers->run == nullptr || workers->parts <= 1 || count < 2) {
-    job(context, 0, count);
-    return;
-  }
-  workers->run(workers->pool, job, context, count);
-}
-
 }  // namespace sinew::layer

@@ -62,10 +62,42 @@ void bin_and_sort(SphState* st, fx::Vec3 centre) {
     for (uint32_t k = 0; k < n; ++k) st->sorted_position[a][k] = st->position[a][st->sorted[k]];
 }
 
-// The half-stencil search of sph_grid.hpp over the cells of the layers
-// [z_begin, z_end), its pairs stored from `pairs` on. Writes the counts and
-// density sums of the layers' particles and of the next layer's (the
-// stencil's forward rows); reset_sums clears them first.
+// The forward neighbourhood of a cell in the half stencil: the sorted
+// ranges of its own x-row after a particle (to own_end) and of up to four
+// forward x-rows, (z, y+1) and (z+1, y-1..y+1).
+struct ForwardRows {
+  uint32_t from[4], to[4], rows = 0;
+  uint32_t own_end = 0;
+};
+
+ForwardRows forward_rows(const SphState& st, uint32_t c) {
+  const uint32_t d = st.grid_dim;
+  const uint32_t* start = st.cell_start.data();
+  const uint32_t cx = c % d, cy = (c / d) % d, cz = c / (d * d);
+  const uint32_t xlo = cx > 0 ? cx - 1 : 0, xhi = cx + 1 < d ? cx + 1 : d - 1;
+  ForwardRows r;
+  const auto row = [&](uint32_t z, uint32_t y) {
+    const uint32_t base = (z * d + y) * d;
+    r.from[r.rows] = start[base + xlo];
+    r.to[r.rows] = start[base + xhi + 1];
+    r.rows += r.from[r.rows] != r.to[r.rows] ? 1u : 0u;
+  };
+  if (cy + 1 < d) row(cz, cy + 1);
+  if (cz + 1 < d) {
+    if (cy > 0) row(cz + 1, cy - 1);
+    row(cz + 1, cy);
+    if (cy + 1 < d) row(cz + 1, cy + 1);
+  }
+  r.own_end = start[(cz * d + cy) * d + xhi + 1];
+  return r;
+}
+
+// The half-stencil search of sph_grid.hpp, its pairs stored from `pairs`
+// on. kBothSides: both particles of a pair take their count and density
+// term at once (the search of the whole grid on one thread). Otherwise the
+// scanning particle alone takes its own (a range of particles on a worker;
+// the other sides are gathered afterwards, sph_grid.cpp).
+template <bool kBothSides>
 class PairSearch {
  public:
   static constexpr uint32_t kChunk = 64;
@@ -98,44 +130,55 @@ class PairSearch {
   uint32_t pairs() const { return np_; }
   bool overflowed() const { return np_ > cap_; }
 
-  void run(uint32_t z_begin, uint32_t z_end) {
-    const uint32_t d = st_->grid_dim;
+  // Every cell in order, each particle against its forward neighbourhood
+  // (kBothSides; the counts and sums reset first).
+  void run_grid() {
     const uint32_t* start = st_->cell_start.data();
-    for (uint32_t cz = z_begin; cz < z_end; ++cz)
-      for (uint32_t cy = 0; cy < d; ++cy)
-        for (uint32_t cx = 0; cx < d; ++cx) {
-          const uint32_t c = (cz * d + cy) * d + cx;
-          if (start[c] == start[c + 1]) continue;
-          const uint32_t xlo = cx > 0 ? cx - 1 : 0, xhi = cx + 1 < d ? cx + 1 : d - 1;
-          // The forward rows' ranges (x from xlo to xhi), shared by the cell's particles.
-          uint32_t from[4], to[4], rows = 0;
-          const auto row = [&](uint32_t z, uint32_t y) {
-            const uint32_t base = (z * d + y) * d;
-            from[rows] = start[base + xlo];
-            to[rows] = start[base + xhi + 1];
-            rows += from[rows] != to[rows] ? 1u : 0u;
-          };
-          if (cy + 1 < d) row(cz, cy + 1);
-          if (cz + 1 < d) {
-            if (cy > 0) row(cz + 1, cy - 1);
-            row(cz + 1, cy);
-            if (cy + 1 < d) row(cz + 1, cy + 1);
-          }
-          const uint32_t own_end = start[(cz * d + cy) * d + xhi + 1];
-          for (uint32_t p = start[c]; p < start[c + 1]; ++p) {
-            // a's count and density sum stay in registers across its ranges.
-            count_a_ = 0;
-            dens_a_ = 0;
-            scan(p, p + 1, own_end);
-            for (uint32_t k = 0; k < rows; ++k) scan(p, from[k], to[k]);
-            const uint32_t i = sorted_[p];
-            count_[i] = static_cast<uint16_t>(count_[i] + count_a_);
-            dens_[i] += dens_a_;
-          }
-        }
+    const uint32_t cells = st_->grid_dim * st_->grid_dim * st_->grid_dim;
+    for (uint32_t c = 0; c < cells; ++c) {
+      if (start[c] == start[c + 1]) continue;
+      const ForwardRows r = forward_rows(*st_, c);  // shared by the cell's particles
+      for (uint32_t p = start[c]; p < start[c + 1]; ++p) {
+        // a's count and density sum stay in registers across its ranges.
+        count_a_ = 0;
+        dens_a_ = 0;
+        scan_forward(p, r);
+        const uint32_t i = sorted_[p];
+        count_[i] = static_cast<uint16_t>(count_[i] + count_a_);
+        dens_[i] += dens_a_;
+      }
+    }
+  }
+
+  // The sorted particles [p_begin, p_end) (not kBothSides): each one's own
+  // count, density sum and run of pairs (run_first: pairs_[0] is entry
+  // `first_entry` of the state's list).
+  void run_particles(uint32_t p_begin, uint32_t p_end, uint32_t first_entry) {
+    uint32_t cell = UINT32_MAX;
+    ForwardRows r;
+    for (uint32_t p = p_begin; p < p_end; ++p) {
+      const uint32_t i = sorted_[p];
+      if (st_->cell[i] != cell) {
+        cell = st_->cell[i];
+        r = forward_rows(*st_, cell);
+      }
+      count_a_ = 0;
+      dens_a_ = 0;
+      const uint32_t before = np_;
+      scan_forward(p, r);
+      count_[i] = static_cast<uint16_t>(count_a_);
+      dens_[i] = (int64_t{1} << 30) + dens_a_;  // the particle itself: poly6(0) = 1
+      st_->run_first[i] = first_entry + before;
+      st_->run_count[i] = static_cast<uint16_t>(np_ - before);  // checked by the caller (overflowed)
+    }
   }
 
  private:
+  void scan_forward(uint32_t p, const ForwardRows& r) {
+    scan(p, p + 1, r.own_end);
+    for (uint32_t k = 0; k < r.rows; ++k) scan(p, r.from[k], r.to[k]);
+  }
+
   static int32_t clamp_len(int64_t v) {
     return static_cast<int32_t>(v < INT32_MIN ? INT32_MIN : (v > INT32_MAX ? INT32_MAX : v));
   }
@@ -214,10 +257,12 @@ class PairSearch {
     const uint32_t side_a = s_ab < kOne ? 1u : 0u, side_b = s_ba < kOne ? 1u : 0u;
     const uint32_t i = sorted_[p], j = sorted_[q];
     count_a += side_a;
-    count_[j] = static_cast<uint16_t>(count_[j] + side_b);
     const int32_t w_ab = poly6(static_cast<uint32_t>(side_a != 0 ? s_ab : kOne));
     dens_a += w_ab;
-    dens_[j] += s_ba == s_ab ? w_ab : poly6(static_cast<uint32_t>(side_b != 0 ? s_ba : kOne));
+    if constexpr (kBothSides) {
+      count_[j] = static_cast<uint16_t>(count_[j] + side_b);
+      dens_[j] += s_ba == s_ab ? w_ab : poly6(static_cast<uint32_t>(side_b != 0 ? s_ba : kOne));
+    }
     // Unconditional store, kept when a side is inside the kernel; past the
     // capacity the spare last entry takes it (and the substep falls back to
     // the ordered lists).
@@ -333,90 +378,77 @@ bool lists_fit(SphState* st) {
   return true;
 }
 
-void one_segment(SphState* st, uint32_t pairs) {
-  st->pair_count = pairs;
-  st->segments = 1;
-  st->segment_begin[0] = 0;
-  st->segment_pairs[0] = pairs;
-}
-
 void search_serial(SphState* st) {
   const uint32_t cap = st->model->particle_count() * st->model->params.max_neighbours;
   reset_sums(st);
-  PairSearch search(st, st->pairs.data(), cap);
-  search.run(0, st->grid_dim);
+  st->gathered = false;
+  PairSearch<true> search(st, st->pairs.data(), cap);
+  search.run_grid();
   if (search.overflowed() || !lists_fit(st)) {
     ordered_lists(st);
-    one_segment(st, st->pair_count);
     return;
   }
-  one_segment(st, search.pairs());
+  st->pair_count = search.pairs();
 }
 
-// The first sorted particle of cell layer z.
-uint32_t layer_first(const SphState& st, uint32_t z) { return st.cell_start[size_t{z} * st.grid_dim * st.grid_dim]; }
-
-// Slabs of whole layers, up to two per part, each holding about the same
-// number of particles and at least one layer; 1 if fewer than 4 (then one
-// colour would have a single slab: nothing to share).
-uint32_t split_regions(SphState* st, uint32_t parts) {
-  const uint32_t d = st->grid_dim, n = st->model->particle_count();
-  uint32_t regions = 2 * parts;
-  if (regions > d) regions = d;
-  if (regions > kMaxRegions) regions = kMaxRegions;
-  if (regions < 4) return 1;
-  uint32_t* layer = st->region_layer.data();
-  layer[0] = 0;
-  for (uint32_t r = 1; r < regions; ++r) {
-    uint32_t z = layer[r - 1] + 1;
-    const uint64_t wanted = uint64_t{n} * r / regions;
-    while (z < d - (regions - r) && layer_first(*st, z) < wanted) ++z;
-    layer[r] = z;
-  }
-  layer[regions] = d;
-  return regions;
-}
-
-// The search over the workers, slab by slab: a slab's search writes the
-// sums of its own layers and of the layer after it, so slabs of one colour
-// (even, then odd) never write the same particle and run at once; integer
-// sums and counts come out the same in any order. Segment r starts at the
-// slab's first particle x max_neighbours (plus r spares before it), so it
-// may keep max_neighbours pairs per particle of the slab. False if a slab
-// found more (then nothing is kept and the caller searches on one thread:
-// the same pairs).
-bool search_regions(SphState* st, const layer::Workers* workers, uint32_t regions) {
-  const uint32_t k_max = st->model->params.max_neighbours;
-  reset_sums(st);
-  uint32_t overflowed = 0;
-  for (uint32_t colour = 0; colour < 2; ++colour) {
-    const uint32_t slabs = (regions - colour + 1) / 2;
-    overflowed += layer::run_heavy_ranges_summed(workers, slabs, [&](uint32_t begin, uint32_t end) {
-      uint32_t over = 0;
-      for (uint32_t k = begin; k < end; ++k) {
-        const uint32_t r = 2 * k + colour;
-        const uint32_t first = layer_first(*st, st->region_layer[r]);
-        const uint32_t last = layer_first(*st, st->region_layer[r + 1]);  // cell_start[cells] = n past the grid
-        const uint32_t base = first * k_max + r;
-        PairSearch search(st, st->pairs.data() + base, (last - first) * k_max);
-        search.run(st->region_layer[r], st->region_layer[r + 1]);
-        st->segment_begin[r] = base;
-        st->segment_pairs[r] = search.pairs();
-        over += search.overflowed() ? 1u : 0u;
-      }
-      return over;
-    });
-  }
+// The search over the workers. Each range of sorted particles searches its
+// particles' forward neighbourhoods and keeps their own counts, density
+// sums and runs of pairs, in entries of its own: a range of r particles
+// starting at sorted index p0 from entry p0 (max_neighbours + 1), room for
+// max_neighbours pairs per particle and the spare. Then the pairs are
+// listed by b (a counting sort, on the calling thread) and every particle
+// gathers its b-side counts and density terms. Integer sums: the words of
+// the search on one thread. False if a range found more pairs than its
+// room (possible only where many pairs have one side just outside the
+// kernel): then the caller searches on one thread, the same pairs.
+bool search_gathered(SphState* st, const layer::Workers* workers) {
+  const uint32_t n = st->model->particle_count(), k_max = st->model->params.max_neighbours;
+  const uint32_t overflowed = layer::run_ranges_summed(workers, n, [&](uint32_t begin, uint32_t end) {
+    const uint32_t first = begin * (k_max + 1);
+    PairSearch<false> search(st, st->pairs.data() + first, (end - begin) * k_max);
+    search.run_particles(begin, end, first);
+    return search.overflowed() ? 1u : 0u;
+  });
   if (overflowed != 0) return false;
+  // Pairs by b: counts, inclusive prefix sums (b_offset[j] the end of j's
+  // list), then filled from each end down (b_offset[j] its start).
+  uint32_t* const offset = st->b_offset.data();
+  const SphPair* const pairs = st->pairs.data();
+  for (uint32_t j = 0; j <= n; ++j) offset[j] = 0;
+  uint32_t total = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    total += st->run_count[i];
+    for (uint32_t k = st->run_first[i]; k < st->run_first[i] + st->run_count[i]; ++k) ++offset[pairs[k].b];
+  }
+  for (uint32_t j = 1; j < n; ++j) offset[j] += offset[j - 1];
+  offset[n] = total;
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t k = st->run_first[i]; k < st->run_first[i] + st->run_count[i]; ++k)
+      st->b_pair[--offset[pairs[k].b]] = k;
+  // b's side of each pair: its count and poly6 term (0 outside the kernel).
+  layer::run_ranges_summed(workers, n, [&](uint32_t begin, uint32_t end) {
+    constexpr uint32_t kOne = uint32_t{1} << 30;
+    for (uint32_t j = begin; j < end; ++j) {
+      uint32_t count = 0;
+      int64_t dens = 0;
+      for (uint32_t m = offset[j]; m < offset[j + 1]; ++m) {
+        const SphPair& e = pairs[st->b_pair[m]];
+        const uint32_t side_b = (e.sides >> 1) & 1u;
+        count += side_b;
+        dens += poly6(side_b != 0 ? e.s_ba : kOne);
+      }
+      st->neighbour_count[j] = static_cast<uint16_t>(st->neighbour_count[j] + count);
+      st->density_sum[j] += dens;
+    }
+    return 0u;
+  });
   if (!lists_fit(st)) {
+    st->gathered = false;
     ordered_lists(st);
-    one_segment(st, st->pair_count);
     return true;
   }
-  uint32_t total = 0;
-  for (uint32_t r = 0; r < regions; ++r) total += st->segment_pairs[r];
   st->pair_count = total;
-  st->segments = regions;
+  st->gathered = true;
   return true;
 }
 
@@ -424,9 +456,9 @@ bool search_regions(SphState* st, const layer::Workers* workers, uint32_t region
 
 void build_neighbours(SphState* st, fx::Vec3 centre, const layer::Workers* workers) {
   bin_and_sort(st, centre);
-  const uint32_t parts = workers != nullptr && workers->run != nullptr ? workers->parts : 1;
-  const uint32_t regions = parts > 1 ? split_regions(st, parts) : 1;
-  if (regions > 1 && search_regions(st, workers, regions)) return;
+  const bool spread = workers != nullptr && workers->run != nullptr && workers->parts > 1 &&
+                      st->model->particle_count() >= 2 * layer::kMinPerLoop;
+  if (spread && search_gathered(st, workers)) return;
   search_serial(st);
 }
 

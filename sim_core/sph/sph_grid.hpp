@@ -14,12 +14,13 @@
 // depend on that order; that substep rebuilds the pairs from the ordered
 // per-particle scan (one side per pair) so the same neighbours are dropped.
 //
-// Over the workers (two parts or more), the grid is cut into slabs of whole
-// cell layers (z), up to two per part; the search of a slab writes the sums
-// of its own particles and of the layer after it (the stencil's forward
-// rows), so the even slabs run at once, then the odd ones, and each slab's
-// pairs go to a segment of its own (SphState::segment_*). The pairs, counts
-// and sums are those of the search on one thread, for any number of parts.
+// Over the workers (two parts or more, 128 particles or more), each range of
+// sorted particles searches its particles' forward neighbourhoods and keeps
+// their own counts, density sums and runs of pairs in entries of its own;
+// the pairs are then listed by their second particle and every particle
+// gathers that side (SphState::gathered), its pair terms too
+// (sph_step.cpp). The pairs, counts and sums are those of the search on one
+// thread, for any number of parts.
 #pragma once
 
 #include "sim_core/layer/workers.hpp"

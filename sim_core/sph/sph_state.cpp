@@ -41,12 +41,16 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   for (int a = 0; a < 3; ++a) s->colour_gradient_sum[a] = c.take<int64_t>(colour);
   s->colour_laplacian_sum = c.take<int64_t>(colour);
   // Every stored pair gives at least one particle a neighbour, so n x
-  // max_neighbours bound them unless a list overflows; the extra entries
-  // (one per segment) take the search's unconditional store (sph_grid.cpp).
-  s->pairs = c.take<SphPair>(n * m.params.max_neighbours + kMaxRegions);
-  s->segment_begin = c.take<uint32_t>(kMaxRegions);
-  s->segment_pairs = c.take<uint32_t>(kMaxRegions);
-  s->region_layer = c.take<uint32_t>(kMaxRegions + 1);
+  // max_neighbours bound them unless a list overflows; the search over the
+  // workers gives each range of r particles r x (max_neighbours + 1)
+  // entries, its last the spare of the search's unconditional store
+  // (sph_grid.cpp).
+  const size_t pairs = n * (m.params.max_neighbours + size_t{1}) + 1;
+  s->pairs = c.take<SphPair>(pairs);
+  s->run_first = c.take<uint32_t>(n);
+  s->run_count = c.take<uint16_t>(n);
+  s->b_offset = c.take<uint32_t>(n + 1);
+  s->b_pair = c.take<uint32_t>(pairs);
   s->neighbour_count = c.take<uint16_t>(n);
   s->density_sum = c.take<int64_t>(n);
   s->skin_particle = c.take<uint16_t>(sv * kMaxVertexNeighbours);

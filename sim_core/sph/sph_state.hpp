@@ -8,7 +8,6 @@
 #include <span>
 
 #include "sim_core/fixed/mat34.hpp"
-#include "sim_core/layer/workers.hpp"
 #include "sph_model.hpp"
 
 namespace sinew::sph {
@@ -27,11 +26,6 @@ struct SphPair {
   uint32_t s_ba;  // q^2 seen from b, Q2.30
   int32_t d[3];   // (x_a - x_b) / h seen from a, Q2.30
 };
-
-// A substep's search over the workers splits the grid into slabs of whole
-// cell layers (z), two per part at most; each slab's pairs go to a segment of
-// their own (sph_grid.hpp).
-inline constexpr uint32_t kMaxRegions = 2 * layer::kMaxParts;
 
 struct SphStats {
   uint64_t steps = 0;
@@ -67,16 +61,19 @@ struct SphState {
   std::span<uint32_t> cell_start;         // cells + 1
   std::span<uint16_t> sorted;             // particle indices by cell, then index
   std::span<fx::Len> sorted_position[3];  // position[sorted[k]]: the search reads contiguous ranges
-  // This substep's pairs: segment r holds [segment_begin[r], + segment_pairs[r])
-  // for r < segments; one segment [0, pair_count) after a search on one
-  // thread, one per slab of region_layer after a search over the workers.
-  std::span<SphPair> pairs;  // n * max_neighbours + kMaxRegions (each segment's spare entry)
-  uint32_t pair_count = 0;   // over every segment
-  uint32_t segments = 1;
-  std::span<uint32_t> segment_begin;  // kMaxRegions
-  std::span<uint32_t> segment_pairs;  // kMaxRegions
-  std::span<uint32_t>
-      region_layer;  // kMaxRegions + 1: slab r is the cell layers [region_layer[r], region_layer[r + 1])
+  // This substep's pairs. After the search on one thread or the ordered
+  // scan: [0, pair_count), both sides' terms scattered from each pair.
+  // After the search over the workers (gathered): particle i's pairs as a
+  // are pairs[run_first[i], + run_count[i]), its pairs as b are listed by
+  // b_pair[b_offset[i], b_offset[i + 1]), so each particle gathers its own
+  // terms (sph_grid.hpp).
+  std::span<SphPair> pairs;  // n * (max_neighbours + 1) + 1 (the spare entries of the searches' stores)
+  uint32_t pair_count = 0;   // every pair kept
+  bool gathered = false;
+  std::span<uint32_t> run_first;        // n
+  std::span<uint16_t> run_count;        // n
+  std::span<uint32_t> b_offset;         // n + 1
+  std::span<uint32_t> b_pair;           // as pairs
   std::span<uint16_t> neighbour_count;  // per particle, this substep, before max_neighbours
   std::span<int64_t> density_sum;       // sum of poly6 over the neighbourhood, Q30, self included
   std::span<int64_t> pressure_sum[3];   // per-particle sums of the pair terms, Q24 (accelerations)

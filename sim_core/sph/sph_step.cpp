@@ -131,7 +131,7 @@ void tension_of(const SphState& st, uint32_t i, fx::Unit gain, int64_t out[3], f
 // both sides (the factors twice only where its sides' q^2 differ). The
 // per-particle sums are int64 and never saturate (each term below 2^32, at
 // most 96 per particle), so their order is free: the same words as one list
-// per particle, and as any cut of the pairs into segments. Pairs come
+// per particle, and as each particle gathering its own (gather()). Pairs come
 // grouped by a (the search's order), so a's sums stay in registers until a
 // changes. kTension adds the colour field's sums in the same pass.
 template <bool kTension>
@@ -193,13 +193,52 @@ struct PairTerms {
       for (size_t c = 0; c < kSums; ++c) sums[c][current] += acc[c];
     return pair_sat.events;
   }
+
+  // The gathered pairs (SphState::gathered): each particle of [begin, end)
+  // sums its own side of its runs as a and as b, the same terms as add()'s,
+  // and stores its sums. Returns the pair terms saturated.
+  uint32_t gather(const SphState& st, uint32_t begin, uint32_t end) const {
+    fx::Saturation pair_sat;
+    const SphPair* const pairs = st.pairs.data();
+    for (uint32_t i = begin; i < end; ++i) {
+      int64_t acc[kSums] = {};
+      for (uint32_t k = st.run_first[i]; k < st.run_first[i] + st.run_count[i]; ++k) {
+        const SphPair& e = pairs[k];
+        if ((e.sides & 1u) == 0) continue;
+        const uint32_t b = e.b;
+        int32_t spiky, visc;
+        kernel_factors(e.s_ab, &spiky, &visc);
+        const int64_t d[3] = {e.d[0], e.d[1], e.d[2]};
+        const int64_t dv[3] = {int64_t{velocity[0][b]} - velocity[0][i], int64_t{velocity[1][b]} - velocity[1][i],
+                               int64_t{velocity[2][b]} - velocity[2][i]};
+        add_side(int64_t{pressure[i]} + pressure[b], inv_density[b], spiky, visc, d, dv, acc, pair_sat);
+        if constexpr (kTension) add_colour_side(e.s_ab, inv_density[b], d, acc + 6);
+      }
+      for (uint32_t m = st.b_offset[i]; m < st.b_offset[i + 1]; ++m) {
+        const SphPair& e = pairs[st.b_pair[m]];
+        if ((e.sides & 2u) == 0) continue;
+        const uint32_t a = e.a;
+        int32_t spiky, visc;
+        kernel_factors(e.s_ba, &spiky, &visc);
+        // b's side: each axis negated, one LSB up where it rounded on a half.
+        const int64_t d_ba[3] = {-int64_t{e.d[0]} + (e.half & 1u), -int64_t{e.d[1]} + ((e.half >> 1) & 1u),
+                                 -int64_t{e.d[2]} + ((e.half >> 2) & 1u)};
+        const int64_t dv_ba[3] = {int64_t{velocity[0][a]} - velocity[0][i], int64_t{velocity[1][a]} - velocity[1][i],
+                                  int64_t{velocity[2][a]} - velocity[2][i]};
+        add_side(int64_t{pressure[a]} + pressure[i], inv_density[a], spiky, visc, d_ba, dv_ba, acc, pair_sat);
+        if constexpr (kTension) add_colour_side(e.s_ba, inv_density[a], d_ba, acc + 6);
+      }
+      for (size_t c = 0; c < kSums; ++c) sums[c][i] = acc[c];
+    }
+    return pair_sat.events;
+  }
 };
 
 // Per-substep velocity change (Len per substep) of every particle, into
-// scratch: the pair sums (PairTerms), then each particle's own terms. With
-// the pairs in slabs (a search over the workers, sph_grid.hpp), a slab's
-// pairs add to its own particles and to the layer after it, so the even
-// slabs add at once, then the odd ones, as the search ran.
+// scratch: the pair sums (PairTerms), then each particle's own terms. Pairs
+// from the search over the workers are gathered by each particle in the
+// same ranges (SphState::gathered); the others are scattered on the calling
+// thread first.
 template <bool kTension>
 void accelerations(SphState* st, const JointFrame& f, const fx::Mat34& loaded, fx::Unit beta,
                    const layer::Workers* workers, fx::Saturation& sat) {
@@ -208,24 +247,14 @@ void accelerations(SphState* st, const JointFrame& f, const fx::Mat34& loaded, f
   const uint32_t n = m.particle_count();
   const PairTerms<kTension> terms(st);
   int64_t* const* sums = terms.sums;
-  for (size_t c = 0; c < PairTerms<kTension>::kSums; ++c)
-    for (uint32_t i = 0; i < n; ++i) sums[c][i] = 0;
-  if (st->segments > 1) {
-    for (uint32_t colour = 0; colour < 2; ++colour)
-      sat.events +=
-          layer::run_heavy_ranges_summed(workers, (st->segments - colour + 1) / 2, [&](uint32_t b, uint32_t e) {
-            uint32_t events = 0;
-            for (uint32_t k = b; k < e; ++k) {
-              const uint32_t r = 2 * k + colour;
-              events += terms.add(st->pairs.data() + st->segment_begin[r], st->segment_pairs[r]);
-            }
-            return events;
-          });
-  } else {
+  if (!st->gathered) {
+    for (size_t c = 0; c < PairTerms<kTension>::kSums; ++c)
+      for (uint32_t i = 0; i < n; ++i) sums[c][i] = 0;
     sat.events += terms.add(st->pairs.data(), st->pair_count);
   }
   sat.events += layer::run_ranges_summed(workers, n, [&](uint32_t begin, uint32_t end) {
     fx::Saturation part;
+    if (st->gathered) part.events += terms.gather(*st, begin, end);
     for (uint32_t i = begin; i < end; ++i) {
       const fx::Vec3 xi{st->position[0][i], st->position[1][i], st->position[2][i]};
       // Load carried by the distal bone, applied as its rigid-body angular

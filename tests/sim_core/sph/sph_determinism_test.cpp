@@ -63,7 +63,7 @@ struct SphWorkload {
   double bend = 0;
   uint32_t yielded = 0;        // the most particles yielding at once
   bool joint_yielded = false;  // the joint yielded in some tick
-  uint32_t segments = 0;       // the most pair segments of a tick's last substep (slabs searched over the workers)
+  int gathered = 0;            // ticks whose last substep's pairs were searched over the workers and gathered
   uint32_t overflow = 0;       // neighbours dropped by max_neighbours over the run
 };
 
@@ -100,7 +100,7 @@ SphWorkload run_sph_workload(const sinew::layers::SphBuildOptions& options, bool
     add_tick(&h, arm.state(), arm.engine());
     w.yielded = std::max(w.yielded, arm.state().yielded_particles);
     w.joint_yielded = w.joint_yielded || arm.state().joint_yielded;
-    w.segments = std::max(w.segments, arm.state().segments);
+    w.gathered += arm.state().gathered ? 1 : 0;
     w.overflow += arm.state().stats.neighbour_overflow;
   }
   w.digest = h.digest();
@@ -135,11 +135,11 @@ TEST(SphDeterminism, ArmWorkloadWithSurfaceTensionMatchesGolden) {
   EXPECT_EQ(w.digest, sinew::test::golden::kSphArmSurfaceTension) << "sph outputs with surface tension changed";
 }
 
-// Workers change no output word: the slab search and the per-particle loops
-// (sph_grid.hpp) give the words of the step on one thread for every worker
-// count, with and without the tension's sums, and the slabs must have been
-// searched apart (a step that ignored its workers would pass the hashes
-// alone). The test pool runs a loop's ranges in reverse order, each on its
+// Workers change no output word: the search by ranges of particles, the
+// gathered sides and the per-particle loops (sph_grid.hpp) give the words of
+// the step on one thread for every worker count, with and without the
+// tension's sums, and every tick must have taken that path (a step that
+// ignored its workers would pass the hashes alone). The test pool runs a loop's ranges in reverse order, each on its
 // own thread. Shorter than the golden run: thread starts are slow under
 // qemu.
 constexpr int kWorkerTicks = 80;
@@ -154,7 +154,7 @@ TEST(SphDeterminism, EveryWorkerCountGivesTheSameWords) {
       sinew::test::ThreadPerRangeWorkers pool(parts);
       const SphWorkload w = run_sph_workload(options, tension, pool.workers(), kWorkerTicks);
       EXPECT_EQ(w.digest, serial.digest) << parts << " workers" << (tension ? ", surface tension" : "");
-      EXPECT_GE(w.segments, 4u) << parts << " workers: the pairs were not searched by slabs";
+      EXPECT_EQ(w.gathered, kWorkerTicks) << parts << " workers: the pairs were not searched over the workers";
       EXPECT_GT(pool.loops(), 0u) << parts << " workers: no loop ran over the workers";
     }
   }
