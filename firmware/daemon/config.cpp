@@ -280,6 +280,7 @@ bool parse_config(std::string_view text, const std::string& origin, DaemonConfig
     if (!read_number(*rt, "fifo_priority", 0, 99, &c.realtime.fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "cpu", -1, 1023, &c.realtime.cpu, origin, error)) return false;
     if (!read_flag(*rt, "lock_memory", &c.realtime.lock_memory, origin, error)) return false;
+    if (!read_number(*rt, "cpu_latency_us", -1, 1'000'000, &c.realtime.cpu_latency_us, origin, error)) return false;
     if (!read_number(*rt, "io_fifo_priority", 0, 99, &c.realtime.io_fifo_priority, origin, error)) return false;
     if (!read_number(*rt, "io_cpu", -1, 1023, &c.realtime.io_cpu, origin, error)) return false;
     if (!read_number(*rt, "sink_ring_frames", 1, 65536, &c.realtime.sink_ring_frames, origin, error)) return false;

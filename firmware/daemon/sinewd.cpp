@@ -15,6 +15,7 @@
 #include "config.hpp"
 #include "config_registry.hpp"
 #include "firmware/rig/loaded_rig.hpp"
+#include "firmware/runtime/cpu_latency.hpp"
 #include "firmware/runtime/privileges.hpp"
 #include "firmware/runtime/runtime.hpp"
 #include "firmware/runtime/tick_clock.hpp"
@@ -142,6 +143,11 @@ int run(int argc, char** argv) {
   }
   options.workers = workers.workers();
   const std::vector<InputLimits> limits = input_limits(rig, config, 1000000000u / config.rate_hz);
+  // The CPUs' wake-up latency is requested first, so the probe below
+  // measures the machine the run will see.
+  CpuLatencyRequest cpu_latency;
+  const std::string latency_report =
+      live && config.realtime.cpu_latency_us >= 0 ? cpu_latency.request(config.realtime.cpu_latency_us) : std::string();
   // A live run first times its own step on this machine ([loop] step_budget,
   // over_budget): it may warn, refuse, or run at a slower rate that fits.
   StepFit fit{config.rate_hz, config.rate_hz, {}};
@@ -194,7 +200,7 @@ int run(int argc, char** argv) {
     std::printf("sinewd: note: rig inputs that drive no joint (read and logged only): %s\n", names.c_str());
   }
   if (config.mode == RunMode::kLive) {
-    const std::string rt = apply_realtime(config.realtime);
+    const std::string rt = latency_report + apply_realtime(config.realtime);
     if (!rt.empty()) std::printf("%s", rt.c_str());
   }
   std::string parallel;

@@ -12,6 +12,10 @@ struct RealtimeOptions {
   int fifo_priority = 0;  // 1..99 for SCHED_FIFO; 0 keeps the default policy
   int cpu = -1;           // pin the calling thread to this CPU; -1 = no affinity
   bool lock_memory = false;
+  // The CPUs' wake-up latency requested for a live run, from before the
+  // start-up probe of the tick to the end (cpu_latency.hpp): 0 keeps them
+  // in a polling idle state; -1 makes no request.
+  int cpu_latency_us = 0;
   // Threads the tick's parallel stages run over, the tick thread included
   // (firmware/runtime/worker_pool.hpp); 0: the CPUs the process may run on
   // but one (left to the I/O threads), 1 to 4. The output is the same for every count. The workers take the

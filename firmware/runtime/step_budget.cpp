@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <vector>
 
 #include "hal/common/monotonic_clock.hpp"
@@ -109,21 +110,78 @@ WakeProbeResult probe_wakeups(uint64_t interval_ns, uint32_t count) {
     // past: start again from now rather than count the stall twice.
     if (now > deadline + interval_ns) deadline = now;
   }
+  return summarise_wakeups(late);
+}
+
+WakeProbeResult summarise_wakeups(std::span<const uint64_t> late_ns) {
   WakeProbeResult r;
-  if (late.empty()) return r;
-  r.wakeups = count;
+  if (late_ns.empty()) return r;
+  const std::vector<uint64_t> late(late_ns.begin(), late_ns.end());
+  r.wakeups = static_cast<uint32_t>(late.size());
   r.p50_ns = percentile(late, 0.50);
   r.p99_ns = percentile(late, 0.99);
   r.max_ns = *std::max_element(late.begin(), late.end());
+  uint64_t excess = 0, beyond = 0;
+  for (const uint64_t l : late)
+    if (l > r.p99_ns) excess += l - r.p99_ns, ++beyond;
+  r.tail_scale_ns = beyond == 0 ? 0 : excess / beyond;
   return r;
 }
 
-uint32_t fitting_rate(uint32_t rate_hz, uint64_t typical_ns, double share, uint64_t worst_ns) {
+uint64_t wake_lateness_at(const WakeProbeResult& wake, double probability) {
+  constexpr double kThreshold = 0.01;  // the tail is fitted beyond p99
+  constexpr double kSecondNs = 1e9;    // no tick waits out more (1 Hz is the slowest rate)
+  if (probability >= kThreshold) return std::max(wake.p99_ns, wake.max_ns);
+  const double x = probability <= 0 ? kSecondNs
+                                    : static_cast<double>(wake.p99_ns) +
+                                          static_cast<double>(wake.tail_scale_ns) * std::log(kThreshold / probability);
+  return std::max(wake.max_ns, static_cast<uint64_t>(std::min(x, kSecondNs)));
+}
+
+namespace {
+
+// P(X <= a) for a Poisson count X of mean lambda.
+double poisson_at_most(uint64_t a, double lambda) {
+  double term = std::exp(-lambda), sum = term;
+  for (uint64_t k = 1; k <= a; ++k) term *= lambda / static_cast<double>(k), sum += term;
+  return sum;
+}
+
+}  // namespace
+
+double tolerated_miss_probability(const TickNeed& need, uint32_t rate_hz) {
+  constexpr double kAllowed = 0.001;       // the verdict's 0.1 %
+  constexpr double kShare = kAllowed / 2;  // of it, what a long run may expect
+  constexpr double kRunsWithin = 0.9;      // nine runs in ten within the allowance
+  if (need.duration_s <= 0) return kShare;
+  const double ticks = std::max(1.0, std::floor(need.duration_s * rate_hz));
+  const auto allowed = static_cast<uint64_t>(std::floor(kAllowed * ticks));
+  // From a hundred allowed misses on, lambda / N is above the half share
+  // (at 100: 87.6 / 100000), and exp(-lambda) would underflow further on.
+  if (allowed >= 100) return kShare;
+  // The largest lambda with P(X <= allowed) >= kRunsWithin, by bisection
+  // (the probability falls monotonically in lambda).
+  double lo = 0, hi = static_cast<double>(allowed) + 10;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = (lo + hi) / 2;
+    (poisson_at_most(allowed, mid) >= kRunsWithin ? lo : hi) = mid;
+  }
+  return std::min(kShare, lo / ticks);
+}
+
+uint64_t typical_tick_ns(const TickNeed& need) { return need.step_p99_ns + need.wake.p99_ns; }
+
+uint64_t worst_tick_ns(const TickNeed& need, uint32_t rate_hz) {
+  return need.step_p99_ns + wake_lateness_at(need.wake, tolerated_miss_probability(need, rate_hz));
+}
+
+uint32_t fitting_rate(uint32_t rate_hz, double share, const TickNeed& need) {
+  const auto typical = static_cast<double>(typical_tick_ns(need));
   for (uint32_t k = 1; k <= rate_hz; ++k) {
     if (rate_hz % k != 0) continue;
     const uint32_t rate = rate_hz / k;
     const double period_ns = 1e9 / rate;
-    if (static_cast<double>(typical_ns) <= share * period_ns && static_cast<double>(worst_ns) <= period_ns) return rate;
+    if (typical <= share * period_ns && static_cast<double>(worst_tick_ns(need, rate)) <= period_ns) return rate;
   }
   return 0;
 }

@@ -45,7 +45,21 @@ int32_t swept_input(int32_t lo, int32_t hi, uint64_t step, size_t input);
 struct WakeProbeResult {
   uint32_t wakeups = 0;
   uint64_t p50_ns = 0, p99_ns = 0, max_ns = 0;  // how late the thread woke after each deadline
+  // The mean excess over p99 of the wake-ups later than p99: the scale of
+  // an exponential tail fitted beyond p99 (peaks over threshold; for an
+  // exponential tail the mean excess is its maximum-likelihood scale). 0
+  // when no wake-up was later than p99.
+  uint64_t tail_scale_ns = 0;
 };
+
+// Fills p50, p99, max and tail_scale_ns from the lateness of each wake-up.
+WakeProbeResult summarise_wakeups(std::span<const uint64_t> late_ns);
+
+// The lateness a wake-up exceeds with `probability` (0 < probability <= 1):
+// below 1 % the tail above extrapolated, p99 + scale ln(0.01 / probability),
+// never less than the largest lateness seen (a probe of a thousand
+// wake-ups sees its 1-in-1000 event, the tail only estimates it).
+uint64_t wake_lateness_at(const WakeProbeResult& wake, double probability);
 
 // Sleeps to `count` absolute deadlines (CLOCK_MONOTONIC, TIMER_ABSTIME)
 // interval_ns apart and records how late each wake-up was: the machine's
@@ -53,11 +67,32 @@ struct WakeProbeResult {
 // tick adds to its step. A virtual machine's vCPU stalls show here.
 WakeProbeResult probe_wakeups(uint64_t interval_ns, uint32_t count);
 
+// What a live tick needs, from the two probes: a wake-up after its
+// deadline, then a step.
+struct TickNeed {
+  uint64_t step_p99_ns = 0;
+  WakeProbeResult wake;
+  double duration_s = 0;  // the run's length; 0: until stopped
+};
+
+// A run may miss 0.1 % of its deadlines (the daemon's verdict). A run of
+// N ticks may then miss A = floor(N / 1000) of them: the tolerated
+// probability per tick is lambda / N for the largest mean lambda of a
+// Poisson count that stays within A in nine runs of ten (0.105 / N when A
+// = 0: a 5 s run below 200 Hz may miss none), and at most half the 0.1 %
+// share; an endless run takes that half.
+double tolerated_miss_probability(const TickNeed& need, uint32_t rate_hz);
+
+// The typical tick (step p99 + wake-up p99) and the worst it must hold at a
+// rate: step p99 + the wake-up lateness at the tolerated miss probability.
+uint64_t typical_tick_ns(const TickNeed& need);
+uint64_t worst_tick_ns(const TickNeed& need, uint32_t rate_hz);
+
 // The largest rate rate_hz / k (k = 1, 2, ...; only exact divisors, so the
-// slower ticks keep the configured schedule's slots) whose period P holds a
-// typical tick within `share` of it (typical_ns <= share P, 0 < share <= 1)
-// and the worst tick seen within it (worst_ns <= P); 0 when not even 1 Hz
-// does.
-uint32_t fitting_rate(uint32_t rate_hz, uint64_t typical_ns, double share, uint64_t worst_ns);
+// slower ticks keep the configured schedule's slots) whose period P holds
+// the typical tick within `share` of it (typical <= share P, 0 < share <= 1)
+// and the worst tick at that rate within it (worst <= P); 0 when not even
+// 1 Hz does.
+uint32_t fitting_rate(uint32_t rate_hz, double share, const TickNeed& need);
 
 }  // namespace sinew::firmware
