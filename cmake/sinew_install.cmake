@@ -104,6 +104,7 @@ if(TARGET sinewd)
   install(FILES ${PROJECT_SOURCE_DIR}/firmware/systemd/sinewd.service DESTINATION ${sinew_unit_dir} COMPONENT runtime)
   install(FILES ${PROJECT_SOURCE_DIR}/firmware/systemd/sinew.sysusers DESTINATION lib/sysusers.d RENAME sinew.conf
           COMPONENT runtime)
+  install(FILES ${PROJECT_SOURCE_DIR}/firmware/systemd/60-sinew.rules DESTINATION lib/udev/rules.d COMPONENT runtime)
   install(FILES ${PROJECT_SOURCE_DIR}/docs/service.md DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 endif()
 foreach(tool rigc sinew-run sinew-export sinew-log rigsim sinew-pose sinew-receive)
