@@ -456,6 +456,9 @@ bool search_gathered(SphState* st, const layer::Workers* workers) {
 
 void build_neighbours(SphState* st, fx::Vec3 centre, const layer::Workers* workers) {
   bin_and_sort(st, centre);
+  // The same threshold as layer::run_ranges: below it waking the workers
+  // costs more than the search; either search gives the step the same
+  // words (sph_determinism_test compares them for 1 to 7 workers).
   const bool spread = workers != nullptr && workers->run != nullptr && workers->parts > 1 &&
                       st->model->particle_count() >= 2 * layer::kMinPerLoop;
   if (spread && search_gathered(st, workers)) return;
