@@ -23,21 +23,27 @@ inline InvariantDivisor invariant_divisor(int64_t d) {
   return {u, UINT64_MAX / u};
 }
 
-// fx::div_round(n, d): the quotient ties toward +inf.
+// fx::div_round(n, d): the quotient ties toward +inf. Branch-free: the
+// corrections and the sign are selects, not jumps (the numerators' signs and
+// remainders vary from call to call, so branches on them mispredict).
 inline int64_t div_round_by(int64_t n, const InvariantDivisor& v) {
   const uint64_t a = fx::magnitude(n);
   // m > (2^64 - 1) / d - 1, so a m / 2^64 > a / d - 2: the estimate is
   // floor(a / d) less 0, 1 or 2, never more.
   uint64_t q = fx::mul_u64(a, v.m).hi;
   uint64_t r = a - q * v.d;
-  for (int i = 0; i < 2 && r >= v.d; ++i) {
-    ++q;
-    r -= v.d;
+  for (int i = 0; i < 2; ++i) {
+    const uint64_t over = static_cast<uint64_t>(r >= v.d);
+    q += over;
+    r -= v.d & (uint64_t{0} - over);
   }
   // q, r: magnitudes of the truncated quotient and of the remainder; r < d
-  // <= 2^63, so 2 r fits.
-  if (n >= 0) return static_cast<int64_t>(r != 0 && 2 * r >= v.d ? q + 1 : q);
-  return static_cast<int64_t>(uint64_t{0} - (r != 0 && 2 * r > v.d ? q + 1 : q));  // modular: INT64_MIN / 1
+  // <= 2^63, so 2 r + 1 fits. The magnitude rounds up at 2 r >= d for n >= 0
+  // and at 2 r > d for n < 0 (either implies r != 0).
+  const uint64_t negative = static_cast<uint64_t>(n < 0);
+  const uint64_t up = static_cast<uint64_t>(2 * r + (negative ^ 1) > v.d);
+  const uint64_t sign = uint64_t{0} - negative;
+  return static_cast<int64_t>(((q + up) ^ sign) - sign);  // modular: INT64_MIN / 1
 }
 
 }  // namespace sinew::elastic_skin
