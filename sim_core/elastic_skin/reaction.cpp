@@ -3,7 +3,9 @@
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/wide.hpp"
 #include "sim_core/layer/range_totals.hpp"
+#include "sim_core/layer/selected.hpp"
 #include "sim_core/muscle/primitive.hpp"
+#include "sim_core/muscle/primitive_bound.hpp"
 #include "sim_core/muscle/primitive_deform.hpp"
 #include "sim_core/muscle/vec_ops.hpp"
 #include "surface_normals.hpp"
@@ -14,66 +16,22 @@ namespace {
 // Primitives whose bounds a pass keeps (more are tested without the cull).
 constexpr size_t kBoundedPrimitives = 16;
 
-// A sphere about a primitive's centre outside which every point is outside
-// its bounding box as primitive_sample computes it, so the sample and the
-// push-out would leave the point as it is: the cull changes no result, it
-// only skips the three dot products and the calls for far points. Kept for
-// undeformed primitives with near-orthonormal axes: with |a_i|^2 within
-// 2^-16 of 1 and |a_i . a_j| <= 2^-16, sum (a_i . d)^2 >= (1 - 3 2^-16) |d|^2
-// (Gershgorin), and each local coordinate is rounded by at most 1/2 LSB, so
-// a point inside the box has |d|^2 < sum (e_i + 1)^2 / (1 - 3 2^-16); the
-// cull asks for twice that sum.
-struct PrimitiveBound {
-  bool usable = false;
-  fx::Vec3 centre{0, 0, 0};
-  uint64_t reach2 = 0;  // 2 sum (e_i + 1)^2, Len^2
-};
-
-bool near_orthonormal(const fx::Vec3 axis[3]) {
-  constexpr int64_t kLimit = (int64_t{1} << 30) + (int64_t{1} << 20);  // components of a unit vector, with slack
-  constexpr int64_t kOne2 = int64_t{1} << 60, kSlack = int64_t{1} << 44;
-  for (int i = 0; i < 3; ++i)
-    for (int32_t c : {axis[i].x, axis[i].y, axis[i].z})
-      if (c > kLimit || c < -kLimit) return false;
-  // |products| < 3 * 2^61: every sum fits in int64.
-  const auto dot = [](fx::Vec3 a, fx::Vec3 b) { return int64_t{a.x} * b.x + int64_t{a.y} * b.y + int64_t{a.z} * b.z; };
-  for (int i = 0; i < 3; ++i) {
-    const int64_t self = dot(axis[i], axis[i]) - kOne2;
-    if (self > kSlack || self < -kSlack) return false;
-    const int64_t cross = dot(axis[i], axis[(i + 1) % 3]);
-    if (cross > kSlack || cross < -kSlack) return false;
-  }
-  return true;
-}
-
-PrimitiveBound bound_of(const muscle::PrimitiveFrame& f) {
-  PrimitiveBound b;
-  if (f.active == 0 || muscle::is_deformed(f.deformation) || !near_orthonormal(f.axis)) return b;
-  uint64_t sum = 0;
-  for (int i = 0; i < 3; ++i) {
-    if (f.extent[i] <= 0) return b;
-    const uint64_t e = static_cast<uint64_t>(f.extent[i]) + 1;  // <= 2^31
-    sum += e * e;                                               // < 3 * 2^62
-  }
-  if (sum > (uint64_t{1} << 63) - 1) return b;  // twice it would not fit
-  b.usable = true;
-  b.centre = f.centre;
-  b.reach2 = 2 * sum;
-  return b;
-}
-
 // Primitive i of the pass certainly leaves p alone.
-bool far_from(const PrimitiveBound* bounds, size_t i, fx::Vec3 p) {
-  if (i >= kBoundedPrimitives || !bounds[i].usable) return false;
-  const fx::Vec3 d = fx::sub(p, bounds[i].centre);  // saturated, as primitive_sample forms it
-  const uint64_t x = fx::magnitude(d.x), y = fx::magnitude(d.y), z = fx::magnitude(d.z);
-  // Each square <= 2^62: the sum < 2^64.
-  return x * x + y * y + z * z >= bounds[i].reach2;
+bool far_from(const muscle::PrimitiveBound* bounds, size_t i, fx::Vec3 p) {
+  return (i < kBoundedPrimitives) && muscle::beyond_bound(bounds[i], p);
 }
 
-void bound_primitives(const muscle::MuscleState& muscles, PrimitiveBound (&out)[kBoundedPrimitives]) {
+// Some active primitive may move p (the passes' cheap first test).
+bool within_reach(const muscle::MuscleState& muscles, const muscle::PrimitiveBound* bounds, fx::Vec3 p) {
+  bool any = false;
+  for (size_t i = 0; i < muscles.primitives.size(); ++i)
+    any |= (muscles.primitives[i].active != 0) & !far_from(bounds, i, p);
+  return any;
+}
+
+void bound_primitives(const muscle::MuscleState& muscles, muscle::PrimitiveBound (&out)[kBoundedPrimitives]) {
   for (size_t i = 0; i < kBoundedPrimitives; ++i)
-    out[i] = i < muscles.primitives.size() ? bound_of(muscles.primitives[i]) : PrimitiveBound{};
+    out[i] = i < muscles.primitives.size() ? muscle::primitive_bound(muscles.primitives[i]) : muscle::PrimitiveBound{};
 }
 
 fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::Vec3* normal) {
@@ -84,6 +42,15 @@ fx::Vec3 fat_point(const SkinModel& model, const SkinState& s, uint32_t v, fx::V
   }
   *normal = fat_direction(model, s, v);
   return fx::sub(p, muscle::along(*normal, fat_of(model, v)));
+}
+
+// fat_point's point alone, inlined into the passes' first test.
+[[gnu::always_inline]] inline fx::Vec3 fat_point_only(const SkinModel& model, const SkinState& s, uint32_t v) {
+  if (s.fat_offsets != 0)
+    return {fx::sub_sat(s.position[0][v], s.fat_offset[0][v]), fx::sub_sat(s.position[1][v], s.fat_offset[1][v]),
+            fx::sub_sat(s.position[2][v], s.fat_offset[2][v])};
+  fx::Vec3 n{};
+  return fat_point(model, s, v, &n);
 }
 
 }  // namespace
@@ -107,7 +74,7 @@ void place_fat_points(const SkinModel& model, SkinState* s, const layer::Workers
 }
 
 uint32_t list_reaction_candidates(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s) {
-  PrimitiveBound bounds[kBoundedPrimitives];
+  muscle::PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
   uint32_t count = 0;
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
@@ -126,7 +93,7 @@ uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleSta
                                  SkinState* s) {
   uint32_t moved = 0;
   const int steps = static_cast<int>(model.params.newton_steps);
-  PrimitiveBound bounds[kBoundedPrimitives];
+  muscle::PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
   for (uint32_t k = 0; k < candidates; ++k) {
     const uint32_t v = static_cast<uint32_t>(s->weight[k]);
@@ -171,7 +138,7 @@ uint32_t apply_sliding_reactions(const SkinModel& model, const muscle::MuscleSta
 uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscles, uint32_t candidates, SkinState* s) {
   uint32_t inside = 0;
   const int steps = static_cast<int>(model.params.newton_steps);
-  PrimitiveBound bounds[kBoundedPrimitives];
+  muscle::PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
   for (uint32_t k = 0; k < candidates; ++k) {
     const uint32_t v = static_cast<uint32_t>(s->weight[k]);
@@ -204,12 +171,15 @@ uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscl
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
                                     SkinState* s, const layer::Workers* workers) {
   const int steps = static_cast<int>(model.params.newton_steps);
-  PrimitiveBound bounds[kBoundedPrimitives];
+  muscle::PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
   // Each vertex reads and moves only itself: the ranges run on any thread.
+  // Most fat points are beyond every primitive's box: they are listed out
+  // first, without a branch each (layer/selected.hpp).
+  const auto near = [&](uint32_t v) { return within_reach(muscles, bounds, fat_point_only(model, *s, v)); };
   const auto range = [&](uint32_t begin, uint32_t end) {
     uint32_t moved = 0;
-    for (uint32_t v = begin; v < end; ++v) {
+    layer::visit_selected(begin, end, near, [&](uint32_t v) {
       fx::Vec3 n{};
       const fx::Vec3 start = fat_point(model, *s, v, &n);
       fx::Vec3 p = start;
@@ -221,13 +191,13 @@ uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::Muscle
         // Partial correction between iterations, full one on the last.
         p = gain >= fx::kUnitOne ? out : fx::add(p, fx::scale(fx::sub(out, p), gain));
       }
-      if (p == start) continue;
+      if (p == start) return;
       const fx::Vec3 d = fx::sub(p, start);
       s->position[0][v] = fx::add_sat(s->position[0][v], d.x);
       s->position[1][v] = fx::add_sat(s->position[1][v], d.y);
       s->position[2][v] = fx::add_sat(s->position[2][v], d.z);
       ++moved;
-    }
+    });
     return moved;
   };
   return layer::run_ranges_summed(workers, model.vertex_count, range);
@@ -245,12 +215,15 @@ uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& musc
                          const SkinState& s, const int64_t* listed, uint32_t count, uint32_t first) {
   uint32_t inside = 0;
   const int64_t limit = fx::kUnitOne - int64_t{tolerance};
-  PrimitiveBound bounds[kBoundedPrimitives];
+  muscle::PrimitiveBound bounds[kBoundedPrimitives];
   bound_primitives(muscles, bounds);
-  for (uint32_t k = 0; k < count; ++k) {
-    const uint32_t v = listed != nullptr ? static_cast<uint32_t>(listed[first + k]) : first + k;
+  const auto vertex_of = [&](uint32_t k) {
+    return listed != nullptr ? static_cast<uint32_t>(listed[first + k]) : first + k;
+  };
+  const auto near = [&](uint32_t k) { return within_reach(muscles, bounds, fat_point_only(model, s, vertex_of(k))); };
+  layer::visit_selected(0, count, near, [&](uint32_t k) {
     fx::Vec3 n{};
-    const fx::Vec3 p = fat_point(model, s, v, &n);
+    const fx::Vec3 p = fat_point(model, s, vertex_of(k), &n);
     for (size_t i = 0; i < muscles.primitives.size(); ++i) {
       const muscle::PrimitiveFrame& f = muscles.primitives[i];
       if (f.active == 0 || far_from(bounds, i, p)) continue;
@@ -259,7 +232,7 @@ uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& musc
         break;
       }
     }
-  }
+  });
   return inside;
 }
 
