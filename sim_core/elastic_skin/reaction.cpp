@@ -176,10 +176,12 @@ uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::Muscle
   // Each vertex reads and moves only itself: the ranges run on any thread.
   // Most fat points are beyond every primitive's box: they are listed out
   // first, without a branch each (layer/selected.hpp).
-  const auto near = [&](uint32_t v) { return within_reach(muscles, bounds, fat_point_only(model, *s, v)); };
+  const uint32_t* const moving = s->moving_vertex.data();
+  const auto near = [&](uint32_t k) { return within_reach(muscles, bounds, fat_point_only(model, *s, moving[k])); };
   const auto range = [&](uint32_t begin, uint32_t end) {
     uint32_t moved = 0;
-    layer::visit_selected(begin, end, near, [&](uint32_t v) {
+    layer::visit_selected(begin, end, near, [&](uint32_t k) {
+      const uint32_t v = moving[k];
       fx::Vec3 n{};
       const fx::Vec3 start = fat_point(model, *s, v, &n);
       fx::Vec3 p = start;
@@ -200,7 +202,7 @@ uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::Muscle
     });
     return moved;
   };
-  return layer::run_ranges_summed(workers, model.vertex_count, range);
+  return layer::run_ranges_summed(workers, s->moving_vertices, range);
 }
 
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,

@@ -70,13 +70,16 @@ bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&po
 
 namespace {
 
-// Pass 1 over edges [begin, end): each edge's pull, once.
+// Pass 1 over the moving edges [begin, end) (SkinState::moving_edge): each
+// edge's pull, once.
 void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t end) {
   const Positions position = positions_of(s->position);
   const Edge* const edges = model.edges.data();
   int32_t* const stiffness = s->edge_stiffness.data();
   fx::Len* const pull[3] = {s->edge_pull[0].data(), s->edge_pull[1].data(), s->edge_pull[2].data()};
-  for (uint32_t e = begin; e < end; ++e) {
+  const uint32_t* const moving = s->moving_edge.data();
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint32_t e = moving[i];
     int64_t k = 0;
     fx::Vec3 f{};
     if (!pull_of(model.params, edges[e], position, &k, &f)) {
@@ -154,12 +157,14 @@ struct MoveTotals {
   uint64_t largest2 = 0;  // squared relaxation vector length
 };
 
-// Pass 2 over vertices [begin, end): each gathers its terms (its edges in
+// Pass 2 over the moving vertices [begin, end) (SkinState::moving_vertex):
+// each gathers its terms (its edges in
 // edge order, its bands in band order, its anchor) and moves.
 MoveTotals move_vertices(const SkinModel& model, const muscle::MuscleState& muscles, SkinState* s, uint32_t begin,
                          uint32_t end) {
   MoveTotals t;
-  for (uint32_t v = begin; v < end; ++v) {
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint32_t v = s->moving_vertex[i];
     const uint32_t terms =
         s->incident_offset[v + 1] - s->incident_offset[v] + s->band_offset[v + 1] - s->band_offset[v] + 1;
     const VertexSums<false> sum = terms < kPlainTerms ? vertex_sums<VertexSums<false>>(model, muscles, s, v)
@@ -196,7 +201,7 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
     pull_edges(model, s, begin, end);
     return 0u;
   };
-  layer::run_ranges_summed(workers, static_cast<uint32_t>(model.edges.size()), edges);
+  layer::run_ranges_summed(workers, s->moving_edges, edges);
   // Jacobi: every pull above is from the positions at the start of the
   // round, and a vertex's move reads only its own position.
   uint32_t saturated = 0;
@@ -206,7 +211,7 @@ fx::Len relax_once(const SkinModel& model, const muscle::MuscleState& muscles, S
     // floor(sqrt) is monotonic: the largest root is the root of the largest square.
     return static_cast<uint32_t>(fx::sat_i32(int64_t{fx::isqrt_fast(t.largest2)}));
   };
-  const uint32_t largest = layer::run_ranges_max(workers, model.vertex_count, vertices);
+  const uint32_t largest = layer::run_ranges_max(workers, s->moving_vertices, vertices);
   s->stats.saturated += saturated;
   return static_cast<fx::Len>(largest);
 }
@@ -235,7 +240,8 @@ uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const
   const int64_t r2 = int64_t{radius - 2} * (radius - 2);
   const auto range = [&](uint32_t begin, uint32_t end) {
     uint32_t moved = 0;
-    for (uint32_t v = begin; v < end; ++v) {
+    for (uint32_t i = begin; i < end; ++i) {
+      const uint32_t v = s->moving_vertex[i];
       const fx::Vec3 centre = at(s->sphere_centre, v);
       const fx::Vec3 d = fx::sub(at(s->position, v), centre);
       // Squared distances first: most vertices are outside, no root needed.
@@ -251,7 +257,7 @@ uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const
     }
     return moved;
   };
-  return layer::run_ranges_summed(workers, model.vertex_count, range);
+  return layer::run_ranges_summed(workers, s->moving_vertices, range);
 }
 
 }  // namespace sinew::elastic_skin

@@ -219,6 +219,17 @@ struct SkinModel {
   // kSurface; empty then leaves every vertex on its anchor normal.
   std::span<const uint32_t> triangles{};
   SkinSurfaceParams surface{};  // dynamic mode's integrator and LEMAN's surface terms
+  // The support region the anatomy stage reads the skin at (ascending
+  // vertex indices, the skin section's region_vertex; empty: every vertex).
+  // The static relaxation moves the region and the vertices within
+  // kHaloRings edges of it; the others stay on their anchors, where the
+  // stage does not read them (docs/anatomy.md, "The moving vertices").
+  std::span<const uint32_t> region{};
 };
+
+// Edge rings about the support region that the static relaxation moves
+// with it: the region's border vertices keep springs to vertices that
+// relax, and those to vertices on their anchors.
+inline constexpr uint32_t kHaloRings = 8;
 
 }  // namespace sinew::elastic_skin

@@ -44,6 +44,8 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   s->band_at = c.take<uint32_t>(model.bands.size());
   s->edge_stiffness = c.take<int32_t>(model.edges.size());
   for (int a = 0; a < 3; ++a) s->edge_pull[a] = c.take<fx::Len>(model.edges.size());
+  s->moving_vertex = c.take<uint32_t>(n);
+  s->moving_edge = c.take<uint32_t>(model.edges.size());
   return c;
 }
 
@@ -86,6 +88,36 @@ void fill_band_lists(const SkinModel& model, SkinState* s) {
   s->band_offset[0] = 0;
 }
 
+// The static relaxation's moving vertices and edges (skin_state.hpp): the
+// region, then kHaloRings breadth-first rings of edges about it (one pass
+// over the edges per ring, in edge order: deterministic), each vertex's
+// ring kept in previous[0] meanwhile (its scratch until the first round).
+// False when the region is not ascending within the skin.
+bool fill_moving(const SkinModel& model, SkinState* s) {
+  const uint32_t n = model.vertex_count;
+  const bool everything = model.region.empty() || model.solver.mode == static_cast<uint8_t>(SkinMode::kDynamic);
+  std::span<fx::Len> ring = s->previous[0];
+  constexpr fx::Len kFar = INT32_MAX;
+  for (uint32_t v = 0; v < n; ++v) ring[v] = everything ? 0 : kFar;
+  for (size_t i = 0; i < model.region.size() && !everything; ++i) {
+    const uint32_t v = model.region[i];
+    if (v >= n || (i > 0 && v <= model.region[i - 1])) return false;
+    ring[v] = 0;
+  }
+  for (fx::Len r = 1; r <= static_cast<fx::Len>(kHaloRings) && !everything; ++r)
+    for (const Edge& e : model.edges) {
+      if (ring[e.a] == r - 1 && ring[e.b] > r) ring[e.b] = r;
+      if (ring[e.b] == r - 1 && ring[e.a] > r) ring[e.a] = r;
+    }
+  s->moving_vertices = 0;
+  for (uint32_t v = 0; v < n; ++v)
+    if (ring[v] != kFar) s->moving_vertex[s->moving_vertices++] = v;
+  s->moving_edges = 0;
+  for (uint32_t e = 0; e < model.edges.size(); ++e)
+    if (ring[model.edges[e].a] != kFar || ring[model.edges[e].b] != kFar) s->moving_edge[s->moving_edges++] = e;
+  return true;
+}
+
 }  // namespace
 
 size_t skin_state_bytes(const SkinModel& model) {
@@ -113,6 +145,9 @@ LayerStatus skin_init(const SkinModel& model, void* memory, size_t bytes, SkinSt
       return muscle::layer_fail(LayerError::kBadValue, "rubber band", -1, "vertex", "out of range");
   fill_incidence(model, &s);
   fill_band_lists(model, &s);
+  if (!fill_moving(model, &s))
+    return muscle::layer_fail(LayerError::kBadValue, "skin model", -1, "region",
+                              "not ascending vertex indices of the skin");
   *out = s;
   return {};
 }

@@ -83,6 +83,14 @@ struct SkinState {
   // force on endpoint a (Len); zero for an edge that pulls with nothing.
   std::span<int32_t> edge_stiffness;
   std::span<fx::Len> edge_pull[3];
+  // The static relaxation's vertices and edges (filled at init): the
+  // region and its halo (SkinModel::region), ascending, and the edges with
+  // an end among them, in edge order; every vertex and edge in dynamic mode
+  // or without a region. moving_vertex[0 .. moving_vertices), moving_edge[0
+  // .. moving_edges).
+  std::span<uint32_t> moving_vertex;
+  std::span<uint32_t> moving_edge;
+  uint32_t moving_vertices = 0, moving_edges = 0;
   uint8_t started = 0;
   uint32_t step_rate = 0;  // dynamic: the substep rate (1/s) anchor_step is per
   SkinStats stats;

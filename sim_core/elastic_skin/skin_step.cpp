@@ -19,10 +19,11 @@ namespace {
 constexpr fx::Unit kInsideTolerance = fx::kUnitOne >> 10;
 
 // Largest move of a vertex since the start of the iteration.
-fx::Len largest_move(const SkinState& s, uint32_t n, const layer::Workers* workers) {
+fx::Len largest_move(const SkinState& s, const layer::Workers* workers) {
   const auto range = [&](uint32_t begin, uint32_t end) {
     uint64_t worst = 0;  // squared: one root per range
-    for (uint32_t v = begin; v < end; ++v) {
+    for (uint32_t i = begin; i < end; ++i) {
+      const uint32_t v = s.moving_vertex[i];
       const uint64_t dx = fx::magnitude(int64_t{s.position[0][v]} - s.previous[0][v]);
       const uint64_t dy = fx::magnitude(int64_t{s.position[1][v]} - s.previous[1][v]);
       const uint64_t dz = fx::magnitude(int64_t{s.position[2][v]} - s.previous[2][v]);
@@ -35,7 +36,7 @@ fx::Len largest_move(const SkinState& s, uint32_t n, const layer::Workers* worke
     // floor(sqrt) is monotonic: the largest root is the root of the largest square.
     return static_cast<uint32_t>(fx::sat_i32(int64_t{fx::isqrt_fast(worst)}));
   };
-  return static_cast<fx::Len>(layer::run_ranges_max(workers, n, range));
+  return static_cast<fx::Len>(layer::run_ranges_max(workers, s.moving_vertices, range));
 }
 
 // The last step's offset of a vertex from its anchor, turned with the
@@ -131,14 +132,15 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   uint32_t run = 0;
   for (uint32_t i = 0; i < iterations; ++i) {
     for (int c = 0; c < 3; ++c)
-      for (uint32_t v = 0; v < model.vertex_count; ++v) s.previous[c][v] = s.position[c][v];
+      for (uint32_t k = 0; k < s.moving_vertices; ++k)
+        s.previous[c][s.moving_vertex[k]] = s.position[c][s.moving_vertex[k]];
     relax_once(model, mstate, &s, workers);
     s.stats.collisions += collide_with_anchor_spheres(model, &s, workers);
     const bool last = i + 1 == iterations;
     const fx::Unit gain = last ? fx::kUnitOne : model.params.reaction_gain;
     estimate_surface_normals(model, &s);  // kSurface only: the fat along the relaxed skin's normal (§5.6)
     s.stats.reactions += apply_reaction_constraints(model, mstate, gain, &s, workers);
-    s.max_relax[i] = largest_move(s, model.vertex_count, workers);
+    s.max_relax[i] = largest_move(s, workers);
     run = i + 1;
     if (!last && tolerance > 0 && s.max_relax[i] < tolerance) {
       if (gain < fx::kUnitOne)

@@ -16,6 +16,7 @@ uint32_t* anatomy_skin_iterations_option(PipelineOptions* o) { return &o->anatom
 uint32_t* anatomy_skin_max_anchor_acceleration_option(PipelineOptions* o) {
   return &o->anatomy.skin_max_anchor_acceleration;
 }
+bool* anatomy_skin_whole_mesh_option(PipelineOptions* o) { return &o->anatomy.skin_whole_mesh; }
 
 namespace stages {
 namespace {
@@ -64,8 +65,12 @@ PipelineStatus anatomy_init(Pipeline* p, uint8_t* block, size_t bytes) {
   layer::LayerStatus st =
       muscle::muscle_init(layers.anatomy.muscles, c.raw(muscle_bytes), muscle_bytes, &p->anatomy.muscles);
   if (st.ok() && layers.anatomy.has_skin) {
-    const size_t skin_bytes = elastic_skin::skin_state_bytes(layers.anatomy.skin);
-    st = elastic_skin::skin_init(layers.anatomy.skin, c.raw(skin_bytes), skin_bytes, &p->anatomy.skin);
+    // The moving vertices are chosen at init: the region and its halo, or
+    // every vertex with skin_whole_mesh (the same state size either way).
+    elastic_skin::SkinModel skin = layers.anatomy.skin;
+    if (p->options.anatomy.skin_whole_mesh) skin.region = {};
+    const size_t skin_bytes = elastic_skin::skin_state_bytes(skin);
+    st = elastic_skin::skin_init(skin, c.raw(skin_bytes), skin_bytes, &p->anatomy.skin);
   }
   if (!st.ok()) return stage_fail(PipelineError::kBadModel, "anatomy", st.message);
   p->anatomy.on = true;

@@ -44,18 +44,23 @@ struct AnatomyOptions {
   // faster than that within a tick is taken as a jump, and the skin is
   // carried with it instead of being flung off the limb.
   uint32_t skin_max_anchor_acceleration = 500;
+  // The static skin relaxes every vertex, not only its support region and
+  // the halo about it (elastic_skin::SkinModel::region): the whole-mesh
+  // simulation, whose far vertices the stage does not read.
+  bool skin_whole_mesh = false;
 };
 
 // Its options' fields in PipelineOptions (stage_anatomy.cpp).
 uint32_t* anatomy_skin_iterations_option(PipelineOptions* o);
 uint32_t* anatomy_skin_max_anchor_acceleration_option(PipelineOptions* o);
+bool* anatomy_skin_whole_mesh_option(PipelineOptions* o);
 
 template <>
 struct StageData<Stage::kAnatomy> {
   using Layers = AnatomyLayers;
   using Run = AnatomyRun;
   using Options = AnatomyOptions;
-  static constexpr std::array<StageOption, 2> options = {
+  static constexpr std::array<StageOption, 3> options = {
       StageOption{"skin_iterations",
                   Stage::kAnatomy,
                   OptionKind::kNumber,
@@ -78,6 +83,18 @@ struct StageData<Stage::kAnatomy> {
                   "skin_max_anchor_acceleration",
                   false,
                   "the dynamic skin's cap on its anchors' acceleration, m/s^2; 0: none (docs/anatomy.md)"},
+      StageOption{"skin_whole_mesh",
+                  Stage::kAnatomy,
+                  OptionKind::kFlag,
+                  anatomy_skin_whole_mesh_option,
+                  {nullptr, nullptr},
+                  nullptr,
+                  0,
+                  0,
+                  "skin_whole_mesh",
+                  false,
+                  "the static elastic skin relaxes every vertex, not only its support region and halo "
+                  "(docs/anatomy.md)"},
   };
   // The skin needs the muscles (its descriptor says so).
   static constexpr std::array<const layer::SectionDescriptor*, 2> sections = {&muscle::kMusclesSection,
