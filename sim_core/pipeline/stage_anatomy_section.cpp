@@ -100,6 +100,7 @@ LoadStatus load_skin(const SectionView& v, const rig::Rig& rig, LayerSet* set) {
   if (v.header.layer_version < elastic_skin::kSkinSectionVersion4) out->solver.fat_normal = 0;
   *region = named<uint32_t, skin_array("region_vertex")>(v);
   *region_weight = named<fx::Unit, skin_array("region_weight")>(v);
+  out->region = *region;  // the static relaxation moves the region and its halo (checked below)
   if (out->vertex_count != rig.vertex_count())
     return section_fail(LoadError::kBadValue, v, "vertex_count", -1, "differs from the rig's", out->vertex_count, true);
   if (region->size() != region_weight->size())

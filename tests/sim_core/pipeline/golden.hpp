@@ -6,5 +6,5 @@
 
 namespace sinew::test::golden {
 inline constexpr uint64_t kArmLayersBlob = 0x47ab257f86b1fbaau;
-inline constexpr uint64_t kPipelineArmAllLayers = 0xd298b9f9f2652775u;
+inline constexpr uint64_t kPipelineArmAllLayers = 0xa6f4d986cb488a43u;
 }  // namespace sinew::test::golden
