@@ -23,10 +23,10 @@ bool far_from(const muscle::PrimitiveBound* bounds, size_t i, fx::Vec3 p) {
 
 // Some active primitive may move p (the passes' cheap first test).
 bool within_reach(const muscle::MuscleState& muscles, const muscle::PrimitiveBound* bounds, fx::Vec3 p) {
-  bool any = false;
+  unsigned any = 0;
   for (size_t i = 0; i < muscles.primitives.size(); ++i)
-    any |= (muscles.primitives[i].active != 0) & !far_from(bounds, i, p);
-  return any;
+    any |= static_cast<unsigned>(muscles.primitives[i].active != 0) & static_cast<unsigned>(!far_from(bounds, i, p));
+  return any != 0;
 }
 
 void bound_primitives(const muscle::MuscleState& muscles, muscle::PrimitiveBound (&out)[kBoundedPrimitives]) {

@@ -42,9 +42,11 @@ PrimitiveBound primitive_bound(const PrimitiveFrame& f);
 // p is certainly outside the primitive the bound was made from. Branch-free.
 inline bool beyond_bound(const PrimitiveBound& b, fx::Vec3 p) {
   const fx::Vec3 d = fx::sub(p, b.centre);  // saturated, as primitive_sample forms it
-  const bool beyond =
-      (fx::magnitude(d.x) >= b.half[0]) | (fx::magnitude(d.y) >= b.half[1]) | (fx::magnitude(d.z) >= b.half[2]);
-  return b.usable & beyond;
+  // Unsigned ors of the three tests, not a chain of branches.
+  const unsigned beyond = static_cast<unsigned>(fx::magnitude(d.x) >= b.half[0]) |
+                          static_cast<unsigned>(fx::magnitude(d.y) >= b.half[1]) |
+                          static_cast<unsigned>(fx::magnitude(d.z) >= b.half[2]);
+  return (static_cast<unsigned>(b.usable) & beyond) != 0;
 }
 
 }  // namespace sinew::muscle
