@@ -61,7 +61,8 @@ void place_fat_points(const SkinModel& model, SkinState* s, const layer::Workers
   s->fat_offsets = 0;
   if (surface_mode(model, *s)) return;  // the direction follows the relaxed skin, round by round
   const auto range = [&](uint32_t begin, uint32_t end) {
-    for (uint32_t v = begin; v < end; ++v) {
+    for (uint32_t k = begin; k < end; ++k) {
+      const uint32_t v = s->moving_vertex[k];
       const fx::Vec3 offset = muscle::along({s->normal[0][v], s->normal[1][v], s->normal[2][v]}, fat_of(model, v));
       s->fat_offset[0][v] = offset.x;
       s->fat_offset[1][v] = offset.y;
@@ -69,7 +70,7 @@ void place_fat_points(const SkinModel& model, SkinState* s, const layer::Workers
     }
     return 0u;
   };
-  layer::run_ranges_summed(workers, model.vertex_count, range);
+  layer::run_ranges_summed(workers, s->moving_vertices, range);
   s->fat_offsets = 1;
 }
 
@@ -205,16 +206,13 @@ uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::Muscle
   return layer::run_ranges_summed(workers, s->moving_vertices, range);
 }
 
-uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
-                      const SkinState& s, const layer::Workers* workers) {
-  const auto range = [&](uint32_t begin, uint32_t end) {
-    return count_inside_of(model, muscles, tolerance, s, nullptr, end - begin, begin);
-  };
-  return layer::run_ranges_summed(workers, model.vertex_count, range);
-}
+namespace {
 
-uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
-                         const SkinState& s, const int64_t* listed, uint32_t count, uint32_t first) {
+// count_inside_of over listed[first .. first + count) (vertex indices of
+// either type), or the vertices first .. first + count with no list.
+template <typename Index>
+uint32_t count_inside_listed(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
+                             const SkinState& s, const Index* listed, uint32_t count, uint32_t first) {
   uint32_t inside = 0;
   const int64_t limit = fx::kUnitOne - int64_t{tolerance};
   muscle::PrimitiveBound bounds[kBoundedPrimitives];
@@ -236,6 +234,21 @@ uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& musc
     }
   });
   return inside;
+}
+
+}  // namespace
+
+uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
+                      const SkinState& s, const layer::Workers* workers) {
+  const auto range = [&](uint32_t begin, uint32_t end) {
+    return count_inside_listed(model, muscles, tolerance, s, s.moving_vertex.data(), end - begin, begin);
+  };
+  return layer::run_ranges_summed(workers, s.moving_vertices, range);
+}
+
+uint32_t count_inside_of(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
+                         const SkinState& s, const int64_t* listed, uint32_t count, uint32_t first) {
+  return count_inside_listed(model, muscles, tolerance, s, listed, count, first);
 }
 
 }  // namespace sinew::elastic_skin

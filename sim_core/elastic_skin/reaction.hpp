@@ -15,7 +15,7 @@
 
 namespace sinew::elastic_skin {
 
-// Returns the number of vertices moved.
+// Over the moving vertices; returns the number moved.
 uint32_t apply_reaction_constraints(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit gain,
                                     SkinState* s, const layer::Workers* workers = nullptr);
 
@@ -49,15 +49,16 @@ uint32_t reaction_moves(const SkinModel& model, const muscle::MuscleState& muscl
 // Fat thickness of vertex v: its own plus the solver's global one (Len).
 fx::Len fat_of(const SkinModel& model, uint32_t v);
 
-// Static mode, once a step after the anchors are mapped: each fat point's
-// offset along the step's anchor normal, so the rounds' reaction passes and
+// Static mode, once a step after the anchors are mapped: each moving
+// vertex's fat point offset along the step's anchor normal, so the rounds' reaction passes and
 // the final count subtract it instead of forming it. With solver.fat_normal
 // = kSurface (the direction changes round by round) it leaves the offsets
 // unset and the passes form them as before.
 void place_fat_points(const SkinModel& model, SkinState* s, const layer::Workers* workers = nullptr);
 
-// Fat points still inside an active primitive by more than `tolerance`
-// (Q2.30 on the inside/outside function: F < 1 - tolerance).
+// The moving vertices' fat points (SkinState::moving_vertex) still inside
+// an active primitive by more than `tolerance` (Q2.30 on the
+// inside/outside function: F < 1 - tolerance).
 uint32_t count_inside(const SkinModel& model, const muscle::MuscleState& muscles, fx::Unit tolerance,
                       const SkinState& s, const layer::Workers* workers = nullptr);
 

@@ -220,7 +220,8 @@ void place_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Wor
   const fx::Len radius = model.params.collision_radius;
   if (radius <= 0) return;
   const auto range = [&](uint32_t begin, uint32_t end) {
-    for (uint32_t v = begin; v < end; ++v) {
+    for (uint32_t k = begin; k < end; ++k) {
+      const uint32_t v = s->moving_vertex[k];
       const fx::Vec3 normal{s->normal[0][v], s->normal[1][v], s->normal[2][v]};
       // Sphere tangent to the skin's tangent plane at the virtual anchor.
       const fx::Vec3 centre = fx::sub(at(s->anchor, v), muscle::along(normal, radius));
@@ -230,7 +231,7 @@ void place_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Wor
     }
     return 0u;
   };
-  layer::run_ranges_summed(workers, model.vertex_count, range);
+  layer::run_ranges_summed(workers, s->moving_vertices, range);
 }
 
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers) {

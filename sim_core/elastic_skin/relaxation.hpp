@@ -22,7 +22,8 @@ namespace sinew::elastic_skin {
 // excess * w / |w| (Len). False when the edge pulls with nothing.
 bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&position)[3], int64_t* k, fx::Vec3* f);
 
-// Runs one round and returns the largest relaxation vector length (Len).
+// Runs one round over the moving edges and vertices (SkinState) and returns
+// the largest relaxation vector length (Len).
 // Two passes: each edge's pull once (over edges), then each vertex gathers
 // its edges' pulls from the CSR (over vertices), so both spread over
 // `workers` and the words written are the same for any number of them.
@@ -53,12 +54,12 @@ struct EdgeSpring {
   return {ratio, effective_stiffness(p, e.k, int64_t{fx::isqrt_fast(n2)} - e.rest, e.rest)};
 }
 
-// The centre of the collision sphere under each virtual anchor of this step
-// (§5.2: radius R, R below the anchor along its normal), into
-// s->sphere_centre: once a step, after the anchors are mapped.
+// The centre of the collision sphere under each moving vertex's virtual
+// anchor of this step (§5.2: radius R, R below the anchor along its
+// normal), into s->sphere_centre: once a step, after the anchors are mapped.
 void place_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers = nullptr);
 
-// Moves each vertex out of its collision sphere (placed by
+// Moves each moving vertex out of its collision sphere (placed by
 // place_anchor_spheres for this step's anchors); returns the number of
 // vertices moved.
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers = nullptr);

@@ -46,6 +46,7 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   for (int a = 0; a < 3; ++a) s->edge_pull[a] = c.take<fx::Len>(model.edges.size());
   s->moving_vertex = c.take<uint32_t>(n);
   s->moving_edge = c.take<uint32_t>(model.edges.size());
+  s->mapped_vertex = c.take<uint32_t>(n);
   return c;
 }
 
@@ -88,10 +89,11 @@ void fill_band_lists(const SkinModel& model, SkinState* s) {
   s->band_offset[0] = 0;
 }
 
-// The static relaxation's moving vertices and edges (skin_state.hpp): the
-// region, then kHaloRings breadth-first rings of edges about it (one pass
-// over the edges per ring, in edge order: deterministic), each vertex's
-// ring kept in previous[0] meanwhile (its scratch until the first round).
+// The static relaxation's moving vertices and edges and its mapped
+// vertices (skin_state.hpp): the region, then kHaloRings breadth-first
+// rings of edges about it (one pass over the edges per ring, in edge order:
+// deterministic), and one ring more for the mapped ones; each vertex's ring
+// kept in previous[0] meanwhile (its scratch until the first round).
 // False when the region is not ascending within the skin.
 bool fill_moving(const SkinModel& model, SkinState* s) {
   const uint32_t n = model.vertex_count;
@@ -115,6 +117,15 @@ bool fill_moving(const SkinModel& model, SkinState* s) {
   s->moving_edges = 0;
   for (uint32_t e = 0; e < model.edges.size(); ++e)
     if (ring[model.edges[e].a] != kFar || ring[model.edges[e].b] != kFar) s->moving_edge[s->moving_edges++] = e;
+  // The moving edges' held ends: one ring further.
+  constexpr fx::Len kEdge = static_cast<fx::Len>(kHaloRings) + 1;
+  for (const Edge& e : model.edges) {
+    if (ring[e.a] == kEdge - 1 && ring[e.b] > kEdge) ring[e.b] = kEdge;
+    if (ring[e.b] == kEdge - 1 && ring[e.a] > kEdge) ring[e.a] = kEdge;
+  }
+  s->mapped_vertices = 0;
+  for (uint32_t v = 0; v < n; ++v)
+    if (ring[v] != kFar) s->mapped_vertex[s->mapped_vertices++] = v;
   return true;
 }
 

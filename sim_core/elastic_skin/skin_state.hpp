@@ -91,6 +91,12 @@ struct SkinState {
   std::span<uint32_t> moving_vertex;
   std::span<uint32_t> moving_edge;
   uint32_t moving_vertices = 0, moving_edges = 0;
+  // The vertices whose anchors a static step maps (ascending): the moving
+  // ones and the held ones the moving edges reach, whose anchors are their
+  // positions. A held vertex beyond them is never read, and its state is
+  // not kept. mapped_vertex[0 .. mapped_vertices).
+  std::span<uint32_t> mapped_vertex;
+  uint32_t mapped_vertices = 0;
   uint8_t started = 0;
   uint32_t step_rate = 0;  // dynamic: the substep rate (1/s) anchor_step is per
   SkinStats stats;

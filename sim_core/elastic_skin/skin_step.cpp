@@ -97,7 +97,8 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
   const layer::Workers* workers = tick.workers;
   // Each vertex reads and writes only its own entries: the ranges run on any thread.
   const auto anchors = [&](uint32_t begin, uint32_t end) {
-    for (uint32_t v = begin; v < end; ++v) {
+    for (uint32_t k = begin; k < end; ++k) {
+      const uint32_t v = s.mapped_vertex[k];
       const AnchorPoint a = map_anchor(model.anchors[v], bones, mstate);
       const fx::Len p[3] = {a.position.x, a.position.y, a.position.z};
       const fx::Unit nrm[3] = {a.normal.x, a.normal.y, a.normal.z};
@@ -121,7 +122,7 @@ LayerStatus skin_step(const SkinModel& model, const muscle::MuscleModel& muscles
     }
     return 0u;
   };
-  layer::run_ranges_summed(workers, model.vertex_count, anchors);
+  layer::run_ranges_summed(workers, s.mapped_vertices, anchors);
   place_anchor_spheres(model, &s, workers);  // the anchors hold for every round of the step
   place_fat_points(model, &s, workers);
   // §5.2: relax until the largest move falls below the tolerance or the

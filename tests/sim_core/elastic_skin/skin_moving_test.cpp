@@ -1,7 +1,8 @@
 // The static relaxation's moving vertices (SkinModel::region,
 // skin_state.hpp): the region and the vertices within kHaloRings edges of
 // it, found here by an independent breadth-first search; the edges with a
-// moving end; the others held on their anchors through every step; every
+// moving end; the held ends of those edges mapped and on their anchors
+// through every step (the vertices beyond are never read); every
 // vertex without a region or in dynamic mode; a region that is not
 // ascending within the skin rejected by name.
 #include <gtest/gtest.h>
@@ -66,6 +67,13 @@ TEST(SkinMoving, TheRegionAndItsHaloMoveTheRestStayOnTheirAnchors) {
     ++edges;
   }
   EXPECT_EQ(edges, s.moving_edges);
+  // Mapped: the moving vertices and the held ends of their edges, one ring out.
+  std::vector<uint32_t> mapped;
+  for (uint32_t v = 0; v < model.vertex_count; ++v)
+    if (ring[v] <= es::kHaloRings + 1) mapped.push_back(v);
+  ASSERT_LT(mapped.size(), model.vertex_count);
+  ASSERT_EQ(s.mapped_vertices, mapped.size());
+  for (uint32_t k = 0; k < s.mapped_vertices; ++k) ASSERT_EQ(s.mapped_vertex[k], mapped[k]);
 
   uint32_t moved_off_anchor = 0;
   for (int step = 0; step < 12; ++step) {
@@ -76,10 +84,12 @@ TEST(SkinMoving, TheRegionAndItsHaloMoveTheRestStayOnTheirAnchors) {
     for (uint32_t v = 0; v < model.vertex_count; ++v) {
       const bool off = s.position[0][v] != s.anchor[0][v] || s.position[1][v] != s.anchor[1][v] ||
                        s.position[2][v] != s.anchor[2][v];
-      if (ring[v] > es::kHaloRings)
+      if (ring[v] == es::kHaloRings + 1) {  // held, its anchor mapped: the moving edges read it
         ASSERT_FALSE(off) << "held vertex " << v << " left its anchor at step " << step;
-      else
+        ASSERT_NE(s.anchor[0][v] | s.anchor[1][v] | s.anchor[2][v], 0) << "held vertex " << v << " not mapped";
+      } else if (ring[v] <= es::kHaloRings) {
         moved_off_anchor += off ? 1 : 0;
+      }
     }
   }
   EXPECT_GT(moved_off_anchor, 0u);
