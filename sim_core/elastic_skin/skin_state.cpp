@@ -89,43 +89,48 @@ void fill_band_lists(const SkinModel& model, SkinState* s) {
   s->band_offset[0] = 0;
 }
 
+constexpr fx::Len kFar = INT32_MAX;  // a vertex no ring reaches
+
+// Ring r about the region: every vertex one edge from ring r - 1 and not
+// nearer (one pass over the edges, in edge order: deterministic).
+void grow_ring(const SkinModel& model, std::span<fx::Len> ring, fx::Len r) {
+  for (const Edge& e : model.edges) {
+    if (ring[e.a] == r - 1 && ring[e.b] > r) ring[e.b] = r;
+    if (ring[e.b] == r - 1 && ring[e.a] > r) ring[e.a] = r;
+  }
+}
+
+// The vertices some ring reaches, ascending, into list; returns their count.
+uint32_t list_reached(std::span<const fx::Len> ring, std::span<uint32_t> list) {
+  uint32_t count = 0;
+  for (uint32_t v = 0; v < ring.size(); ++v)
+    if (ring[v] != kFar) list[count++] = v;
+  return count;
+}
+
 // The static relaxation's moving vertices and edges and its mapped
 // vertices (skin_state.hpp): the region, then kHaloRings breadth-first
-// rings of edges about it (one pass over the edges per ring, in edge order:
-// deterministic), and one ring more for the mapped ones; each vertex's ring
-// kept in previous[0] meanwhile (its scratch until the first round).
-// False when the region is not ascending within the skin.
+// rings of edges about it, and one ring more for the mapped ones; each
+// vertex's ring kept in previous[0] meanwhile (its scratch until the first
+// round). False when the region is not ascending within the skin.
 bool fill_moving(const SkinModel& model, SkinState* s) {
   const uint32_t n = model.vertex_count;
   const bool everything = model.region.empty() || model.solver.mode == static_cast<uint8_t>(SkinMode::kDynamic);
-  std::span<fx::Len> ring = s->previous[0];
-  constexpr fx::Len kFar = INT32_MAX;
+  const std::span<fx::Len> ring = s->previous[0].first(n);
   for (uint32_t v = 0; v < n; ++v) ring[v] = everything ? 0 : kFar;
   for (size_t i = 0; i < model.region.size() && !everything; ++i) {
     const uint32_t v = model.region[i];
     if (v >= n || (i > 0 && v <= model.region[i - 1])) return false;
     ring[v] = 0;
   }
-  for (fx::Len r = 1; r <= static_cast<fx::Len>(kHaloRings) && !everything; ++r)
-    for (const Edge& e : model.edges) {
-      if (ring[e.a] == r - 1 && ring[e.b] > r) ring[e.b] = r;
-      if (ring[e.b] == r - 1 && ring[e.a] > r) ring[e.a] = r;
-    }
-  s->moving_vertices = 0;
-  for (uint32_t v = 0; v < n; ++v)
-    if (ring[v] != kFar) s->moving_vertex[s->moving_vertices++] = v;
+  const auto halo = static_cast<fx::Len>(kHaloRings);
+  for (fx::Len r = 1; r <= halo && !everything; ++r) grow_ring(model, ring, r);
+  s->moving_vertices = list_reached(ring, s->moving_vertex);
   s->moving_edges = 0;
   for (uint32_t e = 0; e < model.edges.size(); ++e)
     if (ring[model.edges[e].a] != kFar || ring[model.edges[e].b] != kFar) s->moving_edge[s->moving_edges++] = e;
-  // The moving edges' held ends: one ring further.
-  constexpr fx::Len kEdge = static_cast<fx::Len>(kHaloRings) + 1;
-  for (const Edge& e : model.edges) {
-    if (ring[e.a] == kEdge - 1 && ring[e.b] > kEdge) ring[e.b] = kEdge;
-    if (ring[e.b] == kEdge - 1 && ring[e.a] > kEdge) ring[e.a] = kEdge;
-  }
-  s->mapped_vertices = 0;
-  for (uint32_t v = 0; v < n; ++v)
-    if (ring[v] != kFar) s->mapped_vertex[s->mapped_vertices++] = v;
+  if (!everything) grow_ring(model, ring, halo + 1);  // the moving edges' held ends
+  s->mapped_vertices = list_reached(ring, s->mapped_vertex);
   return true;
 }
 
