@@ -82,7 +82,10 @@ uint32_t list_reaction_candidates(const SkinModel& model, const muscle::MuscleSt
     fx::Vec3 n{};
     const fx::Vec3 p = fat_point(model, *s, v, &n);
     for (size_t i = 0; i < muscles.primitives.size(); ++i) {
-      if (muscles.primitives[i].active == 0 || far_from(bounds, i, p)) continue;
+      // The wide reach, not the box: the substep's sweeps move the listed
+      // vertices only, and one just outside the box at listing could come
+      // inside.
+      if (muscles.primitives[i].active == 0 || (i < kBoundedPrimitives && muscle::beyond_reach(bounds[i], p))) continue;
       s->weight[count++] = v;
       break;
     }

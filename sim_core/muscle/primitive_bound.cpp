@@ -38,6 +38,13 @@ PrimitiveBound primitive_bound(const PrimitiveFrame& f) {
     }
     b.half[w] = sum;
   }
+  uint64_t reach = 0;
+  for (int i = 0; i < 3; ++i) {
+    const uint64_t e = static_cast<uint64_t>(f.extent[i]) + 1;  // <= 2^31
+    reach += e * e;                                             // < 3 * 2^62
+  }
+  if (reach > (uint64_t{1} << 63) - 1) return b;  // twice it would not fit
+  b.reach2 = 2 * reach;
   b.usable = true;
   b.centre = f.centre;
   return b;

@@ -28,6 +28,13 @@ struct PrimitiveBound {
   bool usable = false;  // false: no cull (inactive, deformed, or axes not near-orthonormal)
   fx::Vec3 centre{0, 0, 0};
   uint64_t half[3] = {0, 0, 0};  // world-axis half-widths, Len
+  // The wider reach of a list that must hold every point that may come
+  // inside while its members alone are moved (the dynamic skin's reaction
+  // candidates): twice the squared radius that holds the primitive's box,
+  // 2 sum (e_i + 1)^2 (Len^2). With |a_i|^2 within 2^-16 of 1 and |a_i .
+  // a_j| <= 2^-16, sum (a_i . d)^2 >= (1 - 3 2^-16) |d|^2 (Gershgorin), so a
+  // point inside the box has |d|^2 < sum (e_i + 1)^2 / (1 - 3 2^-16).
+  uint64_t reach2 = 0;
 };
 
 // Axes within 2^-16 of orthonormal (as above), components within 2^-10 of
@@ -47,6 +54,13 @@ inline bool beyond_bound(const PrimitiveBound& b, fx::Vec3 p) {
                           static_cast<unsigned>(fx::magnitude(d.y) >= b.half[1]) |
                           static_cast<unsigned>(fx::magnitude(d.z) >= b.half[2]);
   return (static_cast<unsigned>(b.usable) & beyond) != 0;
+}
+
+// p is beyond the wider reach2: outside the primitive with room to spare.
+inline bool beyond_reach(const PrimitiveBound& b, fx::Vec3 p) {
+  const fx::Vec3 d = fx::sub(p, b.centre);
+  const uint64_t x = fx::magnitude(d.x), y = fx::magnitude(d.y), z = fx::magnitude(d.z);
+  return b.usable && x * x + y * y + z * z >= b.reach2;  // each square <= 2^62: the sum < 2^64
 }
 
 }  // namespace sinew::muscle
