@@ -103,17 +103,34 @@ size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin) {
   return lo;
 }
 
+uint16_t ball_bone(const MetaballModel& m, uint32_t b) {
+  const fx::Unit* w = &m.ball_weight[size_t{b} * kBallInfluences];
+  static_assert(kBallInfluences == 2);
+  if (w[0] != 0 && w[1] != 0) return kNoBall;  // a ball of two bones turns with their blend
+  return m.ball_joint[size_t{b} * kBallInfluences + (w[0] != 0 ? 0 : 1)];  // as compute_balls picks it
+}
+
+bool one_bone_balls_follow_bones(const MetaballModel& m, const MetaballState& s) {
+  bool follow = true;
+  for (uint32_t b = 0; b < m.ball_count(); ++b) {
+    const uint16_t bone = ball_bone(m, b);
+    follow = follow && (bone == kNoBall || s.ball_quat[b] == s.bone_rotation[bone]);
+  }
+  return follow;
+}
+
 void deform_normal_balls_scalar(const MetaballModel& m, const MetaballState& s, const skin::SkinnedVertices& out,
                                 std::span<const uint32_t> skip, uint32_t begin, uint32_t end,
                                 const TurnedVertices* turned) {
   if (end > m.vertex_count) end = m.vertex_count;
   size_t next = first_skip_at(skip, begin);
+  const bool follow = turned != nullptr && one_bone_balls_follow_bones(m, s);
   for (uint32_t v = begin; v < end; ++v) {
     if (next < skip.size() && skip[next] == v) {
       ++next;
       continue;
     }
-    if (turned != nullptr && !balls_turn_alike(m, s, v)) {
+    if (turned != nullptr && !(follow && s.vertex_bone[v] != kNoBall) && !balls_turn_alike(m, s, v)) {
       turned->take(turned->context, v);
       continue;
     }
@@ -137,6 +154,29 @@ bool deform_kernel_supported(DeformKernel kernel) {
 
 DeformKernel deform_kernel_default() {
   return deform_kernel_supported(DeformKernel::kAvx2) ? DeformKernel::kAvx2 : DeformKernel::kScalar;
+}
+
+void make_rest_blends(const MetaballModel& m, MetaballState* s) {
+  for (uint32_t v = 0; v < m.vertex_count; ++v) {
+    int64_t rest[3] = {0, 0, 0}, disp[3] = {0, 0, 0};  // Q30 x Len, as in joint_region_frame
+    uint16_t bone = kNoBall;
+    bool one_bone = true;
+    for (uint32_t k = 0; k < kVertexBalls; ++k) {
+      const size_t i = size_t{v} * kVertexBalls + k;
+      const int64_t w = m.vertex_weight[i];
+      if (w == 0) continue;  // its ball index is not checked by validation
+      const uint16_t b = ball_bone(m, m.vertex_ball[i]);
+      if (bone == kNoBall) bone = b;
+      one_bone = one_bone && b != kNoBall && b == bone;
+      const fx::Vec3 c0 = m.ball_rest[m.vertex_ball[i]], d0 = m.vertex_disp[i];
+      rest[0] += w * c0.x, rest[1] += w * c0.y, rest[2] += w * c0.z;
+      disp[0] += w * d0.x, disp[1] += w * d0.y, disp[2] += w * d0.z;
+    }
+    const auto q30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
+    s->vertex_rest_centre[v] = {q30(rest[0]), q30(rest[1]), q30(rest[2])};
+    s->vertex_rest_disp[v] = {q30(disp[0]), q30(disp[1]), q30(disp[2])};
+    s->vertex_bone[v] = one_bone ? bone : kNoBall;
+  }
 }
 
 // Each ball's frame F_b(x) = c_b + R_b (x - c0_b) as a dual quaternion:

@@ -14,7 +14,11 @@
 //   - sum w c and sum w (s d) are sums of exact vpmuldq products in 64-bit
 //     lanes: exactly the scalar int64 sums, so s d must fit int32: it does for
 //     every validated model (|d| <= 2^30, s < 2), and a vertex where it would
-//     not is redone by the specification;
+//     not is redone by the specification; where no weighted ball is scaled,
+//     sum w d is the state's rounded blend made at init (vertex_rest_disp);
+//   - a vertex whose weighted balls all follow one bone alone turns alike
+//     without comparing their rotations, when every such ball's rotation is
+//     its bone's (checked once a call: one_bone_balls_follow_bones);
 //   - R D is three vpmuldq products summed in 64-bit lanes: exactly the
 //     scalar int64 sums of rotate_q50;
 //   - round half up is (x + 2^(s-1)) >> s with the arithmetic shift built
@@ -91,26 +95,41 @@ inline WideRotation widen_rotation(const fx::Rot3& r) {
 inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const WideBall* balls, uint32_t v,
                           const skin::SkinnedVertices& out, bool alike) {
   const size_t base = size_t{v} * kVertexBalls;
-  __m256i centre = _mm256_setzero_si256(), disp = _mm256_setzero_si256();
-  bool any = false;
+  __m256i centre = _mm256_setzero_si256();
+  bool scaled = false;
   uint16_t first = kNoBall;
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
     const int32_t w = m.vertex_weight[base + k];
     if (w == 0) continue;
-    if (!any) first = m.vertex_ball[base + k];
-    any = true;
-    const WideBall& b = balls[m.vertex_ball[base + k]];
-    const fx::Vec3 d0 = m.vertex_disp[base + k];
-    __m256i d = _mm256_setr_epi64x(d0.x, d0.y, d0.z, 0);
-    if (b.scaled) {
-      d = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(d, b.scale));
-      if (!lanes_fit_i32(d)) return false;
-    }
-    const __m256i wv = _mm256_set1_epi32(w);
-    centre = _mm256_add_epi64(centre, _mm256_mul_epi32(b.center, wv));
-    disp = _mm256_add_epi64(disp, _mm256_mul_epi32(d, wv));
+    const uint16_t ball = m.vertex_ball[base + k];
+    if (first == kNoBall) first = ball;
+    const WideBall& b = balls[ball];
+    scaled = scaled || b.scaled;
+    centre = _mm256_add_epi64(centre, _mm256_mul_epi32(b.center, _mm256_set1_epi32(w)));
   }
-  if (!any) return false;
+  if (first == kNoBall) return false;
+  // sat_i32(round(sum w s d)): the state's blend made at init where no
+  // weighted ball is scaled (s = 1: s d = d), else summed here.
+  fx::Vec3 d = s.vertex_rest_disp[v];
+  if (scaled) {
+    __m256i disp = _mm256_setzero_si256();
+    for (uint32_t k = 0; k < kVertexBalls; ++k) {
+      const int32_t w = m.vertex_weight[base + k];
+      if (w == 0) continue;
+      const WideBall& b = balls[m.vertex_ball[base + k]];
+      const fx::Vec3 d0 = m.vertex_disp[base + k];
+      __m256i dk = _mm256_setr_epi64x(d0.x, d0.y, d0.z, 0);
+      if (b.scaled) {
+        dk = round_shift_lanes<fx::kUnitFracBits>(_mm256_mul_epi32(dk, b.scale));
+        if (!lanes_fit_i32(dk)) return false;
+      }
+      disp = _mm256_add_epi64(disp, _mm256_mul_epi32(dk, _mm256_set1_epi32(w)));
+    }
+    int64_t dl[4];
+    const __m256i dr = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(disp));
+    std::memcpy(dl, &dr, sizeof(dl));
+    d = {static_cast<int32_t>(dl[0]), static_cast<int32_t>(dl[1]), static_cast<int32_t>(dl[2])};
+  }
   fx::Quat quat;
   fx::Rot3 rotation;
   WideRotation blended;
@@ -122,12 +141,9 @@ inline bool deform_vertex(const MetaballModel& m, const MetaballState& s, const 
     blended = widen_rotation(rotation);
     col = blended.col;
   }
-  int64_t dl[4];
-  const __m256i dr = saturate_i32_lanes(round_shift_lanes<fx::kUnitFracBits>(disp));
-  std::memcpy(dl, &dr, sizeof(dl));
-  __m256i rd = _mm256_mul_epi32(col[0], _mm256_set1_epi32(static_cast<int32_t>(dl[0])));
-  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[1], _mm256_set1_epi32(static_cast<int32_t>(dl[1]))));
-  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[2], _mm256_set1_epi32(static_cast<int32_t>(dl[2]))));
+  __m256i rd = _mm256_mul_epi32(col[0], _mm256_set1_epi32(d.x));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[1], _mm256_set1_epi32(d.y)));
+  rd = _mm256_add_epi64(rd, _mm256_mul_epi32(col[2], _mm256_set1_epi32(d.z)));
   const __m256i p = saturate_i32_lanes(
       _mm256_add_epi64(round_shift_lanes<fx::kUnitFracBits>(centre), round_shift_lanes<fx::kUnitFracBits>(rd)));
   int64_t o[4];
@@ -147,12 +163,13 @@ bool deform_normal_balls_avx2(const MetaballModel& m, const MetaballState& s, co
   WideBall balls[kMaxWideBalls];
   for (uint32_t b = 0; b < count; ++b) balls[b] = widen_ball(s.ball_rotation[b], s.ball_center[b], s.ball_scale[b]);
   size_t next = first_skip_at(skip, begin);
+  const bool follow = turned != nullptr && one_bone_balls_follow_bones(m, s);
   for (uint32_t v = begin; v < end; ++v) {
     if (next < skip.size() && skip[next] == v) {
       ++next;
       continue;
     }
-    if (turned != nullptr && !balls_turn_alike(m, s, v)) {
+    if (turned != nullptr && !(follow && s.vertex_bone[v] != kNoBall) && !balls_turn_alike(m, s, v)) {
       turned->take(turned->context, v);
       continue;
     }

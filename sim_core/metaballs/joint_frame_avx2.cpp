@@ -80,48 +80,49 @@ struct FrameGroup {
   uint32_t no_weight;  // lanes with no weighted ball
   __m256i bad;
   Quat4 rq, d;  // DualQuatBlend::unit's parts before fx::normalize_fast
-  __m256i rest[3], disp[3];
+  __m256i rest[3], disp[3];  // q30 of the rest centre and of the displacement blends
   skin::avx2::RsqrtX4 rs;
 };
 
-// Stage 1: DualQuatBlend over the vertex's weighted balls, the blended rest
-// centre and scaled displacement, and the parts rounded to Q30 / Len.
+// Stage 1: DualQuatBlend over the vertex's weighted balls, the blended
+// scaled displacement, and the parts rounded to Q30 / Len. The rest centre,
+// and the displacement of a group whose weighted balls all have scale 1, are
+// the state's blends made at init (make_rest_blends): the same words.
 void blend_frames(const MetaballModel& m, const MetaballState& s, FrameGroup* g) {
   const __m256i zero = _mm256_setzero_si256();
   __m256i bad = zero;
-  // Each lane's first weighted ball: the pivot of the hemisphere test, and
-  // the frame read in the lane's zero-weight slots.
+  // Each lane's slots; its first weighted ball is the pivot of the
+  // hemisphere test and the ball read in its zero-weight slots.
+  uint16_t ball[kVertexBalls][kLanes];
+  int32_t weight[kVertexBalls][kLanes];
   uint16_t pivot_ball[kLanes];
+  bool scaled = false;
+  g->no_weight = 0;
   for (uint32_t l = 0; l < kLanes; ++l) {
     const size_t base = size_t{g->v[l]} * kVertexBalls;
     pivot_ball[l] = kNoBall;
-    for (uint32_t k = 0; k < kVertexBalls && pivot_ball[l] == kNoBall; ++k)
-      if (m.vertex_weight[base + k] != 0) pivot_ball[l] = m.vertex_ball[base + k];
-  }
-  g->no_weight = 0;
-  for (uint32_t l = 0; l < kLanes; ++l)
+    for (uint32_t k = 0; k < kVertexBalls; ++k) {
+      weight[k][l] = m.vertex_weight[base + k];
+      ball[k][l] = m.vertex_ball[base + k];
+      if (weight[k][l] == 0) continue;
+      if (pivot_ball[l] == kNoBall) pivot_ball[l] = ball[k][l];
+      scaled = scaled || s.ball_scale[ball[k][l]] != fx::kUnitOne;
+    }
     if (pivot_ball[l] == kNoBall) g->no_weight |= 1u << l, pivot_ball[l] = 0;  // any valid ball; the lane is redone
+    for (uint32_t k = 0; k < kVertexBalls; ++k)
+      if (weight[k][l] == 0) ball[k][l] = pivot_ball[l];
+  }
   const fx::DualQuat* pivot_frame[kLanes];
   for (uint32_t l = 0; l < kLanes; ++l) pivot_frame[l] = &s.ball_frame[pivot_ball[l]];
   Quat4 pivot, unused;
   frame_parts(pivot_frame, &pivot, &unused);
 
   Quat4 real{{zero, zero, zero, zero}}, dual{{zero, zero, zero, zero}};
-  __m256i rest[3] = {zero, zero, zero}, disp[3] = {zero, zero, zero};
+  __m256i disp[3] = {zero, zero, zero};
   for (uint32_t k = 0; k < kVertexBalls; ++k) {
-    uint16_t ball[kLanes];
-    int32_t weight[kLanes];
-    const fx::Vec3* d0[kLanes];
-    for (uint32_t l = 0; l < kLanes; ++l) {
-      const size_t i = size_t{g->v[l]} * kVertexBalls + k;
-      weight[l] = m.vertex_weight[i];
-      ball[l] = weight[l] != 0 ? m.vertex_ball[i] : pivot_ball[l];
-      d0[l] = &m.vertex_disp[i];
-    }
     const fx::DualQuat* frame[kLanes];
-    const fx::Vec3* c0[kLanes];
-    for (uint32_t l = 0; l < kLanes; ++l) frame[l] = &s.ball_frame[ball[l]], c0[l] = &m.ball_rest[ball[l]];
-    const __m256i w = _mm256_cvtepi32_epi64(_mm_setr_epi32(weight[0], weight[1], weight[2], weight[3]));
+    for (uint32_t l = 0; l < kLanes; ++l) frame[l] = &s.ball_frame[ball[k][l]];
+    const __m256i w = _mm256_cvtepi32_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(weight[k])));
     bad = _mm256_or_si256(bad, negative_lanes(w));
     // DualQuatBlend::add: the weight negated where the frame lies on the
     // other hemisphere from the pivot (dot_negative: the plain dot is exact).
@@ -133,19 +134,30 @@ void blend_frames(const MetaballModel& m, const MetaballState& s, FrameGroup* g)
       real.c[c] = add(real.c[c], mul(u, r.c[c]));
       dual.c[c] = add(dual.c[c], mul(u, e.c[c]));
     }
-    const __m256i scale =
-        lanes_of(s.ball_scale[ball[0]], s.ball_scale[ball[1]], s.ball_scale[ball[2]], s.ball_scale[ball[3]]);
+    if (!scaled) continue;
+    const fx::Vec3* d0[kLanes];
+    for (uint32_t l = 0; l < kLanes; ++l) d0[l] = &m.vertex_disp[size_t{g->v[l]} * kVertexBalls + k];
+    const __m256i scale = lanes_of(s.ball_scale[ball[k][0]], s.ball_scale[ball[k][1]], s.ball_scale[ball[k][2]],
+                                   s.ball_scale[ball[k][3]]);
     for (int a = 0; a < 3; ++a) {
       // s d rounded once (at s = 1 exactly d, as the specification's skip).
       const __m256i dd = round_shift_epi64<fx::kUnitFracBits>(mul(vec_lanes(d0, a), scale));
       bad = _mm256_or_si256(bad, outside_i32(dd));
-      rest[a] = add(rest[a], mul(w, vec_lanes(c0, a)));
       disp[a] = add(disp[a], mul(w, dd));
     }
   }
   // DualQuatBlend::unit: both parts to Q30 / Len.
   for (int c = 0; c < 4; ++c) g->rq.c[c] = q30(real.c[c]), g->d.c[c] = q30(dual.c[c]);
-  for (int a = 0; a < 3; ++a) g->rest[a] = rest[a], g->disp[a] = disp[a];
+  const fx::Vec3* rest[kLanes];
+  for (uint32_t l = 0; l < kLanes; ++l) rest[l] = &s.vertex_rest_centre[g->v[l]];
+  for (int a = 0; a < 3; ++a) g->rest[a] = vec_lanes(rest, a);
+  if (scaled) {
+    for (int a = 0; a < 3; ++a) g->disp[a] = q30(disp[a]);
+  } else {
+    const fx::Vec3* unscaled[kLanes];
+    for (uint32_t l = 0; l < kLanes; ++l) unscaled[l] = &s.vertex_rest_disp[g->v[l]];
+    for (int a = 0; a < 3; ++a) g->disp[a] = vec_lanes(unscaled, a);
+  }
   g->bad = bad;
 }
 
@@ -194,13 +206,13 @@ uint32_t finish_frames(FrameGroup* g, NormalBallFrame* frames) {
   const __m256i t[3] = {add(sub(mul(qw, d.c[1]), mul(d.c[0], qx)), sub(mul(qy, d.c[3]), mul(qz, d.c[2]))),
                         add(sub(mul(qw, d.c[2]), mul(d.c[0], qy)), sub(mul(qz, d.c[1]), mul(qx, d.c[3]))),
                         add(sub(mul(qw, d.c[3]), mul(d.c[0], qz)), sub(mul(qx, d.c[2]), mul(qy, d.c[1])))};
-  const __m256i p[3] = {q30(g->rest[0]), q30(g->rest[1]), q30(g->rest[2])};
+  const __m256i(&p)[3] = g->rest;
   __m256i centre[3], out_disp[3];
   for (int i = 0; i < 3; ++i) {
     const __m256i rotated = q30(add(add(mul(rot[i][0], p[0]), mul(rot[i][1], p[1])), mul(rot[i][2], p[2])));
     const __m256i moved = sat_i32_epi64(twice(q30(t[i])));
     centre[i] = sat_i32_epi64(add(rotated, moved));
-    out_disp[i] = q30(g->disp[i]);
+    out_disp[i] = g->disp[i];
   }
 
   // Stores: the lanes to int64 arrays, then each real lane's frame.

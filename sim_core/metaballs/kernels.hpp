@@ -49,6 +49,21 @@ struct NormalBallFrame {
 };
 NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
 
+// The state's vertex_rest_centre, vertex_rest_disp and vertex_bone from the model
+// (init; again by whoever changes the model's weights, balls, displacements
+// or rest centres under a state). The vector kernels read them instead of
+// blending per step what no pose changes; the specification blends as it
+// always did, so the kernel tests check these too.
+void make_rest_blends(const MetaballModel& m, MetaballState* s);
+
+// The bone a normal ball follows alone (its rotation is that bone's,
+// compute_balls), or kNoBall for a ball of two bones.
+uint16_t ball_bone(const MetaballModel& m, uint32_t b);
+// True when every ball of one bone has its bone's rotation this step (as
+// compute_balls makes it): a vertex whose weighted balls all follow one bone
+// (vertex_bone) then turns alike without comparing their rotations.
+bool one_bone_balls_follow_bones(const MetaballModel& m, const MetaballState& s);
+
 // Each ball's frame x -> c + R (x - c0) as a dual quaternion (ball_frame),
 // made once a step before the vertex loops, and whether every frame's real
 // part lies near unit (ball_frames_near_unit; the vector kernel below needs

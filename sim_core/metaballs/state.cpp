@@ -34,6 +34,9 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->ball_frame = c.take<fx::DualQuat>(nb);
   s->ball_scale = c.take<fx::Unit>(nb);
   s->ball_touching = c.take<uint8_t>(nb);
+  s->vertex_rest_centre = c.take<fx::Vec3>(m.vertex_count);
+  s->vertex_rest_disp = c.take<fx::Vec3>(m.vertex_count);
+  s->vertex_bone = c.take<uint16_t>(m.vertex_count);
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
   s->jv_scratch = c.take<fx::Vec3>(m.jv_count());
   return c;
@@ -74,6 +77,7 @@ LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t byte
     st.jiggle_damping[b] = model.jiggle_damping;
   }
   for (size_t p = 0; p < st.pair_coupling.size(); ++p) st.pair_coupling[p] = model.pairs[p].stiffness;
+  detail::make_rest_blends(model, &st);
   st.tick_hz = model.jiggle_rate_hz;
   if (!detail::coupling_stable(model, &st, model.jiggle_rate_hz)) {
     s.error = LayerError::kBadValue;

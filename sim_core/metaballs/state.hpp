@@ -76,6 +76,16 @@ struct MetaballState {
   // Overlap between bones sharing no joint: 1 for a listed ball that collides
   // with a ball of the other bone this step (scratch of overlap.cpp).
   std::span<uint8_t> ball_touching;
+  // Per vertex, made at init from the model alone (make_rest_blends,
+  // kernels.hpp): the two blends of eq. (4) that read no pose, each
+  // sat_i32(round_shift(sum, 30)) as the step rounds them. rest_centre:
+  // sum_j w_j c0_j (the balls' rest centres); rest_disp: sum_j w_j d_ij, the
+  // displacement blend wherever every weighted ball's scale is 1. Len.
+  std::span<fx::Vec3> vertex_rest_centre;
+  std::span<fx::Vec3> vertex_rest_disp;
+  // The bone every weighted ball of the vertex follows alone (ball_bone,
+  // kernels.hpp), or kNoBall.
+  std::span<uint16_t> vertex_bone;
   // Per joint-region vertex.
   std::span<fx::Vec3> jv_posed_laplacian;  // rest Laplacian rotated with the vertex
   std::span<fx::Vec3> jv_scratch;          // Jacobi smoothing buffer

@@ -47,5 +47,44 @@ TEST(PipelineSuperposition, WholeSkinLoopClampsAndCountsAsTheRule) {
   EXPECT_EQ(rule.out[10], 0);
 }
 
+// Long skins in the loop's chunks: values at the edge of the plain-sum test
+// (|x| = 2^29 passes it, 2^29 + 1 does not) and far beyond it, mixed so that
+// some chunks take the plain sums and others the saturating ones.
+TEST(PipelineSuperposition, ChunkedLoopAgreesWithTheRuleAtEveryMagnitude) {
+  uint64_t rng = 0x5A7u;
+  const auto next = [&rng] {
+    rng = rng * 6364136223846793005u + 1442695040888963407u;
+    return static_cast<uint32_t>(rng >> 33);
+  };
+  const int32_t edge = int32_t{1} << 29;
+  // Below 2^30 in magnitude, yet three of them can sum beyond int32.
+  const int32_t near[] = {edge, -edge, edge - 1, edge + 1, -edge - 1, 2 * edge - 1, -2 * edge + 1};
+  const int32_t far[] = {INT32_MAX, INT32_MIN, 2 * edge, -2 * edge, 0, 12345};
+  for (int round = 0; round < 60; ++round) {
+    const size_t n = 1 + next() % 700;
+    std::vector<int32_t> out(n), layer(n), reference(n);
+    for (size_t v = 0; v < n; ++v) {
+      // Whole chunks of one kind: small, near the plain-sum edge, or mixed with the int32 ends.
+      const size_t kind = (v / 64 + static_cast<size_t>(round)) % 3;
+      for (std::vector<int32_t>* a : {&out, &layer, &reference}) {
+        const int32_t small = static_cast<int32_t>(next() % (2u * edge + 1)) - edge;
+        (*a)[v] = kind == 0 ? small : kind == 1 ? near[next() % 7] : (next() % 2 ? far[next() % 6] : near[next() % 7]);
+      }
+    }
+    Skin rule{out, reference}, loop{out, reference};
+    pipeline::Pipeline by_rule, by_loop;
+    for (int a = 0; a < 3; ++a) {
+      by_rule.engine.vertices.position[a] = rule.out;
+      by_rule.reference[a] = rule.reference;
+      by_loop.engine.vertices.position[a] = loop.out;
+      by_loop.reference[a] = loop.reference;
+    }
+    for (uint32_t v = 0; v < n; ++v) st::add_displacement(&by_rule, 0, v, layer[v]);
+    st::add_displacements(&by_loop, 0, layer);
+    ASSERT_EQ(loop.out, rule.out) << "round " << round;
+    ASSERT_EQ(by_loop.saturated, by_rule.saturated) << "round " << round;
+  }
+}
+
 }  // namespace
 }  // namespace sinew::test
