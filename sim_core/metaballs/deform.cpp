@@ -106,7 +106,7 @@ size_t first_skip_at(std::span<const uint32_t> skip, uint32_t begin) {
 uint16_t ball_bone(const MetaballModel& m, uint32_t b) {
   const fx::Unit* w = &m.ball_weight[size_t{b} * kBallInfluences];
   static_assert(kBallInfluences == 2);
-  if (w[0] != 0 && w[1] != 0) return kNoBall;  // a ball of two bones turns with their blend
+  if (w[0] != 0 && w[1] != 0) return kNoBall;                              // a ball of two bones turns with their blend
   return m.ball_joint[size_t{b} * kBallInfluences + (w[0] != 0 ? 0 : 1)];  // as compute_balls picks it
 }
 

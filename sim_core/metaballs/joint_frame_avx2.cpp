@@ -79,7 +79,7 @@ struct FrameGroup {
   uint32_t n;
   uint32_t no_weight;  // lanes with no weighted ball
   __m256i bad;
-  Quat4 rq, d;  // DualQuatBlend::unit's parts before fx::normalize_fast
+  Quat4 rq, d;               // DualQuatBlend::unit's parts before fx::normalize_fast
   __m256i rest[3], disp[3];  // q30 of the rest centre and of the displacement blends
   skin::avx2::RsqrtX4 rs;
 };
