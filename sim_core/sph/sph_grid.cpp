@@ -1,5 +1,6 @@
 #include "sph_grid.hpp"
 
+#include "sim_core/fixed/wide.hpp"
 #include "sim_core/layer/range_totals.hpp"
 #include "sph_kernels.hpp"
 
@@ -90,6 +91,49 @@ ForwardRows forward_rows(const SphState& st, uint32_t c) {
   }
   r.own_end = start[(cz * d + cy) * d + xhi + 1];
   return r;
+}
+
+// One pair's sides, from pair_entry.
+struct PairSides {
+  uint32_t a, b;  // 1 where that side is inside the kernel
+  uint32_t s_ab, s_ba;
+  int32_t w_ab;  // poly6 seen from a (0 outside the kernel)
+  // poly6 seen from b (0 outside the kernel).
+  int32_t w_ba() const { return s_ba == s_ab ? w_ab : poly6(b != 0 ? s_ba : uint32_t{1} << 30); }
+};
+
+// Geometry as pair_geometry (sph_kernels.hpp) from a's side, d = x_a - x_b
+// with every |d_c| < h, written to *e (particles i at a and j at b); b's
+// side negates each rounded axis, plus one LSB where the axis rounded on an
+// exact half (round_shift rounds halves up): round(-v) = -round(v) + [v on
+// a half]. Both sides are exact whichever particle is a.
+[[gnu::always_inline]] inline PairSides pair_entry(int64_t dx, int64_t dy, int64_t dz, int64_t inv, uint32_t i,
+                                                   uint32_t j, SphPair* e) {
+  // |d| < h < 2^31 and inv < 2^50 / h + 1: the products stay below 2^50.
+  const int64_t px = dx * inv, py = dy * inv, pz = dz * inv;
+  const int64_t nx = fx::round_shift(px, 20), ny = fx::round_shift(py, 20), nz = fx::round_shift(pz, 20);
+  const int64_t sum = nx * nx + ny * ny + nz * nz;
+  constexpr int64_t kLow = (int64_t{1} << 20) - 1, kHalf = int64_t{1} << 19;
+  const int64_t hx = (px & kLow) == kHalf, hy = (py & kLow) == kHalf, hz = (pz & kLow) == kHalf;
+  const int64_t s_ab = fx::round_shift(sum, 30);
+  int64_t s_ba = s_ab;
+  if ((hx | hy | hz) != 0)  // rare: an exact half
+    // (-n + t)^2 = n^2 + t (1 - 2 n) for t in {0, 1}.
+    s_ba = fx::round_shift(sum + hx * (1 - 2 * nx) + hy * (1 - 2 * ny) + hz * (1 - 2 * nz), 30);
+  constexpr int64_t kOne = int64_t{1} << 30;
+  const uint32_t side_a = s_ab < kOne ? 1u : 0u, side_b = s_ba < kOne ? 1u : 0u;
+  // Unconditional store, kept by the caller when a side is inside the kernel.
+  e->a = static_cast<uint16_t>(i);
+  e->b = static_cast<uint16_t>(j);
+  e->sides = static_cast<uint8_t>(side_a | (side_b << 1));
+  e->half = static_cast<uint8_t>(hx | (hy << 1) | (hz << 2));
+  e->reserved = 0;
+  e->s_ab = static_cast<uint32_t>(s_ab);
+  e->s_ba = static_cast<uint32_t>(s_ba);
+  e->d[0] = static_cast<int32_t>(nx);
+  e->d[1] = static_cast<int32_t>(ny);
+  e->d[2] = static_cast<int32_t>(nz);
+  return {side_a, side_b, e->s_ab, e->s_ba, poly6(static_cast<uint32_t>(side_a != 0 ? s_ab : kOne))};
 }
 
 // The half-stencil search of sph_grid.hpp, its pairs stored from `pairs`
@@ -235,49 +279,20 @@ class PairSearch {
     }
   }
 
-  // Geometry as pair_geometry (sph_kernels.hpp) from a's side, for a pair
-  // inside the box; b's side negates each rounded axis, plus one LSB where
-  // the axis rounded on an exact half (round_shift rounds halves up):
-  // round(-v) = -round(v) + [v on a half].
   void exact(uint32_t p, uint32_t q, uint32_t& np, uint32_t& count_a, int64_t& dens_a) {
-    const int64_t inv = inv_;
-    const int64_t dx = int64_t{x_[p]} - x_[q], dy = int64_t{y_[p]} - y_[q], dz = int64_t{z_[p]} - z_[q];
-    // |d| < h < 2^31 and inv < 2^50 / h + 1: the products stay below 2^50.
-    const int64_t px = dx * inv, py = dy * inv, pz = dz * inv;
-    const int64_t nx = fx::round_shift(px, 20), ny = fx::round_shift(py, 20), nz = fx::round_shift(pz, 20);
-    const int64_t sum = nx * nx + ny * ny + nz * nz;
-    constexpr int64_t kLow = (int64_t{1} << 20) - 1, kHalf = int64_t{1} << 19;
-    const int64_t hx = (px & kLow) == kHalf, hy = (py & kLow) == kHalf, hz = (pz & kLow) == kHalf;
-    const int64_t s_ab = fx::round_shift(sum, 30);
-    int64_t s_ba = s_ab;
-    if ((hx | hy | hz) != 0)  // rare: an exact half
-      // (-n + t)^2 = n^2 + t (1 - 2 n) for t in {0, 1}.
-      s_ba = fx::round_shift(sum + hx * (1 - 2 * nx) + hy * (1 - 2 * ny) + hz * (1 - 2 * nz), 30);
-    constexpr int64_t kOne = int64_t{1} << 30;
-    const uint32_t side_a = s_ab < kOne ? 1u : 0u, side_b = s_ba < kOne ? 1u : 0u;
     const uint32_t i = sorted_[p], j = sorted_[q];
-    count_a += side_a;
-    const int32_t w_ab = poly6(static_cast<uint32_t>(side_a != 0 ? s_ab : kOne));
-    dens_a += w_ab;
-    if constexpr (kBothSides) {
-      count_[j] = static_cast<uint16_t>(count_[j] + side_b);
-      dens_[j] += s_ba == s_ab ? w_ab : poly6(static_cast<uint32_t>(side_b != 0 ? s_ba : kOne));
-    }
-    // Unconditional store, kept when a side is inside the kernel; past the
-    // capacity the spare last entry takes it (and the substep falls back to
-    // the ordered lists).
+    // Past the capacity the spare last entry takes the store (and the
+    // substep falls back to the ordered lists).
     SphPair& e = pairs_[np < cap_ ? np : cap_];
-    e.a = static_cast<uint16_t>(i);
-    e.b = static_cast<uint16_t>(j);
-    e.sides = static_cast<uint8_t>(side_a | (side_b << 1));
-    e.half = static_cast<uint8_t>(hx | (hy << 1) | (hz << 2));
-    e.reserved = 0;
-    e.s_ab = static_cast<uint32_t>(s_ab);
-    e.s_ba = static_cast<uint32_t>(s_ba);
-    e.d[0] = static_cast<int32_t>(nx);
-    e.d[1] = static_cast<int32_t>(ny);
-    e.d[2] = static_cast<int32_t>(nz);
-    np += (side_a | side_b);
+    const PairSides sides =
+        pair_entry(int64_t{x_[p]} - x_[q], int64_t{y_[p]} - y_[q], int64_t{z_[p]} - z_[q], inv_, i, j, &e);
+    count_a += sides.a;
+    dens_a += sides.w_ab;
+    if constexpr (kBothSides) {
+      count_[j] = static_cast<uint16_t>(count_[j] + sides.b);
+      dens_[j] += sides.w_ba();
+    }
+    np += (sides.a | sides.b);
   }
 
   SphState* st_;
@@ -391,6 +406,189 @@ void search_serial(SphState* st) {
   st->pair_count = search.pairs();
 }
 
+// The candidate pairs (sph_grid.hpp): every pair closer than the reach
+// when listed, tested afresh each substep until some particle, measured
+// from the grid centre, has moved more than the slack from where it was.
+// A pair missing from the list was at least the reach apart; both its
+// particles have moved by at most the slack, so it is now at least
+// reach - 2 slack >= h (1 + 2^-10) + 1 apart, outside the kernel from
+// both sides (the coarse sphere test of PairSearch::scan rests on the same
+// bound), as the full search would find it.
+struct Reach {
+  int64_t reach = 0;  // below 2h: a listed pair lies within two cells on every axis
+  int64_t slack = 0;  // <= 0: no candidates (h too small for the bound)
+};
+
+Reach reach_of(fx::Len h) {
+  const int64_t hh = h;
+  Reach r;
+  if (hh >= (int64_t{1} << 29)) return r;  // keeps reach^2 and the squared moves far inside int64
+  r.reach = hh + hh / 4;
+  const int64_t outer = hh + (hh + 1023) / 1024 + 1;  // >= h (1 + 2^-10) + 1
+  r.slack = (r.reach - outer) / 2 - 1;
+  return r;
+}
+
+// Whether the listed candidates still hold every pair inside the kernel.
+bool candidates_hold(const SphState& st, fx::Vec3 centre) {
+  if (!st.candidates_valid) return false;
+  const Reach r = reach_of(st.model->params.h);
+  const uint32_t n = st.model->particle_count();
+  const int64_t shift[3] = {int64_t{centre.x} - st.candidate_centre.x, int64_t{centre.y} - st.candidate_centre.y,
+                            int64_t{centre.z} - st.candidate_centre.z};
+  const uint64_t limit = static_cast<uint64_t>(r.slack), limit2 = limit * limit;
+  uint32_t far = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    uint64_t moved2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      // |move| < 2^34: each component is capped just past the slack first.
+      const uint64_t m = fx::magnitude(int64_t{st.position[a][i]} - st.candidate_origin[a][i] - shift[a]);
+      const uint64_t capped = m < limit + 1 ? m : limit + 1;
+      moved2 += capped * capped;
+    }
+    far |= static_cast<uint32_t>(moved2 > limit2);
+  }
+  return far == 0;
+}
+
+// Lists the candidates from the current positions (sorted into cells of h
+// first): the half stencil of the search widened to two cells on every
+// axis. False if they outgrow their room (then none are listed).
+bool list_candidates(SphState* st, fx::Vec3 centre) {
+  st->candidates_valid = false;
+  const Reach r = reach_of(st->model->params.h);
+  if (r.slack <= 0) return false;
+  bin_and_sort(st, centre);
+  const uint32_t d = st->grid_dim, cells = d * d * d;
+  const uint32_t* start = st->cell_start.data();
+  const fx::Len* const x = st->sorted_position[0].data();
+  const fx::Len* const y = st->sorted_position[1].data();
+  const fx::Len* const z = st->sorted_position[2].data();
+  const uint16_t* const sorted = st->sorted.data();
+  SphCandidate* const out = st->candidates.data();
+  const uint32_t cap = static_cast<uint32_t>(st->candidates.size());
+  const int64_t reach = r.reach, reach2 = reach * reach;
+  uint32_t count = 0;
+  for (uint32_t c = 0; c < cells; ++c) {
+    if (start[c] == start[c + 1]) continue;
+    const uint32_t cx = c % d, cy = (c / d) % d, cz = c / (d * d);
+    const uint32_t xlo = cx >= 2 ? cx - 2 : 0, xhi = cx + 2 < d ? cx + 2 : d - 1;
+    const uint32_t ylo = cy >= 2 ? cy - 2 : 0, yhi = cy + 2 < d ? cy + 2 : d - 1;
+    // Forward rows: (z, y+1..y+2) and (z+1..z+2, y-2..y+2), x in [x-2, x+2].
+    uint32_t from[12], to[12], rows = 0;
+    const auto row = [&](uint32_t rz, uint32_t ry) {
+      const uint32_t base = (rz * d + ry) * d;
+      from[rows] = start[base + xlo];
+      to[rows] = start[base + xhi + 1];
+      rows += from[rows] != to[rows] ? 1u : 0u;
+    };
+    for (uint32_t ry = cy + 1; ry <= yhi; ++ry) row(cz, ry);
+    for (uint32_t rz = cz + 1; rz <= cz + 2 && rz < d; ++rz)
+      for (uint32_t ry = ylo; ry <= yhi; ++ry) row(rz, ry);
+    const uint32_t own_end = start[(cz * d + cy) * d + xhi + 1];
+    for (uint32_t p = start[c]; p < start[c + 1]; ++p) {
+      const int64_t xa = x[p], ya = y[p], za = z[p];
+      const auto scan = [&](uint32_t lo, uint32_t hi) {
+        for (uint32_t q = lo; q < hi; ++q) {
+          const int64_t dx = x[q] - xa, dy = y[q] - ya, dz = z[q] - za;
+          if (dx >= reach || dx <= -reach || dy >= reach || dy <= -reach || dz >= reach || dz <= -reach) continue;
+          if (dx * dx + dy * dy + dz * dz >= reach2) continue;  // each square < 2^60.7
+          if (count < cap) out[count] = {sorted[p], sorted[q]};
+          ++count;
+        }
+      };
+      scan(p + 1, own_end);
+      for (uint32_t k = 0; k < rows; ++k) scan(from[k], to[k]);
+    }
+  }
+  if (count > cap) return false;
+  const uint32_t n = st->model->particle_count();
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t i = 0; i < n; ++i) st->candidate_origin[a][i] = st->position[a][i];
+  st->candidate_centre = centre;
+  st->candidate_count = count;
+  st->candidates_valid = true;
+  return true;
+}
+
+// The pairs of the candidates inside the kernel, both sides at once, as
+// PairSearch<true> stores them (its box test, then pair_entry). Returns the
+// pairs found; more than cap means they outgrew the list.
+uint32_t pairs_of_candidates(SphState* st, uint32_t cap) {
+  const InvH ih = make_inv_h(st->model->params.h);
+  const int64_t h = ih.h, inv = ih.inv;
+  // At |d| >= h (1 + 2^-10) both sides are outside the kernel (PairSearch::scan's
+  // coarse sphere test): such a pair adds nothing and is not stored.
+  const int64_t outer = h + (h + 1023) / 1024 + 1, outer2 = outer * outer;
+  const fx::Len* const x = st->position[0].data();
+  const fx::Len* const y = st->position[1].data();
+  const fx::Len* const z = st->position[2].data();
+  const SphCandidate* const list = st->candidates.data();
+  uint16_t* const count = st->neighbour_count.data();
+  int64_t* const dens = st->density_sum.data();
+  SphPair* const pairs = st->pairs.data();
+  // The box as one unsigned compare per axis: |d_c| <= h - 1.
+  const uint64_t box = static_cast<uint64_t>(2 * h - 1);
+  const auto in_box = [&](int64_t v) { return static_cast<uint64_t>(v + h - 1) < box; };
+  uint32_t np = 0;
+  // The list runs particle by particle (list_candidates): a's count and
+  // sum stay in registers across its run.
+  uint32_t current = st->candidate_count != 0 ? list[0].a : 0, count_a = 0;
+  int64_t dens_a = 0;
+  for (uint32_t k = 0; k < st->candidate_count; ++k) {
+    const uint32_t i = list[k].a, j = list[k].b;
+    if (i != current) {
+      count[current] = static_cast<uint16_t>(count[current] + count_a);
+      dens[current] += dens_a;
+      current = i, count_a = 0, dens_a = 0;
+    }
+    const int64_t dx = int64_t{x[i]} - x[j], dy = int64_t{y[i]} - y[j], dz = int64_t{z[i]} - z[j];
+    if (!(in_box(dx) & in_box(dy) & in_box(dz))) continue;
+    if (dx * dx + dy * dy + dz * dz >= outer2) continue;  // |d_c| < h < 2^29: no overflow
+    const PairSides sides = pair_entry(dx, dy, dz, inv, i, j, &pairs[np < cap ? np : cap]);
+    count_a += sides.a;
+    dens_a += sides.w_ab;
+    count[j] = static_cast<uint16_t>(count[j] + sides.b);
+    dens[j] += sides.w_ba();
+    np += sides.a | sides.b;
+  }
+  if (st->candidate_count != 0) {
+    count[current] = static_cast<uint16_t>(count[current] + count_a);
+    dens[current] += dens_a;
+  }
+  return np;
+}
+
+// Substeps without candidates after a list outgrew its room: listing them
+// costs about one full search, so a crowded joint is not made to pay it
+// every substep.
+constexpr uint32_t kCandidatePause = 64;
+
+// The search on one thread through the candidates: the pairs, counts and
+// sums of search_serial, word for word.
+void search_listed(SphState* st, fx::Vec3 centre) {
+  if (st->candidate_pause > 0) --st->candidate_pause;
+  if (st->candidate_pause == 0 && !candidates_hold(*st, centre)) {
+    ++st->stats.candidate_builds;
+    if (!list_candidates(st, centre)) st->candidate_pause = kCandidatePause;
+  }
+  if (!st->candidates_valid || st->candidate_pause > 0) {
+    bin_and_sort(st, centre);
+    search_serial(st);
+    return;
+  }
+  const uint32_t cap = st->model->particle_count() * st->model->params.max_neighbours;
+  reset_sums(st);
+  st->gathered = false;
+  const uint32_t np = pairs_of_candidates(st, cap);
+  if (np > cap || !lists_fit(st)) {
+    bin_and_sort(st, centre);  // the ordered lists read this substep's cells
+    ordered_lists(st);
+    return;
+  }
+  st->pair_count = np;
+}
+
 // The search over the workers. Each range of sorted particles searches its
 // particles' forward neighbourhoods and keeps their own counts, density
 // sums and runs of pairs, in entries of its own: a range of r particles
@@ -455,15 +653,18 @@ bool search_gathered(SphState* st, const layer::Workers* workers) {
 }  // namespace
 
 void build_neighbours(SphState* st, fx::Vec3 centre, const layer::Workers* workers) {
-  bin_and_sort(st, centre);
   // The same threshold as layer::run_ranges: below it waking the workers
-  // costs more than the search; either search gives the step the same
+  // costs more than the search; every search gives the step the same
   // words (sph_determinism_test compares them for 1 to 7 workers).
   const bool spread = workers != nullptr && workers->run != nullptr && workers->parts > 1 &&
                       st->model->particle_count() >= 2 * layer::kMinPerLoop;
-  if (spread && search_gathered(st, workers)) return;
+  if (!spread) return search_listed(st, centre);
+  bin_and_sort(st, centre);
+  if (search_gathered(st, workers)) return;
   search_serial(st);
 }
+
+void sort_into_cells(SphState* st, fx::Vec3 centre) { bin_and_sort(st, centre); }
 
 void compute_density(SphState* st) {
   const uint32_t n = st->model->particle_count();

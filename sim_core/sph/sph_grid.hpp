@@ -14,6 +14,16 @@
 // depend on that order; that substep rebuilds the pairs from the ordered
 // per-particle scan (one side per pair) so the same neighbours are dropped.
 //
+// On one thread the half stencil is not walked every substep: a list of
+// candidate pairs, every pair closer than 1.25 h, is made by the same
+// walk widened to two cells, and each substep tests only those, until a
+// particle has moved more than the list's slack (about h / 8, measured
+// from the grid centre, so the arm's own motion does not count) since it
+// was made. The bound that makes this exact is in sph_grid.cpp; the pairs,
+// counts and sums are the full search's (sph_equivalence_test and
+// sph_determinism_test compare them). Fallbacks: a list that outgrows its
+// room (n x max_neighbours) pauses the candidates for 64 substeps.
+//
 // Over the workers (two parts or more, 128 particles or more), each range of
 // sorted particles searches its particles' forward neighbourhoods and keeps
 // their own counts, density sums and runs of pairs in entries of its own;
@@ -31,6 +41,10 @@ namespace sinew::sph {
 // Pairs, neighbour counts and density sums for the current positions; fills
 // stats. workers: null or the threads the search may spread over.
 void build_neighbours(SphState* state, fx::Vec3 centre, const layer::Workers* workers = nullptr);
+
+// The counting sort of step 1 alone (cell, cell_start, sorted,
+// sorted_position), for readers of the cells outside the search.
+void sort_into_cells(SphState* state, fx::Vec3 centre);
 
 // Density (poly6, self included) of every particle from the density sums.
 void compute_density(SphState* state);

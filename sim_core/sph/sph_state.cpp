@@ -51,6 +51,8 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   s->run_count = c.take<uint16_t>(n);
   s->b_offset = c.take<uint32_t>(n + 1);
   s->b_pair = c.take<uint32_t>(pairs);
+  s->candidates = c.take<SphCandidate>(n * m.params.max_neighbours);
+  for (int a = 0; a < 3; ++a) s->candidate_origin[a] = c.take<fx::Len>(n);
   s->neighbour_count = c.take<uint16_t>(n);
   s->density_sum = c.take<int64_t>(n);
   s->skin_particle = c.take<uint16_t>(sv * kMaxVertexNeighbours);
@@ -127,6 +129,7 @@ LayerStatus sph_init(const SphModel& model, std::span<const fx::Mat34> rest_tran
     for (uint32_t i = 0; i < model.particle_count(); ++i) s.position[a][i] = model.rest_model[a][i];
   build_neighbours(&s, f.centre);
   compute_density(&s);
+  sort_into_cells(&s, f.centre);  // skin_weights walks the cells
   skin_weights(&s, f.centre);
   for (uint32_t i = 0; i < model.particle_count(); ++i) s.rest_density[i] = s.density[i];
   // Rotational inertia of the distal particles about the axis (equal masses).

@@ -33,6 +33,14 @@ struct SphStats {
   uint32_t max_neighbour_count = 0;  // largest list, last step
   uint64_t neighbour_pairs = 0;      // pairs evaluated, last step (all substeps)
   uint32_t saturated = 0;            // values clamped, last step
+  uint32_t candidate_builds = 0;     // substeps of the last step that listed the candidate pairs afresh
+};
+
+// A pair of particles closer than the candidates' reach when the candidates
+// were listed (sph_grid.hpp): the search on one thread tests only these
+// until a particle has moved too far from where it was then.
+struct SphCandidate {
+  uint16_t a, b;  // particle indices
 };
 
 struct SphState {
@@ -70,10 +78,20 @@ struct SphState {
   std::span<SphPair> pairs;  // n * (max_neighbours + 1) + 1 (the spare entries of the searches' stores)
   uint32_t pair_count = 0;   // every pair kept
   bool gathered = false;
-  std::span<uint32_t> run_first;        // n
-  std::span<uint16_t> run_count;        // n
-  std::span<uint32_t> b_offset;         // n + 1
-  std::span<uint32_t> b_pair;           // as pairs
+  std::span<uint32_t> run_first;  // n
+  std::span<uint16_t> run_count;  // n
+  std::span<uint32_t> b_offset;   // n + 1
+  std::span<uint32_t> b_pair;     // as pairs
+  // The candidate pairs of the search on one thread (sph_grid.hpp): listed
+  // from the positions candidate_origin (Len) about the grid centre
+  // candidate_centre; valid while every particle stays within
+  // candidate_slack of its origin, both measured from their centres.
+  std::span<SphCandidate> candidates;      // n * max_neighbours
+  std::span<fx::Len> candidate_origin[3];  // n
+  uint32_t candidate_count = 0;
+  bool candidates_valid = false;
+  uint32_t candidate_pause = 0;  // substeps left without candidates, after a list outgrew its room
+  fx::Vec3 candidate_centre{0, 0, 0};
   std::span<uint16_t> neighbour_count;  // per particle, this substep, before max_neighbours
   std::span<int64_t> density_sum;       // sum of poly6 over the neighbourhood, Q30, self included
   std::span<int64_t> pressure_sum[3];   // per-particle sums of the pair terms, Q24 (accelerations)

@@ -389,6 +389,7 @@ LayerStatus sph_step(SphState* st, const SphInputs& in) {
   st->stats.neighbour_overflow = 0;
   st->stats.max_neighbour_count = 0;
   st->stats.neighbour_pairs = 0;
+  st->stats.candidate_builds = 0;
 
   // Every distal particle that does not yield takes its share of the load
   // (§4.2); a yielded one takes none until its density falls back. "When
