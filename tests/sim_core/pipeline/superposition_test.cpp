@@ -20,6 +20,15 @@ struct Skin {
   std::vector<int32_t> out, reference;
 };
 
+// The skin's arrays as the pipeline's output and reference on every axis
+// (the three views share the skin's vectors).
+void bind_skin(Skin& skin, pipeline::Pipeline* p) {
+  for (int a = 0; a < 3; ++a) {
+    p->engine.vertices.position[a] = skin.out;
+    p->reference[a] = skin.reference;
+  }
+}
+
 TEST(PipelineSuperposition, WholeSkinLoopClampsAndCountsAsTheRule) {
   const std::vector<int32_t> out = {0, INT32_MAX, INT32_MIN, 5, -7, INT32_MAX, INT32_MIN, 100, 1 << 30, -(1 << 30), 3};
   const std::vector<int32_t> layer = {1,         1,    -1,      INT32_MAX,  INT32_MIN, INT32_MAX,
@@ -28,12 +37,8 @@ TEST(PipelineSuperposition, WholeSkinLoopClampsAndCountsAsTheRule) {
                                           INT32_MAX, 0, -(1 << 30), 1 << 30,   3};
   Skin rule{out, reference}, loop{out, reference};
   pipeline::Pipeline by_rule, by_loop;
-  for (int a = 0; a < 3; ++a) {
-    by_rule.engine.vertices.position[a] = rule.out;
-    by_rule.reference[a] = rule.reference;
-    by_loop.engine.vertices.position[a] = loop.out;
-    by_loop.reference[a] = loop.reference;
-  }
+  bind_skin(rule, &by_rule);
+  bind_skin(loop, &by_loop);
   // One axis only: the three views share their vectors.
   for (uint32_t v = 0; v < layer.size(); ++v) st::add_displacement(&by_rule, 0, v, layer[v]);
   st::add_displacements(&by_loop, 0, layer);
@@ -73,12 +78,8 @@ TEST(PipelineSuperposition, ChunkedLoopAgreesWithTheRuleAtEveryMagnitude) {
     }
     Skin rule{out, reference}, loop{out, reference};
     pipeline::Pipeline by_rule, by_loop;
-    for (int a = 0; a < 3; ++a) {
-      by_rule.engine.vertices.position[a] = rule.out;
-      by_rule.reference[a] = rule.reference;
-      by_loop.engine.vertices.position[a] = loop.out;
-      by_loop.reference[a] = loop.reference;
-    }
+    bind_skin(rule, &by_rule);
+    bind_skin(loop, &by_loop);
     for (uint32_t v = 0; v < n; ++v) st::add_displacement(&by_rule, 0, v, layer[v]);
     st::add_displacements(&by_loop, 0, layer);
     ASSERT_EQ(loop.out, rule.out) << "round " << round;
