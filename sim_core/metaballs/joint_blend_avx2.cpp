@@ -12,7 +12,7 @@
 //     inputs;
 //   - every product is a vpmuldq of two int32 values (the scalar 32x32->64
 //     product), every sum exact as the scalar's, every sat_i32 the exact lane
-//     saturation; rsqrt_fast and its variable shifts are avx2_lanes.hpp's;
+//     saturation; rsqrt_fast and its variable shifts are sim_core/fixed/avx2_lanes.hpp's;
 //   - a lane the vector path cannot prove exact goes to the specification
 //     after its group is stored: a blend lane whose inputs are not near unit
 //     (the plain dot could overflow), whose unnormalised sum leaves int32 or
@@ -62,7 +62,7 @@ struct BlendGroup {
   uint32_t n;
   __m256i a[4], b[4], q[4];  // R_lambda, R_eta, their unnormalised blend
   __m256i alpha, keep_a, take_b, bad, n2;
-  skin::avx2::RsqrtX4 rs;
+  fx::avx2::RsqrtX4 rs;
 };
 
 // Stage 1: nlerp_fast(a, b, alpha)'s cases and its unnormalised blend: a at
@@ -103,14 +103,14 @@ void blend_rotations(const MetaballModel& m, BlendGroup* g) {
 
 // Stage 2: the blend's reciprocal square root (a long dependency chain: a
 // stage of its own, so consecutive groups overlap).
-void inverse_norm(BlendGroup* g) { g->rs = skin::avx2::rsqrt_fast_x4(g->n2); }
+void inverse_norm(BlendGroup* g) { g->rs = fx::avx2::rsqrt_fast_x4(g->n2); }
 
 // Stage 3: the normalised rotation, its matrix, eq. (1)'s centre and
 // displacement, the stores of lanes [0, n); returns the lanes the
 // specification must redo.
 uint32_t finish_entries(const MetaballModel& m, std::span<const fx::Mat34> joint_model, BlendGroup* g, MetaballState* s,
                         const skin::SkinnedVertices& out) {
-  const skin::avx2::VarRoundShift by(g->rs.shift);
+  const fx::avx2::VarRoundShift by(g->rs.shift);
   __m256i bad = g->bad;
   const __m256i alpha = g->alpha;
   const uint32_t* i = g->i;
@@ -157,8 +157,8 @@ uint32_t finish_entries(const MetaballModel& m, std::span<const fx::Mat34> joint
   for (int r = 0; r < 3; ++r) {
     const __m256i rd = add(add(mul(rot[r][0], d[0]), mul(rot[r][1], d[1])), mul(rot[r][2], d[2]));
     const __m256i rl = add(add(mul(rot[r][0], lap[0]), mul(rot[r][1], lap[1])), mul(rot[r][2], lap[2]));
-    skin::avx2::lanes(sat_i32_epi64(add(centre[r], round_shift_epi64<fx::kUnitFracBits>(rd))), position[r]);
-    skin::avx2::lanes(q30(rl), posed[r]);
+    fx::avx2::lanes(sat_i32_epi64(add(centre[r], round_shift_epi64<fx::kUnitFracBits>(rd))), position[r]);
+    fx::avx2::lanes(q30(rl), posed[r]);
   }
   for (uint32_t l = 0; l < n; ++l) {
     const uint32_t v = m.jv_vertex[i[l]];

@@ -16,8 +16,8 @@
 //   - the hemisphere test is the plain dot with the first weighted ball,
 //     exact when every frame is near unit (make_ball_frames checks it once a
 //     step; otherwise the whole batch takes the specification);
-//   - every sat_i32 of the specification is avx2::sat_i32_epi64 (exact), and
-//     rsqrt_fast and its variable shifts are avx2_lanes.hpp's;
+//   - every sat_i32 of the specification is fx::avx2::sat_i32_epi64 (exact), and
+//     rsqrt_fast and its variable shifts are sim_core/fixed/avx2_lanes.hpp's;
 //   - a lane the vector path cannot prove exact goes to the specification
 //     after its group is stored: no weighted ball, a negative weight, a
 //     scaled displacement s d outside int32, or a squared norm that takes
@@ -81,7 +81,7 @@ struct FrameGroup {
   __m256i bad;
   Quat4 rq, d;               // DualQuatBlend::unit's parts before fx::normalize_fast
   __m256i rest[3], disp[3];  // q30 of the rest centre and of the displacement blends
-  skin::avx2::RsqrtX4 rs;
+  fx::avx2::RsqrtX4 rs;
 };
 
 // Stage 1: DualQuatBlend over the vertex's weighted balls, the blended
@@ -169,7 +169,7 @@ void inverse_norm(FrameGroup* g) {
   __m256i n2 = dot4(g->rq, g->rq);
   g->bad = _mm256_or_si256(g->bad, negative_lanes(sub(n2, _mm256_set1_epi64x(1))));
   n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, _mm256_setzero_si256()), 63));  // rsqrt: n2 != 0
-  g->rs = skin::avx2::rsqrt_fast_x4(n2);
+  g->rs = fx::avx2::rsqrt_fast_x4(n2);
 }
 
 // Stage 3: the rest of fx::normalize_fast, rot3_of_unit and the centre;
@@ -177,7 +177,7 @@ void inverse_norm(FrameGroup* g) {
 // must redo.
 uint32_t finish_frames(FrameGroup* g, NormalBallFrame* frames) {
   Quat4 rq = g->rq, d = g->d;
-  const skin::avx2::VarRoundShift by(g->rs.shift);
+  const fx::avx2::VarRoundShift by(g->rs.shift);
   for (int c = 0; c < 4; ++c) {
     rq.c[c] = sat_i32_epi64(by(mul(rq.c[c], g->rs.y)));
     d.c[c] = sat_i32_epi64(by(mul(d.c[c], g->rs.y)));
@@ -217,11 +217,11 @@ uint32_t finish_frames(FrameGroup* g, NormalBallFrame* frames) {
 
   // Stores: the lanes to int64 arrays, then each real lane's frame.
   int64_t q_lane[4][kLanes], rot_lane[3][3][kLanes], centre_lane[3][kLanes], disp_lane[3][kLanes];
-  for (int c = 0; c < 4; ++c) skin::avx2::lanes(rq.c[c], q_lane[c]);
+  for (int c = 0; c < 4; ++c) fx::avx2::lanes(rq.c[c], q_lane[c]);
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) skin::avx2::lanes(rot[i][j], rot_lane[i][j]);
-    skin::avx2::lanes(centre[i], centre_lane[i]);
-    skin::avx2::lanes(out_disp[i], disp_lane[i]);
+    for (int j = 0; j < 3; ++j) fx::avx2::lanes(rot[i][j], rot_lane[i][j]);
+    fx::avx2::lanes(centre[i], centre_lane[i]);
+    fx::avx2::lanes(out_disp[i], disp_lane[i]);
   }
   for (uint32_t l = 0; l < g->n; ++l) {
     NormalBallFrame& f = frames[l];

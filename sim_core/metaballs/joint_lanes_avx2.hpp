@@ -10,10 +10,10 @@
 
 #include <cstdint>
 
+#include "sim_core/fixed/avx2_lanes.hpp"
 #include "sim_core/fixed/isa_region.hpp"
 #include "sim_core/fixed/q_formats.hpp"
 #include "sim_core/fixed/vec3.hpp"
-#include "sim_core/skin/avx2_lanes.hpp"
 
 SINEW_ISA_BEGIN("avx2")
 
@@ -21,8 +21,8 @@ namespace sinew::metaballs::detail::joint_lanes {
 // Internal linkage: no copy of a helper outlives its own file's AVX2 code.
 namespace {
 
-using skin::avx2::round_shift_epi64;
-using skin::avx2::sat_i32_epi64;
+using fx::avx2::round_shift_epi64;
+using fx::avx2::sat_i32_epi64;
 
 constexpr uint32_t kLanes = 4;
 

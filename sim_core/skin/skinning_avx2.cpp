@@ -25,7 +25,7 @@
 // specification. DQS vertices are skipped (their own kernel writes them).
 #include <immintrin.h>
 
-#include "avx2_lanes.hpp"
+#include "sim_core/fixed/avx2_lanes.hpp"
 #include "sim_core/fixed/isa_region.hpp"
 #include "skinning_detail.hpp"
 
@@ -36,10 +36,10 @@ SINEW_ISA_BEGIN("avx2")
 namespace sinew::skin::detail {
 namespace {
 
-using avx2::lanes;
-using avx2::load4_epi64;
-using avx2::round_shift_epi64;
-using avx2::sat_i32_epi64;
+using fx::avx2::lanes;
+using fx::avx2::load4_epi64;
+using fx::avx2::round_shift_epi64;
+using fx::avx2::sat_i32_epi64;
 
 // Palettes up to this size are widened on the stack (128 bytes per entry).
 constexpr size_t kMaxWidePalette = 256;
@@ -75,11 +75,11 @@ inline void normalize_fast_x4(__m256i x, __m256i y, __m256i z, __m256i out[3]) {
       _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(x, x), _mm256_mul_epi32(y, y)), _mm256_mul_epi32(z, z));
   const __m256i is_zero = _mm256_cmpeq_epi64(n2, zero);
   n2 = _mm256_blendv_epi8(n2, _mm256_set1_epi64x(1), is_zero);  // any valid lane; zeroed below
-  const avx2::RsqrtX4 r = avx2::rsqrt_fast_x4(n2);
-  const avx2::VarRoundShift scale(r.shift);
+  const fx::avx2::RsqrtX4 r = fx::avx2::rsqrt_fast_x4(n2);
+  const fx::avx2::VarRoundShift scale(r.shift);
   const __m256i c[3] = {x, y, z};
   for (int i = 0; i < 3; ++i)
-    out[i] = _mm256_andnot_si256(is_zero, avx2::sat_i32_epi64(scale(_mm256_mul_epi32(c[i], r.y))));
+    out[i] = _mm256_andnot_si256(is_zero, fx::avx2::sat_i32_epi64(scale(_mm256_mul_epi32(c[i], r.y))));
 }
 
 void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {

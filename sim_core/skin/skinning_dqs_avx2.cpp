@@ -15,7 +15,7 @@
 //   - the hemisphere test (antipodality, Kavan et al. 2008) is the plain dot,
 //     exact because the palette is checked near unit once per call, as in the
 //     scalar loop; a palette outside that range takes the scalar loop;
-//   - fx::normalize_fast's rsqrt_fast runs four lanes at once (avx2_lanes.hpp),
+//   - fx::normalize_fast's rsqrt_fast runs four lanes at once (sim_core/fixed/avx2_lanes.hpp),
 //     its divisions are per-lane variable round shifts;
 //   - the scalar path narrows with sat_i32 at many steps; here every such
 //     value that can leave int32 is checked to lie in it (where sat_i32 is the
@@ -34,7 +34,7 @@
 
 #include <cstring>
 
-#include "avx2_lanes.hpp"
+#include "sim_core/fixed/avx2_lanes.hpp"
 #include "sim_core/fixed/isa_region.hpp"
 #include "skinning_detail.hpp"
 
@@ -43,8 +43,8 @@ SINEW_ISA_BEGIN("avx2")
 namespace sinew::skin::detail {
 namespace {
 
-using avx2::round_shift_epi64;
-using avx2::sat_i32_epi64;
+using fx::avx2::round_shift_epi64;
+using fx::avx2::sat_i32_epi64;
 
 constexpr uint32_t kLanes = 4;
 
@@ -87,7 +87,7 @@ inline __m256i dot4(const Quat4& a, const Quat4& b) {
 }
 
 inline __m256i load_lanes(const std::span<const int32_t>& column, const uint32_t v[kLanes], bool contiguous) {
-  if (contiguous) return avx2::load4_epi64(column.data() + v[0]);
+  if (contiguous) return fx::avx2::load4_epi64(column.data() + v[0]);
   return _mm256_setr_epi64x(column[v[0]], column[v[1]], column[v[2]], column[v[3]]);
 }
 
@@ -100,7 +100,7 @@ inline void store_lanes(std::span<int32_t> column, __m256i x, const uint32_t ind
     return;
   }
   int64_t w[kLanes];
-  avx2::lanes(x, w);
+  fx::avx2::lanes(x, w);
   for (uint32_t l = 0; l < n; ++l) column[index[l]] = static_cast<int32_t>(w[l]);
 }
 
@@ -151,7 +151,7 @@ struct Group {
   uint32_t v[kLanes];
   uint32_t n;
   Quat4 real, dual;
-  avx2::RsqrtX4 rsqrt;
+  fx::avx2::RsqrtX4 rsqrt;
   Checks checks;
 };
 
@@ -227,16 +227,16 @@ inline void inverse_norm(Group* g) {
   __m256i n2 = dot4(g->real, g->real);
   g->checks.not_negative(sub(n2, _mm256_set1_epi64x(1)));
   n2 = _mm256_or_si256(n2, _mm256_srli_epi64(_mm256_cmpeq_epi64(n2, zero), 63));  // any nonzero lane
-  g->rsqrt = avx2::rsqrt_fast_x4(n2);
+  g->rsqrt = fx::avx2::rsqrt_fast_x4(n2);
 }
 
 // Stage 3: the rest of fx::normalize_fast.
 inline void normalise(Group* g) {
-  const avx2::RsqrtX4& rs = g->rsqrt;
+  const fx::avx2::RsqrtX4& rs = g->rsqrt;
   // c * y round-shifted by rs.shift, plus the offset 2^(63 - shift) (a
-  // multiple of 2^32 as shift <= 31): avx2::VarRoundShift without its last
+  // multiple of 2^32 as shift <= 31): fx::avx2::VarRoundShift without its last
   // subtraction.
-  const avx2::VarRoundShift scale(rs.shift);
+  const fx::avx2::VarRoundShift scale(rs.shift);
   const auto div = [&](__m256i c) { return _mm256_srlv_epi64(add(mul(c, rs.y), scale.bias), scale.shift); };
   // rq: |rq| < 2^30 + 8 (fx::normalize_fast), no saturation to check.
   const Quat4 rq{div(g->real.w), div(g->real.x), div(g->real.y), div(g->real.z)};

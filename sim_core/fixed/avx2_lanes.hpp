@@ -14,7 +14,7 @@
 
 SINEW_ISA_BEGIN("avx2")
 
-namespace sinew::skin::avx2 {
+namespace sinew::fx::avx2 {
 // Internal linkage: no copy of a helper outlives its own file's AVX2 code.
 namespace {
 
@@ -112,6 +112,6 @@ struct VarRoundShift {
 };
 
 }  // namespace
-}  // namespace sinew::skin::avx2
+}  // namespace sinew::fx::avx2
 
 SINEW_ISA_END
