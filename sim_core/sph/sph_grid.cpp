@@ -487,6 +487,7 @@ bool list_candidates(SphState* st, fx::Vec3 centre) {
       for (uint32_t ry = ylo; ry <= yhi; ++ry) row(rz, ry);
     const uint32_t own_end = start[(cz * d + cy) * d + xhi + 1];
     for (uint32_t p = start[c]; p < start[c + 1]; ++p) {
+      st->candidate_first[sorted[p]] = count < cap ? count : cap;
       const int64_t xa = x[p], ya = y[p], za = z[p];
       const auto scan = [&](uint32_t lo, uint32_t hi) {
         for (uint32_t q = lo; q < hi; ++q) {
@@ -499,6 +500,7 @@ bool list_candidates(SphState* st, fx::Vec3 centre) {
       };
       scan(p + 1, own_end);
       for (uint32_t k = 0; k < rows; ++k) scan(from[k], to[k]);
+      st->candidate_end[sorted[p]] = count < cap ? count : cap;
     }
   }
   if (count > cap) return false;
@@ -511,82 +513,110 @@ bool list_candidates(SphState* st, fx::Vec3 centre) {
   return true;
 }
 
-// The pairs of the candidates inside the kernel, both sides at once, as
-// PairSearch<true> stores them (its box test, then pair_entry). Returns the
-// pairs found; more than cap means they outgrew the list.
-uint32_t pairs_of_candidates(SphState* st, uint32_t cap) {
-  const InvH ih = make_inv_h(st->model->params.h);
-  const int64_t h = ih.h, inv = ih.inv;
-  // At |d| >= h (1 + 2^-10) both sides are outside the kernel (PairSearch::scan's
-  // coarse sphere test): such a pair adds nothing and is not stored.
-  const int64_t outer = h + (h + 1023) / 1024 + 1, outer2 = outer * outer;
-  const fx::Len* const x = st->position[0].data();
-  const fx::Len* const y = st->position[1].data();
-  const fx::Len* const z = st->position[2].data();
-  const SphCandidate* const list = st->candidates.data();
-  uint16_t* const count = st->neighbour_count.data();
-  int64_t* const dens = st->density_sum.data();
-  SphPair* const pairs = st->pairs.data();
-  // The box as one unsigned compare per axis: |d_c| <= h - 1.
-  const uint64_t box = static_cast<uint64_t>(2 * h - 1);
-  const auto in_box = [&](int64_t v) { return static_cast<uint64_t>(v + h - 1) < box; };
-  uint32_t np = 0;
-  // The list runs particle by particle (list_candidates): a's count and
-  // sum stay in registers across its run.
-  uint32_t current = st->candidate_count != 0 ? list[0].a : 0, count_a = 0;
-  int64_t dens_a = 0;
-  for (uint32_t k = 0; k < st->candidate_count; ++k) {
-    const uint32_t i = list[k].a, j = list[k].b;
-    if (i != current) {
-      count[current] = static_cast<uint16_t>(count[current] + count_a);
-      dens[current] += dens_a;
-      current = i, count_a = 0, dens_a = 0;
+// The candidates' pairs inside the kernel, as PairSearch stores them (its
+// box test, then pair_entry), one particle's run of candidates at a time
+// (candidate_first / candidate_end). kBothSides: the other particle's count
+// and density term too (the search on one thread); otherwise that side is
+// gathered afterwards (search_gathered).
+template <bool kBothSides>
+class CandidateFilter {
+ public:
+  CandidateFilter(SphState* st, SphPair* pairs, uint32_t cap)
+      : x_(st->position[0].data()),
+        y_(st->position[1].data()),
+        z_(st->position[2].data()),
+        list_(st->candidates.data()),
+        count_(st->neighbour_count.data()),
+        dens_(st->density_sum.data()),
+        pairs_(pairs),
+        cap_(cap) {
+    const InvH ih = make_inv_h(st->model->params.h);
+    h_ = ih.h;
+    inv_ = ih.inv;
+    // At |d| >= h (1 + 2^-10) both sides are outside the kernel (PairSearch::scan's
+    // coarse sphere test): such a pair adds nothing and is not stored.
+    const int64_t outer = h_ + (h_ + 1023) / 1024 + 1;
+    outer2_ = outer * outer;
+  }
+
+  uint32_t pairs() const { return np_; }
+  bool overflowed() const { return np_ > cap_; }
+
+  // Candidates [from, to), all of particle i as a: adds a's neighbours and
+  // density terms to count_a and dens_a.
+  void run(uint32_t i, uint32_t from, uint32_t to, uint32_t& count_a, int64_t& dens_a) {
+    const int64_t h = h_;
+    const uint64_t box = static_cast<uint64_t>(2 * h - 1);  // |d_c| <= h - 1 as one unsigned compare
+    const auto in_box = [&](int64_t v) { return static_cast<uint64_t>(v + h - 1) < box; };
+    const int64_t xi = x_[i], yi = y_[i], zi = z_[i];
+    uint32_t np = np_;
+    for (uint32_t k = from; k < to; ++k) {
+      const uint32_t j = list_[k].b;
+      const int64_t dx = xi - x_[j], dy = yi - y_[j], dz = zi - z_[j];
+      if (!(in_box(dx) & in_box(dy) & in_box(dz))) continue;
+      if (dx * dx + dy * dy + dz * dz >= outer2_) continue;  // |d_c| < h < 2^29: no overflow
+      // Past the capacity the spare last entry takes the store.
+      const PairSides sides = pair_entry(dx, dy, dz, inv_, i, j, &pairs_[np < cap_ ? np : cap_]);
+      count_a += sides.a;
+      dens_a += sides.w_ab;
+      if constexpr (kBothSides) {
+        count_[j] = static_cast<uint16_t>(count_[j] + sides.b);
+        dens_[j] += sides.w_ba();
+      }
+      np += sides.a | sides.b;
     }
-    const int64_t dx = int64_t{x[i]} - x[j], dy = int64_t{y[i]} - y[j], dz = int64_t{z[i]} - z[j];
-    if (!(in_box(dx) & in_box(dy) & in_box(dz))) continue;
-    if (dx * dx + dy * dy + dz * dz >= outer2) continue;  // |d_c| < h < 2^29: no overflow
-    const PairSides sides = pair_entry(dx, dy, dz, inv, i, j, &pairs[np < cap ? np : cap]);
-    count_a += sides.a;
-    dens_a += sides.w_ab;
-    count[j] = static_cast<uint16_t>(count[j] + sides.b);
-    dens[j] += sides.w_ba();
-    np += sides.a | sides.b;
+    np_ = np;
   }
-  if (st->candidate_count != 0) {
-    count[current] = static_cast<uint16_t>(count[current] + count_a);
-    dens[current] += dens_a;
-  }
-  return np;
-}
+
+ private:
+  const fx::Len *x_, *y_, *z_;
+  const SphCandidate* list_;
+  uint16_t* count_;
+  int64_t* dens_;
+  SphPair* pairs_;
+  uint32_t cap_;
+  uint32_t np_ = 0;
+  int64_t h_ = 0, inv_ = 0, outer2_ = 0;
+};
 
 // Substeps without candidates after a list outgrew its room: listing them
 // costs about one full search, so a crowded joint is not made to pay it
 // every substep.
 constexpr uint32_t kCandidatePause = 64;
 
-// The search on one thread through the candidates: the pairs, counts and
-// sums of search_serial, word for word.
-void search_listed(SphState* st, fx::Vec3 centre) {
+// Whether this substep's search may take the candidates: listed afresh
+// when some particle has moved past the slack (or none are listed), left
+// off while paused.
+bool candidates_ready(SphState* st, fx::Vec3 centre) {
   if (st->candidate_pause > 0) --st->candidate_pause;
   if (st->candidate_pause == 0 && !candidates_hold(*st, centre)) {
     ++st->stats.candidate_builds;
     if (!list_candidates(st, centre)) st->candidate_pause = kCandidatePause;
   }
-  if (!st->candidates_valid || st->candidate_pause > 0) {
-    bin_and_sort(st, centre);
-    search_serial(st);
-    return;
-  }
-  const uint32_t cap = st->model->particle_count() * st->model->params.max_neighbours;
+  return st->candidates_valid && st->candidate_pause == 0;
+}
+
+// The search on one thread through the candidates: the pairs, counts and
+// sums of search_serial, word for word.
+void search_listed(SphState* st, fx::Vec3 centre) {
+  const uint32_t n = st->model->particle_count();
+  const uint32_t cap = n * st->model->params.max_neighbours;
   reset_sums(st);
   st->gathered = false;
-  const uint32_t np = pairs_of_candidates(st, cap);
-  if (np > cap || !lists_fit(st)) {
+  CandidateFilter<true> filter(st, st->pairs.data(), cap);
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t count_a = 0;
+    int64_t dens_a = 0;
+    filter.run(i, st->candidate_first[i], st->candidate_end[i], count_a, dens_a);
+    st->neighbour_count[i] = static_cast<uint16_t>(st->neighbour_count[i] + count_a);
+    st->density_sum[i] += dens_a;
+  }
+  if (filter.overflowed() || !lists_fit(st)) {
     bin_and_sort(st, centre);  // the ordered lists read this substep's cells
     ordered_lists(st);
     return;
   }
-  st->pair_count = np;
+  st->pair_count = filter.pairs();
 }
 
 // The search over the workers. Each range of sorted particles searches its
@@ -599,13 +629,29 @@ void search_listed(SphState* st, fx::Vec3 centre) {
 // the search on one thread. False if a range found more pairs than its
 // room (possible only where many pairs have one side just outside the
 // kernel): then the caller searches on one thread, the same pairs.
-bool search_gathered(SphState* st, const layer::Workers* workers) {
+// With candidates, the ranges are of particle indices, each particle's run
+// its candidates as a.
+bool search_gathered(SphState* st, fx::Vec3 centre, const layer::Workers* workers, bool listed) {
   const uint32_t n = st->model->particle_count(), k_max = st->model->params.max_neighbours;
   const uint32_t overflowed = layer::run_ranges_summed(workers, n, [&](uint32_t begin, uint32_t end) {
     const uint32_t first = begin * (k_max + 1);
-    PairSearch<false> search(st, st->pairs.data() + first, (end - begin) * k_max);
-    search.run_particles(begin, end, first);
-    return search.overflowed() ? 1u : 0u;
+    if (!listed) {
+      PairSearch<false> search(st, st->pairs.data() + first, (end - begin) * k_max);
+      search.run_particles(begin, end, first);
+      return search.overflowed() ? 1u : 0u;
+    }
+    CandidateFilter<false> filter(st, st->pairs.data() + first, (end - begin) * k_max);
+    for (uint32_t i = begin; i < end; ++i) {
+      uint32_t count_a = 0;
+      int64_t dens_a = 0;
+      const uint32_t before = filter.pairs();
+      filter.run(i, st->candidate_first[i], st->candidate_end[i], count_a, dens_a);
+      st->neighbour_count[i] = static_cast<uint16_t>(count_a);
+      st->density_sum[i] = (int64_t{1} << 30) + dens_a;  // the particle itself: poly6(0) = 1
+      st->run_first[i] = first + before;
+      st->run_count[i] = static_cast<uint16_t>(filter.pairs() - before);  // checked below (overflowed)
+    }
+    return filter.overflowed() ? 1u : 0u;
   });
   if (overflowed != 0) return false;
   // Pairs by b: counts, inclusive prefix sums (b_offset[j] the end of j's
@@ -642,6 +688,7 @@ bool search_gathered(SphState* st, const layer::Workers* workers) {
   });
   if (!lists_fit(st)) {
     st->gathered = false;
+    if (listed) bin_and_sort(st, centre);  // the ordered lists read this substep's cells
     ordered_lists(st);
     return true;
   }
@@ -658,9 +705,12 @@ void build_neighbours(SphState* st, fx::Vec3 centre, const layer::Workers* worke
   // words (sph_determinism_test compares them for 1 to 7 workers).
   const bool spread = workers != nullptr && workers->run != nullptr && workers->parts > 1 &&
                       st->model->particle_count() >= 2 * layer::kMinPerLoop;
-  if (!spread) return search_listed(st, centre);
+  if (candidates_ready(st, centre)) {
+    if (spread && search_gathered(st, centre, workers, true)) return;
+    return search_listed(st, centre);
+  }
   bin_and_sort(st, centre);
-  if (search_gathered(st, workers)) return;
+  if (spread && search_gathered(st, centre, workers, false)) return;
   search_serial(st);
 }
 

@@ -14,7 +14,7 @@
 // depend on that order; that substep rebuilds the pairs from the ordered
 // per-particle scan (one side per pair) so the same neighbours are dropped.
 //
-// On one thread the half stencil is not walked every substep: a list of
+// The half stencil is not walked every substep: a list of
 // candidate pairs, every pair closer than 1.25 h, is made by the same
 // walk widened to two cells, and each substep tests only those, until a
 // particle has moved more than the list's slack (about h / 8, measured
@@ -22,7 +22,9 @@
 // was made. The bound that makes this exact is in sph_grid.cpp; the pairs,
 // counts and sums are the full search's (sph_equivalence_test and
 // sph_determinism_test compare them). Fallbacks: a list that outgrows its
-// room (n x max_neighbours) pauses the candidates for 64 substeps.
+// room (n x max_neighbours) pauses the candidates for 64 substeps. Over the
+// workers each particle's run of candidates (candidate_first/end) is
+// filtered by the range it falls in, then gathered as below.
 //
 // Over the workers (two parts or more, 128 particles or more), each range of
 // sorted particles searches its particles' forward neighbourhoods and keeps

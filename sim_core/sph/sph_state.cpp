@@ -53,6 +53,8 @@ Carver layout(const SphModel& m, uint8_t* base, size_t size, SphState* s) {
   s->b_pair = c.take<uint32_t>(pairs);
   s->candidates = c.take<SphCandidate>(n * m.params.max_neighbours);
   for (int a = 0; a < 3; ++a) s->candidate_origin[a] = c.take<fx::Len>(n);
+  s->candidate_first = c.take<uint32_t>(n);
+  s->candidate_end = c.take<uint32_t>(n);
   s->neighbour_count = c.take<uint16_t>(n);
   s->density_sum = c.take<int64_t>(n);
   s->skin_particle = c.take<uint16_t>(sv * kMaxVertexNeighbours);

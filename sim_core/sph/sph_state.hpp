@@ -88,6 +88,8 @@ struct SphState {
   // candidate_slack of its origin, both measured from their centres.
   std::span<SphCandidate> candidates;      // n * max_neighbours
   std::span<fx::Len> candidate_origin[3];  // n
+  // Particle i's candidates as a: candidates[candidate_first[i], candidate_end[i]).
+  std::span<uint32_t> candidate_first, candidate_end;  // n
   uint32_t candidate_count = 0;
   bool candidates_valid = false;
   uint32_t candidate_pause = 0;  // substeps left without candidates, after a list outgrew its room

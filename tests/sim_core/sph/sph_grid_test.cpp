@@ -1,6 +1,6 @@
-// The search on one thread through its candidate pairs (sph_grid.hpp)
-// against the full half-stencil search, substep by substep, on the arm's
-// particles moved the ways a list must survive or notice: small moves that
+// The search through its candidate pairs (sph_grid.hpp), on one thread and
+// over the workers, against the full half-stencil search on one thread,
+// substep by substep, on the arm's particles moved the ways a list must survive or notice: small moves that
 // add up past the slack, the whole tissue carried with the grid centre (the
 // arm's own motion, which must not rebuild the list), a turn about the
 // centre, and particles teleported. Every configuration must give the same
@@ -19,6 +19,7 @@
 
 #include "host_tools/determinism/split_mix.hpp"
 #include "sph_fixture.hpp"
+#include "tests/support/test_workers.hpp"
 
 namespace sph = sinew::sph;
 namespace fx = sinew::fx;
@@ -50,18 +51,27 @@ PairKey key_of(const sph::SphPair& e) {
 
 SearchResult result_of(const sph::SphState& st) {
   SearchResult r;
-  EXPECT_FALSE(st.gathered);
-  for (uint32_t k = 0; k < st.pair_count; ++k) r.pairs.push_back(key_of(st.pairs[k]));
+  if (st.gathered) {
+    // Each particle's run of pairs as a (search over the workers).
+    for (uint32_t i = 0; i < st.model->particle_count(); ++i)
+      for (uint32_t k = st.run_first[i]; k < st.run_first[i] + st.run_count[i]; ++k)
+        r.pairs.push_back(key_of(st.pairs[k]));
+  } else {
+    for (uint32_t k = 0; k < st.pair_count; ++k) r.pairs.push_back(key_of(st.pairs[k]));
+  }
   std::sort(r.pairs.begin(), r.pairs.end());
   r.count.assign(st.neighbour_count.begin(), st.neighbour_count.end());
   r.density.assign(st.density_sum.begin(), st.density_sum.end());
   return r;
 }
 
-// The search as it runs (through the candidates), then the full search on
-// the same positions (the candidates paused for it, then restored).
-void expect_same_search(sph::SphState* st, fx::Vec3 centre, const char* what, int step) {
-  sph::build_neighbours(st, centre);
+// The search as it runs (through the candidates, on one thread or over the
+// workers), then the full search on one thread on the same positions (the
+// candidates paused for it, then restored).
+void expect_same_search(sph::SphState* st, fx::Vec3 centre, const sinew::layer::Workers* workers, const char* what,
+                        int step) {
+  sph::build_neighbours(st, centre, workers);
+  EXPECT_EQ(st->gathered, workers != nullptr) << what << ", step " << step;
   const SearchResult listed = result_of(*st);
   const uint32_t pause = st->candidate_pause;
   st->candidate_pause = 2;  // build_neighbours takes one: the full search runs
@@ -74,13 +84,7 @@ void expect_same_search(sph::SphState* st, fx::Vec3 centre, const char* what, in
   EXPECT_EQ(listed.density, full.density) << what << ", step " << step;
 }
 
-}  // namespace sph_grid_test
-
-namespace {
-
-using namespace sph_grid_test;
-
-TEST(SphCandidates, GiveTheFullSearchsPairsWhileTheTissueMoves) {
+void run_moves(const sinew::layer::Workers* workers) {
   sinew::test::SphArm arm(sinew::layers::SphBuildOptions{});
   ASSERT_TRUE(arm.ok()) << arm.error();
   sph::SphState& st = arm.state();
@@ -99,7 +103,7 @@ TEST(SphCandidates, GiveTheFullSearchsPairsWhileTheTissueMoves) {
   uint32_t builds = 0, steps = 0;
   const auto step = [&](const char* what) {
     const uint32_t before = st.stats.candidate_builds;
-    expect_same_search(&st, centre, what, static_cast<int>(steps));
+    expect_same_search(&st, centre, workers, what, static_cast<int>(steps));
     builds += st.stats.candidate_builds - before;
     ++steps;
   };
@@ -136,6 +140,19 @@ TEST(SphCandidates, GiveTheFullSearchsPairsWhileTheTissueMoves) {
   // The list was reused on most steps and rebuilt on some.
   EXPECT_GT(builds, 2u);
   EXPECT_LT(builds, steps / 2);
+}
+
+}  // namespace sph_grid_test
+
+namespace {
+
+using sph_grid_test::run_moves;
+
+TEST(SphCandidates, GiveTheFullSearchsPairsWhileTheTissueMoves) { run_moves(nullptr); }
+
+TEST(SphCandidates, GiveTheFullSearchsPairsOverTheWorkers) {
+  const sinew::test::ThreadPerRangeWorkers pool(3);
+  run_moves(pool.workers());
 }
 
 }  // namespace
