@@ -65,6 +65,8 @@ void detail::skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> 
 
 namespace {
 
+using detail::DualMotion;
+
 // One DQS vertex: dual quaternion linear blending (Kavan et al. 2008) with
 // its antipodality rule, every quaternion blended on the hemisphere of the
 // vertex's first influence. kNearUnit: every real
@@ -96,17 +98,10 @@ void skin_dual_vertex_impl(const rig::Rig& rig, std::span<const fx::DualQuat> du
     du[3] += w * d.dual.z;
   }
   const auto n30 = [](int64_t x) { return fx::sat_i32(fx::round_shift(x, fx::kUnitFracBits)); };
-  fx::DualQuat b{{n30(real[0]), n30(real[1]), n30(real[2]), n30(real[3])},
-                 {n30(du[0]), n30(du[1]), n30(du[2]), n30(du[3])}};
-  fx::normalize_fast(&b);
-  // One rotation matrix for point and normal; the translation in closed form,
-  // t = 2 (w d_v - d_w r_v + r_v x d_v), from exact Q50 products rounded once.
-  const fx::Rot3 rot = fx::rot3_of_unit(b.real);  // normalize_fast leaves it within a few LSB of unit
-  const int64_t rw = b.real.w, rx = b.real.x, ry = b.real.y, rz = b.real.z;
-  const int64_t dw = b.dual.w, dx = b.dual.x, dy = b.dual.y, dz = b.dual.z;
-  // |t_c| <= |real| |dual| < (2^30 + 8) 2^32 (Cauchy-Schwarz; see normalize_fast): fits.
-  const int64_t t[3] = {rw * dx - dw * rx + (ry * dz - rz * dy), rw * dy - dw * ry + (rz * dx - rx * dz),
-                        rw * dz - dw * rz + (rx * dy - ry * dx)};
+  const DualMotion motion = detail::dual_motion(
+      {{n30(real[0]), n30(real[1]), n30(real[2]), n30(real[3])}, {n30(du[0]), n30(du[1]), n30(du[2]), n30(du[3])}});
+  const fx::Rot3& rot = motion.rotation;
+  const int64_t(&t)[3] = motion.t;
   // R p (Q20+30) and 2 t (Q50, halved into the shift) rounded together once.
   // 2 t itself may pass 2^63, so t is added twice, saturating: the same value
   // as add_sat_i64(rp, 2 t) wherever 2 t fits (a sum that saturates after

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <span>
 
+#include "sim_core/fixed/rsqrt_fast.hpp"
 #include "skinning.hpp"
 
 namespace sinew::skin::detail {
@@ -67,6 +68,27 @@ inline auto dispatch_influences(uint32_t k, Kernel&& kernel, Fallback&& fallback
 // One LBS vertex v written at out[index]; adds clamped linear entries to *saturated.
 void skin_linear_vertex(const rig::Rig& rig, std::span<const fx::Mat34> palette, uint32_t v, const SkinnedVertices& out,
                         uint32_t index, uint32_t* saturated);
+
+// The rigid motion of a blended DQS vertex (skin_dual_vertex after the
+// blend): b normalised by fx::normalize_fast, its rotation matrix and its
+// translation t = 2 (w d_v - d_w r_v + r_v x d_v) as exact Q50 products
+// (the factor 2 is applied by the caller, p' = R p + t + t).
+struct DualMotion {
+  fx::Rot3 rotation;
+  int64_t t[3];
+};
+inline DualMotion dual_motion(fx::DualQuat b) {
+  fx::normalize_fast(&b);
+  DualMotion m;
+  m.rotation = fx::rot3_of_unit(b.real);  // normalize_fast leaves it within a few LSB of unit
+  const int64_t rw = b.real.w, rx = b.real.x, ry = b.real.y, rz = b.real.z;
+  const int64_t dw = b.dual.w, dx = b.dual.x, dy = b.dual.y, dz = b.dual.z;
+  // |t_c| <= |real| |dual| < (2^30 + 8) 2^32 (Cauchy-Schwarz; see normalize_fast): fits.
+  m.t[0] = rw * dx - dw * rx + (ry * dz - rz * dy);
+  m.t[1] = rw * dy - dw * ry + (rz * dx - rx * dz);
+  m.t[2] = rw * dz - dw * rz + (rx * dy - ry * dx);
+  return m;
+}
 
 // One DQS vertex v written at out[index]; near_unit is
 // dual_palette_near_unit(dual) (the same words either way, only faster).

@@ -234,6 +234,57 @@ TEST_F(SkinDqsKernel, RandomRigs) {
   }
 }
 
+// Runs of vertices with weight 1 on one entry (the kernel's rigid runs,
+// four in a row, aligned or not), broken by vertices that look rigid but
+// are not (another weight nonzero, or weight 1 on a different entry), with
+// an entry of zero real part (normalize_fast's division path) and dual
+// parts at the int32 limits (|t| beyond 2^61, where the position's adds
+// could saturate: the kernel must refuse those entries).
+TEST_F(SkinDqsKernel, RigidRunsOfOneEntry) {
+  uint64_t seed = 77;
+  for (uint32_t k = 1; k <= 4; ++k)
+    for (int real = 0; real < 4; ++real)
+      for (int dual = 0; dual < 2; ++dual)
+        for (int pos = 0; pos < 2; ++pos)
+          for (int nor = 0; nor < 3; ++nor) {
+            DqsCase c;
+            c.k = k;
+            c.vertices = 96;
+            c.palette = 6;
+            c.real_mode = real == 2 ? 0 : real;  // mode 2 sends the whole call to the scalar loop
+            c.dual_mode = dual;
+            c.position_mode = pos;
+            c.normal_mode = nor;
+            c.mixed = seed % 3 == 0;
+            DqsRig r;
+            dqs_make_rig(c, seed, &r);
+            if (real == 2) r.dual[5].real = {0, 0, 0, 0};
+            for (uint32_t v = 0; v < c.vertices; ++v) {
+              const uint32_t run = v / 9;
+              for (uint32_t i = 0; i < k; ++i) {
+                r.joint[v * k + i] = static_cast<uint16_t>((run + i) % c.palette);
+                r.weight[v * k + i] = i == 0 ? kDqsOne : 0;
+              }
+              if (v % 13 == 12 && k > 1) r.weight[v * k + 1] = 1 << 20;                         // not rigid
+              if (v % 17 == 16) r.joint[v * k] = static_cast<uint16_t>((run + 1) % c.palette);  // another entry
+            }
+            const bool normals = nor != 2;
+            for (uint32_t first : {0u, 1u, 3u}) {
+              const uint32_t count = c.vertices - first;
+              const DqsOutput want = dqs_run(DqsKernel::kScalar, r, normals, first, count);
+              const DqsOutput got = dqs_run(DqsKernel::kAvx2, r, normals, first, count);
+              SCOPED_TRACE(testing::Message() << "K=" << k << " real=" << real << " dual=" << dual
+                                              << " positions=" << pos << " normals=" << nor << " first=" << first);
+              for (int i = 0; i < 3; ++i)
+                for (uint32_t v = 0; v < count; ++v) {
+                  ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
+                  ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
+                }
+            }
+            ++seed;
+          }
+}
+
 TEST_F(SkinDqsKernel, DefaultIsAvx2WhereSupported) {
   EXPECT_EQ(sinew::skin::dqs_kernel_default(), DqsKernel::kAvx2);
   EXPECT_STREQ(sinew::skin::dqs_kernel_name(sinew::skin::dqs_kernel_default()), "avx2");
