@@ -547,13 +547,13 @@ class CandidateFilter {
   void run(uint32_t i, uint32_t from, uint32_t to, uint32_t& count_a, int64_t& dens_a) {
     const int64_t h = h_;
     const uint64_t box = static_cast<uint64_t>(2 * h - 1);  // |d_c| <= h - 1 as one unsigned compare
-    const auto in_box = [&](int64_t v) { return static_cast<uint64_t>(v + h - 1) < box; };
+    const auto in_box = [&](int64_t v) { return static_cast<uint32_t>(static_cast<uint64_t>(v + h - 1) < box); };
     const int64_t xi = x_[i], yi = y_[i], zi = z_[i];
     uint32_t np = np_;
     for (uint32_t k = from; k < to; ++k) {
       const uint32_t j = list_[k].b;
       const int64_t dx = xi - x_[j], dy = yi - y_[j], dz = zi - z_[j];
-      if (!(in_box(dx) & in_box(dy) & in_box(dz))) continue;
+      if ((in_box(dx) & in_box(dy) & in_box(dz)) == 0) continue;
       if (dx * dx + dy * dy + dz * dz >= outer2_) continue;  // |d_c| < h < 2^29: no overflow
       // Past the capacity the spare last entry takes the store.
       const PairSides sides = pair_entry(dx, dy, dz, inv_, i, j, &pairs_[np < cap_ ? np : cap_]);
