@@ -3,7 +3,8 @@
 # package DIR/sinew_*_<arch>.deb is unpacked (dpkg-deb -x, not installed: the
 # machine is another architecture) and its sinewd runs its own
 # /etc/sinew/sinewd.toml for 2 s on the multiarch libraries of that
-# architecture (scripts/install-deps.sh installs arm64's). Passes when it
+# architecture (scripts/install-deps.sh installs arm64's; qemu-user finds
+# them in the host's multiarch paths when its own prefix is absent). Passes when it
 # exits 0 with its final statistics line.
 # Usage: scripts/lib/foreign-package-smoke.sh DIR
 set -euo pipefail
@@ -20,7 +21,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 dpkg-deb -x "$deb" "$work/root"
 echo "foreign-package-smoke: $(basename "$deb") ($arch) under $emulator"
-(cd "$work" && $emulator -L / "$work/root/usr/bin/sinewd" --config "$work/root/etc/sinew/sinewd.toml" --duration 2) \
+(cd "$work" && $emulator "$work/root/usr/bin/sinewd" --config "$work/root/etc/sinew/sinewd.toml" --duration 2) \
   >"$work/out" 2>&1 || { cat "$work/out"; echo "foreign-package-smoke: sinewd ($arch) failed" >&2; exit 1; }
 { grep -E '^(verdict|final tick)' "$work/out" || true; } | sed 's/^/  | /'
 grep -qE '^final tick [0-9]+: step p50 ' "$work/out" || { cat "$work/out"; echo "foreign-package-smoke: no final statistics line" >&2; exit 1; }
