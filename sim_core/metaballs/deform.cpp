@@ -323,7 +323,7 @@ void blend_joint_region_entries(const MetaballModel& m, std::span<const fx::Mat3
 
 namespace {
 
-// Frames are made for this many vertices at a time (a stack buffer of 2.8 KiB).
+// Frames are made for this many vertices at a time (stack buffers of 2.8 KiB).
 constexpr uint32_t kFrameBatch = 32;
 
 struct DeformJob {
@@ -346,19 +346,22 @@ struct ArcBatch {
   uint32_t pending[kFrameBatch];
   NormalBallFrame frames[kFrameBatch];
 
+  // c + R D of frame f with the vertex's displacement blend D.
+  void place(const NormalBallFrame& f, fx::Vec3 disp, uint32_t v) const {
+    int64_t rd[3];
+    rotate_q50(f.rotation, disp, rd);
+    for (int a = 0; a < 3; ++a)
+      out->position[a][v] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
+  }
   void flush() {
     joint_region_frames(*m, *s, {pending, count}, {frames, count}, kernel);
-    for (uint32_t k = 0; k < count; ++k) {
-      const NormalBallFrame& f = frames[k];
-      int64_t rd[3];
-      rotate_q50(f.rotation, f.disp, rd);
-      for (int a = 0; a < 3; ++a)
-        out->position[a][pending[k]] = fx::sat_i32(f.centre[a] + fx::round_shift(rd[a], fx::kUnitFracBits));
-    }
+    for (uint32_t k = 0; k < count; ++k) place(frames[k], frames[k].disp, pending[k]);
     count = 0;
   }
   static void take(void* context, uint32_t v) {
     ArcBatch& b = *static_cast<ArcBatch*>(context);
+    if (const NormalBallFrame* shared = shared_frame_of(*b.s, v))  // its key's frame, made this step
+      return b.place(*shared, vertex_disp_blend(*b.m, *b.s, v), v);
     b.pending[b.count++] = v;
     if (b.count == kFrameBatch) b.flush();
   }
@@ -407,16 +410,23 @@ void deform_joint_regions(void* context, uint32_t begin, uint32_t end) {
   // A batch of entries at a time: v_lambda's frames (eq. 4 on the arc) for
   // the entries below w_alpha = 1, then eq. (1) for every entry.
   static constexpr NormalBallFrame kNoFrame{};
-  uint32_t pending[kFrameBatch];
-  NormalBallFrame frames[kFrameBatch];
+  // Their frames are their keys' (shared_vertex_frame) where they have one,
+  // else made here.
+  uint32_t pending[kFrameBatch], pending_slot[kFrameBatch];
+  NormalBallFrame frames[kFrameBatch], made[kFrameBatch];
   const NormalBallFrame* frame_of[kFrameBatch];
   fx::Quat eta[kFrameBatch];
   for (uint32_t batch = begin; batch < end; batch += kFrameBatch) {
     const uint32_t count = end - batch < kFrameBatch ? end - batch : kFrameBatch;
-    uint32_t lambdas = 0;
-    for (uint32_t k = 0; k < count; ++k)
-      if (m.jv_alpha[batch + k] != fx::kUnitOne) pending[lambdas++] = m.jv_vertex[batch + k];
-    joint_region_frames(m, *s, {pending, lambdas}, {frames, lambdas}, j.kernel);
+    uint32_t lambdas = 0, unshared = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+      if (m.jv_alpha[batch + k] == fx::kUnitOne) continue;
+      const uint32_t v = m.jv_vertex[batch + k];
+      if (!shared_vertex_frame(m, *s, v, &frames[lambdas])) pending[unshared] = v, pending_slot[unshared++] = lambdas;
+      ++lambdas;
+    }
+    joint_region_frames(m, *s, {pending, unshared}, {made, unshared}, j.kernel);
+    for (uint32_t k = 0; k < unshared; ++k) frames[pending_slot[k]] = made[k];
     uint32_t taken = 0;
     for (uint32_t k = 0; k < count; ++k) {
       const uint32_t i = batch + k;
@@ -442,6 +452,9 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
                      const skin::SkinnedVertices& out, DeformKernel kernel, const layer::Workers* workers) {
   // The balls' frames first (serial, one per ball): both vertex loops read them.
   make_ball_frames(m, s);
+  // Then the frames on the arc of every (balls, weights) key (parallel, one
+  // per key): both vertex loops read them too.
+  make_shared_frames(m, s, kernel, workers);
   // Eq. (1) below computes the joint-region vertices from their own frames.
   DeformJob job{&m, joint_model, s, &out, s->features.joint_balls ? m.jv_vertex : std::span<const uint32_t>{}, kernel};
   layer::run_ranges(workers, m.vertex_count, deform_outside_joint_regions, &job);

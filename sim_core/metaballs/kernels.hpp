@@ -38,15 +38,7 @@ void deform_vertices(const MetaballModel& m, std::span<const fx::Mat34> joint_mo
 uint16_t vertex_rotation(const MetaballModel& m, const MetaballState& s, uint32_t v, fx::Quat* quat,
                          fx::Rot3* rotation);
 
-// A vertex's frame from its normal balls: the blended centre
-// sum_j w_j c_j (Len, rounded), the blended rest displacement
-// sum_j w_j s_j d_ij (Len, saturated) and the rotation above.
-struct NormalBallFrame {
-  int64_t centre[3];  // |.| < 2^31
-  fx::Vec3 disp;
-  fx::Quat quat;
-  fx::Rot3 rotation;
-};
+// A vertex's frame from its normal balls (NormalBallFrame, state.hpp).
 NormalBallFrame normal_ball_frame(const MetaballModel& m, const MetaballState& s, uint32_t v);
 
 // The state's vertex_rest_centre, vertex_rest_disp and vertex_bone from the model
@@ -89,6 +81,34 @@ void joint_region_frames(const MetaballModel& m, const MetaballState& s, std::sp
 void joint_region_frames_avx2(const MetaballModel& m, const MetaballState& s, std::span<const uint32_t> vertices,
                               std::span<NormalBallFrame> frames);
 #endif
+
+// Shared frames (shared_frames.cpp): joint_region_frame reads a vertex's
+// balls, weights and displacements, and vertices with the same balls and
+// weights (a ring of a tube) differ only in the displacement blend. So the
+// state keys the vertices that may need a frame on the arc by their slots at
+// init, a step makes each key's frame once (make_shared_frames, after
+// make_ball_frames), and shared_vertex_frame returns that frame with the
+// vertex's own displacement blend: joint_region_frame's words.
+// The bone every weighted ball of vertex v follows alone, or kNoBall
+// (make_rest_blends' vertex_bone).
+uint16_t vertex_one_bone(const MetaballModel& m, uint32_t v);
+// How many vertices may need a frame (an upper bound of the keys), and the
+// index table's size for them (a power of two, at least twice as many).
+uint32_t shared_frame_candidates(const MetaballModel& m);
+uint32_t shared_frame_table_size(uint32_t candidates);
+// vertex_frame, frame_vertex and frame_count (init, after make_rest_blends).
+void make_shared_frame_index(const MetaballModel& m, MetaballState* s);
+// Every key's frame this step (skipped when features.shared_frames is off).
+void make_shared_frames(const MetaballModel& m, MetaballState* s, DeformKernel kernel, const layer::Workers* workers);
+// sum_j w_j s_j d_ij of vertex v, rounded as joint_region_frame rounds it
+// (with balls_scaled as make_shared_frames set it this step).
+fx::Vec3 vertex_disp_blend(const MetaballModel& m, const MetaballState& s, uint32_t v);
+// The shared frame of v's key (its disp is the key's first vertex's), or
+// null: v has none, or features.shared_frames is off.
+const NormalBallFrame* shared_frame_of(const MetaballState& s, uint32_t v);
+// joint_region_frame(m, s, v) from the shared frame of v's key, if v has one
+// (false: none, or features.shared_frames off).
+bool shared_vertex_frame(const MetaballModel& m, const MetaballState& s, uint32_t v, NormalBallFrame* f);
 
 // Eq. (5) blended with eq. (1) for joint-region entry i (jv_*): v_lambda's
 // frame f (joint_region_frame of the entry's vertex; a zero frame at

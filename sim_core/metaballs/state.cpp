@@ -37,6 +37,11 @@ Carver layout(const MetaballModel& m, uint8_t* base, size_t size, MetaballState*
   s->vertex_rest_centre = c.take<fx::Vec3>(m.vertex_count);
   s->vertex_rest_disp = c.take<fx::Vec3>(m.vertex_count);
   s->vertex_bone = c.take<uint16_t>(m.vertex_count);
+  const uint32_t candidates = detail::shared_frame_candidates(m);
+  s->vertex_frame = c.take<uint32_t>(m.vertex_count);
+  s->frame_vertex = c.take<uint32_t>(candidates);
+  s->shared_frame = c.take<detail::NormalBallFrame>(candidates);
+  s->frame_table = c.take<uint32_t>(detail::shared_frame_table_size(candidates));
   s->jv_posed_laplacian = c.take<fx::Vec3>(m.jv_count());
   s->jv_scratch = c.take<fx::Vec3>(m.jv_count());
   return c;
@@ -78,6 +83,7 @@ LayerStatus metaballs_init(const MetaballModel& model, void* memory, size_t byte
   }
   for (size_t p = 0; p < st.pair_coupling.size(); ++p) st.pair_coupling[p] = model.pairs[p].stiffness;
   detail::make_rest_blends(model, &st);
+  detail::make_shared_frame_index(model, &st);
   st.tick_hz = model.jiggle_rate_hz;
   if (!detail::coupling_stable(model, &st, model.jiggle_rate_hz)) {
     s.error = LayerError::kBadValue;

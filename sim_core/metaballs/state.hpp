@@ -22,6 +22,9 @@ struct Features {
   bool joint_balls = true;  // eq. (5) and the blend of eq. (1)
   bool smoothing = true;
   bool overlap = true;
+  // The frames on the arc made once per (balls, weights) key and shared by
+  // its vertices (off: one per vertex; the same words either way).
+  bool shared_frames = true;
 };
 
 struct StepStats {
@@ -29,6 +32,22 @@ struct StepStats {
   uint32_t projected_vertices = 0;  // overlap projections in the last step
   uint32_t skipped_pairs = 0;       // coincident ball pairs left alone in the last step
 };
+
+namespace detail {
+// A vertex's frame from its normal balls: the blended centre
+// sum_j w_j c_j (Len, rounded), the blended rest displacement
+// sum_j w_j s_j d_ij (Len, saturated) and the rotation (kernels.hpp:
+// vertex_rotation, or joint_region_frame's on the arc).
+struct NormalBallFrame {
+  int64_t centre[3];  // |.| < 2^31
+  fx::Vec3 disp;
+  fx::Quat quat;
+  fx::Rot3 rotation;
+};
+}  // namespace detail
+
+// No shared frame (MetaballState::vertex_frame).
+inline constexpr uint32_t kNoFrame = 0xFFFFFFFFu;
 
 struct MetaballState {
   const MetaballModel* model = nullptr;
@@ -86,6 +105,17 @@ struct MetaballState {
   // The bone every weighted ball of the vertex follows alone (ball_bone,
   // kernels.hpp), or kNoBall.
   std::span<uint16_t> vertex_bone;
+  // Shared frames (shared_frames.cpp), indexed at init from the model alone:
+  // per vertex the key of its balls and weights, kNoFrame for a vertex that
+  // turns with one bone (vertex_bone) outside eq. (1); per key its first
+  // vertex and, each step, its frame on the arc (the disp of that vertex);
+  // frame_table: the open-addressing table the index was built with.
+  std::span<uint32_t> vertex_frame;
+  std::span<uint32_t> frame_vertex;
+  std::span<detail::NormalBallFrame> shared_frame;
+  std::span<uint32_t> frame_table;
+  uint32_t frame_count = 0;
+  bool balls_scaled = false;  // a ball's scale is not 1 this step (make_shared_frames)
   // Per joint-region vertex.
   std::span<fx::Vec3> jv_posed_laplacian;  // rest Laplacian rotated with the vertex
   std::span<fx::Vec3> jv_scratch;          // Jacobi smoothing buffer
