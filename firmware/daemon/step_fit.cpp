@@ -65,7 +65,10 @@ bool fit_step_to_budget(DaemonConfig* config, const LoadedRig& rig, std::span<co
                            std::to_string(config->rate_hz) + " Hz";
   const std::string remedies =
       (fitting > 0 ? "[loop] over_budget = \"slow\" would run at " + std::to_string(fitting) + " Hz; " : "") +
-      "or lower [loop] rate_hz, or switch off [layers] " + pipeline::stage_name(step.slowest);
+      "or lower [loop] rate_hz" +
+      // Skinning is always on: the remedy names the slowest layer that a
+      // [layers] key switches off, whichever stage was slowest.
+      (step.any_layer ? std::string(", or switch off [layers] ") + pipeline::stage_name(step.slowest_layer) : "");
   switch (config->over_budget) {
     case OverBudget::kWarn:
       fit->report += "sinewd: warning: " + over + ": expect deadline misses (" + remedies + ")\n";

@@ -94,6 +94,15 @@ void name_slowest(const uint64_t (&stage_total_ns)[pipeline::kStageCount], uint3
       r->slowest = static_cast<pipeline::Stage>(k);
     }
   r->slowest_mean_ns = largest / steps;
+  r->any_layer = false;
+  r->slowest_layer = pipeline::Stage::kSkinning;
+  uint64_t largest_layer = 0;
+  for (uint32_t k = 0; k < pipeline::kStageCount; ++k)
+    if (static_cast<pipeline::Stage>(k) != pipeline::Stage::kSkinning && stage_total_ns[k] > largest_layer) {
+      largest_layer = stage_total_ns[k];
+      r->slowest_layer = static_cast<pipeline::Stage>(k);
+      r->any_layer = true;
+    }
 }
 
 WakeProbeResult probe_wakeups(uint64_t interval_ns, uint32_t count) {

@@ -23,6 +23,11 @@ struct StepProbeResult {
   uint64_t p50_ns = 0, p99_ns = 0, max_ns = 0;
   pipeline::Stage slowest = pipeline::Stage::kSkinning;  // the stage with the largest mean
   uint64_t slowest_mean_ns = 0;
+  // The slowest of the stages [layers] can switch off (every stage but
+  // skinning, which is always on), for the remedy an over-budget message
+  // names; false when none of them ran.
+  bool any_layer = false;
+  pipeline::Stage slowest_layer = pipeline::Stage::kSkinning;
 };
 
 // Times `steps` steps (after a few untimed warm-up steps) or as many as fit
@@ -34,7 +39,9 @@ bool probe_step(const rig::Rig& rig, const pipeline::LayerSet& layers, const pip
                 std::string* error);
 
 // Sets r->slowest to the stage with the largest total time (the first of
-// equal ones) and r->slowest_mean_ns to its mean over `steps` (> 0).
+// equal ones) and r->slowest_mean_ns to its mean over `steps` (> 0), and
+// r->slowest_layer likewise among the stages other than skinning that ran
+// (a total above 0; r->any_layer says whether one did).
 void name_slowest(const uint64_t (&stage_total_ns)[pipeline::kStageCount], uint32_t steps, StepProbeResult* r);
 
 // The probe's input k at step s: a triangle wave over [lo, hi] with a

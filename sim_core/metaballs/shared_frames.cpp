@@ -3,7 +3,7 @@
 // vertex's balls, weights and displacements, and only the displacement
 // blend differs between such vertices: the rotation and the centre are one
 // function of (balls, weights). The rings of a tube share them (the built-in
-// arm: 408 keys for its 2752 vertices that can turn differently), so a step
+// arm's counts: docs/metaballs.md, "Shared frames"), so a step
 // makes each key's frame once and each vertex turns only its own
 // displacement, word for word as joint_region_frame would.
 #include "kernels.hpp"

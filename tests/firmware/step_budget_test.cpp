@@ -173,6 +173,30 @@ TEST(ProbeStep, NamesTheStageWithTheLargestTotal) {
   sinew::firmware::name_slowest(last, 5, &r);
   EXPECT_EQ(r.slowest, pl::Stage::kAnatomy);
   EXPECT_EQ(r.slowest_mean_ns, 10u);
+  EXPECT_TRUE(r.any_layer);
+  EXPECT_EQ(r.slowest_layer, pl::Stage::kAnatomy);
+}
+
+// The layer an over-budget message tells the user to switch off is never
+// skinning, which no [layers] key switches off: the slowest of the others
+// that ran, or none.
+TEST(ProbeStep, NamesTheSlowestLayerThatCanBeSwitchedOff) {
+  namespace pl = sinew::pipeline;
+  static_assert(pl::kStageCount == 5);
+  sinew::firmware::StepProbeResult r;
+  const uint64_t skinning_slowest[pl::kStageCount] = {9000, 0, 300, 500, 0};
+  sinew::firmware::name_slowest(skinning_slowest, 10, &r);
+  EXPECT_EQ(r.slowest, pl::Stage::kSkinning);
+  EXPECT_TRUE(r.any_layer);
+  EXPECT_EQ(r.slowest_layer, pl::Stage::kBarnet);
+  const uint64_t metaballs_slowest[pl::kStageCount] = {4000, 100, 9000, 600, 0};
+  sinew::firmware::name_slowest(metaballs_slowest, 10, &r);
+  EXPECT_TRUE(r.any_layer);
+  EXPECT_EQ(r.slowest_layer, pl::Stage::kMetaballs);
+  const uint64_t skinning_only[pl::kStageCount] = {700, 0, 0, 0, 0};
+  sinew::firmware::name_slowest(skinning_only, 7, &r);
+  EXPECT_EQ(r.slowest, pl::Stage::kSkinning);
+  EXPECT_FALSE(r.any_layer);
 }
 
 TEST(ProbeStep, RefusesTooFewInputLimits) {
