@@ -25,11 +25,17 @@ struct StepStats {
 };
 
 // A control triangle as the wrap reads it: its corner nodes' positions (Len)
-// and its unit normal (Q2.30), side by side.
+// and its unit normal (Q2.30), side by side. The pad (always 0) lets a
+// vector kernel load the normal as four words without reading past the
+// frame (wrap_avx2.cpp).
 struct TriangleFrame {
   fx::Vec3 corner[3];
   fx::Vec3 normal;
+  int32_t pad = 0;
 };
+
+// Who computes the wrap (wrap.hpp): every kernel writes the same words.
+enum class WrapKernel : uint8_t { kScalar, kAvx2 };
 
 struct BarnetState {
   const BarnetModel* model = nullptr;
@@ -47,6 +53,9 @@ struct BarnetState {
   // (barnet_init): the wrap's sums then fit int64 without saturating
   // (barnet_step.cpp).
   bool wrap_bounded = false;
+  // The wrap's kernel: at init, the fastest the CPU runs (tests set the
+  // specification's to compare).
+  WrapKernel wrap_kernel = WrapKernel::kScalar;
   uint32_t profile = 0;  // entries of L
   // Work of one factorisation of D (64x64-bit products, barnet_refactor.hpp):
   // paid at init, and at every step when the model has q_inputs.

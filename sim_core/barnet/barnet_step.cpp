@@ -1,11 +1,10 @@
 #include "barnet_step.hpp"
 
-#include <bit>
-
 #include "barnet_refactor.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "status_message.hpp"
 #include "wide_sat.hpp"
+#include "wrap.hpp"
 
 namespace sinew::barnet {
 namespace {
@@ -33,71 +32,6 @@ fx::Unit activation(int32_t angle, int32_t lo, int32_t hi) {
   if (num == 0 || (num < 0) != (den < 0)) return 0;
   if ((num < 0 ? -num : num) >= (den < 0 ? -den : den)) return fx::kUnitOne;
   return static_cast<fx::Unit>(fx::div_round(num * fx::kUnitOne, den));  // |num| * 2^30 < 2^62
-}
-
-// Unit normal of a control triangle, from its exact int64 cross product.
-// Its direction is all the wrap uses, so the product is brought below 2^31
-// by one floor shift and normalised without a division (fx::normalize_fast:
-// the direction exact to rounding, components within 2^-28 of the unit
-// vector's).
-fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
-  const fx::Vec3 e1 = fx::sub(b, a), e2 = fx::sub(c, a);
-  const int64_t n[3] = {int64_t{e1.y} * e2.z - int64_t{e1.z} * e2.y, int64_t{e1.z} * e2.x - int64_t{e1.x} * e2.z,
-                        int64_t{e1.x} * e2.y - int64_t{e1.y} * e2.x};
-  const uint64_t biggest = fx::magnitude(n[0]) | fx::magnitude(n[1]) | fx::magnitude(n[2]);
-  const int shift = static_cast<int>(std::bit_width(biggest >> 31));  // then biggest >> shift < 2^31
-  const fx::Vec3 v{static_cast<int32_t>(n[0] >> shift), static_cast<int32_t>(n[1] >> shift),
-                   static_cast<int32_t>(n[2] >> shift)};
-  fx::Vec3 unit{0, 0, 0};
-  fx::normalize_fast(v, &unit);  // degenerate triangle: zero normal, offset ignored
-  return unit;
-}
-
-// The wrap's definition: v_c = sat_i32(round((d n_c + sum_k b_k c_k) / 2^30)),
-// the sum saturating in int64 and clamped to +-2^62 before the rounding.
-void wrap_saturating(const BarnetModel& m, std::span<const TriangleFrame> triangles, const StepOutputs& out,
-                     fx::Saturation& sat) {
-  constexpr int64_t kAccLimit = int64_t{1} << 62;
-  for (uint32_t w = 0; w < m.wrap.size(); ++w) {
-    const WrapRecord& r = m.wrap[w];
-    const TriangleFrame& f = triangles[r.triangle];
-    for (size_t c = 0; c < 3; ++c) {
-      int64_t acc = int64_t{r.offset} * component(f.normal, c);
-      for (uint32_t k = 0; k < 3; ++k) acc = fx::add_sat_i64(acc, int64_t{r.bary[k]} * component(f.corner[k], c));
-      out.skin[c][w] = fx::sat_i32(fx::round_shift(fx::clamp_i64(acc, -kAccLimit, kAccLimit), 30), sat);
-    }
-  }
-}
-
-// The same words when every record has |b0| + |b1| + |b2| <= 2^31 and |d|
-// <= 2^30: then |sum_k b_k c_k| <= 2^62 and |d n_c| <= 2^61, so every
-// partial sum stays below 2^63 without saturating; and where the sum passes
-// the +-2^62 clamp, the clamped and the unclamped value both round beyond
-// int32 and saturate alike.
-void wrap_bounded(const BarnetModel& m, std::span<const TriangleFrame> triangles, const StepOutputs& out,
-                  fx::Saturation& sat) {
-  for (uint32_t w = 0; w < m.wrap.size(); ++w) {
-    const WrapRecord& r = m.wrap[w];
-    const TriangleFrame& f = triangles[r.triangle];
-    const int64_t b0 = r.bary[0], b1 = r.bary[1], b2 = r.bary[2], d = r.offset;
-    const int64_t x = d * f.normal.x + b0 * f.corner[0].x + b1 * f.corner[1].x + b2 * f.corner[2].x;
-    const int64_t y = d * f.normal.y + b0 * f.corner[0].y + b1 * f.corner[1].y + b2 * f.corner[2].y;
-    const int64_t z = d * f.normal.z + b0 * f.corner[0].z + b1 * f.corner[1].z + b2 * f.corner[2].z;
-    // Round half up as (v + 2^29) >> 30 (|v| < 2^63 - 2^29 here: no
-    // overflow, round_shift's value); one range test for the three.
-    const int64_t rx = (x + (int64_t{1} << 29)) >> 30, ry = (y + (int64_t{1} << 29)) >> 30,
-                  rz = (z + (int64_t{1} << 29)) >> 30;
-    const auto outside = [](int64_t v) { return static_cast<uint64_t>(v - INT32_MIN) >> 32; };
-    if ((outside(rx) | outside(ry) | outside(rz)) == 0) {
-      out.skin[0][w] = static_cast<int32_t>(rx);
-      out.skin[1][w] = static_cast<int32_t>(ry);
-      out.skin[2][w] = static_cast<int32_t>(rz);
-    } else {
-      out.skin[0][w] = fx::sat_i32(rx, sat);
-      out.skin[1][w] = fx::sat_i32(ry, sat);
-      out.skin[2][w] = fx::sat_i32(rz, sat);
-    }
-  }
 }
 
 LayerStatus check_spans(const BarnetModel& m, const StepInputs& in, const StepOutputs& out) {
@@ -216,19 +150,9 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   }
 
   // 4. Wrap: control-triangle frames (corners and unit normal), then every
-  //    bound fine vertex.
-  for (uint32_t t = 0; t < m.triangles.size(); ++t) {
-    const ControlTriangle& tri = m.triangles[t];
-    TriangleFrame& f = st->triangle[t];
-    for (uint32_t k = 0; k < 3; ++k)
-      f.corner[k] = {out.node[0][tri.node[k]], out.node[1][tri.node[k]], out.node[2][tri.node[k]]};
-    f.normal = triangle_normal(f.corner[0], f.corner[1], f.corner[2]);
-  }
-  if (st->wrap_bounded) {
-    wrap_bounded(m, st->triangle, out, sat);
-  } else {
-    wrap_saturating(m, st->triangle, out, sat);
-  }
+  //    bound fine vertex (wrap.hpp).
+  detail::make_triangle_frames(m, out.node, st->triangle, st->wrap_kernel);
+  detail::wrap_vertices(m, st->triangle, st->wrap_bounded, out.skin, sat, st->wrap_kernel);
 
   st->stats.steps += 1;
   st->stats.saturated = sat.events;

@@ -111,6 +111,22 @@ struct VarRoundShift {
   }
 };
 
+// fx::normalize_fast on 4 vectors at once (same words): rsqrt_fast's seed and
+// Newton steps on non-negative values below 2^32 (unsigned 32x32 products),
+// then round_shift by 31 - half_shift per lane and sat_i32.
+inline void normalize_fast_x4(__m256i x, __m256i y, __m256i z, __m256i out[3]) {
+  const __m256i zero = _mm256_setzero_si256();
+  // Sum of squares: each < 2^62 + 1, the sum < 2^64 (unsigned, wrapping adds exact).
+  __m256i n2 =
+      _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(x, x), _mm256_mul_epi32(y, y)), _mm256_mul_epi32(z, z));
+  const __m256i is_zero = _mm256_cmpeq_epi64(n2, zero);
+  n2 = _mm256_blendv_epi8(n2, _mm256_set1_epi64x(1), is_zero);  // any valid lane; zeroed below
+  const RsqrtX4 r = rsqrt_fast_x4(n2);
+  const VarRoundShift scale(r.shift);
+  const __m256i c[3] = {x, y, z};
+  for (int i = 0; i < 3; ++i) out[i] = _mm256_andnot_si256(is_zero, sat_i32_epi64(scale(_mm256_mul_epi32(c[i], r.y))));
+}
+
 }  // namespace
 }  // namespace sinew::fx::avx2
 

@@ -65,23 +65,6 @@ inline __m256i apply_linear(const __m256i col[3], int32_t v0, int32_t v1, int32_
   return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi32(v2)));
 }
 
-// fx::normalize_fast on 4 vectors at once (same words): rsqrt_fast's seed and
-// Newton steps on non-negative values below 2^32 (unsigned 32x32 products),
-// then round_shift by 31 - half_shift per lane and sat_i32.
-inline void normalize_fast_x4(__m256i x, __m256i y, __m256i z, __m256i out[3]) {
-  const __m256i zero = _mm256_setzero_si256();
-  // Sum of squares: each < 2^62 + 1, the sum < 2^64 (unsigned, wrapping adds exact).
-  __m256i n2 =
-      _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(x, x), _mm256_mul_epi32(y, y)), _mm256_mul_epi32(z, z));
-  const __m256i is_zero = _mm256_cmpeq_epi64(n2, zero);
-  n2 = _mm256_blendv_epi8(n2, _mm256_set1_epi64x(1), is_zero);  // any valid lane; zeroed below
-  const fx::avx2::RsqrtX4 r = fx::avx2::rsqrt_fast_x4(n2);
-  const fx::avx2::VarRoundShift scale(r.shift);
-  const __m256i c[3] = {x, y, z};
-  for (int i = 0; i < 3; ++i)
-    out[i] = _mm256_andnot_si256(is_zero, fx::avx2::sat_i32_epi64(scale(_mm256_mul_epi32(c[i], r.y))));
-}
-
 void finish_normals(const SkinnedVertices& out, PendingNormals* pending) {
   const int32_t* const c[3] = {pending->c[0], pending->c[1], pending->c[2]};
   renormalise_normals_avx2(c, pending->index, pending->count, out);
@@ -150,7 +133,7 @@ void renormalise_normals_avx2(const int32_t* const c[3], const uint32_t* index, 
   uint32_t j = 0;
   for (; j + 4 <= count; j += 4) {
     __m256i unit[3];
-    normalize_fast_x4(load4_epi64(c[0] + j), load4_epi64(c[1] + j), load4_epi64(c[2] + j), unit);
+    fx::avx2::normalize_fast_x4(load4_epi64(c[0] + j), load4_epi64(c[1] + j), load4_epi64(c[2] + j), unit);
     for (int a = 0; a < 3; ++a) {
       int64_t w[4];
       lanes(unit[a], w);
