@@ -182,7 +182,9 @@ TEST(BarnetWrapKernel, BoundedWrapMatchesAndHandsOverflowToTheSpecification) {
     ASSERT_EQ(got_sat.events, expected_sat.events) << "trial " << trial;
     if (small) {
       ASSERT_EQ(expected_sat.events, 0u) << "trial " << trial;
+#if defined(__x86_64__)
       EXPECT_TRUE(bd::wrap_bounded_avx2(m.model, frames, got_view)) << "trial " << trial;
+#endif
     }
     trials_with_saturation += expected_sat.events > 0 ? 1u : 0u;
   }
