@@ -84,4 +84,42 @@ inline Vec3 transform_vector(const Mat34& a, Vec3 v) {
 // R v for a vector of any format.
 Vec3 rotate(const Rot3& r, Vec3 v);
 
+// transform_point and transform_vector from plain 64-bit sums, for inputs
+// whose bound rules out every saturation: then the same words, without the
+// overflow tests (the per-node and per-vertex loops of the layers).
+// A point with every |component| < 2^29 (512 rig units): each product
+// |m p| < 2^31 2^29 = 2^60, a row with the translation term (< 2^55) stays
+// below 2^62, so neither sum3's saturation nor narrow's guard can act.
+inline constexpr int32_t kPlainPointLimit = (int32_t{1} << 29) - 1;
+// A vector with every |component| <= 2^30 + 2^28 (a Q2.30 direction): each
+// product is at most 2^31 (2^30 + 2^28) and a row at most 3.75 2^61, below
+// 2^63 - 2^23.
+inline constexpr int32_t kPlainVectorLimit = (int32_t{1} << 30) + (int32_t{1} << 28);
+
+// Every |component| <= limit.
+inline bool within(Vec3 v, int32_t limit) {
+  const auto inside = [limit](int32_t c) { return c <= limit && c >= -limit; };
+  return inside(v.x) && inside(v.y) && inside(v.z);
+}
+
+// transform_point(a, p) for within(p, kPlainPointLimit).
+inline Vec3 transform_point_plain(const Mat34& a, Vec3 p) {
+  int32_t out[3];
+  for (int i = 0; i < 3; ++i) {
+    const int64_t row = int64_t{a.m[i][0]} * p.x + int64_t{a.m[i][1]} * p.y + int64_t{a.m[i][2]} * p.z +
+                        int64_t{a.t[i]} * (int64_t{1} << kLinFracBits);
+    out[i] = sat_i32(round_shift(row, kLinFracBits));
+  }
+  return {out[0], out[1], out[2]};
+}
+// transform_vector(a, v) for within(v, kPlainVectorLimit).
+inline Vec3 transform_vector_plain(const Mat34& a, Vec3 v) {
+  int32_t out[3];
+  for (int i = 0; i < 3; ++i) {
+    const int64_t row = int64_t{a.m[i][0]} * v.x + int64_t{a.m[i][1]} * v.y + int64_t{a.m[i][2]} * v.z;
+    out[i] = sat_i32(round_shift(row, kLinFracBits));
+  }
+  return {out[0], out[1], out[2]};
+}
+
 }  // namespace sinew::fx

@@ -78,3 +78,45 @@ TEST(FixedGeometry, NlerpTakesShorterArc) {
   const fx::Quat half = axis_angle({0, 1, 0}, fx::kQuarterTurn / 4);
   EXPECT_LE(std::abs(m.y - half.y), 2);
 }
+
+// transform_point_plain and transform_vector_plain write transform_point's
+// and transform_vector's words for every input within their limits: random
+// matrices over all of int32 and inputs over the whole allowed range, and
+// the corners where the sums are largest (every entry and component at its
+// extreme, of equal and of opposite signs).
+TEST(FixedGeometry, PlainTransformsMatchTheSaturatingOnesWithinTheirLimits) {
+  SplitMix64 rng(2026);
+  const auto pick = [&](int32_t limit) {
+    switch (rng.next() % 4) {
+      case 0:
+        return limit;
+      case 1:
+        return -limit;
+      default:
+        return rng.range(-limit, limit);
+    }
+  };
+  const auto entry = [&]() {
+    switch (rng.next() % 4) {
+      case 0:
+        return INT32_MIN;
+      case 1:
+        return INT32_MAX;
+      default:
+        return rng.next_i32();
+    }
+  };
+  for (int trial = 0; trial < 200000; ++trial) {
+    fx::Mat34 m{};
+    for (auto& row : m.m)
+      for (auto& e : row) e = entry();
+    for (auto& t : m.t) t = entry();
+    const fx::Vec3 p{pick(fx::kPlainPointLimit), pick(fx::kPlainPointLimit), pick(fx::kPlainPointLimit)};
+    const fx::Vec3 v{pick(fx::kPlainVectorLimit), pick(fx::kPlainVectorLimit), pick(fx::kPlainVectorLimit)};
+    ASSERT_TRUE(fx::within(p, fx::kPlainPointLimit) && fx::within(v, fx::kPlainVectorLimit));
+    ASSERT_EQ(fx::transform_point_plain(m, p), fx::transform_point(m, p)) << trial;
+    ASSERT_EQ(fx::transform_vector_plain(m, v), fx::transform_vector(m, v)) << trial;
+  }
+  EXPECT_FALSE(fx::within({fx::kPlainPointLimit + 1, 0, 0}, fx::kPlainPointLimit));
+  EXPECT_FALSE(fx::within({0, 0, -fx::kPlainVectorLimit - 1}, fx::kPlainVectorLimit));
+}
