@@ -187,7 +187,7 @@ LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_byte
   st.rest_magnitude = carve<int64_t>(base, l.rest_magnitude, free);
   st.work = carve<int64_t>(base, l.work, 3 * size_t{free});
   st.triangle = carve<TriangleFrame>(base, l.normal, model.triangles.size());
-  st.wrap_kernel = detail::wrap_kernel_default();
+  st.kernel = vector_kernel_default();
   st.wrap_bounded = true;
   for (const WrapRecord& w : model.wrap) {
     const uint64_t sum = fx::magnitude(w.bary[0]) + fx::magnitude(w.bary[1]) + fx::magnitude(w.bary[2]);

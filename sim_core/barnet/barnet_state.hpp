@@ -34,9 +34,6 @@ struct TriangleFrame {
   int32_t pad = 0;
 };
 
-// Who computes the wrap (wrap.hpp): every kernel writes the same words.
-enum class WrapKernel : uint8_t { kScalar, kAvx2 };
-
 struct BarnetState {
   const BarnetModel* model = nullptr;
   uint32_t free_count = 0;
@@ -53,9 +50,9 @@ struct BarnetState {
   // (barnet_init): the wrap's sums then fit int64 without saturating
   // (barnet_step.cpp).
   bool wrap_bounded = false;
-  // The wrap's kernel: at init, the fastest the CPU runs (tests set the
-  // specification's to compare).
-  WrapKernel wrap_kernel = WrapKernel::kScalar;
+  // The kernels of the solve and the wrap (vector_kernel.hpp): at init, the
+  // fastest the CPU runs (tests set the specification's to compare).
+  VectorKernel kernel = VectorKernel::kScalar;
   uint32_t profile = 0;  // entries of L
   // Work of one factorisation of D (64x64-bit products, barnet_refactor.hpp):
   // paid at init, and at every step when the model has q_inputs.

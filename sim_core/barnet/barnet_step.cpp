@@ -68,8 +68,13 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   for (uint32_t i = 0; i < m.nodes.size(); ++i) {
     const NodeRecord& n = m.nodes[i];
     Blend pos;
-    for (uint32_t k = 0; k < n.influence_count; ++k)
-      pos.add(fx::transform_point(st->skin[n.joint[k]], n.rest), n.weight[k]);
+    if (fx::within(n.rest, fx::kPlainPointLimit)) {  // the same words without the overflow tests
+      for (uint32_t k = 0; k < n.influence_count; ++k)
+        pos.add(fx::transform_point_plain(st->skin[n.joint[k]], n.rest), n.weight[k]);
+    } else {
+      for (uint32_t k = 0; k < n.influence_count; ++k)
+        pos.add(fx::transform_point(st->skin[n.joint[k]], n.rest), n.weight[k]);
+    }
     const fx::Vec3 p = pos.result(sat);
     for (size_t c = 0; c < 3; ++c) {
       if (i < free)
@@ -85,9 +90,15 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   //    does not weaken it), ...
   for (uint32_t i = 0; i < free; ++i) {
     const NodeRecord& n = m.nodes[i];
+    const fx::Vec3 direction = st->rest_direction[i];
     Blend turned;
-    for (uint32_t k = 0; k < n.influence_count; ++k)
-      turned.add(fx::transform_vector(st->skin[n.joint[k]], st->rest_direction[i]), n.weight[k]);
+    if (fx::within(direction, fx::kPlainVectorLimit)) {  // a unit vector always is
+      for (uint32_t k = 0; k < n.influence_count; ++k)
+        turned.add(fx::transform_vector_plain(st->skin[n.joint[k]], direction), n.weight[k]);
+    } else {
+      for (uint32_t k = 0; k < n.influence_count; ++k)
+        turned.add(fx::transform_vector(st->skin[n.joint[k]], direction), n.weight[k]);
+    }
     fx::Vec3 unit{0, 0, 0};
     fx::normalize_fast(turned.result(sat), &unit);  // opposite bones cancelling: no rest load
     for (size_t c = 0; c < 3; ++c)
@@ -136,7 +147,7 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
     }
   }
   for (uint32_t i = 0; i < 3 * free; ++i) rhs[i] = clamp_vector(rhs[i], sat);
-  ldlt_solve_axes(st->factor, st->work.subspan(0, 3 * size_t{free}), sat);
+  ldlt_solve_axes(st->factor, st->work.subspan(0, 3 * size_t{free}), sat, st->kernel);
   fx::Len max_disp = 0;
   for (uint32_t i = 0; i < free; ++i) {
     for (size_t c = 0; c < 3; ++c) {
@@ -151,8 +162,8 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
 
   // 4. Wrap: control-triangle frames (corners and unit normal), then every
   //    bound fine vertex (wrap.hpp).
-  detail::make_triangle_frames(m, out.node, st->triangle, st->wrap_kernel);
-  detail::wrap_vertices(m, st->triangle, st->wrap_bounded, out.skin, sat, st->wrap_kernel);
+  detail::make_triangle_frames(m, out.node, st->triangle, st->kernel);
+  detail::wrap_vertices(m, st->triangle, st->wrap_bounded, out.skin, sat, st->kernel);
 
   st->stats.steps += 1;
   st->stats.saturated = sat.events;

@@ -86,14 +86,6 @@ void ldlt_solve(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& to
 
 namespace {
 
-// mul_l30_round_sat without its clamp, for |l| <= 2^30: then |l v| / 2^30 <=
-// |v| <= kVectorLimit, so the clamp never fires and counts nothing.
-inline int64_t mul_l30_unit_bounded(int32_t l, int64_t v) {
-  const int64_t vh = v >> 32;
-  const int64_t vl = static_cast<int64_t>(static_cast<uint64_t>(v) & 0xFFFFFFFFu);
-  return 4 * (int64_t{l} * vh) + ((int64_t{l} * vl + (int64_t{1} << 29)) >> 30);
-}
-
 template <bool kUnitBounded>
 inline int64_t l30_product(int32_t l, int64_t v, fx::Saturation& sat) {
   if constexpr (kUnitBounded) {
@@ -103,9 +95,9 @@ inline int64_t l30_product(int32_t l, int64_t v, fx::Saturation& sat) {
   }
 }
 
+// Forward: L y = b, the three axes' sums side by side in the same order.
 template <bool kUnitBounded>
-void solve_axes(const SkylineFactor& f, int64_t* x, fx::Saturation& sat) {
-  // Forward: L y = b, the three axes' sums side by side in the same order.
+void solve_forward(const SkylineFactor& f, int64_t* x, fx::Saturation& sat) {
   for (uint32_t i = 0; i < f.n; ++i) {
     const uint32_t fi = f.first[i];
     const int32_t* li = f.lower.data() + f.offset[i];
@@ -116,10 +108,17 @@ void solve_axes(const SkylineFactor& f, int64_t* x, fx::Saturation& sat) {
     }
     for (uint32_t c = 0; c < 3; ++c) x[3 * i + c] = clamp_vector(y[c], sat);
   }
-  // Diagonal, force Q.36 -> length Q.40.
+}
+
+// Diagonal, force Q.36 -> length Q.40.
+void solve_diagonal(const SkylineFactor& f, int64_t* x, fx::Saturation& sat) {
   for (uint32_t i = 0; i < f.n; ++i)
     for (uint32_t c = 0; c < 3; ++c) x[3 * i + c] = mul_shift_round_sat(x[3 * i + c], f.recip[i], 26 + f.shift[i], sat);
-  // Backward: L^T x = z.
+}
+
+// Backward: L^T x = z.
+template <bool kUnitBounded>
+void solve_backward(const SkylineFactor& f, int64_t* x, fx::Saturation& sat) {
   for (uint32_t i = f.n; i-- > 0;) {
     const uint32_t fi = f.first[i];
     const int32_t* li = f.lower.data() + f.offset[i];
@@ -134,17 +133,28 @@ void solve_axes(const SkylineFactor& f, int64_t* x, fx::Saturation& sat) {
 
 }  // namespace
 
-void ldlt_solve_axes(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& total) {
+void ldlt_solve_axes(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& total, VectorKernel kernel) {
   // The factors of a net have |L_ij| <= 1 (the header's M-matrix argument);
   // one pass over L proves it for this factor, and its products then need
   // no clamp. Any other factor takes the clamping product: the same words.
   uint32_t beyond_unit = 0;
   for (const int32_t l : f.lower) beyond_unit |= static_cast<uint32_t>(l > fx::kUnitOne || l < -fx::kUnitOne);
   fx::Saturation sat;
-  if (beyond_unit == 0) {
-    solve_axes<true>(f, v.data(), sat);
+  int64_t* const x = v.data();
+  if (beyond_unit != 0) {
+    solve_forward<false>(f, x, sat);
+    solve_diagonal(f, x, sat);
+    solve_backward<false>(f, x, sat);
+  } else if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2)) {
+#if defined(__x86_64__)
+    detail::solve_forward_unit_avx2(f, x, sat);
+    solve_diagonal(f, x, sat);
+    detail::solve_backward_unit_avx2(f, x, sat);
+#endif
   } else {
-    solve_axes<false>(f, v.data(), sat);
+    solve_forward<true>(f, x, sat);
+    solve_diagonal(f, x, sat);
+    solve_backward<true>(f, x, sat);
   }
   total.events += sat.events;
 }

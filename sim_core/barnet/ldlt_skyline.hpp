@@ -33,6 +33,7 @@
 #include <span>
 
 #include "sim_core/fixed/scalar.hpp"
+#include "vector_kernel.hpp"
 
 namespace sinew::barnet {
 
@@ -62,7 +63,17 @@ void ldlt_solve(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sa
 
 // The three axes of eq. (4) at once, x, y and z of node i at v[3 i + c]:
 // each axis gets exactly ldlt_solve's words and the count is the three
-// solves' total, with one pass over the factor instead of three.
-void ldlt_solve_axes(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sat);
+// solves' total, with one pass over the factor instead of three. `kernel`
+// picks who sweeps a factor with every |L_ij| <= 1 (the same words either way).
+void ldlt_solve_axes(const SkylineFactor& f, std::span<int64_t> v, fx::Saturation& sat, VectorKernel kernel);
+
+#if defined(__x86_64__)
+namespace detail {
+// The AVX2 sweeps (ldlt_skyline_avx2.cpp), for |L_ij| <= 2^30 and a CPU
+// with AVX2: the forward and backward passes of ldlt_solve_axes, word for word.
+void solve_forward_unit_avx2(const SkylineFactor& f, int64_t* x, fx::Saturation& sat);
+void solve_backward_unit_avx2(const SkylineFactor& f, int64_t* x, fx::Saturation& sat);
+}  // namespace detail
+#endif
 
 }  // namespace sinew::barnet

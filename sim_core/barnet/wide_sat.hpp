@@ -58,4 +58,12 @@ inline int64_t mul_l30_round_sat(int32_t l, int64_t v, fx::Saturation& sat) {
   return clamp_vector(p, sat);
 }
 
+// mul_l30_round_sat without its clamp, for |l| <= 2^30: then |l v| / 2^30 <=
+// |v| <= kVectorLimit, so the clamp never fires and counts nothing.
+inline int64_t mul_l30_unit_bounded(int32_t l, int64_t v) {
+  const int64_t vh = v >> 32;
+  const int64_t vl = static_cast<int64_t>(static_cast<uint64_t>(v) & 0xFFFFFFFFu);
+  return 4 * (int64_t{l} * vh) + ((int64_t{l} * vl + (int64_t{1} << 29)) >> 30);
+}
+
 }  // namespace sinew::barnet

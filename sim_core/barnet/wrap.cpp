@@ -54,24 +54,6 @@ void wrap_plain(const BarnetModel& m, std::span<const TriangleFrame> frames, con
 
 }  // namespace
 
-bool wrap_kernel_supported(WrapKernel kernel) {
-  switch (kernel) {
-    case WrapKernel::kScalar:
-      return true;
-    case WrapKernel::kAvx2:
-#if defined(__x86_64__)
-      return __builtin_cpu_supports("avx2") != 0;  // reads CPUID data, no OS call
-#else
-      return false;
-#endif
-  }
-  return false;
-}
-
-WrapKernel wrap_kernel_default() {
-  return wrap_kernel_supported(WrapKernel::kAvx2) ? WrapKernel::kAvx2 : WrapKernel::kScalar;
-}
-
 fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
   fx::Vec3 unit{0, 0, 0};
   fx::normalize_fast(shifted_cross(a, b, c), &unit);  // degenerate triangle: zero normal, offset ignored
@@ -79,9 +61,9 @@ fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
 }
 
 void make_triangle_frames(const BarnetModel& m, const std::span<fx::Len> (&node)[3], std::span<TriangleFrame> frames,
-                          WrapKernel kernel) {
+                          VectorKernel kernel) {
 #if defined(__x86_64__)
-  if (kernel == WrapKernel::kAvx2 && wrap_kernel_supported(WrapKernel::kAvx2))
+  if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2))
     return make_triangle_frames_avx2(m, node, frames);
 #endif
   (void)kernel;
@@ -97,10 +79,11 @@ void make_triangle_frames(const BarnetModel& m, const std::span<fx::Len> (&node)
 }
 
 void wrap_vertices(const BarnetModel& m, std::span<const TriangleFrame> frames, bool bounded,
-                   const std::span<fx::Len> (&skin)[3], fx::Saturation& sat, WrapKernel kernel) {
+                   const std::span<fx::Len> (&skin)[3], fx::Saturation& sat, VectorKernel kernel) {
   if (!bounded) return wrap_saturating(m, frames, skin, sat);
 #if defined(__x86_64__)
-  if (kernel == WrapKernel::kAvx2 && wrap_kernel_supported(WrapKernel::kAvx2) && wrap_bounded_avx2(m, frames, skin))
+  if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2) &&
+      wrap_bounded_avx2(m, frames, skin))
     return;
 #endif
   (void)kernel;

@@ -18,9 +18,6 @@
 
 namespace sinew::barnet::detail {
 
-bool wrap_kernel_supported(WrapKernel kernel);
-WrapKernel wrap_kernel_default();
-
 // The exact int64 cross product (b - a) x (c - a), floor-shifted below
 // 2^31: its direction is all the wrap uses, so it is normalised without a
 // division (fx::normalize_fast: the direction exact to rounding, components
@@ -44,14 +41,14 @@ fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c);
 // frames[t] for every control triangle t from the nodes' positions (every
 // node count checked by the caller).
 void make_triangle_frames(const BarnetModel& m, const std::span<fx::Len> (&node)[3], std::span<TriangleFrame> frames,
-                          WrapKernel kernel);
+                          VectorKernel kernel);
 
 // The wrap's definition: v_c = sat_i32(round((d n_c + sum_k b_k c_k) /
 // 2^30)), the sum saturating in int64 and clamped to +-2^62 before the
 // rounding. `bounded` (BarnetState::wrap_bounded) lets the plain sums stand
 // in for the saturating ones; the kernel is used only then.
 void wrap_vertices(const BarnetModel& m, std::span<const TriangleFrame> frames, bool bounded,
-                   const std::span<fx::Len> (&skin)[3], fx::Saturation& sat, WrapKernel kernel);
+                   const std::span<fx::Len> (&skin)[3], fx::Saturation& sat, VectorKernel kernel);
 
 #if defined(__x86_64__)
 // wrap_avx2.cpp; called only when the CPU reports AVX2.

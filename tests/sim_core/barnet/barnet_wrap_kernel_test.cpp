@@ -22,7 +22,7 @@ namespace bd = sinew::barnet::detail;
 namespace lb = sinew::layers::barnet;
 namespace fx = sinew::fx;
 
-bool avx2_available() { return bd::wrap_kernel_supported(bn::WrapKernel::kAvx2); }
+bool avx2_available() { return bn::vector_kernel_supported(bn::VectorKernel::kAvx2); }
 
 // A node coordinate: anywhere in int32, near its limits, or small.
 int32_t coordinate(std::mt19937_64& rng) {
@@ -86,7 +86,7 @@ std::vector<int32_t> step_words(lb::ArmSession& s) {
   return words;
 }
 
-std::vector<int32_t> frames_by(const Mesh& m, bn::WrapKernel kernel) {
+std::vector<int32_t> frames_by(const Mesh& m, bn::VectorKernel kernel) {
   std::vector<bn::TriangleFrame> frames(m.triangles.size());
   for (bn::TriangleFrame& f : frames) f = {{{7, 7, 7}, {7, 7, 7}, {7, 7, 7}}, {7, 7, 7}, 7};  // overwritten by both
   std::span<fx::Len> node[3] = {m.view[0], m.view[1], m.view[2]};
@@ -106,8 +106,8 @@ TEST(BarnetWrapKernel, ArmNetsStepToTheSpecificationsWords) {
     o.segments = segments;
     lb::ArmSession vector(sinew::rigc::SkinChoice::kLinear, o), scalar(sinew::rigc::SkinChoice::kLinear, o);
     ASSERT_TRUE(vector.ok() && scalar.ok()) << vector.error() << scalar.error();
-    ASSERT_EQ(vector.state().wrap_kernel, bn::WrapKernel::kAvx2) << "init picks the fastest kernel the CPU runs";
-    scalar.state().wrap_kernel = bn::WrapKernel::kScalar;
+    ASSERT_EQ(vector.state().kernel, bn::VectorKernel::kAvx2) << "init picks the fastest kernel the CPU runs";
+    scalar.state().kernel = bn::VectorKernel::kScalar;
     for (const double degrees : {0.0, 30.0, 90.0, 150.0}) {
       for (lb::ArmSession* s : {&vector, &scalar}) {
         s->inputs()[static_cast<size_t>(s->input("elbow.0"))] = lb::degrees_to_angle(degrees);
@@ -126,8 +126,8 @@ TEST(BarnetWrapKernel, TriangleFramesMatchOnAdversarialMeshes) {
   for (int trial = 0; trial < 400; ++trial) {
     Mesh m;
     random_mesh(rng, 3 + static_cast<uint32_t>(rng() % 12), static_cast<uint32_t>(trial % 11), &m);
-    const std::vector<int32_t> expected = frames_by(m, bn::WrapKernel::kScalar);
-    ASSERT_EQ(frames_by(m, bn::WrapKernel::kAvx2), expected) << "trial " << trial;
+    const std::vector<int32_t> expected = frames_by(m, bn::VectorKernel::kScalar);
+    ASSERT_EQ(frames_by(m, bn::VectorKernel::kAvx2), expected) << "trial " << trial;
     for (size_t t = 0; t < m.triangles.size(); ++t) {
       const int32_t* n = &expected[13 * t + 9];
       degenerate += n[0] == 0 && n[1] == 0 && n[2] == 0 ? 1u : 0u;
@@ -151,7 +151,7 @@ TEST(BarnetWrapKernel, BoundedWrapMatchesAndHandsOverflowToTheSpecification) {
     Mesh m;
     random_mesh(rng, 12, 1 + static_cast<uint32_t>(rng() % 9), &m);
     std::vector<bn::TriangleFrame> frames(m.triangles.size());
-    bd::make_triangle_frames(m.model, m.view, frames, bn::WrapKernel::kScalar);
+    bd::make_triangle_frames(m.model, m.view, frames, bn::VectorKernel::kScalar);
     // Records within the bounded path's limits (|b0| + |b1| + |b2| <= 2^31,
     // |d| <= 2^30, the barycentres summing to 2^30), near and inside the
     // triangle or far outside; in a third of the trials only small corners,
@@ -176,8 +176,8 @@ TEST(BarnetWrapKernel, BoundedWrapMatchesAndHandsOverflowToTheSpecification) {
     std::span<fx::Len> expected_view[3] = {expected[0], expected[1], expected[2]};
     std::span<fx::Len> got_view[3] = {got[0], got[1], got[2]};
     fx::Saturation expected_sat, got_sat;
-    bd::wrap_vertices(m.model, frames, true, expected_view, expected_sat, bn::WrapKernel::kScalar);
-    bd::wrap_vertices(m.model, frames, true, got_view, got_sat, bn::WrapKernel::kAvx2);
+    bd::wrap_vertices(m.model, frames, true, expected_view, expected_sat, bn::VectorKernel::kScalar);
+    bd::wrap_vertices(m.model, frames, true, got_view, got_sat, bn::VectorKernel::kAvx2);
     for (size_t c = 0; c < 3; ++c) ASSERT_EQ(got[c], expected[c]) << "trial " << trial << " axis " << c;
     ASSERT_EQ(got_sat.events, expected_sat.events) << "trial " << trial;
     if (small) {

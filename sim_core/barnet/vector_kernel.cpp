@@ -1,0 +1,23 @@
+#include "vector_kernel.hpp"
+
+namespace sinew::barnet {
+
+bool vector_kernel_supported(VectorKernel kernel) {
+  switch (kernel) {
+    case VectorKernel::kScalar:
+      return true;
+    case VectorKernel::kAvx2:
+#if defined(__x86_64__)
+      return __builtin_cpu_supports("avx2") != 0;
+#else
+      return false;
+#endif
+  }
+  return false;
+}
+
+VectorKernel vector_kernel_default() {
+  return vector_kernel_supported(VectorKernel::kAvx2) ? VectorKernel::kAvx2 : VectorKernel::kScalar;
+}
+
+}  // namespace sinew::barnet
