@@ -12,8 +12,8 @@ namespace {
 
 // Byte layout of the arena, every segment 8-byte aligned.
 struct Layout {
-  size_t first, offset, lower, recip, shift, q, skin, load, skinned, rest_direction, rest_magnitude, work, normal,
-      scratch, total;
+  size_t first, offset, lower, recip, shift, q, skin, skin_columns, load, skinned, rest_direction, rest_magnitude, work,
+      normal, scratch, total;
 };
 
 size_t align8(size_t v) { return (v + 7) & ~size_t{7}; }
@@ -49,6 +49,7 @@ Layout layout(const BarnetModel& m, uint32_t free, uint64_t profile) {
   l.shift = take(n * sizeof(int32_t));
   l.q = take(m.bars.size() * sizeof(ForceDensity));
   l.skin = take(m.joint_count * sizeof(fx::Mat34));
+  l.skin_columns = take(m.joint_count * sizeof(SkinColumns));
   l.load = take(3 * n * sizeof(int64_t));
   l.skinned = take(3 * n * sizeof(fx::Len));
   l.rest_direction = take(n * sizeof(fx::Vec3));
@@ -179,6 +180,7 @@ LayerStatus barnet_init(const BarnetModel& model, void* arena, size_t arena_byte
   st.factor.shift = carve<int32_t>(base, l.shift, free);
   st.q = carve<ForceDensity>(base, l.q, model.bars.size());
   st.skin = carve<fx::Mat34>(base, l.skin, model.joint_count);
+  st.skin_columns = carve<SkinColumns>(base, l.skin_columns, model.joint_count);
   for (size_t c = 0; c < 3; ++c) {
     st.load[c] = carve<int64_t>(base, l.load + c * free * sizeof(int64_t), free);
     st.skinned[c] = carve<fx::Len>(base, l.skinned + c * free * sizeof(fx::Len), free);

@@ -34,18 +34,27 @@ struct TriangleFrame {
   int32_t pad = 0;
 };
 
+// A skinning matrix as the node-skinning kernel reads it
+// (node_skinning_avx2.cpp): column c of the linear part in int64 lanes 0..2,
+// the translation times 2^24 likewise, lane 3 zero. Laid out each step.
+struct SkinColumns {
+  int64_t column[3][4];
+  int64_t translation[4];
+};
+
 struct BarnetState {
   const BarnetModel* model = nullptr;
   uint32_t free_count = 0;
   SkylineFactor factor;
-  std::span<ForceDensity> q;           // per bar, the force density of this step (the model's, scaled by q_inputs)
-  std::span<fx::Mat34> skin;           // per joint: global x inverse bind
-  std::span<int64_t> load[3];          // per free node, p of eq. (4) this step: Q.36 force (rest load + loads)
-  std::span<fx::Len> skinned[3];       // per free node, smooth-skinned position
-  std::span<fx::Vec3> rest_direction;  // per free node, the rest load's unit direction in the bind pose, Q2.30
-  std::span<int64_t> rest_magnitude;   // per free node, |rest load|, Q.36 force (< 2^62)
-  std::span<int64_t> work;             // 3 per free node: the solve vectors of x, y, z (node i at 3 i + c)
-  std::span<TriangleFrame> triangle;   // per control triangle, this step's corners and unit normal
+  std::span<ForceDensity> q;            // per bar, the force density of this step (the model's, scaled by q_inputs)
+  std::span<fx::Mat34> skin;            // per joint: global x inverse bind
+  std::span<SkinColumns> skin_columns;  // per joint: `skin` as the vector kernel reads it
+  std::span<int64_t> load[3];           // per free node, p of eq. (4) this step: Q.36 force (rest load + loads)
+  std::span<fx::Len> skinned[3];        // per free node, smooth-skinned position
+  std::span<fx::Vec3> rest_direction;   // per free node, the rest load's unit direction in the bind pose, Q2.30
+  std::span<int64_t> rest_magnitude;    // per free node, |rest load|, Q.36 force (< 2^62)
+  std::span<int64_t> work;              // 3 per free node: the solve vectors of x, y, z (node i at 3 i + c)
+  std::span<TriangleFrame> triangle;    // per control triangle, this step's corners and unit normal
   // Every wrap record has |b0| + |b1| + |b2| <= 2^31 and |offset| <= 2^30
   // (barnet_init): the wrap's sums then fit int64 without saturating
   // (barnet_step.cpp).

@@ -1,7 +1,7 @@
 #include "barnet_step.hpp"
 
 #include "barnet_refactor.hpp"
-#include "sim_core/fixed/rsqrt_fast.hpp"
+#include "node_skinning.hpp"
 #include "status_message.hpp"
 #include "wide_sat.hpp"
 #include "wrap.hpp"
@@ -10,21 +10,6 @@ namespace sinew::barnet {
 namespace {
 
 int32_t component(fx::Vec3 v, size_t c) { return c == 0 ? v.x : (c == 1 ? v.y : v.z); }
-
-// Convex combinations of Len or Force values with Q2.30 weights summing to
-// 2^30: the accumulator never exceeds 2^61.
-struct Blend {
-  int64_t acc[3] = {0, 0, 0};
-  void add(fx::Vec3 v, fx::Unit w) {
-    acc[0] += int64_t{v.x} * w;
-    acc[1] += int64_t{v.y} * w;
-    acc[2] += int64_t{v.z} * w;
-  }
-  fx::Vec3 result(fx::Saturation& sat) const {
-    return {fx::sat_i32(fx::round_shift(acc[0], 30), sat), fx::sat_i32(fx::round_shift(acc[1], 30), sat),
-            fx::sat_i32(fx::round_shift(acc[2], 30), sat)};
-  }
-};
 
 // Activation of a load: clamp((angle - lo) / (hi - lo), 0, 1) in Q2.30.
 fx::Unit activation(int32_t angle, int32_t lo, int32_t hi) {
@@ -62,48 +47,13 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   // Skinning matrices S_j = G_j x B_j^-1 (the rig's palette, per joint).
   for (uint32_t j = 0; j < m.joint_count; ++j) st->skin[j] = fx::mul(in.bones[j], m.inverse_bind[j]);
 
-  // 1. Control mesh: smooth-skinned node positions (blend then round once).
-  //    Fixed nodes keep them (x_f, eq. (4)'s input); free nodes keep them as
-  //    the solve's starting point s.
-  for (uint32_t i = 0; i < m.nodes.size(); ++i) {
-    const NodeRecord& n = m.nodes[i];
-    Blend pos;
-    if (fx::within(n.rest, fx::kPlainPointLimit)) {  // the same words without the overflow tests
-      for (uint32_t k = 0; k < n.influence_count; ++k)
-        pos.add(fx::transform_point_plain(st->skin[n.joint[k]], n.rest), n.weight[k]);
-    } else {
-      for (uint32_t k = 0; k < n.influence_count; ++k)
-        pos.add(fx::transform_point(st->skin[n.joint[k]], n.rest), n.weight[k]);
-    }
-    const fx::Vec3 p = pos.result(sat);
-    for (size_t c = 0; c < 3; ++c) {
-      if (i < free)
-        st->skinned[c][i] = component(p, c);
-      else
-        out.node[c][i] = component(p, c);
-    }
-  }
-
+  // 1. Control mesh: every node's smooth-skinned position s, in out.node
+  //    (the fixed nodes' x_f, eq. (4)'s input; the free nodes' are replaced
+  //    by the solve below, which starts from their copy in st->skinned).
   // 2. The load p of eq. (4) on every free node, in Q.36 force: first its
   //    rest load (barnet_state.cpp), turned by the node's blended bones and
-  //    kept at its bind-pose magnitude (a bend turns the tissue's push, it
-  //    does not weaken it), ...
-  for (uint32_t i = 0; i < free; ++i) {
-    const NodeRecord& n = m.nodes[i];
-    const fx::Vec3 direction = st->rest_direction[i];
-    Blend turned;
-    if (fx::within(direction, fx::kPlainVectorLimit)) {  // a unit vector always is
-      for (uint32_t k = 0; k < n.influence_count; ++k)
-        turned.add(fx::transform_vector_plain(st->skin[n.joint[k]], direction), n.weight[k]);
-    } else {
-      for (uint32_t k = 0; k < n.influence_count; ++k)
-        turned.add(fx::transform_vector(st->skin[n.joint[k]], direction), n.weight[k]);
-    }
-    fx::Vec3 unit{0, 0, 0};
-    fx::normalize_fast(turned.result(sat), &unit);  // opposite bones cancelling: no rest load
-    for (size_t c = 0; c < 3; ++c)
-      st->load[c][i] = mul_shift_round_sat(st->rest_magnitude[i], component(unit, c), 30, sat);  // |.| <= 2^61
-  }
+  //    kept at its bind-pose magnitude (node_skinning.hpp), ...
+  detail::skin_nodes(m, st, out.node, sat, st->kernel);
   //    ... then the loads bound to joint angles or external inputs, carried
   //    by their bone (superposed; Q.24 x 2^12, below 1024 x 2^43 on a node).
   for (const LoadRecord& l : m.loads) {
@@ -132,8 +82,9 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   //    position), so the factor's relative error falls on the move alone.
   //    |p| <= 2^61 + 2^53 and the bar sum stays below 16 x 2^24 x 2^32 = 2^60.
   //    The three axes share one pass over the bars and one over the factor
-  //    (work holds x, y and z of free node i at 3 i + c).
-  const auto skinned = [&](uint32_t i, size_t c) { return i < free ? st->skinned[c][i] : out.node[c][i]; };
+  //    (work holds x, y and z of free node i at 3 i + c; out.node holds
+  //    every node's skinned position until the solve's result replaces the
+  //    free nodes').
   int64_t* const rhs = st->work.data();
   for (uint32_t i = 0; i < free; ++i)
     for (size_t c = 0; c < 3; ++c) rhs[3 * i + c] = st->load[c][i];
@@ -141,7 +92,7 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
     const BarRecord& bar = m.bars[b];
     const int64_t q = st->q[b];
     for (size_t c = 0; c < 3; ++c) {
-      const int64_t pull = q * (int64_t{skinned(bar.a, c)} - skinned(bar.b, c));
+      const int64_t pull = q * (int64_t{out.node[c][bar.a]} - out.node[c][bar.b]);
       if (bar.a < free) rhs[3 * bar.a + c] -= pull;
       if (bar.b < free) rhs[3 * bar.b + c] += pull;
     }
