@@ -56,11 +56,23 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   detail::skin_nodes(m, st, out.node, sat, st->kernel);
   //    ... then the loads bound to joint angles or external inputs, carried
   //    by their bone (superposed; Q.24 x 2^12, below 1024 x 2^43 on a node).
+  //    Loads of one input range come in runs (a bracket of a schedule):
+  //    the activation of the record before is reused when its input and
+  //    range are the same.
+  fx::Unit t = 0;
+  const LoadRecord* previous = nullptr;
   for (const LoadRecord& l : m.loads) {
-    const int32_t v = l.input < m.input_count ? in.joint_angles[l.input] : in.external[l.input - m.input_count];
-    const fx::Unit t = activation(v, l.angle_lo, l.angle_hi);
+    if (previous == nullptr || l.input != previous->input || l.angle_lo != previous->angle_lo ||
+        l.angle_hi != previous->angle_hi) {
+      const int32_t v = l.input < m.input_count ? in.joint_angles[l.input] : in.external[l.input - m.input_count];
+      t = activation(v, l.angle_lo, l.angle_hi);
+      previous = &l;
+    }
     if (t == 0) continue;
-    const fx::Vec3 f = fx::transform_vector(st->skin[l.joint], fx::scale(l.force, t));
+    const fx::Vec3 force = t == fx::kUnitOne ? l.force : fx::scale(l.force, t);  // round(v 2^30 / 2^30) = v
+    const fx::Mat34& bone = st->skin[l.joint];
+    const fx::Vec3 f = fx::within(force, fx::kPlainVectorLimit) ? fx::transform_vector_plain(bone, force)
+                                                                : fx::transform_vector(bone, force);
     for (size_t c = 0; c < 3; ++c) st->load[c][l.node] += int64_t{component(f, c)} * (int64_t{1} << 12);
   }
 
