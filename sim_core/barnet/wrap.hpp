@@ -18,20 +18,24 @@
 
 namespace sinew::barnet::detail {
 
-// The exact int64 cross product (b - a) x (c - a), floor-shifted below
+// The exact int64 cross product e1 x e2, floor-shifted below
 // 2^31: its direction is all the wrap uses, so it is normalised without a
 // division (fx::normalize_fast: the direction exact to rounding, components
 // within 2^-28 of the unit vector's). Inline: returned by a call, the Vec3
 // comes back through narrow stores and a wide reload, which the CPU cannot
 // forward.
-[[gnu::always_inline]] inline fx::Vec3 shifted_cross(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
-  const fx::Vec3 e1 = fx::sub(b, a), e2 = fx::sub(c, a);
+[[gnu::always_inline]] inline fx::Vec3 shifted_cross_of_edges(fx::Vec3 e1, fx::Vec3 e2) {
   const int64_t n[3] = {int64_t{e1.y} * e2.z - int64_t{e1.z} * e2.y, int64_t{e1.z} * e2.x - int64_t{e1.x} * e2.z,
                         int64_t{e1.x} * e2.y - int64_t{e1.y} * e2.x};
   const uint64_t biggest = fx::magnitude(n[0]) | fx::magnitude(n[1]) | fx::magnitude(n[2]);
   const int shift = static_cast<int>(std::bit_width(biggest >> 31));  // then biggest >> shift < 2^31
   return {static_cast<int32_t>(n[0] >> shift), static_cast<int32_t>(n[1] >> shift),
           static_cast<int32_t>(n[2] >> shift)};
+}
+// The same for the triangle a, b, c: its edges b - a and c - a saturated
+// to int32 (fx::sub).
+[[gnu::always_inline]] inline fx::Vec3 shifted_cross(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
+  return shifted_cross_of_edges(fx::sub(b, a), fx::sub(c, a));
 }
 
 // Unit normal (Q2.30) of the triangle a, b, c: shifted_cross through

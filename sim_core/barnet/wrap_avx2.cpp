@@ -43,13 +43,37 @@ inline __m256i frame_words(const TriangleFrame& f, size_t offset) {
   return _mm256_cvtepi32_epi64(x);
 }
 
-}  // namespace
+// Every |node[c][i]| < 2^30 for i < count: then an edge b - a fits int32,
+// and fx::sub's saturation cannot act. Eight lanes at a time.
+bool nodes_below_2_30(const std::span<fx::Len> (&node)[3], size_t count) {
+  constexpr int32_t kLimit = (int32_t{1} << 30) - 1;
+  const __m256i hi = _mm256_set1_epi32(kLimit), lo = _mm256_set1_epi32(-kLimit);
+  __m256i outside = _mm256_setzero_si256();
+  bool scalar_outside = false;
+  for (const std::span<fx::Len>& axis : node) {
+    size_t i = 0;
+    for (; i + 8 <= count; i += 8) {
+      __m256i v;
+      std::memcpy(&v, axis.data() + i, sizeof(v));
+      outside = _mm256_or_si256(outside, _mm256_or_si256(_mm256_cmpgt_epi32(v, hi), _mm256_cmpgt_epi32(lo, v)));
+    }
+    for (; i < count; ++i) scalar_outside |= axis[i] > kLimit || axis[i] < -kLimit;
+  }
+  return !scalar_outside && _mm256_testz_si256(outside, outside) != 0;
+}
 
-void make_triangle_frames_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
-                               std::span<TriangleFrame> frames) {
+template <bool kSmall>
+inline fx::Vec3 edge(fx::Vec3 from, fx::Vec3 to) {
+  if constexpr (kSmall) return {to.x - from.x, to.y - from.y, to.z - from.z};  // |.| <= 2^31 - 2
+  return fx::sub(to, from);
+}
+
+// Pass 1 of the frames, one triangle at a time: the corners, and the
+// floor-shifted cross product (below 2^31 per component) in the normal's
+// place. kSmall: every node below 2^30 in magnitude (nodes_below_2_30).
+template <bool kSmall>
+void corners_and_crosses(const BarnetModel& m, const std::span<fx::Len> (&node)[3], std::span<TriangleFrame> frames) {
   const uint32_t count = static_cast<uint32_t>(m.triangles.size());
-  // Pass 1, one triangle at a time: the corners, and the floor-shifted
-  // cross product (below 2^31 per component) in the normal's place.
   for (uint32_t t = 0; t < count; ++t) {
     const ControlTriangle& tri = m.triangles[t];
     TriangleFrame& f = frames[t];
@@ -57,9 +81,20 @@ void make_triangle_frames_avx2(const BarnetModel& m, const std::span<fx::Len> (&
     // not forward to the wide load that passes a Vec3 in registers.
     const fx::Vec3 a = node_at(node, tri.node[0]), b = node_at(node, tri.node[1]), c = node_at(node, tri.node[2]);
     f.corner[0] = a, f.corner[1] = b, f.corner[2] = c;
-    f.normal = shifted_cross(a, b, c);
+    f.normal = shifted_cross_of_edges(edge<kSmall>(a, b), edge<kSmall>(a, c));
     f.pad = 0;
   }
+}
+
+}  // namespace
+
+void make_triangle_frames_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
+                               std::span<TriangleFrame> frames) {
+  const uint32_t count = static_cast<uint32_t>(m.triangles.size());
+  if (nodes_below_2_30(node, m.nodes.size()))
+    corners_and_crosses<true>(m, node, frames);
+  else
+    corners_and_crosses<false>(m, node, frames);
   // Pass 2, four triangles per group (a last group of fewer repeats its last
   // triangle in the spare lanes and stores only the real ones): each
   // shifted product normalised in place.

@@ -40,6 +40,7 @@ int32_t coordinate(std::mt19937_64& rng) {
 
 struct Mesh {
   std::vector<int32_t> node[3];
+  std::vector<bn::NodeRecord> records;  // only their count is read
   std::vector<bn::ControlTriangle> triangles;
   std::span<fx::Len> view[3];
   bn::BarnetModel model;
@@ -47,10 +48,24 @@ struct Mesh {
 
 // n nodes at random, some repeated or collinear with others; `count`
 // triangles over them.
-void random_mesh(std::mt19937_64& rng, uint32_t nodes, uint32_t count, Mesh* m) {
+enum class Spread {
+  kAny,        // coordinate()
+  kBelow2_30,  // every coordinate below 2^30 in magnitude, many at that limit
+               // (edges up to 2^31 - 2 that fit int32 unsaturated)
+  kWide,       // uniform within +-1.9 x 2^30: edges beyond int32, no corner at its limits
+};
+
+void random_mesh(std::mt19937_64& rng, uint32_t nodes, uint32_t count, Mesh* m, Spread spread = Spread::kAny) {
+  constexpr int32_t kLimit = (int32_t{1} << 30) - 1;
+  constexpr int64_t kWide = int64_t{19} * (int64_t{1} << 30) / 10;
   for (auto& c : m->node) c.assign(nodes, 0);
   for (uint32_t i = 0; i < nodes; ++i) {
-    for (auto& c : m->node) c[i] = coordinate(rng);
+    for (auto& c : m->node) {
+      c[i] = coordinate(rng);
+      if (spread == Spread::kBelow2_30 && (c[i] > kLimit || c[i] < -kLimit))
+        c[i] = rng() & 1 ? kLimit - static_cast<int32_t>(rng() % 3) : -kLimit + static_cast<int32_t>(rng() % 3);
+      if (spread == Spread::kWide) c[i] = static_cast<int32_t>(static_cast<int64_t>(rng() % (2 * kWide + 1)) - kWide);
+    }
     if (i >= 2 && rng() % 8 == 0) {  // coincident with, or the midpoint of, earlier nodes
       const uint32_t a = static_cast<uint32_t>(rng() % i), b = static_cast<uint32_t>(rng() % i);
       for (auto& c : m->node) c[i] = static_cast<int32_t>((int64_t{c[a]} + c[b]) / 2);
@@ -60,6 +75,8 @@ void random_mesh(std::mt19937_64& rng, uint32_t nodes, uint32_t count, Mesh* m) 
   for (bn::ControlTriangle& t : m->triangles)
     for (uint32_t& k : t.node) k = static_cast<uint32_t>(rng() % nodes);
   for (size_t c = 0; c < 3; ++c) m->view[c] = m->node[c];
+  m->records.resize(nodes);
+  m->model.nodes = m->records;
   m->model.triangles = m->triangles;
 }
 
@@ -122,10 +139,11 @@ TEST(BarnetWrapKernel, ArmNetsStepToTheSpecificationsWords) {
 TEST(BarnetWrapKernel, TriangleFramesMatchOnAdversarialMeshes) {
   if (!avx2_available()) GTEST_SKIP() << "no AVX2 on this CPU";
   std::mt19937_64 rng(20261204);
-  uint32_t degenerate = 0, saturated_edges = 0;
-  for (int trial = 0; trial < 400; ++trial) {
-    Mesh m;
-    random_mesh(rng, 3 + static_cast<uint32_t>(rng() % 12), static_cast<uint32_t>(trial % 11), &m);
+  uint32_t degenerate = 0, saturated_edges = 0, long_unsaturated_edges = 0;
+  for (int trial = 0; trial < 1200; ++trial) {
+    Mesh m;  // trials 1, 4, 7, ...: every node below 2^30, the kernel's unsaturated edges
+    const Spread spread = trial % 3 == 0 ? Spread::kAny : (trial % 3 == 1 ? Spread::kBelow2_30 : Spread::kWide);
+    random_mesh(rng, 3 + static_cast<uint32_t>(rng() % 12), static_cast<uint32_t>(trial % 11), &m, spread);
     const std::vector<int32_t> expected = frames_by(m, bn::VectorKernel::kScalar);
     ASSERT_EQ(frames_by(m, bn::VectorKernel::kAvx2), expected) << "trial " << trial;
     for (size_t t = 0; t < m.triangles.size(); ++t) {
@@ -136,11 +154,14 @@ TEST(BarnetWrapKernel, TriangleFramesMatchOnAdversarialMeshes) {
       const fx::Vec3 b{m.node[0][m.triangles[t].node[1]], m.node[1][m.triangles[t].node[1]],
                        m.node[2][m.triangles[t].node[1]]};
       saturated_edges += int64_t{b.x} - a.x != fx::sub(b, a).x ? 1u : 0u;
+      long_unsaturated_edges +=
+          spread == Spread::kBelow2_30 && fx::magnitude(int64_t{b.x} - a.x) > (uint64_t{1} << 31) - 8;
     }
   }
   // The cases the kernel must get right were drawn.
   EXPECT_GT(degenerate, 20u);
   EXPECT_GT(saturated_edges, 20u);
+  EXPECT_GT(long_unsaturated_edges, 20u);
 }
 
 TEST(BarnetWrapKernel, BoundedWrapMatchesAndHandsOverflowToTheSpecification) {
