@@ -28,8 +28,9 @@ fx::Vec3 turned_direction(const NodeRecord& n, std::span<const fx::Mat34> skin, 
 // Writes s of node i to node[c][i] for every node, and also to
 // st->skinned[c][i] for a free one (the solve's starting point); writes
 // st->load[c][i], the turned rest load (Q.36 force), for every free node.
-// Reads st->skin (this step's skinning matrices). Every span was checked by
-// the caller.
+// Reads st->skin (this step's skinning matrices). The model is validated
+// (barnet_validate: every node's weights >= 0 and summing to 2^30) and every
+// span was checked by the caller.
 void skin_nodes(const BarnetModel& m, BarnetState* st, const std::span<fx::Len> (&node)[3], fx::Saturation& sat,
                 VectorKernel kernel);
 

@@ -13,8 +13,8 @@
 //     normalised together by fx::avx2::normalize_fast_x4
 //     (fx::normalize_fast's words), overlapping its chains of dependent
 //     products.
-//   - Each blend is rounded by the specification's scalar code, which also
-//     counts its saturations.
+//   - Each blend is rounded in its lanes: its convex weights keep it within
+//     int32 (blend_result).
 #include <immintrin.h>
 
 #include <cstring>
@@ -58,12 +58,14 @@ inline __m256i to_len(__m256i rows) {
   return fx::avx2::sat_i32_epi64(fx::avx2::round_shift_epi64<fx::kLinFracBits>(rows));
 }
 
-// The blend's rounding, sat_i32(round_shift(acc, 30), sat) per component.
-inline fx::Vec3 blend_result(__m256i acc, fx::Saturation& sat) {
+// The blend's rounding, sat_i32(round_shift(acc, 30), sat) per component,
+// without the saturation: with weights >= 0 summing to 2^30 (barnet_validate)
+// acc / 2^30 is a convex combination of int32 values, so its rounding lies
+// within int32 and the specification's saturation never acts.
+inline fx::Vec3 blend_result(__m256i acc) {
   int64_t a[kLanes];
-  fx::avx2::lanes(acc, a);
-  return {fx::sat_i32(fx::round_shift(a[0], 30), sat), fx::sat_i32(fx::round_shift(a[1], 30), sat),
-          fx::sat_i32(fx::round_shift(a[2], 30), sat)};
+  fx::avx2::lanes(fx::avx2::round_shift_epi64<30>(acc), a);
+  return {static_cast<int32_t>(a[0]), static_cast<int32_t>(a[1]), static_cast<int32_t>(a[2])};
 }
 
 void lay_out_columns(std::span<const fx::Mat34> skin, std::span<SkinColumns> columns) {
@@ -108,8 +110,8 @@ void skin_nodes_avx2(const BarnetModel& m, BarnetState* st, const std::span<fx::
           pos = add(pos, mul(to_len(add(linear_rows(s, rest), load(s.translation))), w));
           turn = add(turn, mul(to_len(linear_rows(s, dir)), w));
         }
-        p = blend_result(pos, sat);
-        d = blend_result(turn, sat);
+        p = blend_result(pos);
+        d = blend_result(turn);
       } else {
         p = skinned_position(n, st->skin, sat);
         d = turned_direction(n, st->skin, direction, sat);
@@ -143,7 +145,7 @@ void skin_nodes_avx2(const BarnetModel& m, BarnetState* st, const std::span<fx::
       const SkinColumns& s = columns[n.joint[k]];
       pos = add(pos, mul(to_len(add(linear_rows(s, rest), load(s.translation))), _mm256_set1_epi32(n.weight[k])));
     }
-    store_position(node, i, blend_result(pos, sat));
+    store_position(node, i, blend_result(pos));
   }
 }
 
