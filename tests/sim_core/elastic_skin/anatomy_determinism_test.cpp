@@ -118,3 +118,112 @@ TEST(AnatomyDeterminism, EveryWorkerCountMatchesOneThread) {
     }
   }
 }
+
+TEST(AnatomyDeterminism, ArmDynamicSkinMatchesGolden) {
+  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+    s.skin.solver.dynamic = true;
+    s.skin.solver.relaxation = false;  // the explicit integrator's golden
+    s.skin.solver.gravity[1] = -9.81;
+  });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  det::OutputHash h;
+  uint32_t reactions = 0;
+  for (int s = 0; s < anatomy_determinism_test::kSteps; ++s) {
+    for (uint32_t i = 0; i < arm.rig().input_count; ++i)
+      arm.inputs()[i] = anatomy_determinism_test::trajectory(i, static_cast<uint32_t>(s));
+    ASSERT_TRUE(arm.step().ok());
+    const sinew::elastic_skin::SkinState& sk = arm.skin();
+    for (int c = 0; c < 3; ++c) {
+      for (sinew::fx::Len v : sk.position[c]) h.add_i32(v);
+      for (int64_t v : sk.velocity[c]) h.add_i64(v);
+    }
+    h.add_u32(sk.stats.substeps);
+    h.add_u32(sk.stats.reactions);
+    h.add_u32(sk.stats.inside_after);
+    h.add_i32(sk.stats.residual);
+    reactions += sk.stats.reactions;
+  }
+  const uint64_t digest = h.digest();
+  det::print_determinism_line("anatomy-arm-dynamic", digest);
+  std::printf("anatomy-arm-dynamic: %d steps, %u reactions, last step largest move %.4f mm\n",
+              anatomy_determinism_test::kSteps, reactions, arm.metres(arm.skin().stats.residual) * 1e3);
+  EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
+  EXPECT_EQ(arm.skin().stats.inside_after, 0u);
+  EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmDynamic) << "dynamic anatomy outputs changed";
+}
+
+// The same workload with LEMAN's surface by relaxation (the builder's
+// default for a dynamic skin: bend, Platt-Barr reactions, one implicit step
+// a tick) and some air pressure.
+TEST(AnatomyDeterminism, ArmRelaxationSkinMatchesGolden) {
+  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+    s.skin.solver.dynamic = true;
+    s.skin.solver.gravity[1] = -9.81;
+    s.skin.solver.pressure = 20.0;
+  });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  ASSERT_EQ(arm.skin_model().surface.integrator,
+            static_cast<uint8_t>(sinew::elastic_skin::SkinIntegrator::kRelaxation));
+  det::OutputHash h;
+  uint32_t reactions = 0;
+  for (int s = 0; s < anatomy_determinism_test::kSteps; ++s) {
+    for (uint32_t i = 0; i < arm.rig().input_count; ++i)
+      arm.inputs()[i] = anatomy_determinism_test::trajectory(i, static_cast<uint32_t>(s));
+    ASSERT_TRUE(arm.step().ok());
+    const sinew::elastic_skin::SkinState& sk = arm.skin();
+    for (int c = 0; c < 3; ++c) {
+      for (sinew::fx::Len v : sk.position[c]) h.add_i32(v);
+      for (int64_t v : sk.velocity[c]) h.add_i64(v);
+    }
+    h.add_u32(sk.stats.reactions);
+    h.add_u32(sk.stats.inside_after);
+    h.add_i32(sk.stats.max_relax_last);
+    reactions += sk.stats.reactions;
+  }
+  const uint64_t digest = h.digest();
+  det::print_determinism_line("anatomy-arm-relaxation", digest);
+  std::printf("anatomy-arm-relaxation: %d steps, %u reactions, last sweep's largest move %.4f mm\n",
+              anatomy_determinism_test::kSteps, reactions, arm.metres(arm.skin().stats.max_relax_last) * 1e3);
+  EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
+  EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmRelaxation) << "relaxation skin outputs changed";
+}
+
+// The arm with both bellies general superquadrics (p_xy 3, p_z 2.5: the
+// log-domain kernel, sim_core/fixed/log_exp): the exponents, the muscle
+// frames and the static skin hash to the committed value on every build.
+TEST(AnatomyDeterminism, ArmGeneralSuperquadricMatchesGolden) {
+  ArmAnatomy arm([](sinew::anatomy_build::AnatomySpec& s) {
+    for (auto& p : s.primitives) {
+      p.exponent = 3;
+      p.exponent_z = 2.5;
+    }
+  });
+  ASSERT_TRUE(arm.ok()) << arm.error();
+  det::OutputHash h;
+  anatomy_determinism_test::hash_records(h, arm.model().primitives);
+  anatomy_determinism_test::hash_records(h, arm.model().exponents);
+  uint32_t reactions = 0;
+  for (int s = 0; s < anatomy_determinism_test::kSteps; ++s) {
+    for (uint32_t i = 0; i < arm.rig().input_count; ++i)
+      arm.inputs()[i] = anatomy_determinism_test::trajectory(i, static_cast<uint32_t>(s));
+    ASSERT_TRUE(arm.step().ok());
+    for (const sinew::muscle::PrimitiveFrame& f : arm.muscles().primitives) {
+      const sinew::muscle::SuperquadricTerms& t = f.superquadric;
+      h.add_i64(t.ratio);
+      h.add_i64(t.inverse_power_z);
+      for (int64_t l : t.log2_extent) h.add_i64(l);
+    }
+    const sinew::elastic_skin::SkinState& sk = arm.skin();
+    for (int c = 0; c < 3; ++c)
+      for (sinew::fx::Len v : sk.position[c]) h.add_i32(v);
+    h.add_u32(sk.stats.reactions);
+    h.add_u32(sk.stats.inside_after);
+    reactions += sk.stats.reactions;
+  }
+  const uint64_t digest = h.digest();
+  det::print_determinism_line("anatomy-arm-superquadric", digest);
+  std::printf("anatomy-arm-superquadric: %d steps, %u reactions\n", anatomy_determinism_test::kSteps, reactions);
+  EXPECT_GT(reactions, 0u) << "the trajectory should exercise the reaction constraints";
+  EXPECT_EQ(arm.skin().stats.inside_after, 0u);
+  EXPECT_EQ(digest, sinew::test::golden::kAnatomyArmSuperquadric) << "general superquadric outputs changed";
+}
