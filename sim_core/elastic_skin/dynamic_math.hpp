@@ -58,6 +58,11 @@ inline int64_t per_substep(int64_t x, int shift, int64_t h_inv) {
   return q > (kSaturated >> shift) ? kSaturated : q << shift;
 }
 
+// h^2 k / m of a model stiffness k (Q16.16), Q30.
+[[gnu::always_inline]] inline int64_t spring_gain(int64_t k, int64_t spring_h2) {
+  return mul_shift_sat(k, spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits);
+}
+
 // The spring of edge e (eq. 1, with the §5.2 push-back for compressed
 // edges) as the displacement it adds to its endpoint a in one substep,
 // h^2 a, Q28.36 rig units per component (b gets the opposite):
@@ -65,9 +70,12 @@ inline int64_t per_substep(int64_t x, int shift, int64_t h_inv) {
 // (|w| - rest) / |w| = 1 - rest / |w| takes 1 / |w| from the
 // division-free reciprocal square root (relative error ~1e-9); only a
 // compressed edge, whose push-back multiplier needs the excess itself,
-// takes the exact root. False when the edge pulls with nothing.
+// takes the exact root. rest_gain is spring_gain(e.k, spring_h2), the
+// gain of an edge not compressed (a step's constant). False when the edge
+// pulls with nothing.
 [[gnu::always_inline]] inline bool edge_displacement(const SkinParams& p, const Edge& e, int64_t spring_h2,
-                                                     const std::span<fx::Len> (&position)[3], int64_t out[3]) {
+                                                     int64_t rest_gain, const std::span<fx::Len> (&position)[3],
+                                                     int64_t out[3]) {
   int64_t w[3];
   uint64_t n2 = 0;
   for (int c = 0; c < 3; ++c) {
@@ -79,13 +87,18 @@ inline int64_t per_substep(int64_t x, int shift, int64_t h_inv) {
   const EdgeSpring spring = edge_spring(p, e, n2);
   const int64_t ratio = spring.ratio, k = spring.k;
   if (k == 0) return false;
-  // h^2 k' spring, Q30 (<= 1 on a stable step); times the ratio, Q30.
-  const int64_t gain = mul_shift_sat(mul_shift_sat(k, spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits),
-                                     ratio, fx::kUnitFracBits);
+  // h^2 k' spring, Q30 (<= 1 on a stable step); times the ratio, Q30. Not
+  // compressed, k' is e.k (edge_spring).
+  const int64_t gain = mul_shift_sat(ratio >= 0 ? rest_gain : spring_gain(k, spring_h2), ratio, fx::kUnitFracBits);
   // Q30 x Q12.20 -> Q28.36.
   for (int c = 0; c < 3; ++c)
     out[c] = clamp_displacement(mul_shift_sat(gain, w[c], kGainFracBits + 20 - 20 - kFineExtraBits));
   return true;
+}
+
+[[gnu::always_inline]] inline bool edge_displacement(const SkinParams& p, const Edge& e, int64_t spring_h2,
+                                                     const std::span<fx::Len> (&position)[3], int64_t out[3]) {
+  return edge_displacement(p, e, spring_h2, spring_gain(e.k, spring_h2), position, out);
 }
 
 // The tick's gains in substep units (h = 1 / H).

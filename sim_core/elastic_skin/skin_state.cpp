@@ -40,6 +40,10 @@ fx::ArenaCarver layout(const SkinModel& model, void* base, size_t size, SkinStat
   s->incident_edge = c.take<uint32_t>(2 * model.edges.size());
   s->incident_at_b = c.take<uint8_t>(2 * model.edges.size());
   s->inverse_degree = c.take<int32_t>(rn);
+  const size_t relaxation_slots = relaxation ? 2 * model.edges.size() : 0;
+  s->incident_neighbour = c.take<uint32_t>(relaxation_slots);
+  s->neighbour_inverse_degree = c.take<int32_t>(relaxation_slots);
+  s->edge_gain = c.take<int64_t>(relaxation ? model.edges.size() : 0);
   s->band_offset = c.take<uint32_t>(n + 1);
   s->band_at = c.take<uint32_t>(model.bands.size());
   s->edge_stiffness = c.take<int32_t>(model.edges.size());
@@ -74,6 +78,12 @@ void fill_incidence(const SkinModel& model, SkinState* s) {
   for (uint32_t v = 0; v < n; ++v) {
     const uint32_t degree = s->incident_offset[v + 1] - s->incident_offset[v];
     s->inverse_degree[v] = degree == 0 ? 0 : static_cast<int32_t>(fx::div_round(fx::kUnitOne, degree));
+  }
+  for (uint32_t k = 0; k < s->incident_edge.size(); ++k) {
+    const Edge& e = model.edges[s->incident_edge[k]];
+    const uint32_t j = s->incident_at_b[k] == 0 ? e.b : e.a;
+    s->incident_neighbour[k] = j;
+    s->neighbour_inverse_degree[k] = s->inverse_degree[j];
   }
 }
 

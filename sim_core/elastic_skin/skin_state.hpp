@@ -74,6 +74,13 @@ struct SkinState {
   std::span<uint32_t> incident_edge;    // 2 edges
   std::span<uint8_t> incident_at_b;     // beside incident_edge: 1 where the vertex is the edge's b end
   std::span<int32_t> inverse_degree;    // relaxation integrator only: 1 / (edges at the vertex), Q2.30 (0 for none)
+  // Relaxation integrator only, beside incident_edge: each slot's other end
+  // j and its 1 / degree (inverse_degree[j]), so a sweep reads neither the
+  // edge record nor the far vertex's row for them; and each edge's spring
+  // gain h^2 k_e / m of the step (Q30).
+  std::span<uint32_t> incident_neighbour;
+  std::span<int32_t> neighbour_inverse_degree;
+  std::span<int64_t> edge_gain;
   // The rubber bands at each vertex (CSR, in band order, filled at init):
   // vertex v's are band_at[band_offset[v] .. band_offset[v + 1]).
   std::span<uint32_t> band_offset;  // vertex_count + 1

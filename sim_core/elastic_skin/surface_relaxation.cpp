@@ -93,14 +93,14 @@ void area_vectors(const SkinModel& model, const SkinState& s, std::span<int64_t>
 // with the push-back rule) and, with edge dashpots, their dampers.
 void add_edge_terms(const SkinModel& model, const Gains& g, uint32_t v, const SkinState& s, int64_t r[3]) {
   for (uint32_t k = s.incident_offset[v]; k < s.incident_offset[v + 1]; ++k) {
-    const Edge& e = model.edges[s.incident_edge[k]];
+    const uint32_t edge = s.incident_edge[k];
     int64_t pull[3];
-    if (edge_displacement(model.params, e, g.spring_h2, s.position, pull)) {
-      const bool at_a = e.a == v;
+    if (edge_displacement(model.params, model.edges[edge], g.spring_h2, s.edge_gain[edge], s.position, pull)) {
+      const bool at_a = s.incident_at_b[k] == 0;
       for (int c = 0; c < 3; ++c) r[c] = fx::add_sat_i64(r[c], at_a ? pull[c] : -pull[c]);
     }
     if (g.edge_gamma == 0) continue;
-    const uint32_t j = e.a == v ? e.b : e.a;
+    const uint32_t j = s.incident_neighbour[k];
     const fx::Vec3 w{fx::sub_sat(s.position[0][j], s.position[0][v]), fx::sub_sat(s.position[1][j], s.position[1][v]),
                      fx::sub_sat(s.position[2][j], s.position[2][v])};
     fx::Vec3 dir{};
@@ -119,8 +119,7 @@ void umbrella_vectors(const SkinModel& model, SkinState* s) {
     for (int c = 0; c < 3; ++c) {
       int64_t sum = 0;
       for (uint32_t k = s->incident_offset[v]; k < s->incident_offset[v + 1]; ++k) {
-        const Edge& e = model.edges[s->incident_edge[k]];
-        const uint32_t j = e.a == v ? e.b : e.a;
+        const uint32_t j = s->incident_neighbour[k];
         sum = fx::add_sat_i64(sum, s->fine[c][j] - fine_of(s->anchor[c][j]));
       }
       const int64_t mean = mul_shift_sat(sum, s->inverse_degree[v], fx::kUnitFracBits);
@@ -247,16 +246,17 @@ uint32_t relaxation_step(const SkinModel& model, const muscle::MuscleState& musc
     }
     set_position(v, s);
   }
-  // The diagonal of each row: K + sum over edges (k_e + c_e) + bend.
+  // Each edge's spring gain of the step, then the diagonal of each row:
+  // K + sum over edges (k_e + c_e) + bend.
+  for (size_t e = 0; e < model.edges.size(); ++e) s->edge_gain[e] = spring_gain(model.edges[e].k, g.spring_h2);
   for (uint32_t v = 0; v < count; ++v) {
     int64_t d = s->linear_gain[v];
     int64_t bend_diagonal = kOne;  // 1 + sum_j 1 / n_j^2, Q30
     for (uint32_t k = s->incident_offset[v]; k < s->incident_offset[v + 1]; ++k) {
-      const Edge& e = model.edges[s->incident_edge[k]];
-      const uint32_t j = e.a == v ? e.b : e.a;
-      d = fx::add_sat_i64(d, mul_shift_sat(e.k, g.spring_h2, kStiffnessFracBits + kSpringFracBits - kGainFracBits));
+      const int64_t inverse_j = s->neighbour_inverse_degree[k];
+      d = fx::add_sat_i64(d, s->edge_gain[s->incident_edge[k]]);
       d = fx::add_sat_i64(d, g.edge_gamma);
-      bend_diagonal += fx::mul_shift_round(s->inverse_degree[j], s->inverse_degree[j], fx::kUnitFracBits);
+      bend_diagonal += fx::mul_shift_round(inverse_j, inverse_j, fx::kUnitFracBits);
     }
     if (s->incident_offset[v + 1] > s->incident_offset[v])
       d = fx::add_sat_i64(d, mul_shift_sat(sg.bend, bend_diagonal, kGainFracBits));
@@ -269,6 +269,7 @@ uint32_t relaxation_step(const SkinModel& model, const muscle::MuscleState& musc
   for (uint32_t sweep = 0; sweep < sweeps; ++sweep) {
     largest = 0;
     for (uint32_t v = 0; v < count; ++v) {
+      const uint32_t first = s->incident_offset[v], last = s->incident_offset[v + 1];
       int64_t r[3];
       for (int c = 0; c < 3; ++c) {
         const int64_t offset = s->fine[c][v] - s->step_start[c][v] - clamp_displacement(s->velocity[c][v]);  // x - x~
@@ -276,16 +277,16 @@ uint32_t relaxation_step(const SkinModel& model, const muscle::MuscleState& musc
       }
       add_edge_terms(model, g, v, *s, r);
       if (bend) {
-        for (int c = 0; c < 3; ++c) {
-          int64_t spread = 0;
-          for (uint32_t k = s->incident_offset[v]; k < s->incident_offset[v + 1]; ++k) {
-            const Edge& e = model.edges[s->incident_edge[k]];
-            const uint32_t j = e.a == v ? e.b : e.a;
-            spread =
-                fx::add_sat_i64(spread, fx::mul_shift_round(s->bend[c][j], s->inverse_degree[j], fx::kUnitFracBits));
-          }
-          r[c] = fx::add_sat_i64(r[c], mul_shift_sat(sg.bend, s->bend[c][v] - spread, kGainFracBits));
+        // sum_j u_j / n_j, each component in slot order.
+        int64_t spread[3] = {0, 0, 0};
+        for (uint32_t k = first; k < last; ++k) {
+          const uint32_t j = s->incident_neighbour[k];
+          const int64_t inverse_j = s->neighbour_inverse_degree[k];
+          for (int c = 0; c < 3; ++c)
+            spread[c] = fx::add_sat_i64(spread[c], fx::mul_shift_round(s->bend[c][j], inverse_j, fx::kUnitFracBits));
         }
+        for (int c = 0; c < 3; ++c)
+          r[c] = fx::add_sat_i64(r[c], mul_shift_sat(sg.bend, s->bend[c][v] - spread[c], kGainFracBits));
       }
       int64_t move[3];
       for (int c = 0; c < 3; ++c) {
@@ -308,13 +309,11 @@ uint32_t relaxation_step(const SkinModel& model, const muscle::MuscleState& musc
       set_position(v, s);
       // The umbrella vectors follow the move: u_v -= m, u_j += m / n_j.
       if (bend) {
-        for (int c = 0; c < 3; ++c) {
-          s->bend[c][v] -= move[c];
-          for (uint32_t k = s->incident_offset[v]; k < s->incident_offset[v + 1]; ++k) {
-            const Edge& e = model.edges[s->incident_edge[k]];
-            const uint32_t j = e.a == v ? e.b : e.a;
-            s->bend[c][j] += fx::mul_shift_round(move[c], s->inverse_degree[j], fx::kUnitFracBits);
-          }
+        for (int c = 0; c < 3; ++c) s->bend[c][v] -= move[c];
+        for (uint32_t k = first; k < last; ++k) {
+          const uint32_t j = s->incident_neighbour[k];
+          const int64_t inverse_j = s->neighbour_inverse_degree[k];
+          for (int c = 0; c < 3; ++c) s->bend[c][j] += fx::mul_shift_round(move[c], inverse_j, fx::kUnitFracBits);
         }
       }
       uint64_t m2 = 0;

@@ -33,9 +33,11 @@ inline constexpr uint64_t magnitude(int64_t v) {
   return v < 0 ? uint64_t{0} - static_cast<uint64_t>(v) : static_cast<uint64_t>(v);
 }
 
-// round_half_up(a * b / 2^s) for 1 <= s <= 63. Precondition: the result fits
-// in int64 (callers keep |a*b| < 2^(62+s)).
-inline constexpr int64_t mul_shift_round(int64_t a, int64_t b, int s) {
+namespace detail {
+
+// mul_shift_round below on the magnitudes' 128-bit product: the form every
+// target has (armhf has no 128-bit type).
+inline constexpr int64_t mul_shift_round_u128(int64_t a, int64_t b, int s) {
   const bool negative = (a < 0) != (b < 0);
   U128 p = mul_u64(magnitude(a), magnitude(b));
   // Half up on the signed value: +half on magnitudes of positive results,
@@ -46,6 +48,24 @@ inline constexpr int64_t mul_shift_round(int64_t a, int64_t b, int s) {
   p.lo = lo;
   const uint64_t m = (p.hi << (64 - s)) | (p.lo >> s);
   return static_cast<int64_t>(negative ? uint64_t{0} - m : m);  // modular, defined in C++20
+}
+
+}  // namespace detail
+
+// round_half_up(a * b / 2^s) for 1 <= s <= 63. Precondition: the result fits
+// in int64 (callers keep |a*b| < 2^(62+s)); outside it, the low 64 bits.
+inline constexpr int64_t mul_shift_round(int64_t a, int64_t b, int s) {
+#if defined(__SIZEOF_INT128__)
+  // The signed product's floor((a b + 2^(s-1)) / 2^s) equals the
+  // magnitudes' rounding of detail::mul_shift_round_u128 bit for bit (for a
+  // negative product, -floor((|ab| + 2^(s-1) - 1) / 2^s) = floor((ab +
+  // 2^(s-1)) / 2^s)), in one multiply and a shift.
+  __extension__ typedef __int128 NativeI128;
+  const NativeI128 p = static_cast<NativeI128>(a) * b;  // |p| <= 2^126
+  return static_cast<int64_t>((p >> s) + ((p >> (s - 1)) & 1));
+#else
+  return detail::mul_shift_round_u128(a, b, s);
+#endif
 }
 
 }  // namespace sinew::fx

@@ -51,6 +51,46 @@ TEST(FixedScalar, WideMultiplyMatchesSmallProducts) {
   EXPECT_EQ(fx::mul_shift_round(-(int64_t{1} << 40), int64_t{1} << 40, 62), -(int64_t{1} << 18));
 }
 
+// The one-multiply form (where a 128-bit type exists) against the
+// magnitudes' form armhf runs: the same bits for every sign, shift and
+// width, the int64 limits included.
+TEST(FixedScalar, MulShiftRoundMatchesThePortableForm) {
+  const int64_t edges[] = {0,
+                           1,
+                           -1,
+                           2,
+                           -2,
+                           3,
+                           -3,
+                           INT64_MAX,
+                           INT64_MIN,
+                           INT64_MAX - 1,
+                           INT64_MIN + 1,
+                           int64_t{1} << 62,
+                           -(int64_t{1} << 62),
+                           int64_t{1} << 31,
+                           -(int64_t{1} << 31),
+                           (int64_t{1} << 30) + 1,
+                           -(int64_t{1} << 30) - 1};
+  uint64_t x = 0x9E3779B97F4A7C15u;
+  const auto next = [&] {  // xorshift64*: any widths, both signs
+    x ^= x >> 12;
+    x ^= x << 25;
+    x ^= x >> 27;
+    return static_cast<int64_t>(x * 0x2545F4914F6CDD1Du);
+  };
+  uint64_t differing = 0;
+  for (int s = 1; s <= 63; ++s) {
+    for (int64_t a : edges)
+      for (int64_t b : edges) differing += fx::mul_shift_round(a, b, s) != fx::detail::mul_shift_round_u128(a, b, s);
+    for (int i = 0; i < 4000; ++i) {
+      const int64_t a = next() >> (i % 64), b = next() >> ((i / 64) % 64);
+      differing += fx::mul_shift_round(a, b, s) != fx::detail::mul_shift_round_u128(a, b, s);
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+}
+
 TEST(FixedSqrt, ExactOnEdgesAndSquares) {
   EXPECT_EQ(fx::isqrt_u64(0), 0u);
   EXPECT_EQ(fx::isqrt_u64(1), 1u);
