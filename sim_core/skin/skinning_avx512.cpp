@@ -1,72 +1,92 @@
-// AVX-512 (F + VL) kernel of linear blend skinning: the same output words and
-// the same saturation count as the scalar specification (skinning.cpp) for
-// every input. Its functions are compiled for AVX-512 F + VL
-// (isa_region.hpp), on x86-64 only; called only when the CPU reports both
-// (skinning.cpp).
+// AVX-512 (F + VL + CD) kernel of linear blend skinning: the same output words
+// and the same saturation count as the scalar specification (skinning.cpp)
+// for every input. Its functions are compiled for those extensions
+// (isa_region.hpp), on x86-64 only; called only when the CPU reports all
+// three (skinning.cpp).
 //
-// The layout of the AVX2 kernel (one vertex per step, one 64-bit lane per row
-// of the blended transform, the palette widened once per call), with the
-// instructions AVX2 lacks:
-//   - round half up is (x >> s) + ((x >> (s-1)) & 1) with the 64-bit
-//     arithmetic shift vpsraq: floor((x + 2^(s-1)) / 2^s) for every int64,
-//     with no offset and no overflow;
-//   - the linear part's range check is two mask compares (vpcmpq) against
-//     [-2^30, 2^30], where the scalar clamp is the identity; a vertex outside
-//     is redone by the specification, which counts the clamp;
-//   - sat_i32 is vpmaxsq then vpminsq.
-// Normals are renormalised after each block by the AVX2 kernel's four-lane
-// normalize_fast (every AVX-512 CPU has AVX2). Palettes larger than the
-// widened buffer and K outside 1..8 take the scalar specification; DQS
-// vertices are skipped (their own kernel writes them).
+// One vertex per step, the twelve entries of the blended transform in two
+// 512-bit registers of 64-bit lanes:
+//   - per call, the palette is widened once: entry j becomes [column 0 |
+//     column 1] and [column 2 | translation], each half three rows and a zero
+//     lane, so the blend is two vpmuldq and two vpaddq per influence (the
+//     AVX2 kernel needs four of each), exact 32x32->64 products summed as the
+//     scalar int64 sums;
+//   - round half up is (x >> s) + ((x >> (s-1)) & 1) with vpsraq: exact for
+//     every int64, no offset;
+//   - the linear part's range check is mask compares against [-2^30, 2^30],
+//     where the scalar clamp is the identity; a vertex outside is redone by
+//     the specification, which counts the clamp;
+//   - the position and the unnormalised normal are formed in one register
+//     ([R p + t | R n], 128-bit lane shuffles add the column products), then
+//     rounded, saturated (vpmaxsq, vpminsq) and narrowed together;
+//   - normals are renormalised after each block, eight at a time (lanes =
+//     vertices) by the integer steps of fx::normalize_fast with vplzcntq
+//     (avx512_lanes.hpp).
+// Palettes larger than the widened buffer and K outside 1..8 take the scalar
+// specification; DQS vertices are skipped (their own kernel writes them).
+// GCC 12's AVX-512 headers start some intrinsics from _mm512_undefined_*,
+// which its -Wmaybe-uninitialized reports wherever they inline (GCC bug
+// 105593, fixed in GCC 13): silenced for this file only.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <immintrin.h>
 
 #include <cstring>
 
+#include "sim_core/fixed/avx512_lanes.hpp"
 #include "sim_core/fixed/isa_region.hpp"
 #include "skinning_detail.hpp"
 
-SINEW_ISA_BEGIN("avx512f,avx512vl")
+SINEW_ISA_BEGIN("avx512f,avx512vl,avx512cd")
 
 #include "lbs_blocks.hpp"
 
 namespace sinew::skin::detail {
 namespace {
 
+using fx::avx512::round_shift_epi64;
+using fx::avx512::sat_i32_epi64;
+
 constexpr size_t kMaxWidePalette512 = 256;  // 128 bytes per entry on the stack
 
+// Lanes 0..2 column 0 (rows 0..2), 4..6 column 1; lanes 3 and 7 zero.
+// second: column 2 and the translation the same way.
 struct WideEntry512 {
-  __m256i col[4];  // linear columns 0..2 and the translation; lane r is row r, lane 3 zero
+  __m512i first, second;
 };
 
 inline WideEntry512 widen512(const fx::Mat34& m) {
-  return {{_mm256_setr_epi64x(m.m[0][0], m.m[1][0], m.m[2][0], 0),
-           _mm256_setr_epi64x(m.m[0][1], m.m[1][1], m.m[2][1], 0),
-           _mm256_setr_epi64x(m.m[0][2], m.m[1][2], m.m[2][2], 0), _mm256_setr_epi64x(m.t[0], m.t[1], m.t[2], 0)}};
+  return {_mm512_setr_epi64(m.m[0][0], m.m[1][0], m.m[2][0], 0, m.m[0][1], m.m[1][1], m.m[2][1], 0),
+          _mm512_setr_epi64(m.m[0][2], m.m[1][2], m.m[2][2], 0, m.t[0], m.t[1], m.t[2], 0)};
 }
 
-// fx::round_shift(x, S) on every int64 lane.
-template <int S>
-inline __m256i round_shift_512(__m256i x) {
-  const __m256i one = _mm256_set1_epi64x(1);
-  return _mm256_add_epi64(_mm256_srai_epi64(x, S), _mm256_and_si256(_mm256_srli_epi64(x, S - 1), one));
-}
+// a in lanes 0..3, b in lanes 4..7, for vpmuldq (which reads the low half
+// of each 64-bit lane).
+inline __m512i halves(int32_t a, int32_t b) { return _mm512_mask_set1_epi32(_mm512_set1_epi32(a), 0xFF00, b); }
 
-// fx::sat_i32 on every int64 lane.
-inline __m256i sat_i32_512(__m256i x) {
-  return _mm256_min_epi64(_mm256_max_epi64(x, _mm256_set1_epi64x(INT32_MIN)), _mm256_set1_epi64x(INT32_MAX));
-}
-
-// Row-wise M v for the blended columns (Q8.24) and a broadcast int32 vector;
-// vpmuldq reads the low half of each lane, where the entries are.
-inline __m256i apply_linear_512(const __m256i col[3], int32_t v0, int32_t v1, int32_t v2) {
-  __m256i acc = _mm256_mul_epi32(col[0], _mm256_set1_epi32(v0));
-  acc = _mm256_add_epi64(acc, _mm256_mul_epi32(col[1], _mm256_set1_epi32(v1)));
-  return _mm256_add_epi64(acc, _mm256_mul_epi32(col[2], _mm256_set1_epi32(v2)));
-}
-
-inline void flush_normals(const SkinnedVertices& out, PendingNormals* pending) {
-  const int32_t* const c[3] = {pending->c[0], pending->c[1], pending->c[2]};
-  renormalise_normals_avx2(c, pending->index, pending->count, out);
+void flush_normals(const SkinnedVertices& out, PendingNormals* pending) {
+  const uint32_t count = pending->count;
+  for (uint32_t j = 0; j < count; j += 8) {
+    const uint32_t n = count - j < 8 ? count - j : 8;
+    const __mmask8 live = static_cast<__mmask8>((1u << n) - 1);  // the rest load as zero vectors
+    __m512i c[3];
+    for (int a = 0; a < 3; ++a) c[a] = _mm512_cvtepi32_epi64(_mm256_maskz_loadu_epi32(live, pending->c[a] + j));
+    __m512i unit[3];
+    fx::avx512::normalize_fast_x8(c[0], c[1], c[2], unit);
+    const uint32_t* index = pending->index + j;
+    const bool contiguous = n == 8 && index[7] - index[0] == 7;  // ascending, so 8 in a row
+    for (int a = 0; a < 3; ++a) {
+      const __m256i words = _mm512_cvtepi64_epi32(unit[a]);  // in int32 range: sat_i32 applied
+      if (contiguous) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.normal[a].data() + index[0]), words);
+      } else {
+        int32_t w[8];
+        std::memcpy(w, &words, sizeof(w));
+        for (uint32_t l = 0; l < n; ++l) out.normal[a][index[l]] = w[l];
+      }
+    }
+  }
   pending->count = 0;
 }
 
@@ -86,37 +106,41 @@ inline bool linear_vertex_512(const Job512& job, uint32_t v, uint32_t index, Pen
   const rig::Rig& rig = *job.rig;
   const uint16_t* joints = rig.influence_palette.data() + size_t{v} * K;
   const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * K;
-  __m256i acc[4] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
+  __m512i acc0 = _mm512_setzero_si512(), acc1 = _mm512_setzero_si512();
   for (uint32_t k = 0; k < K; ++k) {
     const WideEntry512& e = job.wide[joints[k]];
-    const __m256i w = _mm256_set1_epi32(weights[k]);
-    for (int c = 0; c < 4; ++c) acc[c] = _mm256_add_epi64(acc[c], _mm256_mul_epi32(e.col[c], w));
+    const __m512i w = _mm512_set1_epi32(weights[k]);
+    acc0 = _mm512_add_epi64(acc0, _mm512_mul_epi32(e.first, w));
+    acc1 = _mm512_add_epi64(acc1, _mm512_mul_epi32(e.second, w));
   }
-  // Q2.30 x Q8.24 -> Q8.24, in range or back to the specification.
-  const __m256i lo = _mm256_set1_epi64x(-(int64_t{1} << 30)), hi = _mm256_set1_epi64x(int64_t{1} << 30);
-  __m256i col[3];
-  __mmask8 outside = 0;
-  for (int c = 0; c < 3; ++c) {
-    col[c] = round_shift_512<fx::kUnitFracBits>(acc[c]);
-    outside |= static_cast<__mmask8>(_mm256_cmp_epi64_mask(col[c], lo, _MM_CMPINT_LT) |
-                                     _mm256_cmp_epi64_mask(col[c], hi, _MM_CMPINT_NLE));
-  }
+  // Q2.30 x Q8.24 -> Q8.24 (columns) and Q2.30 x Q12.20 -> Q12.20 (translation).
+  const __m512i cols01 = round_shift_epi64<fx::kUnitFracBits>(acc0);
+  const __m512i col2_t = round_shift_epi64<fx::kUnitFracBits>(acc1);
+  const __m512i lo = _mm512_set1_epi64(-(int64_t{1} << 30)), hi = _mm512_set1_epi64(int64_t{1} << 30);
+  const __mmask8 outside = _mm512_cmp_epi64_mask(cols01, lo, _MM_CMPINT_LT) |
+                           _mm512_cmp_epi64_mask(cols01, hi, _MM_CMPINT_NLE) |
+                           _mm512_mask_cmp_epi64_mask(0x0F, col2_t, lo, _MM_CMPINT_LT) |
+                           _mm512_mask_cmp_epi64_mask(0x0F, col2_t, hi, _MM_CMPINT_NLE);
   if (outside != 0) return false;
-  // Translation in Q12.20 times 2^24, as the scalar t * (1 << 24).
-  const __m256i t = _mm256_slli_epi64(round_shift_512<fx::kUnitFracBits>(acc[3]), 24);
+  // [c0 px | c1 py] + [c2 pz | t * 2^24], the scalar sum split in two halves.
+  const __m512i p = _mm512_add_epi64(
+      _mm512_mul_epi32(cols01, halves(rig.position[0][v], rig.position[1][v])),
+      _mm512_mask_slli_epi64(_mm512_mul_epi32(col2_t, _mm512_set1_epi32(rig.position[2][v])), 0xF0, col2_t, 24));
+  __m512i n = _mm512_setzero_si512();
+  if (job.normals)
+    n = _mm512_add_epi64(_mm512_mul_epi32(cols01, halves(rig.normal[0][v], rig.normal[1][v])),
+                         _mm512_maskz_mul_epi32(0x0F, col2_t, _mm512_set1_epi32(rig.normal[2][v])));
+  // [p.lo | n.lo] + [p.hi | n.hi] = [R p + t | R n], both in Q.(frac + 24).
+  const __m512i sum = _mm512_add_epi64(_mm512_shuffle_i64x2(p, n, _MM_SHUFFLE(1, 0, 1, 0)),
+                                       _mm512_shuffle_i64x2(p, n, _MM_SHUFFLE(3, 2, 3, 2)));
+  const __m256i words = _mm512_cvtepi64_epi32(sat_i32_epi64(round_shift_epi64<fx::kLinFracBits>(sum)));
+  int32_t r[8];
+  std::memcpy(r, &words, sizeof(r));
   const SkinnedVertices& out = *job.out;
-  int64_t r[4];
-  const __m256i p =
-      _mm256_add_epi64(apply_linear_512(col, rig.position[0][v], rig.position[1][v], rig.position[2][v]), t);
-  const __m256i position = sat_i32_512(round_shift_512<fx::kLinFracBits>(p));
-  std::memcpy(r, &position, sizeof(r));
-  for (int i = 0; i < 3; ++i) out.position[i][index] = static_cast<int32_t>(r[i]);
+  for (int i = 0; i < 3; ++i) out.position[i][index] = r[i];
   if (job.normals) {
-    const __m256i n = apply_linear_512(col, rig.normal[0][v], rig.normal[1][v], rig.normal[2][v]);
-    const __m256i normal = sat_i32_512(round_shift_512<fx::kLinFracBits>(n));
-    std::memcpy(r, &normal, sizeof(r));
     const uint32_t slot = pending->count++;
-    for (int c = 0; c < 3; ++c) pending->c[c][slot] = static_cast<int32_t>(r[c]);
+    for (int c = 0; c < 3; ++c) pending->c[c][slot] = r[4 + c];
     pending->index[slot] = index;
   }
   return true;

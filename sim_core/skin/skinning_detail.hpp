@@ -110,8 +110,8 @@ uint32_t skin_linear_avx2(const rig::Rig& rig, std::span<const fx::Mat34> palett
 // out.normal[*][index[j]], four at a time (skinning_avx2.cpp).
 void renormalise_normals_avx2(const int32_t* const c[3], const uint32_t* index, uint32_t count,
                               const SkinnedVertices& out);
-// LBS with AVX-512 F and VL (skinning_avx512.cpp): the same contract as
-// skin_linear_avx2. Only call it when the CPU supports both.
+// LBS with AVX-512 F, VL and CD (skinning_avx512.cpp): the same contract as
+// skin_linear_avx2. Only call it when the CPU supports all three.
 uint32_t skin_linear_avx512(const rig::Rig& rig, std::span<const fx::Mat34> palette, bool skip_dual, uint32_t first,
                             uint32_t count, const SkinnedVertices& out);
 // DQS (skinning_dqs_avx2.cpp): every DQS vertex of the range.

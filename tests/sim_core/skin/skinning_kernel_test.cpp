@@ -276,9 +276,15 @@ TEST_F(SkinKernel, NormalsOfEveryMagnitude) {
 }
 
 TEST_F(SkinKernel, DefaultIsTheVectorKernelWhereSupported) {
-  EXPECT_EQ(sinew::skin::lbs_kernel_default(), kVectorKernel);
-  EXPECT_STREQ(sinew::skin::lbs_kernel_name(sinew::skin::lbs_kernel_default()),
-               kVectorKernel == LbsKernel::kNeon ? "neon" : "avx2");
+  // The widest kernel the CPU runs: AVX-512 over AVX2 on x86-64.
+  const LbsKernel widest = kVectorKernel == LbsKernel::kAvx2 && sinew::skin::lbs_kernel_supported(LbsKernel::kAvx512)
+                               ? LbsKernel::kAvx512
+                               : kVectorKernel;
+  EXPECT_EQ(sinew::skin::lbs_kernel_default(), widest);
+  EXPECT_STREQ(sinew::skin::lbs_kernel_name(sinew::skin::lbs_kernel_default()), widest == LbsKernel::kNeon ? "neon"
+                                                                                : widest == LbsKernel::kAvx512
+                                                                                    ? "avx512"
+                                                                                    : "avx2");
 }
 
 }  // namespace
