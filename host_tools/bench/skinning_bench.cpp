@@ -276,7 +276,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
       const double scalar = rate("BM_FixedDqsKernel/scalar/" + std::to_string(n));
       const double avx2 = rate("BM_FixedDqsKernel/avx2/" + std::to_string(n));
       if (fl <= 0 || scalar <= 0) continue;
-      const double in_use = dqs_in_use == sinew::skin::DqsKernel::kAvx2 ? avx2 : scalar;
+      const double avx512 = rate("BM_FixedDqsKernel/avx512/" + std::to_string(n));
+      const double in_use = dqs_in_use == sinew::skin::DqsKernel::kAvx512 ? avx512
+                            : dqs_in_use == sinew::skin::DqsKernel::kAvx2 ? avx2
+                                                                          : scalar;
       if (in_use > 0 && (worst < 0 || in_use / fl < worst)) worst = in_use / fl;
       if (avx2 <= 0) {
         std::printf("%10d %16.3g %16.3g %16s %9.2fx %10s %10s\n", n, fl, scalar, "n/a", scalar / fl, "n/a", "n/a");
@@ -284,6 +287,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
       }
       std::printf("%10d %16.3g %16.3g %16.3g %9.2fx %9.2fx %9.2fx\n", n, fl, scalar, avx2, scalar / fl, avx2 / fl,
                   avx2 / scalar);
+      if (avx512 > 0)
+        std::printf("%10d avx512 DQS %.3g v/s: %.2fx float, %.2fx scalar, %.2fx avx2\n", n, avx512, avx512 / fl,
+                    avx512 / scalar, avx512 / avx2);
     }
     if (worst >= 0)
       std::printf("target fixed DQS >= %.2fx float LBS (kernel in use, every size): %s (lowest %.2fx)\n",
@@ -342,6 +348,7 @@ BENCHMARK_CAPTURE(BM_FixedLbsKernel, avx512, sinew::skin::LbsKernel::kAvx512)->A
 #endif
 BENCHMARK_CAPTURE(BM_FixedDqsKernel, scalar, sinew::skin::DqsKernel::kScalar)->Arg(1000)->Arg(10000)->Arg(100000);
 BENCHMARK_CAPTURE(BM_FixedDqsKernel, avx2, sinew::skin::DqsKernel::kAvx2)->Arg(1000)->Arg(10000)->Arg(100000);
+BENCHMARK_CAPTURE(BM_FixedDqsKernel, avx512, sinew::skin::DqsKernel::kAvx512)->Arg(1000)->Arg(10000)->Arg(100000);
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);

@@ -228,11 +228,14 @@ bool dqs_kernel_supported(DqsKernel kernel) {
       return true;
     case DqsKernel::kAvx2:
       return lbs_kernel_supported(LbsKernel::kAvx2);
+    case DqsKernel::kAvx512:
+      return lbs_kernel_supported(LbsKernel::kAvx512);  // the same extensions
   }
   return false;
 }
 
 DqsKernel dqs_kernel_default() {
+  if (dqs_kernel_supported(DqsKernel::kAvx512)) return DqsKernel::kAvx512;
   return dqs_kernel_supported(DqsKernel::kAvx2) ? DqsKernel::kAvx2 : DqsKernel::kScalar;
 }
 
@@ -242,6 +245,8 @@ const char* dqs_kernel_name(DqsKernel kernel) {
       return "scalar";
     case DqsKernel::kAvx2:
       return "avx2";
+    case DqsKernel::kAvx512:
+      return "avx512";
   }
   return "unknown";
 }
@@ -262,7 +267,9 @@ uint32_t skin_vertices(LbsKernel lbs, DqsKernel dqs, const rig::Rig& rig, std::s
     saturated = skin_linear_scalar(rig, palette, dual_ready, first, count, out);
   }
   if (dual_ready) {
-    if (dqs == DqsKernel::kAvx2 && dqs_kernel_supported(DqsKernel::kAvx2)) {
+    if (dqs == DqsKernel::kAvx512 && dqs_kernel_supported(DqsKernel::kAvx512)) {
+      detail::skin_dual_avx512(rig, dual_palette, first, count, out);
+    } else if (dqs == DqsKernel::kAvx2 && dqs_kernel_supported(DqsKernel::kAvx2)) {
       detail::skin_dual_avx2(rig, dual_palette, first, count, out);
     } else {
       detail::skin_dual_scalar(rig, dual_palette, first, count, out);
@@ -288,9 +295,10 @@ uint32_t skin_vertices(LbsKernel lbs, DqsKernel dqs, const rig::Rig& rig, std::s
 uint32_t skin_vertices(LbsKernel kernel, const rig::Rig& rig, std::span<const fx::Mat34> palette,
                        std::span<const fx::DualQuat> dual_palette, uint32_t first, uint32_t count,
                        const SkinnedVertices& out) {
-  // Every AVX-512 CPU has AVX2: its DQS vertices take the AVX2 DQS kernel.
-  const DqsKernel dqs =
-      kernel == LbsKernel::kAvx2 || kernel == LbsKernel::kAvx512 ? DqsKernel::kAvx2 : DqsKernel::kScalar;
+  // The DQS kernel of the same extension.
+  const DqsKernel dqs = kernel == LbsKernel::kAvx512 ? DqsKernel::kAvx512
+                        : kernel == LbsKernel::kAvx2 ? DqsKernel::kAvx2
+                                                     : DqsKernel::kScalar;
   return skin_vertices(kernel, dqs, rig, palette, dual_palette, first, count, out);
 }
 

@@ -30,12 +30,12 @@ uint32_t skin_vertices(const rig::Rig& rig, std::span<const fx::Mat34> palette,
 
 // Kernels. kScalar is the specification (skinning.cpp, every target); kAvx2
 // (x86-64 with AVX2, detected at run time, LBS and DQS), kAvx512 (x86-64
-// with AVX-512 F, VL and CD, detected at run time, LBS) and kNeon (every aarch64
+// with AVX-512 F, VL and CD, detected at run time, LBS and DQS) and kNeon (every aarch64
 // build, LBS) write the same words and return the same saturation count for
 // every input (docs/numerics.md). LBS and DQS vertices each have their own
 // kernel.
 enum class LbsKernel : uint8_t { kScalar = 0, kAvx2 = 1, kNeon = 2, kAvx512 = 3 };
-enum class DqsKernel : uint8_t { kScalar = 0, kAvx2 = 1 };
+enum class DqsKernel : uint8_t { kScalar = 0, kAvx2 = 1, kAvx512 = 2 };
 
 // Whether this CPU runs the kernel (kScalar: always).
 bool lbs_kernel_supported(LbsKernel kernel);

@@ -25,10 +25,11 @@
 // Palettes larger than the widened buffer and K outside 1..8 take the scalar
 // specification; DQS vertices are skipped (their own kernel writes them).
 // GCC 12's AVX-512 headers start some intrinsics from _mm512_undefined_*,
-// which its -Wmaybe-uninitialized reports wherever they inline (GCC bug
+// which its -W(maybe-)uninitialized reports wherever they inline (GCC bug
 // 105593, fixed in GCC 13): silenced for this file only.
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 #include <immintrin.h>
 

@@ -117,6 +117,10 @@ uint32_t skin_linear_avx512(const rig::Rig& rig, std::span<const fx::Mat34> pale
 // DQS (skinning_dqs_avx2.cpp): every DQS vertex of the range.
 void skin_dual_avx2(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t first, uint32_t count,
                     const SkinnedVertices& out);
+// DQS with AVX-512 F, VL and CD (skinning_dqs_avx512.cpp): the same contract
+// as skin_dual_avx2. Only call it when the CPU supports all three.
+void skin_dual_avx512(const rig::Rig& rig, std::span<const fx::DualQuat> dual, uint32_t first, uint32_t count,
+                      const SkinnedVertices& out);
 #endif
 
 #if defined(__aarch64__)

@@ -130,24 +130,35 @@ DqsOutput dqs_run(DqsKernel kernel, const DqsRig& r, bool normals, uint32_t firs
   return o;
 }
 
-// Runs both DQS kernels on [first, first + count) and compares every word.
+// The vector DQS kernels of x86-64, each compared where the CPU runs it.
+constexpr DqsKernel kVectorDqsKernels[] = {DqsKernel::kAvx2, DqsKernel::kAvx512};
+
+// Every supported vector kernel's words against the specification's.
+void expect_kernels_match(const DqsRig& r, bool normals, uint32_t first, uint32_t count) {
+  const DqsOutput want = dqs_run(DqsKernel::kScalar, r, normals, first, count);
+  for (DqsKernel kernel : kVectorDqsKernels) {
+    if (!sinew::skin::dqs_kernel_supported(kernel)) continue;
+    const DqsOutput got = dqs_run(kernel, r, normals, first, count);
+    SCOPED_TRACE(testing::Message() << "kernel " << sinew::skin::dqs_kernel_name(kernel));
+    EXPECT_EQ(got.saturated, want.saturated);
+    for (int i = 0; i < 3; ++i) {
+      for (uint32_t v = 0; v < count; ++v) {
+        ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
+        ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
+      }
+    }
+  }
+}
+
+// Runs the DQS kernels on [first, first + count) and compares every word.
 void dqs_expect_identical(const DqsCase& c, uint64_t seed, uint32_t first, uint32_t count) {
   DqsRig r;
   dqs_make_rig(c, seed, &r);
-  const bool normals = c.normal_mode != 2;
-  const DqsOutput want = dqs_run(DqsKernel::kScalar, r, normals, first, count);
-  const DqsOutput got = dqs_run(DqsKernel::kAvx2, r, normals, first, count);
   SCOPED_TRACE(testing::Message() << "K=" << c.k << " palette=" << c.palette << " real=" << c.real_mode << " dual="
                                   << c.dual_mode << " weights=" << c.weight_mode << " positions=" << c.position_mode
                                   << " normals=" << c.normal_mode << " mixed=" << c.mixed << " seed=" << seed
                                   << " first=" << first << " count=" << count);
-  EXPECT_EQ(got.saturated, want.saturated);
-  for (int i = 0; i < 3; ++i) {
-    for (uint32_t v = 0; v < count; ++v) {
-      ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
-      ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
-    }
-  }
+  expect_kernels_match(r, c.normal_mode != 2, first, count);
 }
 
 class SkinDqsKernel : public testing::Test {
@@ -207,13 +218,7 @@ TEST_F(SkinDqsKernel, DegenerateBlends) {
     r.weight[2 * v] = static_cast<int32_t>(v) << 20;  // equal and opposite at v = 0, tiny sums near it
     r.weight[2 * v + 1] = -(static_cast<int32_t>(v % 7) << 20);
   }
-  const DqsOutput want = dqs_run(DqsKernel::kScalar, r, true, 0, c.vertices);
-  const DqsOutput got = dqs_run(DqsKernel::kAvx2, r, true, 0, c.vertices);
-  for (int i = 0; i < 3; ++i)
-    for (uint32_t v = 0; v < c.vertices; ++v) {
-      ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << v;
-      ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << v;
-    }
+  expect_kernels_match(r, true, 0, c.vertices);
 }
 
 TEST_F(SkinDqsKernel, RandomRigs) {
@@ -234,8 +239,8 @@ TEST_F(SkinDqsKernel, RandomRigs) {
   }
 }
 
-// Runs of vertices with weight 1 on one entry (the kernel's rigid runs,
-// four in a row, aligned or not), broken by vertices that look rigid but
+// Runs of vertices with weight 1 on one entry (the kernels' rigid runs,
+// four or eight in a row, aligned or not), broken by vertices that look rigid but
 // are not (another weight nonzero, or weight 1 on a different entry), with
 // an entry of zero real part (normalize_fast's division path) and dual
 // parts at the int32 limits (|t| beyond 2^61, where the position's adds
@@ -260,7 +265,7 @@ TEST_F(SkinDqsKernel, RigidRunsOfOneEntry) {
             dqs_make_rig(c, seed, &r);
             if (real == 2) r.dual[5].real = {0, 0, 0, 0};
             for (uint32_t v = 0; v < c.vertices; ++v) {
-              const uint32_t run = v / 9;
+              const uint32_t run = v / 20;  // holds runs of four and of eight between the breaks
               for (uint32_t i = 0; i < k; ++i) {
                 r.joint[v * k + i] = static_cast<uint16_t>((run + i) % c.palette);
                 r.weight[v * k + i] = i == 0 ? kDqsOne : 0;
@@ -271,23 +276,18 @@ TEST_F(SkinDqsKernel, RigidRunsOfOneEntry) {
             const bool normals = nor != 2;
             for (uint32_t first : {0u, 1u, 3u}) {
               const uint32_t count = c.vertices - first;
-              const DqsOutput want = dqs_run(DqsKernel::kScalar, r, normals, first, count);
-              const DqsOutput got = dqs_run(DqsKernel::kAvx2, r, normals, first, count);
               SCOPED_TRACE(testing::Message() << "K=" << k << " real=" << real << " dual=" << dual
                                               << " positions=" << pos << " normals=" << nor << " first=" << first);
-              for (int i = 0; i < 3; ++i)
-                for (uint32_t v = 0; v < count; ++v) {
-                  ASSERT_EQ(got.position[i][v], want.position[i][v]) << "position " << i << " of vertex " << first + v;
-                  ASSERT_EQ(got.normal[i][v], want.normal[i][v]) << "normal " << i << " of vertex " << first + v;
-                }
+              expect_kernels_match(r, normals, first, count);
             }
             ++seed;
           }
 }
 
-TEST_F(SkinDqsKernel, DefaultIsAvx2WhereSupported) {
-  EXPECT_EQ(sinew::skin::dqs_kernel_default(), DqsKernel::kAvx2);
-  EXPECT_STREQ(sinew::skin::dqs_kernel_name(sinew::skin::dqs_kernel_default()), "avx2");
+TEST_F(SkinDqsKernel, DefaultIsTheWidestSupported) {
+  const bool wide = sinew::skin::dqs_kernel_supported(DqsKernel::kAvx512);
+  EXPECT_EQ(sinew::skin::dqs_kernel_default(), wide ? DqsKernel::kAvx512 : DqsKernel::kAvx2);
+  EXPECT_STREQ(sinew::skin::dqs_kernel_name(sinew::skin::dqs_kernel_default()), wide ? "avx512" : "avx2");
 }
 
 }  // namespace
