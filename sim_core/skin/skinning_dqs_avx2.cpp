@@ -40,6 +40,8 @@
 
 SINEW_ISA_BEGIN("avx2")
 
+#include "dqs_blocks.hpp"
+
 namespace sinew::skin::detail {
 namespace {
 
@@ -47,14 +49,6 @@ using fx::avx2::round_shift_epi64;
 using fx::avx2::sat_i32_epi64;
 
 constexpr uint32_t kLanes = 4;
-
-struct DualJob {
-  const rig::Rig* rig;
-  std::span<const fx::DualQuat> dual;
-  const SkinnedVertices* out;
-  uint32_t first;
-  bool normals;
-};
 
 // Four quaternions, component c of quaternion l in the low 32 bits of lane l
 // of the c-th vector (the high bits are not read: every use is a vpmuldq).
@@ -318,65 +312,8 @@ inline void transform(const DualJob& job, Group* g) {
   }
 }
 
-// Rigid runs: four consecutive DQS vertices with weight 1 on one and the
-// same palette entry (every other weight 0). The specification's blend is
-// then that entry itself, word for word (2^30 q rounded back by 30 bits,
-// the zero weights adding nothing whatever their hemisphere), so its
-// normalisation, rotation and translation (dual_motion) are made once per
-// entry and call, by the specification's own function (whatever path
-// normalize_fast takes), and only the transform runs per vertex. An entry
-// is kept for this when the transform's saturating adds cannot saturate
-// (|R p| < 2^62 from the rows' sums of magnitudes below 2^31, and |t| <
-// 2^61); otherwise its runs take the general path.
-constexpr size_t kMaxRigidPalette = 256;
-
-struct RigidEntry {
-  int32_t rotation[3][3];
-  int64_t t[3];
-};
-
-struct RigidCache {
-  RigidEntry entry[kMaxRigidPalette];
-  uint8_t state[kMaxRigidPalette];  // 0 not made, 1 usable, 2 not usable
-};
-
-inline bool rigid_entry(const DualJob& job, RigidCache* cache, uint32_t j) {
-  if (cache->state[j] == 0) {
-    bool usable = true;
-    const DualMotion m = dual_motion(job.dual[j]);
-    RigidEntry& e = cache->entry[j];
-    for (int i = 0; i < 3; ++i) {
-      int64_t row = 0;
-      for (int k = 0; k < 3; ++k) {
-        e.rotation[i][k] = m.rotation.m[i][k];
-        row += m.rotation.m[i][k] < 0 ? -int64_t{m.rotation.m[i][k]} : int64_t{m.rotation.m[i][k]};
-      }
-      e.t[i] = m.t[i];
-      const int64_t limit = int64_t{1} << 61;
-      usable = usable && row < (int64_t{1} << 31) && m.t[i] < limit && m.t[i] > -limit;
-    }
-    cache->state[j] = usable ? 1 : 2;
-  }
-  return cache->state[j] == 1;
-}
-
-// Whether vertices v .. v + 3 (all DQS) are a rigid run of one entry: its
-// index in *entry.
-template <uint32_t K>
-inline bool rigid_run(const rig::Rig& rig, uint32_t v, uint16_t* entry) {
-  const uint16_t* joints = rig.influence_palette.data() + size_t{v} * K;
-  const fx::Unit* weights = rig.influence_weight.data() + size_t{v} * K;
-  bool rigid = true;
-  for (uint32_t l = 0; l < kLanes; ++l) {
-    rigid = rigid && weights[l * K] == fx::kUnitOne && joints[l * K] == joints[0];
-    for (uint32_t k = 1; k < K; ++k) rigid = rigid && weights[l * K + k] == 0;
-  }
-  *entry = joints[0];
-  return rigid;
-}
-
 // The transform of a rigid run v .. v + 3 by a usable entry: positions and
-// normals as transform() writes them (no add saturates, see above).
+// normals as transform() writes them (no add saturates, dqs_blocks.hpp).
 inline void rigid_transform(const DualJob& job, const RigidEntry& e, uint32_t v) {
   const rig::Rig& rig = *job.rig;
   const SkinnedVertices& out = *job.out;
@@ -418,53 +355,7 @@ void run_block(const DualJob& job, Group* groups, uint32_t count) {
 
 template <uint32_t K>
 void run_dual(const DualJob& job, uint32_t count) {
-  const rig::Rig& rig = *job.rig;
-  RigidCache rigid;
-  const bool rigid_runs = job.dual.size() <= kMaxRigidPalette;
-  if (rigid_runs) std::memset(rigid.state, 0, sizeof(rigid.state));
-  Group groups[kGroupsPerBlock];
-  uint32_t full = 0;  // groups of the block filled
-  uint32_t n = 0;     // vertices in groups[full]
-  constexpr uint32_t kFourDual = 0x01010101u * static_cast<uint8_t>(rig::SkinMethod::kDualQuaternion);
-  for (uint32_t i = 0; i < count; ++i) {
-    const uint32_t vertex = job.first + i;
-    bool four_in_a_row = false;  // four DQS vertices in a row: one full group
-    if (n == 0 && count - i >= kLanes) {
-      uint32_t four;
-      std::memcpy(&four, rig.method.data() + vertex, sizeof(four));
-      four_in_a_row = four == kFourDual;
-    }
-    uint16_t entry = 0;
-    if (four_in_a_row && rigid_runs && rigid_run<K>(rig, vertex, &entry) && rigid_entry(job, &rigid, entry)) {
-      rigid_transform(job, rigid.entry[entry], vertex);
-      i += kLanes - 1;
-      continue;
-    }
-    if (four_in_a_row) {
-      for (uint32_t l = 0; l < kLanes; ++l) groups[full].v[l] = vertex + l;
-      n = kLanes;
-      i += kLanes - 1;
-    } else if (is_dual(rig, vertex)) {
-      groups[full].v[n++] = vertex;
-    } else {
-      continue;
-    }
-    if (n < kLanes) continue;
-    groups[full].n = kLanes;
-    groups[full].checks = Checks{};
-    n = 0;
-    if (++full == kGroupsPerBlock) {
-      run_block<K>(job, groups, full);
-      full = 0;
-    }
-  }
-  if (n > 0) {
-    Group& last = groups[full++];
-    for (uint32_t l = n; l < kLanes; ++l) last.v[l] = last.v[n - 1];  // spare lanes: computed, not stored
-    last.n = n;
-    last.checks = Checks{};
-  }
-  if (full > 0) run_block<K>(job, groups, full);
+  run_dual_groups<K, Group, kGroupsPerBlock, &run_block<K>, &rigid_transform>(job, count);
 }
 
 }  // namespace
