@@ -97,17 +97,24 @@ LayerStatus barnet_step(BarnetState* st, const StepInputs& in, const StepOutputs
   //    (work holds x, y and z of free node i at 3 i + c; out.node holds
   //    every node's skinned position until the solve's result replaces the
   //    free nodes').
+  //    The spans' data are read into locals first: the stores to rhs
+  //    could alias the span objects, which would make every bar reload them.
   int64_t* const rhs = st->work.data();
   for (uint32_t i = 0; i < free; ++i)
     for (size_t c = 0; c < 3; ++c) rhs[3 * i + c] = st->load[c][i];
-  for (size_t b = 0; b < m.bars.size(); ++b) {
-    const BarRecord& bar = m.bars[b];
-    const int64_t q = st->q[b];
-    for (size_t c = 0; c < 3; ++c) {
-      const int64_t pull = q * (int64_t{out.node[c][bar.a]} - out.node[c][bar.b]);
-      if (bar.a < free) rhs[3 * bar.a + c] -= pull;
-      if (bar.b < free) rhs[3 * bar.b + c] += pull;
-    }
+  const fx::Len* const node[3] = {out.node[0].data(), out.node[1].data(), out.node[2].data()};
+  const BarRecord* const bars = m.bars.data();
+  const ForceDensity* const q = st->q.data();
+  const size_t bar_count = m.bars.size();
+  for (size_t b = 0; b < bar_count; ++b) {
+    const uint32_t a = bars[b].a, other = bars[b].b;
+    const int64_t qb = q[b];
+    const int64_t pull[3] = {qb * (int64_t{node[0][a]} - node[0][other]), qb * (int64_t{node[1][a]} - node[1][other]),
+                             qb * (int64_t{node[2][a]} - node[2][other])};
+    if (a < free)
+      for (size_t c = 0; c < 3; ++c) rhs[3 * a + c] -= pull[c];
+    if (other < free)
+      for (size_t c = 0; c < 3; ++c) rhs[3 * other + c] += pull[c];
   }
   for (uint32_t i = 0; i < 3 * free; ++i) rhs[i] = clamp_vector(rhs[i], sat);
   ldlt_solve_axes(st->factor, st->work.subspan(0, 3 * size_t{free}), sat, st->kernel);
