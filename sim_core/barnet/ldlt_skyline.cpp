@@ -145,7 +145,7 @@ void ldlt_solve_axes(const SkylineFactor& f, std::span<int64_t> v, fx::Saturatio
     solve_forward<false>(f, x, sat);
     solve_diagonal(f, x, sat);
     solve_backward<false>(f, x, sat);
-  } else if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2)) {
+  } else if (runs_avx2_loops(kernel) && vector_kernel_supported(VectorKernel::kAvx2)) {
 #if defined(__x86_64__)
     detail::solve_forward_unit_avx2(f, x, sat);
     solve_diagonal(f, x, sat);

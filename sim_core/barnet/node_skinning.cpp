@@ -52,8 +52,7 @@ fx::Vec3 turned_direction(const NodeRecord& n, std::span<const fx::Mat34> skin, 
 void skin_nodes(const BarnetModel& m, BarnetState* st, const std::span<fx::Len> (&node)[3], fx::Saturation& sat,
                 VectorKernel kernel) {
 #if defined(__x86_64__)
-  if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2))
-    return skin_nodes_avx2(m, st, node, sat);
+  if (runs_avx2_loops(kernel) && vector_kernel_supported(VectorKernel::kAvx2)) return skin_nodes_avx2(m, st, node, sat);
 #endif
   (void)kernel;
   const uint32_t free = st->free_count;

@@ -63,7 +63,10 @@ fx::Vec3 triangle_normal(fx::Vec3 a, fx::Vec3 b, fx::Vec3 c) {
 void make_triangle_frames(const BarnetModel& m, const std::span<fx::Len> (&node)[3], std::span<TriangleFrame> frames,
                           VectorKernel kernel) {
 #if defined(__x86_64__)
-  if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2))
+  if (kernel == VectorKernel::kAvx512 && vector_kernel_supported(VectorKernel::kAvx512) &&
+      make_triangle_frames_avx512(m, node, frames))
+    return;
+  if (runs_avx2_loops(kernel) && vector_kernel_supported(VectorKernel::kAvx2))
     return make_triangle_frames_avx2(m, node, frames);
 #endif
   (void)kernel;
@@ -82,8 +85,7 @@ void wrap_vertices(const BarnetModel& m, std::span<const TriangleFrame> frames, 
                    const std::span<fx::Len> (&skin)[3], fx::Saturation& sat, VectorKernel kernel) {
   if (!bounded) return wrap_saturating(m, frames, skin, sat);
 #if defined(__x86_64__)
-  if (kernel == VectorKernel::kAvx2 && vector_kernel_supported(VectorKernel::kAvx2) &&
-      wrap_bounded_avx2(m, frames, skin))
+  if (runs_avx2_loops(kernel) && vector_kernel_supported(VectorKernel::kAvx2) && wrap_bounded_avx2(m, frames, skin))
     return;
 #endif
   (void)kernel;

@@ -58,6 +58,16 @@ void wrap_vertices(const BarnetModel& m, std::span<const TriangleFrame> frames, 
 // wrap_avx2.cpp; called only when the CPU reports AVX2.
 void make_triangle_frames_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
                                std::span<TriangleFrame> frames);
+// The frames' first pass alone: every frame's corners, and the
+// floor-shifted cross product (shifted_cross) in the normal's place.
+void corners_and_crosses_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
+                              std::span<TriangleFrame> frames);
+// wrap_avx512.cpp; called only when the CPU reports AVX2 and AVX-512 F + VL
+// + CD. The frames with the second pass eight at a time; false (having
+// written nothing) when the triangles are too many for its 32-bit word
+// indices, which the caller then frames by the AVX2 kernel.
+bool make_triangle_frames_avx512(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
+                                 std::span<TriangleFrame> frames);
 // The bounded wrap; false (having written nothing that matters) when a
 // vertex rounds beyond int32, which the caller then wraps by the
 // specification, saturation count included.

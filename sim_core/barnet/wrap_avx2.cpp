@@ -88,13 +88,18 @@ void corners_and_crosses(const BarnetModel& m, const std::span<fx::Len> (&node)[
 
 }  // namespace
 
-void make_triangle_frames_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
-                               std::span<TriangleFrame> frames) {
-  const uint32_t count = static_cast<uint32_t>(m.triangles.size());
+void corners_and_crosses_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
+                              std::span<TriangleFrame> frames) {
   if (nodes_below_2_30(node, m.nodes.size()))
     corners_and_crosses<true>(m, node, frames);
   else
     corners_and_crosses<false>(m, node, frames);
+}
+
+void make_triangle_frames_avx2(const BarnetModel& m, const std::span<fx::Len> (&node)[3],
+                               std::span<TriangleFrame> frames) {
+  const uint32_t count = static_cast<uint32_t>(m.triangles.size());
+  corners_and_crosses_avx2(m, node, frames);
   // Pass 2, four triangles per group (a last group of fewer repeats its last
   // triangle in the spare lanes and stores only the real ones): each
   // shifted product normalised in place.

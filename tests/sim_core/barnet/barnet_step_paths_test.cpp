@@ -50,6 +50,7 @@ std::vector<int64_t> solve_each_axis(const bn::SkylineFactor& f, const std::vect
 std::vector<bn::VectorKernel> kernels() {
   std::vector<bn::VectorKernel> k{bn::VectorKernel::kScalar};
   if (bn::vector_kernel_supported(bn::VectorKernel::kAvx2)) k.push_back(bn::VectorKernel::kAvx2);
+  if (bn::vector_kernel_supported(bn::VectorKernel::kAvx512)) k.push_back(bn::VectorKernel::kAvx512);
   return k;
 }
 

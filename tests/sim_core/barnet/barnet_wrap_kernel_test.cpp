@@ -1,4 +1,5 @@
-// The wrap's AVX2 kernels (sim_core/barnet/wrap_avx2.cpp) against the scalar
+// The wrap's vector kernels (sim_core/barnet/wrap_avx2.cpp, wrap_avx512.cpp,
+// each where the CPU runs it) against the scalar
 // specification (wrap.cpp), word for word: on the arm's nets through whole
 // steps, and on adversarial control meshes and records (coincident and
 // collinear corners, corners at the int32 limits so the edges saturate,
@@ -23,6 +24,14 @@ namespace lb = sinew::layers::barnet;
 namespace fx = sinew::fx;
 
 bool avx2_available() { return bn::vector_kernel_supported(bn::VectorKernel::kAvx2); }
+
+// Every vector kernel this CPU runs.
+std::vector<bn::VectorKernel> vector_kernels() {
+  std::vector<bn::VectorKernel> k;
+  for (const bn::VectorKernel v : {bn::VectorKernel::kAvx2, bn::VectorKernel::kAvx512})
+    if (bn::vector_kernel_supported(v)) k.push_back(v);
+  return k;
+}
 
 // A node coordinate: anywhere in int32, near its limits, or small.
 int32_t coordinate(std::mt19937_64& rng) {
@@ -104,10 +113,14 @@ std::vector<int32_t> step_words(lb::ArmSession& s) {
 }
 
 std::vector<int32_t> frames_by(const Mesh& m, bn::VectorKernel kernel) {
-  std::vector<bn::TriangleFrame> frames(m.triangles.size());
-  for (bn::TriangleFrame& f : frames) f = {{{7, 7, 7}, {7, 7, 7}, {7, 7, 7}}, {7, 7, 7}, 7};  // overwritten by both
+  // One frame more than the triangles: a kernel must leave it as it was.
+  std::vector<bn::TriangleFrame> frames(m.triangles.size() + 1);
+  for (bn::TriangleFrame& f : frames) f = {{{7, 7, 7}, {7, 7, 7}, {7, 7, 7}}, {7, 7, 7}, 7};  // overwritten by all
   std::span<fx::Len> node[3] = {m.view[0], m.view[1], m.view[2]};
-  bd::make_triangle_frames(m.model, node, frames, kernel);
+  bd::make_triangle_frames(m.model, node, std::span(frames).first(m.triangles.size()), kernel);
+  const std::vector<int32_t> beyond = frame_words({frames.back()});
+  EXPECT_EQ(beyond, std::vector<int32_t>(beyond.size(), 7)) << "a word past the last frame was written";
+  frames.pop_back();
   return frame_words(frames);
 }
 
@@ -123,7 +136,7 @@ TEST(BarnetWrapKernel, ArmNetsStepToTheSpecificationsWords) {
     o.segments = segments;
     lb::ArmSession vector(sinew::rigc::SkinChoice::kLinear, o), scalar(sinew::rigc::SkinChoice::kLinear, o);
     ASSERT_TRUE(vector.ok() && scalar.ok()) << vector.error() << scalar.error();
-    ASSERT_EQ(vector.state().kernel, bn::VectorKernel::kAvx2) << "init picks the fastest kernel the CPU runs";
+    ASSERT_EQ(vector.state().kernel, vector_kernels().back()) << "init picks the fastest kernel the CPU runs";
     scalar.state().kernel = bn::VectorKernel::kScalar;
     for (const double degrees : {0.0, 30.0, 90.0, 150.0}) {
       for (lb::ArmSession* s : {&vector, &scalar}) {
@@ -145,7 +158,8 @@ TEST(BarnetWrapKernel, TriangleFramesMatchOnAdversarialMeshes) {
     const Spread spread = trial % 3 == 0 ? Spread::kAny : (trial % 3 == 1 ? Spread::kBelow2_30 : Spread::kWide);
     random_mesh(rng, 3 + static_cast<uint32_t>(rng() % 12), static_cast<uint32_t>(trial % 11), &m, spread);
     const std::vector<int32_t> expected = frames_by(m, bn::VectorKernel::kScalar);
-    ASSERT_EQ(frames_by(m, bn::VectorKernel::kAvx2), expected) << "trial " << trial;
+    for (const bn::VectorKernel kernel : vector_kernels())
+      ASSERT_EQ(frames_by(m, kernel), expected) << "trial " << trial << " kernel " << static_cast<int>(kernel);
     for (size_t t = 0; t < m.triangles.size(); ++t) {
       const int32_t* n = &expected[13 * t + 9];
       degenerate += n[0] == 0 && n[1] == 0 && n[2] == 0 ? 1u : 0u;
@@ -193,14 +207,18 @@ TEST(BarnetWrapKernel, BoundedWrapMatchesAndHandsOverflowToTheSpecification) {
     }
     m.model.wrap = wrap;
     std::vector<int32_t> expected[3], got[3];
-    for (size_t c = 0; c < 3; ++c) expected[c].assign(wrap.size(), 0), got[c].assign(wrap.size(), 0);
+    for (size_t c = 0; c < 3; ++c) expected[c].assign(wrap.size(), 0);
     std::span<fx::Len> expected_view[3] = {expected[0], expected[1], expected[2]};
-    std::span<fx::Len> got_view[3] = {got[0], got[1], got[2]};
-    fx::Saturation expected_sat, got_sat;
+    std::span<fx::Len> got_view[3];
+    fx::Saturation expected_sat;
     bd::wrap_vertices(m.model, frames, true, expected_view, expected_sat, bn::VectorKernel::kScalar);
-    bd::wrap_vertices(m.model, frames, true, got_view, got_sat, bn::VectorKernel::kAvx2);
-    for (size_t c = 0; c < 3; ++c) ASSERT_EQ(got[c], expected[c]) << "trial " << trial << " axis " << c;
-    ASSERT_EQ(got_sat.events, expected_sat.events) << "trial " << trial;
+    for (const bn::VectorKernel kernel : vector_kernels()) {
+      for (size_t c = 0; c < 3; ++c) got[c].assign(wrap.size(), 0), got_view[c] = got[c];
+      fx::Saturation got_sat;
+      bd::wrap_vertices(m.model, frames, true, got_view, got_sat, kernel);
+      for (size_t c = 0; c < 3; ++c) ASSERT_EQ(got[c], expected[c]) << "trial " << trial << " axis " << c;
+      ASSERT_EQ(got_sat.events, expected_sat.events) << "trial " << trial;
+    }
     if (small) {
       ASSERT_EQ(expected_sat.events, 0u) << "trial " << trial;
 #if defined(__x86_64__)
