@@ -2,6 +2,7 @@
 
 #include <atomic>
 
+#include "edge_pull_kernels.hpp"
 #include "invariant_division.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
@@ -70,27 +71,66 @@ bool edge_pull(const SkinParams& p, const Edge& e, const std::span<fx::Len> (&po
 
 namespace {
 
-// Pass 1 over the moving edges [begin, end) (SkinState::moving_edge): each
-// edge's pull, once.
-void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t end) {
-  const Positions position = positions_of(s->position);
-  const Edge* const edges = model.edges.data();
-  int32_t* const stiffness = s->edge_stiffness.data();
-  fx::Len* const pull[3] = {s->edge_pull[0].data(), s->edge_pull[1].data(), s->edge_pull[2].data()};
-  const uint32_t* const moving = s->moving_edge.data();
-  for (uint32_t i = begin; i < end; ++i) {
-    const uint32_t e = moving[i];
-    int64_t k = 0;
-    fx::Vec3 f{};
-    if (!pull_of(model.params, edges[e], position, &k, &f)) {
-      k = 0;  // pulls with nothing: adds nothing to either end
-      f = {0, 0, 0};
-    }
-    stiffness[e] = static_cast<int32_t>(k);  // <= Edge::k <= kMaxStiffness = 2^24
-    pull[0][e] = f.x;
-    pull[1][e] = f.y;
-    pull[2][e] = f.z;
+detail::EdgePullJob pull_job(const SkinModel& model, SkinState* s) {
+  return {&model.params,
+          model.edges.data(),
+          {s->position[0].data(), s->position[1].data(), s->position[2].data()},
+          s->moving_edge.data(),
+          s->edge_stiffness.data(),
+          {s->edge_pull[0].data(), s->edge_pull[1].data(), s->edge_pull[2].data()}};
+}
+
+}  // namespace
+
+void detail::pull_edge_scalar(const EdgePullJob& job, uint32_t i) {
+  const uint32_t e = job.moving[i];
+  int64_t k = 0;
+  fx::Vec3 f{};
+  if (!pull_of(*job.params, job.edges[e], Positions{{job.position[0], job.position[1], job.position[2]}}, &k, &f)) {
+    k = 0;  // pulls with nothing: adds nothing to either end
+    f = {0, 0, 0};
   }
+  job.stiffness[e] = static_cast<int32_t>(k);  // <= Edge::k <= kMaxStiffness = 2^24
+  job.pull[0][e] = f.x;
+  job.pull[1][e] = f.y;
+  job.pull[2][e] = f.z;
+}
+
+bool detail::edge_pull_kernel_supported(EdgePullKernel kernel) {
+  switch (kernel) {
+    case EdgePullKernel::kScalar:
+      return true;
+    case EdgePullKernel::kAvx512:
+#if defined(__x86_64__)
+      return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0 &&
+             __builtin_cpu_supports("avx512cd") != 0;  // reads CPUID data, no OS call
+#else
+      return false;
+#endif
+  }
+  return false;
+}
+
+detail::EdgePullKernel detail::edge_pull_kernel_default() {
+  return edge_pull_kernel_supported(EdgePullKernel::kAvx512) ? EdgePullKernel::kAvx512 : EdgePullKernel::kScalar;
+}
+
+void detail::pull_edges_with(EdgePullKernel kernel, const EdgePullJob& job, uint32_t begin, uint32_t end) {
+  uint32_t i = begin;
+#if defined(__x86_64__)
+  if (kernel == EdgePullKernel::kAvx512 && edge_pull_kernel_supported(kernel)) i = pull_edges_avx512(job, begin, end);
+#else
+  (void)kernel;
+#endif
+  for (; i < end; ++i) pull_edge_scalar(job, i);
+}
+
+namespace {
+
+// Pass 1 over the moving edges [begin, end) (SkinState::moving_edge): each
+// edge's pull, once, by the CPU's kernel (edge_pull_kernels.hpp).
+void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t end) {
+  detail::pull_edges_with(detail::edge_pull_kernel_default(), pull_job(model, s), begin, end);
 }
 
 // Saturating: the relaxation's definition. The order of terms is part of it
