@@ -2,8 +2,8 @@
 
 #include <atomic>
 
-#include "edge_pull_kernels.hpp"
 #include "invariant_division.hpp"
+#include "relaxation_kernels.hpp"
 #include "sim_core/fixed/rsqrt_fast.hpp"
 #include "sim_core/fixed/sqrt.hpp"
 #include "sim_core/fixed/wide.hpp"
@@ -96,11 +96,11 @@ void detail::pull_edge_scalar(const EdgePullJob& job, uint32_t i) {
   job.pull[2][e] = f.z;
 }
 
-bool detail::edge_pull_kernel_supported(EdgePullKernel kernel) {
+bool detail::relaxation_kernel_supported(RelaxationKernel kernel) {
   switch (kernel) {
-    case EdgePullKernel::kScalar:
+    case RelaxationKernel::kScalar:
       return true;
-    case EdgePullKernel::kAvx512:
+    case RelaxationKernel::kAvx512:
 #if defined(__x86_64__)
       return __builtin_cpu_supports("avx512f") != 0 && __builtin_cpu_supports("avx512vl") != 0 &&
              __builtin_cpu_supports("avx512cd") != 0;  // reads CPUID data, no OS call
@@ -111,14 +111,15 @@ bool detail::edge_pull_kernel_supported(EdgePullKernel kernel) {
   return false;
 }
 
-detail::EdgePullKernel detail::edge_pull_kernel_default() {
-  return edge_pull_kernel_supported(EdgePullKernel::kAvx512) ? EdgePullKernel::kAvx512 : EdgePullKernel::kScalar;
+detail::RelaxationKernel detail::relaxation_kernel_default() {
+  return relaxation_kernel_supported(RelaxationKernel::kAvx512) ? RelaxationKernel::kAvx512 : RelaxationKernel::kScalar;
 }
 
-void detail::pull_edges_with(EdgePullKernel kernel, const EdgePullJob& job, uint32_t begin, uint32_t end) {
+void detail::pull_edges_with(RelaxationKernel kernel, const EdgePullJob& job, uint32_t begin, uint32_t end) {
   uint32_t i = begin;
 #if defined(__x86_64__)
-  if (kernel == EdgePullKernel::kAvx512 && edge_pull_kernel_supported(kernel)) i = pull_edges_avx512(job, begin, end);
+  if (kernel == RelaxationKernel::kAvx512 && relaxation_kernel_supported(kernel))
+    i = pull_edges_avx512(job, begin, end);
 #else
   (void)kernel;
 #endif
@@ -128,9 +129,9 @@ void detail::pull_edges_with(EdgePullKernel kernel, const EdgePullJob& job, uint
 namespace {
 
 // Pass 1 over the moving edges [begin, end) (SkinState::moving_edge): each
-// edge's pull, once, by the CPU's kernel (edge_pull_kernels.hpp).
+// edge's pull, once, by the CPU's kernel (relaxation_kernels.hpp).
 void pull_edges(const SkinModel& model, SkinState* s, uint32_t begin, uint32_t end) {
-  detail::pull_edges_with(detail::edge_pull_kernel_default(), pull_job(model, s), begin, end);
+  detail::pull_edges_with(detail::relaxation_kernel_default(), pull_job(model, s), begin, end);
 }
 
 // Saturating: the relaxation's definition. The order of terms is part of it
@@ -274,31 +275,51 @@ void place_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Wor
   layer::run_ranges_summed(workers, s->moving_vertices, range);
 }
 
+uint32_t detail::collide_vertex_scalar(const SphereJob& job, uint32_t i) {
+  // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
+  const int64_t r2 = int64_t{job.radius - 2} * (job.radius - 2);
+  const uint32_t v = job.moving[i];
+  const fx::Vec3 centre{job.centre[0][v], job.centre[1][v], job.centre[2][v]};
+  const fx::Vec3 d = fx::sub({job.position[0][v], job.position[1][v], job.position[2][v]}, centre);
+  // Squared distances first: most vertices are outside, no root needed.
+  if (fx::dot_wide(d, d) >= r2) return 0;
+  // The direction only: the division-free normalisation (exact to
+  // rounding, within 2^-28 of unit per component).
+  fx::Vec3 dir{};
+  const fx::Vec3 out = fx::normalize_fast(d, &dir) ? fx::add(centre, muscle::along(dir, job.radius))
+                                                   : fx::Vec3{job.anchor[0][v], job.anchor[1][v], job.anchor[2][v]};
+  job.position[0][v] = out.x;
+  job.position[1][v] = out.y;
+  job.position[2][v] = out.z;
+  return 1;
+}
+
+uint32_t detail::collide_with_spheres_with(RelaxationKernel kernel, const SphereJob& job, uint32_t begin,
+                                           uint32_t end) {
+  uint32_t moved = 0;
+  uint32_t i = begin;
+#if defined(__x86_64__)
+  if (kernel == RelaxationKernel::kAvx512 && relaxation_kernel_supported(kernel))
+    i = collide_with_spheres_avx512(job, begin, end, &moved);
+#else
+  (void)kernel;
+#endif
+  for (; i < end; ++i) moved += collide_vertex_scalar(job, i);
+  return moved;
+}
+
 uint32_t collide_with_anchor_spheres(const SkinModel& model, SkinState* s, const layer::Workers* workers) {
   const fx::Len radius = model.params.collision_radius;
   if (radius <= 0) return 0;
-  // 2 LSB of slack: a vertex on the sphere (e.g. at its anchor) stays put.
-  const int64_t r2 = int64_t{radius - 2} * (radius - 2);
-  const auto range = [&](uint32_t begin, uint32_t end) {
-    uint32_t moved = 0;
-    for (uint32_t i = begin; i < end; ++i) {
-      const uint32_t v = s->moving_vertex[i];
-      const fx::Vec3 centre = at(s->sphere_centre, v);
-      const fx::Vec3 d = fx::sub(at(s->position, v), centre);
-      // Squared distances first: most vertices are outside, no root needed.
-      if (fx::dot_wide(d, d) >= r2) continue;
-      // The direction only: the division-free normalisation (exact to
-      // rounding, within 2^-28 of unit per component).
-      fx::Vec3 dir{};
-      const fx::Vec3 out = fx::normalize_fast(d, &dir) ? fx::add(centre, muscle::along(dir, radius)) : at(s->anchor, v);
-      s->position[0][v] = out.x;
-      s->position[1][v] = out.y;
-      s->position[2][v] = out.z;
-      ++moved;
-    }
-    return moved;
-  };
-  return layer::run_ranges_summed(workers, s->moving_vertices, range);
+  const detail::SphereJob job{{s->position[0].data(), s->position[1].data(), s->position[2].data()},
+                              {s->sphere_centre[0].data(), s->sphere_centre[1].data(), s->sphere_centre[2].data()},
+                              {s->anchor[0].data(), s->anchor[1].data(), s->anchor[2].data()},
+                              s->moving_vertex.data(),
+                              radius};
+  const detail::RelaxationKernel kernel = detail::relaxation_kernel_default();
+  return layer::run_ranges_summed(workers, s->moving_vertices, [&](uint32_t begin, uint32_t end) {
+    return detail::collide_with_spheres_with(kernel, job, begin, end);
+  });
 }
 
 }  // namespace sinew::elastic_skin

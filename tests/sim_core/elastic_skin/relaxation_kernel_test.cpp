@@ -1,10 +1,14 @@
-// The relaxation's edge pass by its vector kernel (sim_core/elastic_skin/
-// edge_pull_avx512.cpp, where the CPU runs it) against the scalar
-// specification (relaxation.cpp), word for word: stretched, compressed
+// The relaxation's vector kernels (sim_core/elastic_skin/
+// relaxation_avx512.cpp, where the CPU runs them) against the scalar
+// specification (relaxation.cpp), word for word.
+// The edge pass: stretched, compressed
 // (within and beyond the push-back band) and zero-length edges, zero
 // stiffness, ends at the int32 limits so the difference saturates,
 // consecutive and scattered edge lists, lengths that are not a multiple of
 // the lane width, and entries the list does not name, which stay untouched.
+// The collision pass: vertices outside, inside, on the slack and at their
+// sphere's centre, spheres near the int32 limits (the difference and the
+// move saturate), radii from 1 LSB up, consecutive and scattered lists.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -12,9 +16,9 @@
 #include <random>
 #include <vector>
 
-#include "sim_core/elastic_skin/edge_pull_kernels.hpp"
+#include "sim_core/elastic_skin/relaxation_kernels.hpp"
 
-namespace edge_pull_kernel_test {
+namespace relaxation_kernel_test {
 namespace {
 
 namespace es = sinew::elastic_skin;
@@ -81,7 +85,7 @@ Case make_case(std::mt19937_64& rng, uint32_t vertices, uint32_t edge_count, boo
   return c;
 }
 
-Outputs run(ed::EdgePullKernel kernel, const Case& c, uint32_t begin) {
+Outputs run(ed::RelaxationKernel kernel, const Case& c, uint32_t begin) {
   Outputs out;
   out.stiffness.assign(c.edges.size(), kUntouched);
   for (auto& column : out.pull) column.assign(c.edges.size(), kUntouched);
@@ -92,8 +96,8 @@ Outputs run(ed::EdgePullKernel kernel, const Case& c, uint32_t begin) {
   return out;
 }
 
-TEST(EdgePullKernel, Avx512WritesTheSpecificationsWords) {
-  if (!ed::edge_pull_kernel_supported(ed::EdgePullKernel::kAvx512)) GTEST_SKIP() << "no AVX-512 F/VL/CD on this CPU";
+TEST(RelaxationKernel, EdgePassWritesTheSpecificationsWords) {
+  if (!ed::relaxation_kernel_supported(ed::RelaxationKernel::kAvx512)) GTEST_SKIP() << "no AVX-512 F/VL/CD on this CPU";
   std::mt19937_64 rng(20261207);
   uint64_t compared = 0;
   for (int round = 0; round < 400; ++round) {
@@ -102,8 +106,8 @@ TEST(EdgePullKernel, Avx512WritesTheSpecificationsWords) {
     const uint32_t listed = consecutive ? edge_count : 1 + static_cast<uint32_t>(rng() % edge_count);
     const Case c = make_case(rng, 2 + static_cast<uint32_t>(rng() % 40), edge_count, consecutive, listed);
     const uint32_t begin = static_cast<uint32_t>(rng() % 3 == 0 ? rng() % listed : 0);
-    const Outputs spec = run(ed::EdgePullKernel::kScalar, c, begin);
-    const Outputs vec = run(ed::EdgePullKernel::kAvx512, c, begin);
+    const Outputs spec = run(ed::RelaxationKernel::kScalar, c, begin);
+    const Outputs vec = run(ed::RelaxationKernel::kAvx512, c, begin);
     ASSERT_EQ(vec.stiffness, spec.stiffness) << "round " << round;
     for (int a = 0; a < 3; ++a) ASSERT_EQ(vec.pull[a], spec.pull[a]) << "round " << round << " axis " << a;
     compared += listed - begin;
@@ -113,12 +117,12 @@ TEST(EdgePullKernel, Avx512WritesTheSpecificationsWords) {
 
 // The cases above reach every kind of lane: otherwise the comparison would
 // hold for a kernel that never meets them.
-TEST(EdgePullKernel, CasesCoverEveryKindOfEdge) {
+TEST(RelaxationKernel, EdgeCasesCoverEveryKindOfEdge) {
   std::mt19937_64 rng(20261207);
   uint32_t stretched = 0, compressed = 0, idle = 0, saturated = 0;
   for (int round = 0; round < 100; ++round) {
     const Case c = make_case(rng, 40, 64, true, 64);
-    const Outputs spec = run(ed::EdgePullKernel::kScalar, c, 0);
+    const Outputs spec = run(ed::RelaxationKernel::kScalar, c, 0);
     for (uint32_t e = 0; e < 64; ++e) {
       const es::Edge& edge = c.edges[e];
       if (spec.stiffness[e] == 0) {
@@ -142,5 +146,74 @@ TEST(EdgePullKernel, CasesCoverEveryKindOfEdge) {
   EXPECT_GT(saturated, 20u);
 }
 
+struct SphereCase {
+  std::array<std::vector<int32_t>, 3> position, centre, anchor;
+  std::vector<uint32_t> moving;
+  int32_t radius = 1;
+};
+
+SphereCase make_sphere_case(std::mt19937_64& rng, uint32_t vertices, bool consecutive, uint32_t listed) {
+  SphereCase c;
+  const uint64_t scale = rng() % 3;
+  c.radius = scale == 0 ? 1 + static_cast<int32_t>(rng() % 4)
+                        : static_cast<int32_t>(1 + rng() % (scale == 1 ? 100000 : uint64_t{INT32_MAX}));
+  for (int a = 0; a < 3; ++a) {
+    c.position[a].resize(vertices);
+    c.centre[a].resize(vertices);
+    c.anchor[a].resize(vertices);
+  }
+  for (uint32_t v = 0; v < vertices; ++v) {
+    const uint64_t kind = rng() % 5;  // 0 at the centre, 1 near the surface, 2 inside, 3 anywhere, 4 far corner
+    for (int a = 0; a < 3; ++a) {
+      c.centre[a][v] = coordinate(rng);
+      c.anchor[a][v] = coordinate(rng);
+      int64_t x = c.centre[a][v];
+      if (kind == 1) x += (static_cast<int64_t>(c.radius) * (static_cast<int64_t>(rng() % 1201) - 600)) / 1000;
+      if (kind == 2) x += static_cast<int64_t>(rng() % (static_cast<uint64_t>(c.radius) / 2 + 1)) - c.radius / 4;
+      if (kind == 3) x = coordinate(rng);
+      if (kind == 4) x = c.centre[a][v] < 0 ? INT32_MAX : INT32_MIN;
+      c.position[a][v] = static_cast<int32_t>(x > INT32_MAX ? INT32_MAX : (x < INT32_MIN ? INT32_MIN : x));
+    }
+  }
+  for (uint32_t v = 0; v < vertices; ++v) c.moving.push_back(v);
+  if (!consecutive) std::shuffle(c.moving.begin(), c.moving.end(), rng);
+  c.moving.resize(listed);
+  return c;
+}
+
+std::array<std::vector<int32_t>, 3> collide(ed::RelaxationKernel kernel, const SphereCase& c, uint32_t begin,
+                                            uint32_t* moved) {
+  std::array<std::vector<int32_t>, 3> position = c.position;
+  const ed::SphereJob job{{position[0].data(), position[1].data(), position[2].data()},
+                          {c.centre[0].data(), c.centre[1].data(), c.centre[2].data()},
+                          {c.anchor[0].data(), c.anchor[1].data(), c.anchor[2].data()},
+                          c.moving.data(),
+                          c.radius};
+  *moved = ed::collide_with_spheres_with(kernel, job, begin, static_cast<uint32_t>(c.moving.size()));
+  return position;
+}
+
+TEST(RelaxationKernel, CollisionPassWritesTheSpecificationsWords) {
+  if (!ed::relaxation_kernel_supported(ed::RelaxationKernel::kAvx512)) GTEST_SKIP() << "no AVX-512 F/VL/CD on this CPU";
+  std::mt19937_64 rng(20261208);
+  uint64_t moved_total = 0, compared = 0;
+  for (int round = 0; round < 400; ++round) {
+    const uint32_t vertices = 1 + static_cast<uint32_t>(rng() % 90);
+    const bool consecutive = rng() % 2 == 0;
+    const uint32_t listed = consecutive ? vertices : 1 + static_cast<uint32_t>(rng() % vertices);
+    const SphereCase c = make_sphere_case(rng, vertices, consecutive, listed);
+    const uint32_t begin = static_cast<uint32_t>(rng() % 3 == 0 ? rng() % listed : 0);
+    uint32_t spec_moved = 0, vec_moved = 0;
+    const auto spec = collide(ed::RelaxationKernel::kScalar, c, begin, &spec_moved);
+    const auto vec = collide(ed::RelaxationKernel::kAvx512, c, begin, &vec_moved);
+    for (int a = 0; a < 3; ++a) ASSERT_EQ(vec[a], spec[a]) << "round " << round << " axis " << a;
+    ASSERT_EQ(vec_moved, spec_moved) << "round " << round;
+    moved_total += spec_moved;
+    compared += listed - begin;
+  }
+  EXPECT_GT(compared, 8000u);
+  EXPECT_GT(moved_total, compared / 5);  // a fifth of the vertices or more are inside
+}
+
 }  // namespace
-}  // namespace edge_pull_kernel_test
+}  // namespace relaxation_kernel_test

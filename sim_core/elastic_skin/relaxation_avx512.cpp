@@ -1,6 +1,7 @@
-// AVX-512 (F + VL + CD) kernel of the relaxation's edge pass: the same words
-// as pull_of in relaxation.cpp for every edge. Eight edges per step, one per
-// 64-bit lane:
+// AVX-512 (F + VL + CD) kernels of two relaxation passes (relaxation.cpp),
+// the same words as the scalar specification for every input.
+//
+// The edge pass (pull_of): eight edges per step, one per 64-bit lane:
 //   - the edges' ends, rest lengths and stiffnesses are read by permutes
 //     when the eight are consecutive edges, else by gathers; the ends'
 //     positions by gathers;
@@ -13,6 +14,14 @@
 //     to the scalar specification, which overwrites them;
 //   - the pulls round_shift(w ratio, 30) (within int32 without a clamp), stored
 //     contiguously when the eight edges are consecutive, else one by one.
+//
+// The collision pass (collide_with_anchor_spheres): eight vertices per
+// step; d = sub_sat(x, centre), |d|^2 as an unsigned sum (the saturating
+// scalar sum compares with r^2 < 2^62 the same way), the direction by
+// fx::avx512::normalize_fast_x8 (fx::normalize_fast's words), and
+// centre + mul_by_unit(R, dir) with add_sat, stored under the inside lanes'
+// mask; a vertex at its sphere's centre (d = 0) is left to the
+// specification, which puts it at its anchor.
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
 // GCC 12's AVX-512 headers (GCC bug 105593, fixed in GCC 13).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -22,7 +31,7 @@
 
 #include <cstring>
 
-#include "edge_pull_kernels.hpp"
+#include "relaxation_kernels.hpp"
 #include "sim_core/fixed/avx512_lanes.hpp"
 #include "sim_core/fixed/isa_region.hpp"
 
@@ -118,6 +127,61 @@ uint32_t pull_edges_avx512(const EdgePullJob& job, uint32_t begin, uint32_t end)
     }
     for (uint32_t bad = compressed; bad != 0; bad &= bad - 1)
       pull_edge_scalar(job, i + static_cast<uint32_t>(__builtin_ctz(bad)));
+  }
+  return i;
+}
+
+namespace {
+
+inline __m512i lanes_of(const int32_t* column, __m256i index, const uint32_t* at, bool consecutive) {
+  if (consecutive) return _mm512_cvtepi32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(column + at[0])));
+  return _mm512_cvtepi32_epi64(_mm256_i32gather_epi32(column, index, 4));
+}
+
+}  // namespace
+
+uint32_t collide_with_spheres_avx512(const SphereJob& job, uint32_t begin, uint32_t end, uint32_t* moved) {
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const int64_t r = int64_t{job.radius} - 2;  // 2 LSB of slack, as the specification
+  const __m512i r2 = _mm512_set1_epi64(r * r);
+  const __m512i radius = _mm512_set1_epi64(job.radius);
+  uint32_t i = begin;
+  for (; end - i >= 8; i += 8) {
+    const uint32_t* at = job.moving + i;
+    const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at));
+    const bool consecutive =
+        _mm256_cmpeq_epi32_mask(index, _mm256_add_epi32(_mm256_set1_epi32(static_cast<int32_t>(at[0])), lane)) == 0xFF;
+    __m512i centre[3], d[3];
+    __m512i n2 = _mm512_setzero_si512();
+    for (int c = 0; c < 3; ++c) {
+      centre[c] = lanes_of(job.centre[c], index, at, consecutive);
+      d[c] = sat_i32_epi64(_mm512_sub_epi64(lanes_of(job.position[c], index, at, consecutive), centre[c]));
+      n2 = _mm512_add_epi64(n2, _mm512_mul_epi32(d[c], d[c]));  // each < 2^62 + 1, the sum < 2^64
+    }
+    const __mmask8 inside = _mm512_cmplt_epu64_mask(n2, r2);
+    if (inside == 0) continue;
+    const __mmask8 at_centre = static_cast<__mmask8>(inside & _mm512_testn_epi64_mask(n2, n2));
+    const __mmask8 out = static_cast<__mmask8>(inside & ~at_centre);
+    __m512i dir[3];
+    fx::avx512::normalize_fast_x8(d[0], d[1], d[2], dir);
+    for (int c = 0; c < 3; ++c) {
+      // mul_by_unit(R, dir_c), then add_sat: both within int64 before the clamps.
+      const __m512i offset = sat_i32_epi64(round_shift_epi64<fx::kUnitFracBits>(_mm512_mul_epi32(radius, dir[c])));
+      const __m256i word = _mm512_cvtepi64_epi32(sat_i32_epi64(_mm512_add_epi64(centre[c], offset)));
+      if (consecutive) {
+        _mm256_mask_storeu_epi32(job.position[c] + at[0], out, word);
+      } else {
+        int32_t w[8];
+        std::memcpy(w, &word, sizeof(w));
+        for (uint32_t m = out; m != 0; m &= m - 1) {
+          const int l = __builtin_ctz(m);
+          job.position[c][at[l]] = w[l];
+        }
+      }
+    }
+    *moved += static_cast<uint32_t>(__builtin_popcount(out));
+    for (uint32_t m = at_centre; m != 0; m &= m - 1)
+      *moved += collide_vertex_scalar(job, i + static_cast<uint32_t>(__builtin_ctz(m)));
   }
   return i;
 }
