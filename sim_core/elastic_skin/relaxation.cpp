@@ -96,6 +96,21 @@ void detail::pull_edge_scalar(const EdgePullJob& job, uint32_t i) {
   job.pull[2][e] = f.z;
 }
 
+void detail::pull_compressed_edge(const EdgePullJob& job, uint32_t e, const int64_t w[3], int64_t ratio, uint64_t n2) {
+  const Edge& edge = job.edges[e];
+  // edge_spring's compressed branch, then pull_of's products.
+  const int64_t k = effective_stiffness(*job.params, edge.k, int64_t{fx::isqrt_fast(n2)} - edge.rest, edge.rest);
+  fx::Vec3 f{};
+  if (k != 0)
+    f = {fx::sat_i32(fx::round_shift(w[0] * ratio, fx::kUnitFracBits)),
+         fx::sat_i32(fx::round_shift(w[1] * ratio, fx::kUnitFracBits)),
+         fx::sat_i32(fx::round_shift(w[2] * ratio, fx::kUnitFracBits))};
+  job.stiffness[e] = static_cast<int32_t>(k);
+  job.pull[0][e] = f.x;
+  job.pull[1][e] = f.y;
+  job.pull[2][e] = f.z;
+}
+
 bool detail::relaxation_kernel_supported(RelaxationKernel kernel) {
   switch (kernel) {
     case RelaxationKernel::kScalar:

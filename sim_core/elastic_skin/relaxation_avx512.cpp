@@ -10,8 +10,9 @@
 //   - 1 / |w| by fx::avx512::rsqrt_fast_x8 (fx::rsqrt_fast's words), rest /
 //     |w| as edge_spring rounds it, and ratio = 1 - rest / |w|;
 //   - a lane with ratio < 0 (a compressed edge: its stiffness needs the exact
-//     root and the push-back band) and every lane past the group are left
-//     to the scalar specification, which overwrites them;
+//     root and the push-back band) is finished by the specification's
+//     compressed branch (pull_compressed_edge) from the lane's w, |w|^2 and
+//     ratio, which overwrites what the group stored for it;
 //   - the pulls round_shift(w ratio, 30) (within int32 without a clamp), stored
 //     contiguously when the eight edges are consecutive, else one by one.
 //
@@ -125,8 +126,17 @@ uint32_t pull_edges_avx512(const EdgePullJob& job, uint32_t begin, uint32_t end)
       const __m512i f = round_shift_epi64<fx::kUnitFracBits>(_mm512_mul_epi32(w[c], ratio));
       store(job.pull[c], _mm512_maskz_mov_epi64(pulls, f), edge, consecutive);
     }
-    for (uint32_t bad = compressed; bad != 0; bad &= bad - 1)
-      pull_edge_scalar(job, i + static_cast<uint32_t>(__builtin_ctz(bad)));
+    if (compressed != 0) {
+      int64_t wl[3][8], ratio_l[8], n2_l[8];
+      for (int c = 0; c < 3; ++c) _mm512_storeu_si512(wl[c], w[c]);
+      _mm512_storeu_si512(ratio_l, ratio);
+      _mm512_storeu_si512(n2_l, n2);
+      for (uint32_t bad = compressed; bad != 0; bad &= bad - 1) {
+        const int l = __builtin_ctz(bad);
+        const int64_t wc[3] = {wl[0][l], wl[1][l], wl[2][l]};
+        pull_compressed_edge(job, edge[l], wc, ratio_l[l], static_cast<uint64_t>(n2_l[l]));
+      }
+    }
   }
   return i;
 }

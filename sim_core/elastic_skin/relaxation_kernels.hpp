@@ -32,6 +32,11 @@ struct EdgePullJob {
 // Edge moving[i] by the scalar specification.
 void pull_edge_scalar(const EdgePullJob& job, uint32_t i);
 
+// The rest of the specification for a compressed edge e (ratio < 0) whose
+// w = sub_sat(x_b, x_a), |w|^2 = n2 > 0 and ratio = 1 - rest / |w| (Q2.30,
+// edge_spring's) a kernel has formed: its push-back stiffness and pull.
+void pull_compressed_edge(const EdgePullJob& job, uint32_t e, const int64_t w[3], int64_t ratio, uint64_t n2);
+
 // Edges moving[begin..end) by `kernel` (an unsupported one runs kScalar).
 void pull_edges_with(RelaxationKernel kernel, const EdgePullJob& job, uint32_t begin, uint32_t end);
 
