@@ -43,7 +43,9 @@ int32_t coordinate(std::mt19937_64& rng) {
     case 0:
       return static_cast<int32_t>(static_cast<uint32_t>(rng()));  // anywhere, the limits included
     case 1:
-      return (rng() % 2 == 0 ? INT32_MAX : INT32_MIN) + static_cast<int32_t>(rng() % 64) * (rng() % 2 == 0 ? 1 : -1);
+      // Within 64 of a limit, on its inner side.
+      return rng() % 2 == 0 ? INT32_MAX - static_cast<int32_t>(rng() % 64)
+                            : INT32_MIN + static_cast<int32_t>(rng() % 64);
     default:
       return static_cast<int32_t>(rng() % 200001) - 100000;  // a skin's scale: edges of tens of thousands
   }
