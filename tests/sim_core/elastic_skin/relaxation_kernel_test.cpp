@@ -132,14 +132,17 @@ TEST(RelaxationKernel, EdgeCasesCoverEveryKindOfEdge) {
         continue;
       }
       bool sat = false;
-      int64_t len2 = 0;
+      // |d| < 2^32, so d^2 / 4 < 2^62 and three of them fit in 64 unsigned bits.
+      uint64_t quarter_len2 = 0;
       for (const auto& column : c.position) {
         const int64_t d = int64_t{column[edge.b]} - column[edge.a];
         sat = sat || d > INT32_MAX || d < INT32_MIN;
-        len2 += d * d / 4;
+        const uint64_t magnitude = static_cast<uint64_t>(d < 0 ? -d : d);
+        quarter_len2 += magnitude * magnitude / 4;
       }
       saturated += sat ? 1u : 0u;
-      (4 * len2 >= int64_t{edge.rest} * edge.rest ? stretched : compressed) += 1;
+      const uint64_t quarter_rest2 = static_cast<uint64_t>(int64_t{edge.rest} * edge.rest) / 4;
+      (quarter_len2 >= quarter_rest2 ? stretched : compressed) += 1;
     }
   }
   EXPECT_GT(stretched, 100u);
