@@ -15,6 +15,10 @@
 //     are narrowed (vpmovqd) and stored at once;
 //   - the range checks that send a lane back to the specification are the
 //     AVX2 kernel's, read out as a lane mask.
+//   - a group of eight consecutive vertices (the common case) reads its
+//     weights as one block and its palette indices from one base, loads and
+//     stores its positions and normals whole; each palette entry's real and
+//     dual parts are loaded together.
 // Rigid runs (dqs_blocks.hpp) are eight consecutive vertices of one palette
 // entry. K outside 1..8 takes the scalar loop.
 
@@ -161,54 +165,95 @@ struct Group {
   Checks checks;
 };
 
-// Stage 1: the blend and n30 of skin_dual_vertex.
+inline bool in_a_row(const Group& g) { return g.n == kLanes && g.v[kLanes - 1] - g.v[0] == kLanes - 1; }
+
+// The weights of influence k of a group, sign-extended per lane. A group of
+// eight consecutive vertices with K <= 4 reads its 8 K weights as one block
+// (two masked loads, then one two-source permute per influence); any other
+// group reads them per lane.
+template <uint32_t K, bool InARow>
+struct GroupWeights;
+
 template <uint32_t K>
+struct GroupWeights<K, true> {
+  static_assert(K <= 4);
+  static constexpr uint32_t kWords = 8 * K;
+  __m512i low, high;  // words 0..15 and 16..31 of the block, zero past 8 K
+  GroupWeights(const rig::Rig& rig, const Group& g) {
+    const fx::Unit* block = rig.influence_weight.data() + size_t{g.v[0]} * K;
+    // Masked: nothing past the block is read.
+    low = _mm512_maskz_loadu_epi32(static_cast<__mmask16>(kWords >= 16 ? 0xFFFFu : (1u << kWords) - 1), block);
+    high = _mm512_maskz_loadu_epi32(static_cast<__mmask16>(kWords > 16 ? (1u << (kWords - 16)) - 1 : 0u),
+                                    block + (kWords > 16 ? 16 : 0));
+  }
+  __m512i operator()(uint32_t k) const {
+    // Lane l takes word k + K l (indices 16..31 select `high`).
+    const auto at = [k](uint32_t l) { return static_cast<int32_t>(k + K * l); };
+    const __m512i index =
+        _mm512_setr_epi32(at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7), 0, 0, 0, 0, 0, 0, 0, 0);
+    return _mm512_cvtepi32_epi64(_mm512_castsi512_si256(_mm512_permutex2var_epi32(low, index, high)));
+  }
+};
+
+template <uint32_t K>
+struct GroupWeights<K, false> {
+  const fx::Unit* lane[kLanes];
+  GroupWeights(const rig::Rig& rig, const Group& g) {
+    for (uint32_t l = 0; l < kLanes; ++l) lane[l] = rig.influence_weight.data() + size_t{g.v[l]} * K;
+  }
+  __m512i operator()(uint32_t k) const {
+    return _mm512_cvtepi32_epi64(_mm256_setr_epi32(lane[0][k], lane[1][k], lane[2][k], lane[3][k], lane[4][k],
+                                                   lane[5][k], lane[6][k], lane[7][k]));
+  }
+};
+
+// Influence k's eight palette entries: their real and dual parts are read
+// together, so each entry's address is made once and the blend keeps no
+// table of them. InARow: palette indices of consecutive vertices from one
+// base.
+template <uint32_t K, bool InARow>
+inline void load_entries(const rig::Rig& rig, const fx::DualQuat* dual, const Group& g, uint32_t k, Quat8* real,
+                         Quat8* dual_part) {
+  const fx::Quat* r[kLanes];
+  const fx::Quat* d[kLanes];
+  for (uint32_t l = 0; l < kLanes; ++l) {
+    const size_t at = InARow ? size_t{g.v[0]} * K + l * K + k : size_t{g.v[l]} * K + k;
+    const fx::DualQuat& e = dual[rig.influence_palette[at]];
+    r[l] = &e.real;
+    d[l] = &e.dual;
+  }
+  *real = load_quat8(r);
+  *dual_part = load_quat8(d);
+}
+
+// Stage 1: the blend and n30 of skin_dual_vertex. InARow: the group is
+// eight consecutive vertices (in_a_row).
+template <uint32_t K, bool InARow>
 inline void blend(const DualJob& job, Group* g) {
   const rig::Rig& rig = *job.rig;
   const fx::DualQuat* dual = job.dual.data();
-  const uint16_t* joints[kLanes];
-  const fx::Unit* weights[kLanes];
-  for (uint32_t l = 0; l < kLanes; ++l) {
-    joints[l] = rig.influence_palette.data() + size_t{g->v[l]} * K;
-    weights[l] = rig.influence_weight.data() + size_t{g->v[l]} * K;
-  }
-  const fx::Quat* real_entry[K][kLanes];
-  const fx::Quat* dual_entry[K][kLanes];
-  for (uint32_t k = 0; k < K; ++k)
-    for (uint32_t l = 0; l < kLanes; ++l) {
-      real_entry[k][l] = &dual[joints[l][k]].real;
-      dual_entry[k][l] = &dual[joints[l][k]].dual;
-    }
-  const auto weight = [&](uint32_t k) {
-    return _mm512_cvtepi32_epi64(_mm256_setr_epi32(weights[0][k], weights[1][k], weights[2][k], weights[3][k],
-                                                   weights[4][k], weights[5][k], weights[6][k], weights[7][k]));
-  };
-  // Real parts first, with the hemisphere test (the first weight keeps its
-  // sign), then the dual parts with the same weights.
+  const GroupWeights<K, InARow && K <= 4> weight(rig, *g);
+  // The hemisphere test against the first entry (whose weight keeps its
+  // sign); real and dual parts take the same signed weight. The int64 sums
+  // wrap, so their order is free: the words are the scalar sums'.
   const __m512i zero = _mm512_setzero_si512();
   const __m512i weight_overflow = set1(int64_t{1} << 31);
-  const Quat8 pivot = load_quat8(real_entry[0]);
-  __m512i signed_weight[K];
-  signed_weight[0] = weight(0);
-  Quat8 real{mul(pivot.w, signed_weight[0]), mul(pivot.x, signed_weight[0]), mul(pivot.y, signed_weight[0]),
-             mul(pivot.z, signed_weight[0])};
+  Quat8 pivot, d;
+  load_entries<K, InARow>(rig, dual, *g, 0, &pivot, &d);
+  const __m512i w0 = weight(0);
+  Quat8 real{mul(pivot.w, w0), mul(pivot.x, w0), mul(pivot.y, w0), mul(pivot.z, w0)};
+  Quat8 du{mul(d.w, w0), mul(d.x, w0), mul(d.y, w0), mul(d.z, w0)};
   __mmask8 bad_weight = 0;
 #pragma GCC unroll 8
   for (uint32_t k = 1; k < K; ++k) {
-    const Quat8 r = load_quat8(real_entry[k]);
+    Quat8 r;
+    load_entries<K, InARow>(rig, dual, *g, k, &r, &d);
     // Antipodality: a negative plain dot negates the weight; -INT32_MIN
     // leaves int32, such lanes go to the scalar path.
     const __m512i wk = weight(k);
     const __m512i w = _mm512_mask_sub_epi64(wk, _mm512_cmplt_epi64_mask(dot4(pivot, r), zero), zero, wk);
     bad_weight = static_cast<__mmask8>(bad_weight | _mm512_cmpeq_epi64_mask(w, weight_overflow));
-    signed_weight[k] = w;
     real = {add(real.w, mul(r.w, w)), add(real.x, mul(r.x, w)), add(real.y, mul(r.y, w)), add(real.z, mul(r.z, w))};
-  }
-  Quat8 du{zero, zero, zero, zero};
-#pragma GCC unroll 8
-  for (uint32_t k = 0; k < K; ++k) {
-    const Quat8 d = load_quat8(dual_entry[k]);
-    const __m512i w = signed_weight[k];
     du = {add(du.w, mul(d.w, w)), add(du.x, mul(d.x, w)), add(du.y, mul(d.y, w)), add(du.z, mul(d.z, w))};
   }
   g->checks.not_negative(_mm512_maskz_mov_epi64(bad_weight, set1(-1)));
@@ -267,6 +312,9 @@ inline __m512i rot_entry(__m512i a) { return round_shift_low<fx::kUnitFracBits -
 
 // Stage 4: fx::rot3_of_unit, the translation, positions and normals; stores,
 // then the scalar specification for the lanes a check flagged.
+// InARow: the group is eight consecutive vertices (in_a_row), loaded and
+// stored whole.
+template <bool InARow>
 inline void transform(const DualJob& job, Group* g) {
   const Quat8& rq = g->real;
   const Quat8& d = g->dual;
@@ -287,7 +335,7 @@ inline void transform(const DualJob& job, Group* g) {
   const SkinnedVertices& out = *job.out;
   uint32_t index[kLanes];
   for (uint32_t l = 0; l < kLanes; ++l) index[l] = g->v[l] - job.first;
-  const bool contiguous = g->n == kLanes && g->v[kLanes - 1] - g->v[0] == kLanes - 1;
+  constexpr bool contiguous = InARow;
   const __m512i p[3] = {load_lanes(rig.position[0], g->v, contiguous), load_lanes(rig.position[1], g->v, contiguous),
                         load_lanes(rig.position[2], g->v, contiguous)};
   for (int c = 0; c < 3; ++c) {
@@ -344,10 +392,12 @@ constexpr uint32_t kGroupsPerBlock = 4;
 
 template <uint32_t K>
 void run_block(const DualJob& job, Group* groups, uint32_t count) {
-  for (uint32_t g = 0; g < count; ++g) blend<K>(job, &groups[g]);
+  for (uint32_t g = 0; g < count; ++g)
+    in_a_row(groups[g]) ? blend<K, true>(job, &groups[g]) : blend<K, false>(job, &groups[g]);
   for (uint32_t g = 0; g < count; ++g) inverse_norm(&groups[g]);
   for (uint32_t g = 0; g < count; ++g) normalise(&groups[g]);
-  for (uint32_t g = 0; g < count; ++g) transform(job, &groups[g]);
+  for (uint32_t g = 0; g < count; ++g)
+    in_a_row(groups[g]) ? transform<true>(job, &groups[g]) : transform<false>(job, &groups[g]);
 }
 
 template <uint32_t K>
